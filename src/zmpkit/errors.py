@@ -1,0 +1,68 @@
+"""The zmpkit exception tree.
+
+Every error a user can cause derives from :class:`ZmpkitError`. Messages say what was
+expected, what came, and (where there is a closed set) what is valid, so the CLI can print
+them as one line and exit with code 2 instead of a traceback.
+"""
+
+from __future__ import annotations
+
+__all__ = [
+    "InputFileError",
+    "ModelError",
+    "ParameterError",
+    "SimulationDivergedError",
+    "ZmpkitError",
+]
+
+
+class ZmpkitError(Exception):
+    """Base class of every error zmpkit raises on purpose."""
+
+
+class ParameterError(ZmpkitError, ValueError):
+    """A parameter is out of its valid range, non-finite or of the wrong shape."""
+
+
+class ModelError(ZmpkitError, ValueError):
+    """A model cannot do what was asked, e.g. an unstable DLIPM where a stable one is needed."""
+
+
+class InputFileError(ZmpkitError, ValueError):
+    """A file the user gave cannot be read as expected.
+
+    Args:
+        path: the file.
+        message: what was wrong and what was expected.
+        row: 1-based line number in the file, when the problem is on one line.
+        column: the column or field name, when the problem is in one column.
+    """
+
+    def __init__(
+        self, path: object, message: str, *, row: int | None = None, column: str | None = None
+    ) -> None:
+        self.path = str(path)
+        self.row = row
+        self.column = column
+        self.detail = message
+        where = self.path
+        if row is not None:
+            where += f", line {row}"
+        if column is not None:
+            where += f", column '{column}'"
+        super().__init__(f"{where}: {message}")
+
+
+class SimulationDivergedError(ZmpkitError, RuntimeError):
+    """A simulation left its valid state; says when and where.
+
+    Args:
+        time_s: simulated time of the divergence [s].
+        where: the joint or quantity that diverged.
+        message: what was seen.
+    """
+
+    def __init__(self, time_s: float, where: str, message: str) -> None:
+        self.time_s = time_s
+        self.where = where
+        super().__init__(f"simulation diverged at t = {time_s:.4f} s in {where}: {message}")
