@@ -76,8 +76,6 @@ def finite_array(
             pretty = "(" + ", ".join("N" if s is None else str(s) for s in shape) + ")"
             raise ParameterError(f"{name} must have shape {pretty}, got shape {arr.shape}")
     if not np.all(np.isfinite(arr)):
-        bad = np.argwhere(~np.isfinite(arr))[0]
-        raise ParameterError(
-            f"{name} must be finite everywhere, got non-finite at index {tuple(bad)}"
-        )
+        bad = tuple(int(i) for i in np.argwhere(~np.isfinite(arr))[0])
+        raise ParameterError(f"{name} must be finite everywhere, got non-finite at index {bad}")
     return arr
