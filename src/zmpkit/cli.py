@@ -1,0 +1,128 @@
+"""The ``zmpkit`` command. Thin: parse, build a configuration, call one library function.
+
+Every user mistake (bad file, bad option) ends with one line on stderr and exit code 2.
+"""
+
+from __future__ import annotations
+
+import sys
+from collections.abc import Sequence
+from pathlib import Path
+
+import click
+
+from zmpkit import __version__
+from zmpkit.errors import ZmpkitError
+
+__all__ = ["cli", "main"]
+
+ROBOT_CHOICES = ("teo",)
+EXIT_USAGE = 2
+
+
+@click.group(context_settings={"help_option_names": ["-h", "--help"]})
+@click.version_option(__version__, "--version", prog_name="zmpkit")
+def cli() -> None:
+    """zmpkit: measure, model and compensate the gap between the LIPM and the real robot."""
+
+
+@cli.command("zmp")
+@click.argument("log", type=click.Path(path_type=Path))
+@click.option(
+    "--feet",
+    "feet_path",
+    type=click.Path(path_type=Path),
+    help="FEET.yaml: each foot's sensor position [m], rpy [rad] and sole_height [m].",
+)
+@click.option(
+    "--robot",
+    type=click.Choice(ROBOT_CHOICES),
+    help="Use a built-in robot's sensor mounts instead of --feet.",
+)
+@click.option(
+    "--columns",
+    "columns_path",
+    type=click.Path(path_type=Path),
+    help="Column-map YAML {canonical_name: header_in_file} for logs with other headers.",
+)
+@click.option(
+    "--contact-threshold",
+    type=float,
+    default=None,
+    help="Minimum normal force for a foot to be in contact [N] (default 10).",
+)
+@click.option(
+    "--out", "out_dir", type=click.Path(path_type=Path), required=True, help="Output folder."
+)
+def zmp_command(
+    log: Path,
+    feet_path: Path | None,
+    robot: str | None,
+    columns_path: Path | None,
+    contact_threshold: float | None,
+    out_dir: Path,
+) -> None:
+    """Compute the ZMP of a recorded force-torque LOG (CSV) and write zmp.csv and zmp.png."""
+    from zmpkit.pipelines.zmp_log import run_zmp_log
+    from zmpkit.sensors import CONTACT_FORCE_THRESHOLD_N
+
+    if (feet_path is None) == (robot is None):
+        raise click.UsageError("give exactly one of --feet FEET.yaml or --robot ROBOT")
+    feet = _robot_feet(robot) if robot is not None else None
+    threshold = CONTACT_FORCE_THRESHOLD_N if contact_threshold is None else contact_threshold
+    result = run_zmp_log(
+        log,
+        out_dir,
+        feet=feet,
+        feet_path=feet_path,
+        columns_path=columns_path,
+        contact_threshold_n=threshold,
+    )
+    s = result.series
+    click.echo(
+        f"{len(s.time)} samples, ZMP defined on {len(s.time) - s.n_undefined}; "
+        f"wrote {result.csv_path} and {result.figure_path}"
+    )
+
+
+@cli.command("demo")
+@click.option(
+    "--out", "out_dir", type=click.Path(path_type=Path), default=Path("out/demo"), show_default=True
+)
+def demo_command(out_dir: Path) -> None:
+    """Run the main job on the built-in virtual robot and write a report to --out."""
+    from zmpkit.pipelines.demo import run_demo
+
+    result = run_demo(out_dir, echo=click.echo)
+    click.echo(f"report: {result.report_path}")
+
+
+def _robot_feet(robot: str):
+    from zmpkit.io import feet_from_mapping
+
+    if robot == "teo":
+        from zmpkit.robots.teo import teo_feet_mounts
+
+        return feet_from_mapping(teo_feet_mounts(), source="built-in robot 'teo'")
+    raise click.UsageError(f"unknown robot {robot!r}; valid: {', '.join(ROBOT_CHOICES)}")
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Run the CLI and return its exit code (tests call this with ``argv``)."""
+    args = list(sys.argv[1:] if argv is None else argv)
+    try:
+        result = cli.main(args=args, prog_name="zmpkit", standalone_mode=False)
+    except click.ClickException as exc:
+        exc.show()
+        return exc.exit_code
+    except click.Abort:
+        click.echo("zmpkit: aborted", err=True)
+        return 130
+    except ZmpkitError as exc:
+        click.echo(f"zmpkit: error: {exc}", err=True)
+        return EXIT_USAGE
+    return result if isinstance(result, int) else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

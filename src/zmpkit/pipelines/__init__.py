@@ -1,0 +1,1 @@
+"""End-to-end pipelines: configuration in, artefacts out; each callable alone."""

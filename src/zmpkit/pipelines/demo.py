@@ -1,0 +1,227 @@
+"""``zmpkit demo``: the main job on the built-in virtual robot.
+
+Until the virtual TEO exists, the demo runs what exists: the angular step responses of the
+LIPM and the DLIPM for a ZMP step (paper A, §4.4, Fig. 17 and 18), with their step metrics,
+and writes ``report.md``, the figures, ``step_metrics.csv`` and ``dlipm.yaml``.
+"""
+
+from __future__ import annotations
+
+import csv
+import math
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+import yaml
+
+from zmpkit.analysis.step_metrics import StepMetrics, step_metrics
+from zmpkit.analysis.step_plot import Curve, plot_step_responses
+from zmpkit.models import Dlipm, paper_units_omega_n
+
+__all__ = ["DEMO_STEP_M", "DemoConfig", "DemoResult", "run_demo"]
+
+DEMO_STEP_M = 0.09  # the 9 cm ZMP disturbance of paper A, Fig. 18 [m]
+TEO_MASS_KG = 62.6  # paper A §4.1 balance model
+TEO_COM_HEIGHT_M = 0.893
+PAPER_ZETA = 0.8
+
+
+@dataclass(frozen=True)
+class DemoConfig:
+    """Demo settings: pendulum of mass [kg] and length [m], ZMP step [m], duration [s]."""
+
+    mass_kg: float = TEO_MASS_KG
+    length_m: float = TEO_COM_HEIGHT_M
+    zmp_step_m: float = DEMO_STEP_M
+    zeta: float = PAPER_ZETA
+    duration_s: float = 20.0
+    dt_s: float = 0.002
+
+
+@dataclass(frozen=True)
+class DemoResult:
+    """Paths of what the demo wrote, and the metrics it measured per model."""
+
+    out_dir: Path
+    report_path: Path
+    figures: tuple[Path, ...]
+    metrics: dict[str, StepMetrics]
+
+
+def run_demo(
+    out_dir: str | Path,
+    config: DemoConfig | None = None,
+    echo: Callable[[str], None] = print,
+) -> DemoResult:
+    """Run the demo and write its artefacts into ``out_dir`` (created if missing)."""
+    config = config or DemoConfig()
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    models = _demo_models(config)
+    t = np.arange(0.0, config.duration_s + config.dt_s / 2, config.dt_s)
+    theta = {name: _angle_rad(name, m, t, config.zmp_step_m) for name, m in models.items()}
+    lipm_static = math.asin(config.zmp_step_m / config.length_m)
+    metrics = {
+        name: step_metrics(
+            t,
+            theta[name],
+            reference=lipm_static,
+            final_value=_to_rad(name, m.dc_gain * config.zmp_step_m),  # exact, linear model
+        )
+        for name, m in models.items()
+        if m.is_stable
+    }
+    echo(f"DLIPM step responses for a {100 * config.zmp_step_m:.0f} cm ZMP step")
+    figures = _figures(out, t, theta, lipm_static, config)
+    _write_metrics_csv(out / "step_metrics.csv", models, metrics)
+    _write_params_yaml(out / "dlipm.yaml", models)
+    report = _write_report(out, config, models, metrics, figures)
+    echo("to come: the virtual TEO, identification of its DLIPM and the gain-scheduled controller")
+    return DemoResult(out, report, figures, metrics)
+
+
+def _demo_models(config: DemoConfig) -> dict[str, Dlipm]:
+    m, length = config.mass_kg, config.length_m
+    lipm = Dlipm.lipm(m, length)
+    si_design = Dlipm.design(m, length, dc_gain=1.0 / length, zeta=config.zeta)
+    paper_beta = paper_units_omega_n(length) ** 2
+    paper_design = Dlipm.design(m, length, dc_gain=lipm.gamma / paper_beta, zeta=config.zeta)
+    return {"lipm": lipm, "dlipm_si": si_design, "dlipm_paper_units": paper_design}
+
+
+def _angle_rad(name: str, model: Dlipm, t: np.ndarray, step_m: float) -> np.ndarray:
+    """Ankle angle [rad]; the paper-units design outputs degrees (paper A's code does)."""
+    return _to_rad(name, model.step_response(t, step_m).theta)
+
+
+def _to_rad(name: str, angle):
+    return np.radians(angle) if name == "dlipm_paper_units" else angle
+
+
+_LABELS = {
+    "lipm": "LIPM (k_a = B_a = 0): unstable",
+    "dlipm_si": "DLIPM, ζ = 0.8, DC gain 1/l (SI, θ in rad)",
+    "dlipm_paper_units": "DLIPM, ζ = 0.8, ω_n = 0.438 (paper A, θ in deg)",
+}
+
+
+def _figures(out: Path, t, theta, lipm_static: float, config: DemoConfig) -> tuple[Path, ...]:
+    ref_deg = math.degrees(lipm_static)
+    early = t <= 3.0
+    fig17 = plot_step_responses(
+        [Curve(_LABELS[n], t[early], theta[n][early]) for n in ("lipm", "dlipm_si")],
+        out / "fig17_lipm_vs_dlipm.png",
+        title=f"Angular step response, ZMP step {100 * config.zmp_step_m:.0f} cm (paper A Fig. 17)",
+        reference_deg=ref_deg,
+        ylim_deg=(-0.5, 2.0 * ref_deg),
+    )
+    fig18 = plot_step_responses(
+        [Curve(_LABELS[n], t, theta[n]) for n in ("dlipm_si", "dlipm_paper_units")],
+        out / "fig18_dlipm_zeta08.png",
+        title="DLIPM designed for ζ = 0.8 (paper A Fig. 18)",
+        reference_deg=ref_deg,
+    )
+    return fig17, fig18
+
+
+def _write_metrics_csv(path: Path, models: dict[str, Dlipm], metrics) -> None:
+    with path.open("w", newline="", encoding="utf-8") as f:
+        w = csv.writer(f)
+        w.writerow(
+            [
+                "model",
+                "stable",
+                "omega_n_rad_s",
+                "zeta",
+                "overshoot_pct",
+                "rise_time_s",
+                "settling_time_s_2pct",
+                "final_value_rad",
+            ]
+        )
+        for name, model in models.items():
+            m = metrics.get(name)
+            w.writerow(
+                [
+                    name,
+                    model.is_stable,
+                    _opt(model.omega_n if model.is_stable else None),
+                    _opt(model.zeta if model.is_stable else None),
+                    _opt(m and m.overshoot_pct),
+                    _opt(m and m.rise_time_s),
+                    _opt(m and m.settling_time_s),
+                    _opt(m and m.final_value),
+                ]
+            )
+
+
+def _opt(x: float | None) -> str:
+    return "" if x is None else f"{x:.6g}"
+
+
+def _write_params_yaml(path: Path, models: dict[str, Dlipm]) -> None:
+    doc = {
+        name: {
+            "mass_kg": m.mass,
+            "length_m": m.length,
+            "k_a_N": m.k_a,
+            "b_a_Ns": m.b_a,
+            "gamma_rad_per_m_s2": m.gamma,
+            "alpha_per_s": m.alpha,
+            "beta_per_s2": m.beta,
+        }
+        for name, m in models.items()
+    }
+    path.write_text(yaml.safe_dump(doc, sort_keys=False), encoding="utf-8")
+
+
+def _write_report(
+    out: Path, config: DemoConfig, models: dict[str, Dlipm], metrics, figures
+) -> Path:
+    si, paper = models["dlipm_si"], models["dlipm_paper_units"]
+    rows = "\n".join(
+        f"| {_LABELS[n]} | {_opt(m.overshoot_pct)} | {_opt(m.rise_time_s)} | "
+        f"{_opt(m.settling_time_s)} | {_opt(math.degrees(m.final_value))} |"
+        for n, m in metrics.items()
+    )
+    text = f"""# zmpkit demo
+
+## LIPM vs DLIPM angular step response (paper A §4.4, Fig. 17–18)
+
+Pendulum: m = {config.mass_kg} kg, l = {config.length_m} m (TEO's balance model, paper A
+§4.1). ZMP step x_ref = {config.zmp_step_m} m; the LIPM's static ankle angle for it is
+asin(x/l) = {math.degrees(math.asin(config.zmp_step_m / config.length_m)):.3f}°.
+
+The DLIPM, with the mass explicit: m l² θ̈ + B_a l θ̇ + (k_a − m g) l θ = m g x_ref, i.e.
+Θ(s)/X(s) = γ/(s² + α s + β), γ = g/l², α = B_a/(m l), β = (k_a − m g)/(m l).
+With k_a = B_a = 0 it is the LIPM, whose pole at +√(g/l) makes the response diverge.
+
+![Fig. 17](fig17_lipm_vs_dlipm.png)
+
+Designed for ζ = {config.zeta} with the DC gain of the linearised LIPM (1/l [rad/m]):
+k_a = {si.k_a:.1f} N, B_a = {si.b_a:.1f} N·s, ω_n = {si.omega_n:.3f} rad/s.
+
+Paper A's design example (ζ = 0.8, ω_n = 0.4376) is the same design with the angle in
+**degrees**: √(g/l · π/180) = {paper.omega_n:.4f}. Its code sends θ to the joint in degrees,
+so its β is π/180 times the SI one and its response is {si.omega_n / paper.omega_n:.1f}×
+slower in time for the same damping ratio.
+
+![Fig. 18](fig18_dlipm_zeta08.png)
+
+| model | overshoot [%] | rise 10–90 % [s] | settling 2 % [s] | final [deg] |
+|---|---|---|---|---|
+{rows}
+
+Data: `step_metrics.csv`; parameters: `dlipm.yaml`.
+
+## To come
+
+The virtual TEO (MuJoCo, with motor, gear, flexibility and sensor effects), the push/step
+experiments on it, the identification of its DLIPM from F-T data, the gain-scheduled
+controller and paper A's Table 1; then the NAO walking pipelines.
+"""
+    path = out / "report.md"
+    path.write_text(text, encoding="utf-8")
+    return path

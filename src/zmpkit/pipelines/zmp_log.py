@@ -1,0 +1,67 @@
+"""The ``zmpkit zmp`` pipeline: an F-T log in, the measured ZMP out (CSV + figure)."""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass
+from pathlib import Path
+
+from zmpkit.analysis.zmp_plot import plot_zmp_series
+from zmpkit.io import read_column_map, read_feet_yaml, read_ft_log_csv, write_zmp_csv
+from zmpkit.sensors import CONTACT_FORCE_THRESHOLD_N, SensorMount, ZmpSeries, zmp_series
+
+__all__ = ["ZmpRunResult", "run_zmp_log"]
+
+
+@dataclass(frozen=True)
+class ZmpRunResult:
+    """What ``zmpkit zmp`` produced.
+
+    Attributes:
+        series: the measured ZMP in the world frame.
+        csv_path: ``zmp.csv`` (empty cells where the ZMP is undefined).
+        figure_path: ``zmp.png``.
+    """
+
+    series: ZmpSeries
+    csv_path: Path
+    figure_path: Path
+
+
+def run_zmp_log(
+    log_path: str | Path,
+    out_dir: str | Path,
+    *,
+    feet: Mapping[str, SensorMount] | None = None,
+    feet_path: str | Path | None = None,
+    columns_path: str | Path | None = None,
+    contact_threshold_n: float = CONTACT_FORCE_THRESHOLD_N,
+) -> ZmpRunResult:
+    """Compute the ZMP of a recorded two-foot F-T log and write ``zmp.csv`` and ``zmp.png``.
+
+    Args:
+        log_path: CSV with the columns of :data:`zmpkit.io.FT_LOG_COLUMNS`.
+        out_dir: output folder, created if missing.
+        feet: sensor mounts per foot; or give ``feet_path`` (FEET.yaml) instead.
+        feet_path: FEET.yaml with both feet's sensor poses.
+        columns_path: optional column-map YAML ``{canonical: header}``.
+        contact_threshold_n: minimum world F_z for a foot to count as in contact [N].
+    """
+    if (feet is None) == (feet_path is None):
+        raise ValueError("give exactly one of feet and feet_path")
+    mounts = feet if feet is not None else read_feet_yaml(feet_path)  # type: ignore[arg-type]
+    column_map = read_column_map(columns_path) if columns_path is not None else None
+    log = read_ft_log_csv(log_path, column_map)
+    series = zmp_series(
+        log.time,
+        log.right_wrench,
+        log.left_wrench,
+        mounts["right"],
+        mounts["left"],
+        contact_threshold_n=contact_threshold_n,
+    )
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    csv_path = write_zmp_csv(series, out / "zmp.csv")
+    figure_path = plot_zmp_series(series, out / "zmp.png", title=f"Measured ZMP: {log.source}")
+    return ZmpRunResult(series=series, csv_path=csv_path, figure_path=figure_path)

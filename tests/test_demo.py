@@ -1,0 +1,35 @@
+"""``zmpkit demo``: writes its report, figures and data; the numbers match closed forms."""
+
+from __future__ import annotations
+
+import csv
+import math
+from pathlib import Path
+
+import pytest
+
+from zmpkit.cli import main
+from zmpkit.pipelines.demo import DemoConfig, run_demo
+
+
+def test_demo_writes_report_and_matches_second_order_theory(tmp_path: Path) -> None:
+    result = run_demo(tmp_path, DemoConfig(duration_s=30.0), echo=lambda _: None)
+    assert result.report_path.read_text().startswith("# zmpkit demo")
+    assert all(p.stat().st_size > 1000 for p in result.figures)
+    zeta = 0.8
+    overshoot = 100 * math.exp(-zeta * math.pi / math.sqrt(1 - zeta**2))  # 1.5165 %
+    for name in ("dlipm_si", "dlipm_paper_units"):
+        assert result.metrics[name].overshoot_pct == pytest.approx(overshoot, rel=1e-3)
+    # both designs hold the linearised LIPM angle x/l (the paper's in degrees)
+    x, length = 0.09, 0.893
+    assert result.metrics["dlipm_si"].final_value == pytest.approx(x / length, rel=1e-12)
+    with (tmp_path / "step_metrics.csv").open() as f:
+        rows = {r["model"]: r for r in csv.DictReader(f)}
+    assert rows["lipm"]["stable"] == "False"
+    assert float(rows["dlipm_paper_units"]["omega_n_rad_s"]) == pytest.approx(0.4379, abs=1e-4)
+    assert float(rows["dlipm_si"]["omega_n_rad_s"]) == pytest.approx(math.sqrt(9.81 / length))
+
+
+def test_demo_command(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["demo", "--out", str(tmp_path / "d")]) == 0
+    assert f"report: {tmp_path / 'd' / 'report.md'}" in capsys.readouterr().out
