@@ -1,0 +1,1 @@
+"""zmpkit.experiments."""

@@ -1,0 +1,105 @@
+"""Assemble the virtual TEO: its rigid MJCF, the switched-on effects, and a simulation.
+
+:func:`teo_robot` gives the :class:`~zmpkit.sim.description.RobotDescription` (MJCF with the
+effects applied, driven joints, foot sensors, IMU, servo limits); :func:`make_teo` starts a
+:class:`~zmpkit.sim.world.Simulation` of it. The truth parameters come from
+:func:`~zmpkit.robots.teo.truth.load_truth` (the shipped file unless one is given).
+"""
+
+from __future__ import annotations
+
+import xml.etree.ElementTree as ET
+from pathlib import Path
+
+from zmpkit.robots.teo import geometry as geo
+from zmpkit.robots.teo.model import TEO_DRIVEN_JOINTS, TEO_SIDES, base_mjcf
+from zmpkit.robots.teo.truth import TeoTruth, load_truth
+from zmpkit.sim.builder import (
+    add_flex_joint,
+    add_gear_compliance,
+    add_ideal_servo,
+    add_motor,
+)
+from zmpkit.sim.description import FootSensor, RobotDescription
+from zmpkit.sim.effect_set import EffectSet
+from zmpkit.sim.effects import IdealServoParams
+from zmpkit.sim.servo import ServoLimits
+from zmpkit.sim.world import Simulation
+
+__all__ = ["TEO_SERVO_LIMITS", "make_teo", "teo_mjcf", "teo_robot"]
+
+TEO_SERVO_LIMITS = ServoLimits(max_velocity=0.35, max_acceleration=0.1)
+"""Setpoint trajectory limits of TEO's drives (20 °/s, 5.7 °/s²; assumed, not in the
+parameters file)."""
+
+
+def _resolve_truth(truth: TeoTruth | str | Path | None) -> TeoTruth:
+    return truth if isinstance(truth, TeoTruth) else load_truth(truth)
+
+
+def teo_mjcf(effects: EffectSet | str = "all", truth: TeoTruth | str | Path | None = None) -> str:
+    """TEO's MJCF text with the chosen effects applied.
+
+    Args:
+        effects: ``"all"``, ``"none"``, letters such as ``"M,G,S"``, or an EffectSet.
+        truth: truth parameters, a truth file, or ``None`` for the shipped truth.
+    """
+    on = EffectSet.parse(effects)
+    params = _resolve_truth(truth)
+    root = base_mjcf(params)
+    for joint in TEO_DRIVEN_JOINTS:
+        if on.gear:
+            add_gear_compliance(root, joint, params.gear)
+        if on.motor:
+            inductance = params.inductances[joint] if on.inductance else None
+            add_motor(root, joint, params.motors[joint], inductance)
+        else:
+            add_ideal_servo(root, joint, IdealServoParams())
+    if on.flex:
+        for flex in params.flex:
+            add_flex_joint(root, flex)
+    ET.indent(root)
+    return ET.tostring(root, encoding="unicode")
+
+
+def teo_robot(
+    effects: EffectSet | str = "all", truth: TeoTruth | str | Path | None = None
+) -> RobotDescription:
+    """The virtual TEO as a robot description, ready for :class:`Simulation`."""
+    on = EffectSet.parse(effects)
+    params = _resolve_truth(truth)
+    feet = tuple(
+        FootSensor(
+            foot=side,
+            force_sensor=f"{side}_ft_force",
+            torque_sensor=f"{side}_ft_torque",
+            site=f"{side}_ft",
+            sole_height_m=geo.FT_HEIGHT_ABOVE_SOLE_M,
+        )
+        for side in TEO_SIDES
+    )
+    return RobotDescription(
+        name="teo",
+        mjcf=teo_mjcf(on, params),
+        driven_joints=TEO_DRIVEN_JOINTS,
+        feet=feet,
+        effects=on,
+        servo_limits=TEO_SERVO_LIMITS,
+        sensor_params=params.sensors,
+        ft_offsets=params.ft_offsets,
+    )
+
+
+def make_teo(
+    effects: EffectSet | str = "all",
+    truth: TeoTruth | str | Path | None = None,
+    seed: int = 0,
+) -> Simulation:
+    """Start a simulation of the virtual TEO standing in its zero pose.
+
+    Args:
+        effects: which effects are on (see :class:`~zmpkit.sim.effect_set.EffectSet`).
+        truth: truth parameters, a truth file, or ``None`` for the shipped truth.
+        seed: seed of the sensor noise.
+    """
+    return Simulation(teo_robot(effects, truth), seed=seed)

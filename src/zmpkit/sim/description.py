@@ -1,0 +1,79 @@
+"""What the simulator needs to know about a robot besides its MJCF.
+
+A :class:`RobotDescription` names the driven joints (in the robot's order), the foot F-T
+sensors with their sole heights, the IMU sensors, the servo trajectory limits, and carries
+the truth-side sensor errors when the S effect is on. Any robot, TEO or a user's MJCF,
+enters the simulator through one of these.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+
+from zmpkit.sim.effect_set import EffectSet
+from zmpkit.sim.effects import SensorParams
+from zmpkit.sim.servo import ServoLimits
+
+__all__ = ["FootSensor", "ImuSensors", "RobotDescription"]
+
+
+@dataclass(frozen=True)
+class FootSensor:
+    """A foot's 6-axis F-T sensor.
+
+    Attributes:
+        foot: the foot's name, e.g. ``"right"``.
+        force_sensor: name of the MuJoCo ``force`` sensor.
+        torque_sensor: name of the MuJoCo ``torque`` sensor (same site).
+        site: the sensor site; its frame is the sensor frame (x forward, y left, z up).
+        sole_height_m: height of the sensor frame above the sole [m].
+    """
+
+    foot: str
+    force_sensor: str
+    torque_sensor: str
+    site: str
+    sole_height_m: float
+
+
+@dataclass(frozen=True)
+class ImuSensors:
+    """Names of the IMU's MuJoCo sensors."""
+
+    gyro: str = "imu_gyro"
+    accelerometer: str = "imu_accel"
+    orientation: str = "imu_quat"
+
+
+@dataclass(frozen=True)
+class RobotDescription:
+    """A simulated robot: MJCF with effects applied plus the names the simulator reads.
+
+    Attributes:
+        name: robot name.
+        mjcf: the model XML, effects already applied.
+        driven_joints: joints with a servo, in the robot's order; each has an actuator of
+            the same name whose control is ``gear * q_ref``.
+        feet: the foot F-T sensors.
+        effects: which effects the MJCF and the readings include.
+        servo_limits: setpoint trajectory limits.
+        imu: the IMU's sensor names.
+        sensor_params: sensor errors (used when ``effects.sensors``).
+        ft_offsets: foot → F-T offset (Fx, Fy, Fz, Tx, Ty, Tz); defaults to
+            ``sensor_params.ft_offset`` for feet not listed.
+    """
+
+    name: str
+    mjcf: str
+    driven_joints: tuple[str, ...]
+    feet: tuple[FootSensor, ...]
+    effects: EffectSet
+    servo_limits: ServoLimits = field(default_factory=ServoLimits)
+    imu: ImuSensors = field(default_factory=ImuSensors)
+    sensor_params: SensorParams = field(default_factory=SensorParams)
+    ft_offsets: Mapping[str, tuple[float, ...]] = field(default_factory=dict)
+
+    def ft_offset(self, foot: str) -> tuple[float, ...]:
+        """The F-T offset of one foot's sensor [N, N·m]."""
+        return tuple(self.ft_offsets.get(foot, self.sensor_params.ft_offset))

@@ -1,0 +1,64 @@
+"""The sensor effects (S): what a real F-T sensor, encoder and IMU make of the true values.
+
+An F-T sample, taken every ``1 / ft_rate_hz`` seconds, is
+
+.. math::
+    y_k = Q\\big(y_{k-1} + \\alpha\\,((1 + g)\\,w_k + o + n_k - y_{k-1})\\big),
+    \\qquad \\alpha = 1 - e^{-2 \\pi f_c / f_s},
+
+with gain error ``g``, offset ``o``, white noise ``n_k`` and a first-order low-pass filter
+(cutoff ``f_c``); ``Q`` rounds to the output quantum (applied to the output, the filter
+state stays continuous). Noise comes from numpy Generators seeded per stream, so the same
+seed gives identical readings.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+
+import numpy as np
+from numpy.typing import NDArray
+
+from zmpkit.sim.effects import SensorParams
+
+__all__ = ["FtChannel", "quantise"]
+
+
+def quantise(value: NDArray[np.float64], step: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Round each element to a multiple of its ``step``; a step of 0 leaves it exact."""
+    safe = np.where(step > 0.0, step, 1.0)
+    return np.where(step > 0.0, np.round(value / safe) * safe, value)
+
+
+class FtChannel:
+    """One 6-axis F-T sensor with offset, gain error, noise, low-pass filter and quantisation.
+
+    Args:
+        params: the sensor errors.
+        offset: this sensor's offset (Fx, Fy, Fz, Tx, Ty, Tz) [N, N·m].
+        rng: the Generator of this sensor's noise.
+    """
+
+    def __init__(
+        self, params: SensorParams, offset: Sequence[float], rng: np.random.Generator
+    ) -> None:
+        self._gain = 1.0 + params.ft_gain_error
+        self._offset = np.asarray(offset, dtype=np.float64)
+        self._noise = np.asarray(params.ft_noise_std, dtype=np.float64)
+        self._quantum = np.asarray(params.ft_quantisation, dtype=np.float64)
+        cutoff, rate = params.ft_cutoff_hz, params.ft_rate_hz
+        self._alpha = 1.0 - math.exp(-2.0 * math.pi * cutoff / rate) if cutoff > 0 else 1.0
+        self._rng = rng
+        self._state: NDArray[np.float64] | None = None
+        self.output = np.zeros(6)
+
+    def sample(self, wrench_true: NDArray[np.float64]) -> NDArray[np.float64]:
+        """Take one sample of the true wrench [N, N·m] and return the measured one."""
+        raw = self._gain * wrench_true + self._offset + self._noise * self._rng.standard_normal(6)
+        if self._state is None:
+            self._state = raw
+        else:
+            self._state = self._state + self._alpha * (raw - self._state)
+        self.output = quantise(self._state, self._quantum)
+        return self.output

@@ -1,0 +1,110 @@
+"""The joint servo's trajectory interpolation: velocity- and acceleration-limited setpoints.
+
+A position drive does not jump to a new target: it moves its setpoint there along a
+trapezoidal velocity profile (TEO's drives in profile-position mode). Each tick every
+joint's setpoint velocity moves toward
+
+.. math::
+    v_{des} = \\operatorname{sign}(e) \\min(v_{max}, \\sqrt{2 a_{max} |e|}),
+
+the fastest speed from which it can still stop at the target, changing by at most
+``a_max dt`` per tick. A commanded step thus passes through the joint's own limits, as on
+the real robot — a raw angle step on a 0.9 m, 62 kg pendulum would tip it over.
+
+Plain Python floats: on 14 joints they beat numpy by about 4×, and a tick allocates nothing
+beyond the float results.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+from zmpkit._validate import positive
+from zmpkit.errors import ParameterError
+
+__all__ = ["ServoLimits", "TrajectoryLimiter"]
+
+_ARRIVED_RAD = 1e-12
+
+
+@dataclass(frozen=True)
+class ServoLimits:
+    """Limits of the setpoint trajectory, the same for every joint.
+
+    Attributes:
+        max_velocity: joint speed limit [rad/s].
+        max_acceleration: joint acceleration limit [rad/s²].
+    """
+
+    max_velocity: float = 0.35
+    max_acceleration: float = 1.0
+
+    def __post_init__(self) -> None:
+        positive("ServoLimits.max_velocity", self.max_velocity, "rad/s")
+        positive("ServoLimits.max_acceleration", self.max_acceleration, "rad/s²")
+
+
+class TrajectoryLimiter:
+    """Moves per-joint setpoints toward their targets within velocity and acceleration limits.
+
+    Args:
+        initial: starting setpoints [rad], one per joint.
+        limits: velocity and acceleration limits.
+        dt: tick period [s].
+    """
+
+    def __init__(self, initial: Sequence[float], limits: ServoLimits, dt: float) -> None:
+        self._dt = positive("dt", dt, "s")
+        self._vmax = limits.max_velocity
+        self._amax = limits.max_acceleration
+        self.position: list[float] = [float(q) for q in initial]
+        self.velocity: list[float] = [0.0] * len(self.position)
+        self.target: list[float] = list(self.position)
+        self._moving = False
+
+    @property
+    def moving(self) -> bool:
+        """Whether any setpoint is still on its way to its target."""
+        return self._moving
+
+    def set_target(self, target: Sequence[float]) -> None:
+        """Give new targets [rad], one per joint."""
+        if len(target) != len(self.position):
+            raise ParameterError(
+                f"target must have {len(self.position)} joint angles, got {len(target)}"
+            )
+        self.target = [float(q) for q in target]
+        self._moving = True
+
+    def reset(self, position: Sequence[float]) -> None:
+        """Jump to ``position`` [rad] at rest, targets included."""
+        self.position = [float(q) for q in position]
+        self.velocity = [0.0] * len(self.position)
+        self.target = list(self.position)
+        self._moving = False
+
+    def tick(self) -> list[float]:
+        """Advance one period and return the setpoints [rad]."""
+        if not self._moving:
+            return self.position
+        dt, vmax, dv = self._dt, self._vmax, self._amax * self._dt
+        moving = False
+        for i, (q, v, goal) in enumerate(
+            zip(self.position, self.velocity, self.target, strict=True)
+        ):
+            err = goal - q
+            if abs(err) < _ARRIVED_RAD and abs(v) < dv:
+                self.position[i], self.velocity[i] = goal, 0.0
+                continue
+            v_des = math.copysign(min(vmax, math.sqrt(2.0 * self._amax * abs(err))), err)
+            v_new = min(max(v_des, v - dv), v + dv)
+            q_new = q + v_new * dt
+            if (goal - q_new) * err <= 0.0 and abs(v_new) <= dv:
+                q_new, v_new = goal, 0.0
+            else:
+                moving = True
+            self.position[i], self.velocity[i] = q_new, v_new
+        self._moving = moving
+        return self.position
