@@ -82,3 +82,22 @@ def test_zmp_needs_exactly_one_feet_source(
 def test_unknown_robot_lists_choices(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     assert main(["zmp", "log.csv", "--robot", "atlas", "--out", str(tmp_path)]) == 2
     assert "'atlas' is not 'teo'" in capsys.readouterr().err
+
+
+def test_zmp_with_builtin_teo_mounts(tmp_path: Path) -> None:
+    from zmpkit.io import feet_from_mapping
+    from zmpkit.robots.teo import teo_feet_mounts
+
+    feet = feet_from_mapping(teo_feet_mounts())
+    point_x, weight_n = 0.03, 307.0
+    row = [0.0]
+    for name in ("right", "left"):
+        m = feet[name]
+        point = np.array([point_x, m.position[1], m.ground_height])
+        row += list(wrench_in_sensor(point, np.array([0, 0, weight_n]), m.position, m.rotation))
+    log = write_log(tmp_path / "log.csv", [row])
+    assert main(["zmp", str(log), "--robot", "teo", "--out", str(tmp_path / "o")]) == 0
+    with (tmp_path / "o" / "zmp.csv").open() as f:
+        (out_row,) = list(csv.DictReader(f))
+    assert float(out_row["zmp_x"]) == pytest.approx(point_x, abs=1e-12)
+    assert float(out_row["zmp_y"]) == pytest.approx(0.0, abs=1e-12)
