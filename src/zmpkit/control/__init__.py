@@ -1,0 +1,27 @@
+"""zmpkit.control: ankle-strategy ZMP controllers for standing balance (paper A Fig. 9, 19).
+
+- :mod:`~zmpkit.control.schedule`: :class:`GainSchedule`, the DLIPM's k_a and B_a as a
+  smooth surface of the ZMP target, from the identified error model;
+- :mod:`~zmpkit.control.dlipm_controller`: :class:`DlipmController`, the scheduled DLIPM
+  producing the ankle angle, with a real-time-safe ``step()``;
+- :mod:`~zmpkit.control.lipm_controller`: the classic :class:`LipmController` baseline
+  (θ = asin(x_ref/l), optional PID on the measured ZMP) and
+  :class:`LinearCorrectionController` (one constant correction from the fitted slope).
+"""
+
+from __future__ import annotations
+
+from zmpkit.control.dlipm_controller import DlipmController, support_interval
+from zmpkit.control.lipm_controller import LinearCorrectionController, LipmController, PidGains
+from zmpkit.control.schedule import DEFAULT_ZETA, GainSchedule, teo_coded_gains
+
+__all__ = [
+    "DEFAULT_ZETA",
+    "DlipmController",
+    "GainSchedule",
+    "LinearCorrectionController",
+    "LipmController",
+    "PidGains",
+    "support_interval",
+    "teo_coded_gains",
+]

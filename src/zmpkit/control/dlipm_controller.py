@@ -1,0 +1,176 @@
+r"""The DLIPM block of paper A Fig. 19: the ankle-angle trajectory of the scheduled DLIPM.
+
+On :meth:`DlipmController.set_target` the target is clamped to the support polygon and the
+scheduled DLIPM (:class:`~zmpkit.control.schedule.GainSchedule`) is discretised exactly with
+a zero-order hold of period :math:`\Delta t`:
+
+.. math::
+
+    \begin{bmatrix}\theta_d \\ \dot\theta_d\end{bmatrix}_{k+1}
+    = A_d \begin{bmatrix}\theta_d \\ \dot\theta_d\end{bmatrix}_k + B_d\,x_{ref}, \qquad
+    \theta_k = \theta_0 + \theta_{d,k}
+
+so :math:`\theta` settles at :math:`\theta_0 + K(x_{ref})\,x_{ref} = \theta_{cmd}(x_{ref})`
+(the ZOH keeps the DC gain exactly). :meth:`DlipmController.step` is real-time safe: a 2×2
+update on plain floats, no array and no container allocated, then the rate and angle
+limits. When a limit clamps the angle, the state is set to the clamped angle and the rate
+actually realised (back-calculation), so the model never winds up beyond the output. The
+state is kept across target changes, so the angle is continuous when the target changes
+mid-motion.
+"""
+
+from __future__ import annotations
+
+from zmpkit._validate import finite, positive
+from zmpkit.control.schedule import GainSchedule
+from zmpkit.errors import ParameterError
+from zmpkit.models.lti import zero_order_hold
+
+__all__ = ["DlipmController", "support_interval"]
+
+
+def support_interval(name: str, value: tuple[float, float]) -> tuple[float, float]:
+    """Validate ``(x_min, x_max)`` [m] with x_min < x_max."""
+    try:
+        low, high = (finite(f"{name}[{i}]", v) for i, v in enumerate(value))
+    except (TypeError, ValueError):
+        raise ParameterError(f"{name} must be (x_min, x_max) in m, got {value!r}") from None
+    if not low < high:
+        raise ParameterError(f"{name} must have x_min < x_max, got ({low}, {high}) m")
+    return low, high
+
+
+class DlipmController:
+    """Gain-scheduled DLIPM ankle-angle generator for one plane (module docstring).
+
+    Args:
+        schedule: the gain surface of this plane.
+        dt: control period [s].
+        angle_limit_rad: the ankle angle is clamped to ±this [rad].
+        rate_limit_rad_s: the ankle rate is clamped to ±this [rad/s].
+        support_polygon: ``(x_min, x_max)`` of the support area in this plane [m]; targets
+            are clamped into it.
+
+    The controller starts at rest on target 0 (clamped into the polygon).
+    """
+
+    __slots__ = (
+        "_a00",
+        "_a01",
+        "_a10",
+        "_a11",
+        "_angle",
+        "_angle_max",
+        "_angle_min",
+        "_delta_max",
+        "_requested",
+        "_target",
+        "_theta0",
+        "_u0",
+        "_u1",
+        "_x0",
+        "_x1",
+        "dt",
+        "schedule",
+        "support_polygon",
+    )
+
+    def __init__(
+        self,
+        schedule: GainSchedule,
+        dt: float,
+        *,
+        angle_limit_rad: float,
+        rate_limit_rad_s: float,
+        support_polygon: tuple[float, float],
+    ) -> None:
+        self.schedule = schedule
+        self.dt = positive("dt", dt, "s")
+        limit = positive("angle_limit_rad", angle_limit_rad, "rad")
+        self._angle_min, self._angle_max = -limit, limit
+        self._delta_max = positive("rate_limit_rad_s", rate_limit_rad_s, "rad/s") * self.dt
+        self.support_polygon = support_interval("support_polygon", support_polygon)
+        self._theta0 = schedule.theta_offset
+        self.set_target(0.0)
+        self.reset()
+
+    @property
+    def target(self) -> float:
+        """The target in use, clamped to the support polygon [m]."""
+        return self._target
+
+    @property
+    def requested_target(self) -> float:
+        """The target last given to :meth:`set_target`, before clamping [m]."""
+        return self._requested
+
+    @property
+    def angle(self) -> float:
+        """The last ankle angle output [rad]."""
+        return self._angle
+
+    @property
+    def rate(self) -> float:
+        """The model's angular rate [rad/s]."""
+        return self._x1
+
+    @property
+    def steady_angle(self) -> float:
+        r""":math:`\theta_0 + K(x_{ref})\,x_{ref}` [rad], where the output settles."""
+        return float(self.schedule.steady_angle(self._target))
+
+    def set_target(self, x_ref: float) -> float:
+        """Clamp ``x_ref`` [m] to the support polygon and schedule the DLIPM for it.
+
+        Allocates (one matrix exponential); call it on target changes, not every tick.
+
+        Returns:
+            The clamped target [m].
+        """
+        self._requested = finite("x_ref", x_ref)
+        low, high = self.support_polygon
+        target = min(max(self._requested, low), high)
+        system = self.schedule.dlipm(target).state_space()
+        Ad, Bd = zero_order_hold(system.A, system.B, self.dt)
+        self._a00, self._a01 = float(Ad[0, 0]), float(Ad[0, 1])
+        self._a10, self._a11 = float(Ad[1, 0]), float(Ad[1, 1])
+        self._u0, self._u1 = float(Bd[0, 0]) * target, float(Bd[1, 0]) * target
+        self._target = target
+        return target
+
+    def reset(self, angle_rad: float | None = None, rate_rad_s: float = 0.0) -> None:
+        """Set the state: the current ankle angle [rad] (default: the steady angle of the
+        current target, i.e. at rest there) and rate [rad/s]."""
+        angle = self.steady_angle if angle_rad is None else finite("angle_rad", angle_rad)
+        self._angle = angle
+        self._x0 = angle - self._theta0
+        self._x1 = finite("rate_rad_s", rate_rad_s)
+
+    def step(self) -> float:
+        """Advance one period and return the ankle angle [rad] to command.
+
+        Real-time safe: float arithmetic only; clamps rate, then angle.
+        """
+        x0, x1, previous = self._x0, self._x1, self._angle
+        theta_d = self._a00 * x0 + self._a01 * x1 + self._u0
+        rate = self._a10 * x0 + self._a11 * x1 + self._u1
+        angle = free = self._theta0 + theta_d
+        if angle > previous + self._delta_max:
+            angle = previous + self._delta_max
+        elif angle < previous - self._delta_max:
+            angle = previous - self._delta_max
+        if angle > self._angle_max:
+            angle = self._angle_max
+        elif angle < self._angle_min:
+            angle = self._angle_min
+        if angle != free:  # a limit acted: back-calculate the state
+            theta_d = angle - self._theta0
+            rate = (angle - previous) / self.dt
+        self._x0, self._x1, self._angle = theta_d, rate, angle
+        return angle
+
+    def __repr__(self) -> str:
+        return (
+            f"DlipmController(target={self._target:.6g} m, angle={self._angle:.6g} rad, "
+            f"dt={self.dt} s, theta_offset={self._theta0:.6g} rad)"
+        )

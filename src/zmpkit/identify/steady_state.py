@@ -1,0 +1,291 @@
+r"""Step trials and the steady-state value of their measured ZMP (paper A §4.1, Fig. 14).
+
+A :class:`StepTrial` is one push-recovery / ZMP-step experiment: the ZMP measured by the
+ankle F-T sensors while the robot answers a step of its ZMP target at :math:`t_{step}`.
+
+:func:`steady_state` finds the settled window from the signal alone:
+
+1. the last ``tail_fraction`` of the post-step samples sets a robust centre and spread,
+   :math:`m = \operatorname{median}`, :math:`\hat\sigma = 1.4826\,\mathrm{MAD}` about its
+   linear trend (so slow drift does not widen the band);
+2. the band half-width is
+   :math:`w = \max(k_\sigma \hat\sigma,\; f_\Delta |m - y_0|,\; w_{min})`;
+3. the window starts after the last sample (of a short running median, which ignores
+   isolated spikes) outside :math:`m \pm w` and ends at the last sample; the marginal
+   standard error rule (MSER, :func:`_mser_truncation`) then trims from its start what is
+   left of the transient inside the band, at most half of it;
+4. it is *settled* if it lasts at least ``min_duration_s`` and ``min_samples`` and its
+   linear trend moves less than :math:`w` across it (slow drift is accepted, a ramp is not),
+   and — when there are samples before the step — it does not still oscillate: not both
+   :math:`\hat\sigma` above ``max_noise_ratio`` times their noise and
+   :math:`k_\sigma\hat\sigma` above the settling band :math:`\max(f_\Delta|m - y_0|, w_{min})`.
+
+The value is the window mean; its standard error uses the effective sample size of the
+autocorrelated residuals (:func:`effective_sample_size`),
+:math:`SE = s / \sqrt{n_{eff}}`, :math:`n_{eff} = n / (1 + 2\sum_k \rho_k)`.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+from scipy.ndimage import median_filter
+
+from zmpkit._validate import finite, finite_array, in_range, positive
+from zmpkit.errors import ParameterError
+from zmpkit.models.lti import _increasing_times
+
+__all__ = ["PLANES", "SteadyState", "StepTrial", "effective_sample_size", "steady_state"]
+
+FloatArray = NDArray[np.float64]
+
+PLANES = ("sagittal", "frontal")
+"""Valid values of :attr:`StepTrial.plane`: sagittal (x–z, ZMP x) and frontal (y–z, ZMP y)."""
+
+MAD_TO_SIGMA = 1.4826
+"""Scale from the median absolute deviation to the standard deviation of a Gaussian [-]."""
+
+
+@dataclass(frozen=True, eq=False)
+class StepTrial:
+    r"""One ZMP-step trial in one plane.
+
+    Attributes:
+        time: sample times [s], strictly increasing, shape (N,).
+        zmp_measured: ZMP from the F-T sensors in this plane [m], shape (N,).
+        zmp_ref: the ZMP target after the step [m].
+        t_step: time of the step [s], within ``[time[0], time[-1])``.
+        plane: ``"sagittal"`` or ``"frontal"``.
+        zmp_commanded: the LIPM-expected ZMP :math:`l\sin\theta` of the commanded angle [m];
+            ``None`` means ``zmp_ref`` (the classic open-loop experiment, θ = asin(x_ref/l)).
+        zmp_commanded_before: the same before the step [m]; 0 for a robot starting upright.
+    """
+
+    time: FloatArray
+    zmp_measured: FloatArray
+    zmp_ref: float
+    t_step: float
+    plane: str = "sagittal"
+    zmp_commanded: float | None = None
+    zmp_commanded_before: float = 0.0
+
+    def __post_init__(self) -> None:
+        time = _increasing_times("time", self.time)
+        zmp = finite_array("zmp_measured", self.zmp_measured, (time.size,))
+        for array in (time, zmp):
+            array.setflags(write=False)
+        object.__setattr__(self, "time", time)
+        object.__setattr__(self, "zmp_measured", zmp)
+        object.__setattr__(self, "zmp_ref", finite("zmp_ref", self.zmp_ref))
+        t0 = finite("t_step", self.t_step)
+        if not time[0] <= t0 < time[-1]:
+            raise ParameterError(
+                f"t_step must lie in [time[0], time[-1]) = [{time[0]}, {time[-1]}) s, got {t0} s"
+            )
+        object.__setattr__(self, "t_step", t0)
+        if self.plane not in PLANES:
+            raise ParameterError(f"plane must be one of {PLANES}, got {self.plane!r}")
+        if self.zmp_commanded is not None:
+            object.__setattr__(self, "zmp_commanded", finite("zmp_commanded", self.zmp_commanded))
+        before = finite("zmp_commanded_before", self.zmp_commanded_before)
+        object.__setattr__(self, "zmp_commanded_before", before)
+
+    @property
+    def x_cmd(self) -> float:
+        """The commanded (LIPM-expected) ZMP after the step [m]: the error model's input."""
+        return self.zmp_ref if self.zmp_commanded is None else self.zmp_commanded
+
+
+@dataclass(frozen=True)
+class SteadyState:
+    """The settled value of a step response.
+
+    Attributes:
+        value: mean of the signal over the settled window [m]; None if not settled.
+        std_error: its standard error, autocorrelation-corrected [m]; None if not settled.
+        window: (start, end) of the settled window — or, if not settled, of the longest
+            candidate — [s].
+        n_samples: samples in ``window``.
+        settled: whether a window meeting the minimum length and drift criteria exists.
+        band: half-width of the band around the final median [m].
+        noise_std: robust standard deviation of the last part about its trend [m].
+        drift_rate: slope of a line fitted over the window [m/s].
+        effective_samples: the effective sample size of the window [-].
+        reason: why the signal is not settled; empty when it is.
+    """
+
+    value: float | None
+    std_error: float | None
+    window: tuple[float, float]
+    n_samples: int
+    settled: bool
+    band: float
+    noise_std: float
+    drift_rate: float
+    effective_samples: float
+    reason: str = ""
+
+
+def effective_sample_size(residuals: ArrayLike) -> float:
+    r"""Effective number of independent samples in an autocorrelated series.
+
+    .. math:: n_{eff} = \frac{n}{1 + 2\sum_{k=1}^{K}\rho_k}
+
+    with the sample autocorrelation :math:`\rho_k` summed up to the last lag before the
+    first non-positive one (initial positive sequence), clipped to [1, n].
+
+    Args:
+        residuals: the series minus its mean (or model) [any unit], shape (n,).
+    """
+    r = finite_array("residuals", residuals, (None,))
+    n = r.size
+    if n < 3:
+        return float(n)
+    r = r - r.mean()
+    spectrum = np.fft.rfft(r, 2 * n)
+    acov = np.fft.irfft(spectrum * np.conj(spectrum))[:n]
+    if acov[0] <= 0.0:
+        return float(n)
+    rho = acov[1:] / acov[0]
+    stop = np.flatnonzero(rho <= 0.0)
+    tau = 1.0 + 2.0 * float(np.sum(rho[: stop[0] if stop.size else rho.size]))
+    return float(min(max(n / tau, 1.0), n))
+
+
+def _robust_sigma(t: FloatArray, y: FloatArray) -> float:
+    """1.4826 MAD of ``y`` about its least-squares line: the noise, not the drift [m]."""
+    if y.size < 3:
+        return 0.0
+    residual = y - np.polyval(np.polyfit(t, y, 1), t)
+    return MAD_TO_SIGMA * float(np.median(np.abs(residual - np.median(residual))))
+
+
+def _pre_step_sigma(trial: StepTrial, min_samples: int) -> float | None:
+    """Robust noise of the samples before the step [m]; None if fewer than ``min_samples``."""
+    before = trial.time < trial.t_step
+    if np.count_nonzero(before) < min_samples:
+        return None
+    return _robust_sigma(trial.time[before], trial.zmp_measured[before])
+
+
+def steady_state(
+    trial: StepTrial,
+    *,
+    tail_fraction: float = 0.2,
+    band_sigmas: float = 4.0,
+    band_step_fraction: float = 0.02,
+    min_band: float = 1e-5,
+    min_duration_s: float = 0.5,
+    min_samples: int = 20,
+    max_noise_ratio: float = 3.0,
+    spike_samples: int = 5,
+) -> SteadyState:
+    """Detect the settled window of ``trial.zmp_measured`` and estimate its value.
+
+    Args:
+        trial: the step trial.
+        tail_fraction: fraction of the post-step samples, at the end, that sets the centre
+            and spread, in (0, 1].
+        band_sigmas: band half-width in robust standard deviations of the tail [-].
+        band_step_fraction: smallest band half-width as a fraction of the step [-].
+        min_band: smallest band half-width [m].
+        min_duration_s: shortest settled window [s].
+        min_samples: fewest samples in a settled window (and before the step for the noise
+            check).
+        max_noise_ratio: a tail whose spread exceeds this many times the pre-step noise
+            (checked when there are ``min_samples`` samples before the step) and whose
+            ±``band_sigmas`` σ is wider than the settling band (``band_step_fraction`` of the
+            step, at least ``min_band``) is an oscillation that has not died out [-].
+        spike_samples: length of the running median that ignores isolated spikes (1: none).
+
+    Returns:
+        The :class:`SteadyState`; ``settled=False`` with a reason, and no value, when no
+        window meets the criteria.
+    """
+    fraction = in_range("tail_fraction", tail_fraction, 1e-6, 1.0)
+    k_sigma = positive("band_sigmas", band_sigmas)
+    step_fraction = in_range("band_step_fraction", band_step_fraction, 0.0, 1.0)
+    floor = positive("min_band", min_band, "m")
+    ratio = positive("max_noise_ratio", max_noise_ratio)
+    limits = (positive("min_duration_s", min_duration_s, "s"), min_samples)
+    if min_samples < 3 or spike_samples < 1:
+        raise ParameterError(
+            f"min_samples must be >= 3 and spike_samples >= 1, got {min_samples} and "
+            f"{spike_samples}"
+        )
+    after = trial.time >= trial.t_step
+    times, values = trial.time[after], trial.zmp_measured[after]
+    before = trial.zmp_measured[~after]
+    y0 = float(np.median(before)) if before.size else float(values[0])
+    n_tail = max(3, math.ceil(fraction * values.size))
+    centre = float(np.median(values[-n_tail:]))
+    sigma = _robust_sigma(times[-n_tail:], values[-n_tail:])
+    step_band = max(step_fraction * abs(centre - y0), floor)
+    band = max(k_sigma * sigma, step_band)
+    smooth = median_filter(values, size=spike_samples, mode="nearest")
+    outside = np.flatnonzero(np.abs(smooth - centre) > band)
+    start = min(int(outside[-1]) + 1, values.size - 1) if outside.size else 0
+    result = _window_result(times[start:], values[start:], band, sigma, limits)
+    if result.settled:
+        start += _mser_truncation(values[start:])
+        result = _window_result(times[start:], values[start:], band, sigma, limits)
+    pre_step = _pre_step_sigma(trial, min_samples)
+    noise = math.inf if pre_step is None else max(pre_step, floor / k_sigma)
+    if result.settled and sigma > ratio * noise and k_sigma * sigma > step_band:
+        reason = (
+            f"the signal still fluctuates at the end (robust σ = {sigma:.3g} m, "
+            f"{sigma / noise:.3g} times the pre-step noise, more than max_noise_ratio = "
+            f"{ratio:g}, and ±{k_sigma:g}σ wider than the settling band ±{step_band:.3g} m): "
+            "an oscillation that has not died out"
+        )
+        return dataclasses.replace(result, value=None, std_error=None, settled=False, reason=reason)
+    return result
+
+
+def _mser_truncation(y: FloatArray) -> int:
+    r"""MSER: the first d <= n/2 samples to drop that minimise :math:`SS(d)/(n-d)^2`.
+
+    :math:`SS(d)` is the sum of squares of :math:`y_{d..n-1}` about their mean; the rule
+    (White 1997) trims what is left of a transient where it costs more variance than data.
+    """
+    z = y - y.mean()
+    n = z.size
+    s1 = np.cumsum(z[::-1])[::-1]
+    s2 = np.cumsum((z * z)[::-1])[::-1]
+    count = n - np.arange(n)
+    half = n // 2 + 1
+    criterion = (s2[:half] - s1[:half] ** 2 / count[:half]) / count[:half] ** 2
+    return int(np.argmin(criterion))
+
+
+def _window_result(
+    t: FloatArray, y: FloatArray, band: float, sigma: float, limits: tuple[float, int]
+) -> SteadyState:
+    """Judge the candidate window ``(t, y)`` and estimate its mean and standard error."""
+    min_duration, min_samples = limits
+    n = t.size
+    window = (float(t[0]), float(t[-1]))
+    duration = window[1] - window[0]
+    slope = float(np.polyfit(t, y, 1)[0]) if n >= 2 else 0.0
+    n_eff = effective_sample_size(y)
+    reason = ""
+    if n < min_samples or duration < min_duration:
+        reason = (
+            f"the signal stays within ±{band:.3g} m of its final median for only "
+            f"{duration:.3g} s and {n} samples (need {min_duration:.3g} s and {min_samples})"
+        )
+    elif abs(slope) * duration > band:
+        reason = (
+            f"the signal drifts {slope * duration:.3g} m across its window "
+            f"({slope:.3g} m/s over {duration:.3g} s), more than the band ±{band:.3g} m"
+        )
+    if reason:
+        return SteadyState(None, None, window, n, False, band, sigma, slope, n_eff, reason)
+    std = float(np.std(y, ddof=1))
+    return SteadyState(
+        float(np.mean(y)), std / math.sqrt(n_eff), window, n, True, band, sigma, slope, n_eff
+    )
