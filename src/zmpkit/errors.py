@@ -52,6 +52,16 @@ class InputFileError(ZmpkitError, ValueError):
             where += f", column '{column}'"
         super().__init__(f"{where}: {message}")
 
+    def __reduce__(self) -> tuple[object, ...]:
+        """Pickle support (errors cross process pools): rebuild from the constructor args."""
+        return (_input_file_error, (self.path, self.detail, self.row, self.column))
+
+
+def _input_file_error(
+    path: str, message: str, row: int | None, column: str | None
+) -> InputFileError:
+    return InputFileError(path, message, row=row, column=column)
+
 
 class SimulationDivergedError(ZmpkitError, RuntimeError):
     """A simulation left its valid state; says when and where.
@@ -65,4 +75,9 @@ class SimulationDivergedError(ZmpkitError, RuntimeError):
     def __init__(self, time_s: float, where: str, message: str) -> None:
         self.time_s = time_s
         self.where = where
+        self.detail = message
         super().__init__(f"simulation diverged at t = {time_s:.4f} s in {where}: {message}")
+
+    def __reduce__(self) -> tuple[object, ...]:
+        """Pickle support (errors cross process pools): rebuild from the constructor args."""
+        return (SimulationDivergedError, (self.time_s, self.where, self.detail))

@@ -1,1 +1,64 @@
-"""zmpkit.experiments."""
+"""Experiments on virtual (or real) robots: configuration in, a dataset folder out.
+
+- :mod:`~zmpkit.experiments.config`: :class:`StepExperimentConfig`, :class:`PushConfig`.
+- :mod:`~zmpkit.experiments.lean`: the ankle-strategy lean and its design lean length.
+- :mod:`~zmpkit.experiments.trial`: :func:`run_step_trial`, one recorded trial.
+- :mod:`~zmpkit.experiments.dataset`: the dataset folder and :func:`read_step_dataset`.
+- :mod:`~zmpkit.experiments.sweep`: :func:`run_step_sweep`, resumable, on a process pool.
+- :mod:`~zmpkit.experiments.response`: measured vs expected ZMP, the steady-state table.
+"""
+
+from zmpkit.experiments.config import (
+    DEFAULT_TARGETS_M,
+    PUSH_POINTS,
+    ROBOTS,
+    PushConfig,
+    StepExperimentConfig,
+    parse_targets,
+    trial_file_name,
+)
+from zmpkit.experiments.dataset import (
+    DATASET_FORMAT,
+    META_FILE,
+    StepDataset,
+    read_step_dataset,
+)
+from zmpkit.experiments.lean import PLANES, LeanModel, design_lean_model, lean_angle
+from zmpkit.experiments.response import (
+    STEADY_STATE_COLUMNS,
+    STEADY_WINDOW_S,
+    TrialResponse,
+    step_responses,
+    trial_response,
+    write_steady_state_csv,
+)
+from zmpkit.experiments.sweep import DEFAULT_WORKERS, run_step_sweep
+from zmpkit.experiments.trial import StepTrialRecord, run_step_trial
+
+__all__ = [
+    "DATASET_FORMAT",
+    "DEFAULT_TARGETS_M",
+    "DEFAULT_WORKERS",
+    "META_FILE",
+    "PLANES",
+    "PUSH_POINTS",
+    "ROBOTS",
+    "STEADY_STATE_COLUMNS",
+    "STEADY_WINDOW_S",
+    "LeanModel",
+    "PushConfig",
+    "StepDataset",
+    "StepExperimentConfig",
+    "StepTrialRecord",
+    "TrialResponse",
+    "design_lean_model",
+    "lean_angle",
+    "parse_targets",
+    "read_step_dataset",
+    "run_step_sweep",
+    "run_step_trial",
+    "step_responses",
+    "trial_file_name",
+    "trial_response",
+    "write_steady_state_csv",
+]

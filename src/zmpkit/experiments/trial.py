@@ -1,0 +1,190 @@
+r"""One step / push trial on a virtual robot, recorded as a real robot's experiment would be.
+
+Timeline (simulated time): the robot starts upright in double support and stands for
+``settle_s``; recording starts; after ``startup_window_s`` of quiet standing (the start-up
+window, for the ZMP offset) the lean to the target begins at ``t_step``; it is held for
+``hold_s``. The lean angle :math:`\theta_{ref} = \arcsin(x_{ref} / l_{lean})` (design lean
+length, :mod:`zmpkit.experiments.lean`) is not applied as a raw step, which would tip a
+0.9 m, 62 kg pendulum over: it passes through the robot's servo trajectory limits (velocity
+and acceleration, :class:`~zmpkit.sim.servo.TrajectoryLimiter`), scaled so no leaning joint
+exceeds them, and the joint setpoints are streamed every servo tick. A push, if any, acts
+from ``t_step`` for its duration.
+
+Recorded, at the F-T sensor rate: both feet's wrenches (what the sensors measure), the joint
+encoders, the streamed joint setpoints (the commanded angles) and the IMU. Nothing else of the
+simulation is read for the record.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+
+from zmpkit.experiments.config import PushConfig, StepExperimentConfig
+from zmpkit.experiments.lean import PLANES, LeanModel, design_lean_model, lean_angle
+from zmpkit.sim.servo import ServoLimits, TrajectoryLimiter
+from zmpkit.sim.world import Simulation
+
+__all__ = ["StepTrialRecord", "run_step_trial", "trial_seed"]
+
+_TABLE_POINTS = 65
+_PUSH_BODY = {"com": "root_waist", "trunk": "trunk_frontal"}
+
+
+@dataclass(frozen=True, eq=False)
+class StepTrialRecord:
+    """What one trial recorded; arrays have one row per F-T sample.
+
+    Attributes:
+        plane: ``"sagittal"`` or ``"frontal"``.
+        target_m: the ZMP target :math:`x_{ref}` [m].
+        t_step_s: time the lean (and push) starts [s].
+        lean_angle_rad: the commanded lean :math:`\\arcsin(x_{ref}/l_{lean})` [rad].
+        lean_length_m: the design lean length :math:`l_{lean}` [m].
+        joint_names: the driven joints, order of ``encoders`` and ``commanded``.
+        time: sample times [s], shape (N,).
+        right_wrench: right F-T sensor (F_x, F_y, F_z, τ_x, τ_y, τ_z), sensor frame
+            [N, N·m], shape (N, 6).
+        left_wrench: left F-T sensor, same layout, (N, 6).
+        encoders: joint encoders [rad], (N, J).
+        commanded: commanded joint setpoints [rad], (N, J).
+        imu: gyro x, y, z [rad/s], accelerometer x, y, z [m/s²], quaternion w, x, y, z [-], (N, 10).
+    """
+
+    plane: str
+    target_m: float
+    t_step_s: float
+    lean_angle_rad: float
+    lean_length_m: float
+    joint_names: tuple[str, ...]
+    time: NDArray[np.float64]
+    right_wrench: NDArray[np.float64]
+    left_wrench: NDArray[np.float64]
+    encoders: NDArray[np.float64]
+    commanded: NDArray[np.float64]
+    imu: NDArray[np.float64]
+
+
+def trial_seed(seed: int, plane: str, target_m: float) -> int:
+    """The noise seed of one trial, derived from the sweep's seed, plane and target [-]."""
+    micro = round(target_m * 1e6) + 2**31
+    return int(np.random.SeedSequence([seed, PLANES.index(plane), micro]).generate_state(1)[0])
+
+
+class _LeanStream:
+    """Setpoints of the leaning joints along a servo-limited lean-angle trajectory."""
+
+    def __init__(self, lean: LeanModel, angle_rad: float, limits: ServoLimits, dt: float) -> None:
+        grid = np.linspace(0.0, angle_rad, _TABLE_POINTS)
+        table = [lean.joint_targets(float(a)) for a in grid]
+        self.joints = tuple(table[0])
+        self._grid = grid if angle_rad >= 0 else grid[::-1]
+        self._values = [np.array([row[j] for row in table]) for j in self.joints]
+        if angle_rad < 0:
+            self._values = [v[::-1] for v in self._values]
+        gain = max(abs(table[-1][j]) for j in self.joints) / abs(angle_rad) if angle_rad else 1.0
+        scaled = ServoLimits(limits.max_velocity / gain, limits.max_acceleration / gain)
+        self._limiter = TrajectoryLimiter([0.0], scaled, dt)
+        self._limiter.set_target([angle_rad])
+
+    def tick(self) -> list[float]:
+        """Advance one servo tick; the leaning joints' setpoints [rad], order of ``joints``."""
+        angle = self._limiter.tick()[0]
+        return [float(np.interp(angle, self._grid, v)) for v in self._values]
+
+
+class _Pusher:
+    """A horizontal force on the robot, applied at a body's CoM or at the whole-body CoM."""
+
+    def __init__(self, sim: Simulation, push: PushConfig, plane: str) -> None:
+        self._data = sim.data
+        self._body = sim.model.body(_PUSH_BODY[push.point]).id
+        self._at_com = push.point == "com"
+        self.force = np.zeros(3)
+        self.force[PLANES.index(plane)] = push.force_n
+
+    def apply(self, on: bool) -> None:
+        frc = self._data.xfrc_applied[self._body]
+        if not on:
+            frc[:] = 0.0
+            return
+        frc[:3] = self.force
+        if self._at_com:
+            arm = self._data.subtree_com[0] - self._data.xipos[self._body]
+            frc[3:] = np.cross(arm, self.force)
+
+
+def _sample(sim: Simulation, stream_q: list[float]) -> list[NDArray[np.float64]]:
+    gyro, accel, quat = sim.imu()
+    return [
+        np.array([sim.time]),
+        sim.ft("right"),
+        sim.ft("left"),
+        sim.encoders(),
+        np.array(stream_q),
+        gyro,
+        accel,
+        quat,
+    ]
+
+
+def run_step_trial(config: StepExperimentConfig, target_m: float) -> StepTrialRecord:
+    """Run one trial of ``config`` for the ZMP target ``target_m`` [m] and record it.
+
+    Raises:
+        ParameterError: if the target is out of reach of the lean.
+        SimulationDivergedError: if the simulation diverges (says when and where).
+    """
+    from zmpkit.robots.teo import make_teo
+
+    lean = design_lean_model(config.robot, config.plane)
+    angle = lean_angle(target_m, lean.lean_length_m)
+    seed = trial_seed(config.seed, config.plane, target_m)
+    sim = make_teo(config.effects, config.truth, seed=seed)
+    stream = _LeanStream(lean, angle, sim.robot.servo_limits, sim.dt) if angle else None
+    pusher = _Pusher(sim, config.push, config.plane) if config.push else None
+    data = _record(sim, config, stream, pusher)
+    j = len(sim.joint_names)
+    return StepTrialRecord(
+        plane=config.plane,
+        target_m=target_m,
+        t_step_s=round(config.t_step_s / sim.dt) * sim.dt,
+        lean_angle_rad=angle,
+        lean_length_m=lean.lean_length_m,
+        joint_names=tuple(sim.joint_names),
+        time=data[:, 0],
+        right_wrench=data[:, 1:7],
+        left_wrench=data[:, 7:13],
+        encoders=data[:, 13 : 13 + j],
+        commanded=data[:, 13 + j : 13 + 2 * j],
+        imu=data[:, 13 + 2 * j :],
+    )
+
+
+def _record(
+    sim: Simulation,
+    config: StepExperimentConfig,
+    stream: _LeanStream | None,
+    pusher: _Pusher | None,
+) -> NDArray[np.float64]:
+    """Step ``sim`` through the trial's timeline; one row per F-T sample after settling."""
+    dt, names = sim.dt, list(sim.joint_names)
+    every = max(1, round(1.0 / (sim.robot.sensor_params.ft_rate_hz * dt)))
+    n_settle, n_step = round(config.settle_s / dt), round(config.t_step_s / dt)
+    n_push_end = n_step + (round(config.push.duration_s / dt) if config.push else 0)
+    index = [names.index(j) for j in stream.joints] if stream else []
+    setpoints = list(sim.servo.position)
+    rows: list[NDArray[np.float64]] = []
+    for k in range(round(config.duration_s / dt)):
+        if stream is not None and k >= n_step:
+            for i, q in zip(index, stream.tick(), strict=True):
+                setpoints[i] = q
+            sim.servo.reset(setpoints)
+        if pusher is not None:
+            pusher.apply(n_step <= k < n_push_end)
+        sim.step(1)
+        if (k + 1) % every == 0 and k + 1 > n_settle:
+            rows.append(np.concatenate(_sample(sim, setpoints)))
+    return np.vstack(rows)
