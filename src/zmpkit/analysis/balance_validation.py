@@ -1,0 +1,101 @@
+"""How well one controller put the measured ZMP on one target (paper A §4.6, Table 1).
+
+For a step trial run under a controller (classic LIPM, scheduled DLIPM, or one linear
+correction), the outcome holds the settled measured ZMP [m], the steady-state error
+100·(measured − target)/target [%] (None at target 0), the overshoot [%] and 5 % settling
+time [s] of the measured ZMP, and the RMS oscillation [m] about the settled value after the
+response first reaches it.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+
+from zmpkit.analysis.step_metrics import step_metrics
+from zmpkit.identify import SteadyState, StepTrial, steady_state
+
+__all__ = ["SETTLING_BAND", "ControllerOutcome", "evaluate_trial", "percent_error"]
+
+SETTLING_BAND = 0.05  # settling band, a fraction of the step size [-]
+
+
+@dataclass(frozen=True, eq=False)
+class ControllerOutcome:
+    """One controller on one target.
+
+    Attributes:
+        controller: "lipm", "dlipm" or "linear".
+        trial: the recorded trial (time [s], measured ZMP [m], target [m]).
+        steady: the settled window and value of the measured ZMP.
+        error_pct: 100·(measured − target)/target [%]; None at target 0 or if not settled.
+        overshoot_pct: peak beyond the settled value, % of the step; None if undefined.
+        settling_time_s: time after the step to stay within ±5 % of the step [s]; or None.
+        rms_oscillation_m: RMS of (measured − settled value) after the first crossing of the
+            settled value [m]; None if the response never reaches it.
+    """
+
+    controller: str
+    trial: StepTrial
+    steady: SteadyState
+    error_pct: float | None
+    overshoot_pct: float | None
+    settling_time_s: float | None
+    rms_oscillation_m: float | None
+
+    @property
+    def zmp_measured(self) -> float | None:
+        """Settled measured ZMP [m], None if the trial did not settle."""
+        return self.steady.value
+
+
+def percent_error(measured: float | None, target: float) -> float | None:
+    """100·(measured − target)/target [%]; None when undefined (target 0 or no value)."""
+    if measured is None or target == 0.0:
+        return None
+    return 100.0 * (measured - target) / target
+
+
+def evaluate_trial(controller: str, trial: StepTrial) -> ControllerOutcome:
+    """Measure steady state, overshoot, settling and oscillation of one trial."""
+    steady = steady_state(trial)
+    final = steady.value
+    overshoot = settling = rms = None
+    if final is not None and trial.zmp_ref != 0.0:
+        metrics = step_metrics(
+            trial.time,
+            trial.zmp_measured,
+            t_step=trial.t_step,
+            initial_value=_pre_step_value(trial),
+            final_value=final,
+            settling_band=SETTLING_BAND,
+        )
+        overshoot, settling = metrics.overshoot_pct, metrics.settling_time_s
+        rms = _rms_after_first_crossing(trial, final)
+    return ControllerOutcome(
+        controller=controller,
+        trial=trial,
+        steady=steady,
+        error_pct=percent_error(final, trial.zmp_ref),
+        overshoot_pct=overshoot,
+        settling_time_s=settling,
+        rms_oscillation_m=rms,
+    )
+
+
+def _pre_step_value(trial: StepTrial) -> float:
+    before = trial.time < trial.t_step
+    return float(np.mean(trial.zmp_measured[before])) if before.any() else 0.0
+
+
+def _rms_after_first_crossing(trial: StepTrial, final: float) -> float | None:
+    after = trial.time >= trial.t_step
+    deviation: NDArray[np.float64] = trial.zmp_measured[after] - final
+    start = _pre_step_value(trial) - final
+    crossed = np.flatnonzero(np.sign(deviation) != np.sign(start))
+    if crossed.size == 0:
+        return None
+    tail = deviation[crossed[0] :]
+    return float(np.sqrt(np.mean(tail**2)))

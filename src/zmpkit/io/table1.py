@@ -1,0 +1,107 @@
+"""Writing paper A's Table 1 (LIPM vs DLIPM per target) as CSV and as a Markdown table."""
+
+from __future__ import annotations
+
+import csv
+from collections.abc import Sequence
+from dataclasses import dataclass
+from pathlib import Path
+
+from zmpkit.analysis.balance_validation import ControllerOutcome
+
+__all__ = ["TABLE1_COLUMNS", "Table1Row", "table1_markdown", "write_table1_csv"]
+
+TABLE1_COLUMNS = (
+    "plane",
+    "zmp_ref",
+    "lipm_zmp",
+    "lipm_error_pct",
+    "dlipm_zmp",
+    "dlipm_error_pct",
+    "lipm_overshoot_pct",
+    "dlipm_overshoot_pct",
+    "lipm_settling_s",
+    "dlipm_settling_s",
+    "linear_zmp",
+    "linear_error_pct",
+    "linear_overshoot_pct",
+    "linear_settling_s",
+    "lipm_rms_oscillation_m",
+    "dlipm_rms_oscillation_m",
+    "fitted_on",
+)
+
+
+@dataclass(frozen=True)
+class Table1Row:
+    """One target: the three controllers' outcomes and whether the fit used this target."""
+
+    plane: str
+    zmp_ref: float
+    lipm: ControllerOutcome
+    dlipm: ControllerOutcome
+    linear: ControllerOutcome
+    fitted_on: bool
+
+    def cells(self) -> dict[str, str]:
+        """The row as CSV cells; undefined values are empty cells."""
+        lipm, dlipm, linear = self.lipm, self.dlipm, self.linear
+        return {
+            "plane": self.plane,
+            "zmp_ref": _fmt(self.zmp_ref),
+            "lipm_zmp": _fmt(lipm.zmp_measured),
+            "lipm_error_pct": _fmt(lipm.error_pct),
+            "dlipm_zmp": _fmt(dlipm.zmp_measured),
+            "dlipm_error_pct": _fmt(dlipm.error_pct),
+            "lipm_overshoot_pct": _fmt(lipm.overshoot_pct),
+            "dlipm_overshoot_pct": _fmt(dlipm.overshoot_pct),
+            "lipm_settling_s": _fmt(lipm.settling_time_s),
+            "dlipm_settling_s": _fmt(dlipm.settling_time_s),
+            "linear_zmp": _fmt(linear.zmp_measured),
+            "linear_error_pct": _fmt(linear.error_pct),
+            "linear_overshoot_pct": _fmt(linear.overshoot_pct),
+            "linear_settling_s": _fmt(linear.settling_time_s),
+            "lipm_rms_oscillation_m": _fmt(lipm.rms_oscillation_m),
+            "dlipm_rms_oscillation_m": _fmt(dlipm.rms_oscillation_m),
+            "fitted_on": "1" if self.fitted_on else "0",
+        }
+
+
+def _fmt(value: float | None) -> str:
+    return "" if value is None else f"{value:.6g}"
+
+
+def write_table1_csv(rows: Sequence[Table1Row], path: str | Path) -> Path:
+    """Write ``rows`` with the columns :data:`TABLE1_COLUMNS` and return the path."""
+    path = Path(path)
+    with path.open("w", newline="", encoding="utf-8") as f:
+        writer = csv.DictWriter(f, fieldnames=TABLE1_COLUMNS)
+        writer.writeheader()
+        writer.writerows(row.cells() for row in rows)
+    return path
+
+
+def table1_markdown(rows: Sequence[Table1Row]) -> str:
+    """Table 1 as Markdown: ZMP [m], error [%], overshoot [%], settling [s] per controller."""
+    head = (
+        "| plane | ZMP_ref [m] | LIPM ZMP [m] | LIPM err [%] | DLIPM ZMP [m] | DLIPM err [%] "
+        "| linear err [%] | LIPM OS [%] | DLIPM OS [%] | LIPM ts [s] | DLIPM ts [s] |\n"
+        + "|---" * 11
+        + "|"
+    )
+    lines = [head]
+    for row in rows:
+        c = row.cells()
+        mark = "" if row.fitted_on else " *"
+        lines.append(
+            f"| {c['plane']} | {c['zmp_ref']}{mark} | {c['lipm_zmp']} "
+            f"| {_pct(c['lipm_error_pct'])} "
+            f"| {c['dlipm_zmp']} | {_pct(c['dlipm_error_pct'])} | {_pct(c['linear_error_pct'])} "
+            f"| {_pct(c['lipm_overshoot_pct'])} | {_pct(c['dlipm_overshoot_pct'])} "
+            f"| {c['lipm_settling_s'] or '–'} | {c['dlipm_settling_s'] or '–'} |"
+        )
+    return "\n".join(lines) + "\n\n\\* validation target, not used in the fit.\n"
+
+
+def _pct(cell: str) -> str:
+    return f"{float(cell):.1f}" if cell else "–"
