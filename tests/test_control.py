@@ -313,3 +313,20 @@ def test_pid_gains_error_texts() -> None:
         LinearCorrectionController(
             LENGTH_M, DT_S, slope=0.0, offset=0.0, angle_limit_rad=0.3, support_polygon=POLYGON_M
         )
+
+
+def test_time_scale_slows_the_trajectory_by_exactly_that_factor() -> None:
+    """With time_scale s, tick k·s of the scaled DLIPM equals tick k of the SI one."""
+    from zmpkit.control import PAPER_A_TIME_SCALE
+
+    schedule = GainSchedule(PAPER_A, MASS_KG, LENGTH_M)
+    limits = {"angle_limit_rad": 0.3, "rate_limit_rad_s": 10.0, "support_polygon": POLYGON_M}
+    fast = DlipmController(schedule, DT_S, **limits)
+    slow = DlipmController(schedule, DT_S / 4, time_scale=4.0, **limits)
+    for c in (fast, slow):
+        c.reset(schedule.theta_offset)
+        c.set_target(0.09)
+    fast_angles = [fast.step() for _ in range(200)]
+    slow_angles = [slow.step() for _ in range(4 * 4 * 200)]
+    np.testing.assert_allclose(slow_angles[15::16], fast_angles, rtol=1e-9, atol=1e-12)
+    assert math.isclose(PAPER_A_TIME_SCALE, 7.5694, abs_tol=1e-4)  # √(180/π)

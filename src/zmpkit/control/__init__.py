@@ -11,12 +11,13 @@
 
 from __future__ import annotations
 
-from zmpkit.control.dlipm_controller import DlipmController, support_interval
+from zmpkit.control.dlipm_controller import PAPER_A_TIME_SCALE, DlipmController, support_interval
 from zmpkit.control.lipm_controller import LinearCorrectionController, LipmController, PidGains
 from zmpkit.control.schedule import DEFAULT_ZETA, GainSchedule, teo_coded_gains
 
 __all__ = [
     "DEFAULT_ZETA",
+    "PAPER_A_TIME_SCALE",
     "DlipmController",
     "GainSchedule",
     "LinearCorrectionController",

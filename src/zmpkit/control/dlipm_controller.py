@@ -17,16 +17,29 @@ limits. When a limit clamps the angle, the state is set to the clamped angle and
 actually realised (back-calculation), so the model never winds up beyond the output. The
 state is kept across target changes, so the angle is continuous when the target changes
 mid-motion.
+
+Time scale. In SI units the DC gain fixes :math:`\beta = \gamma / K` and so
+:math:`\omega_n \approx \sqrt{g/l}` (≈ 3.5 rad/s on TEO): its planned angular acceleration
+at a step, :math:`\beta\,\theta_{cmd}`, is far beyond what a tall robot's servos follow.
+``time_scale`` = s runs the same DLIPM s times slower (discretised with :math:`\Delta t/s`:
+:math:`\omega_n/s`, same ζ, same DC gain). :data:`PAPER_A_TIME_SCALE` = √(180/π) gives
+exactly the dynamics paper A ran on TEO: its code sends θ in degrees, which scales γ and β
+by π/180 (its ω_n = 0.4376, see :func:`zmpkit.models.paper_units_omega_n`).
 """
 
 from __future__ import annotations
+
+import math
 
 from zmpkit._validate import finite, positive
 from zmpkit.control.schedule import GainSchedule
 from zmpkit.errors import ParameterError
 from zmpkit.models.lti import zero_order_hold
 
-__all__ = ["DlipmController", "support_interval"]
+__all__ = ["PAPER_A_TIME_SCALE", "DlipmController", "support_interval"]
+
+PAPER_A_TIME_SCALE = math.sqrt(180.0 / math.pi)
+"""Time scale of paper A's implemented DLIPM (θ in degrees in its code) [-]: ≈ 7.57."""
 
 
 def support_interval(name: str, value: tuple[float, float]) -> tuple[float, float]:
@@ -50,6 +63,8 @@ class DlipmController:
         rate_limit_rad_s: the ankle rate is clamped to ±this [rad/s].
         support_polygon: ``(x_min, x_max)`` of the support area in this plane [m]; targets
             are clamped into it.
+        time_scale: the DLIPM trajectory runs this many times slower (module note) [-], ≥ 1
+            is typical; 1 is the SI model.
 
     The controller starts at rest on target 0 (clamped into the polygon).
     """
@@ -73,6 +88,7 @@ class DlipmController:
         "dt",
         "schedule",
         "support_polygon",
+        "time_scale",
     )
 
     def __init__(
@@ -83,9 +99,11 @@ class DlipmController:
         angle_limit_rad: float,
         rate_limit_rad_s: float,
         support_polygon: tuple[float, float],
+        time_scale: float = 1.0,
     ) -> None:
         self.schedule = schedule
         self.dt = positive("dt", dt, "s")
+        self.time_scale = positive("time_scale", time_scale)
         limit = positive("angle_limit_rad", angle_limit_rad, "rad")
         self._angle_min, self._angle_max = -limit, limit
         self._delta_max = positive("rate_limit_rad_s", rate_limit_rad_s, "rad/s") * self.dt
@@ -131,7 +149,7 @@ class DlipmController:
         low, high = self.support_polygon
         target = min(max(self._requested, low), high)
         system = self.schedule.dlipm(target).state_space()
-        Ad, Bd = zero_order_hold(system.A, system.B, self.dt)
+        Ad, Bd = zero_order_hold(system.A, system.B, self.dt / self.time_scale)
         self._a00, self._a01 = float(Ad[0, 0]), float(Ad[0, 1])
         self._a10, self._a11 = float(Ad[1, 0]), float(Ad[1, 1])
         self._u0, self._u1 = float(Bd[0, 0]) * target, float(Bd[1, 0]) * target
