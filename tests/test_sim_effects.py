@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import itertools
 import xml.etree.ElementTree as ET
 
 import mujoco
@@ -22,6 +23,7 @@ from zmpkit.sim.effect_set import EffectSet
 from zmpkit.sim.effects import FlexJoint, GearParams, IdealServoParams, MotorParams, SensorParams
 from zmpkit.sim.sensing import FtChannel
 from zmpkit.sim.servo import ServoLimits, TrajectoryLimiter
+from zmpkit.sim.spring import SofteningSpring
 
 G = 9.81
 ARM_MASS_KG = 2.0
@@ -157,6 +159,53 @@ def test_flex_joint_rejects_a_buckling_spring() -> None:
         FlexJoint(name="f", body="b", axis=(0, 1, 0), stiffness=(100.0, -1e4, 1.0))
 
 
+SOFT = SofteningSpring(stiffness=4000.0, softening_torque=0.5, torque_range=4.0, stages=8)
+
+
+def test_softening_spring_interpolates_its_law_and_softens_monotonically() -> None:
+    for j, deflection in enumerate(SOFT.breakpoints):
+        assert SOFT.torque(deflection) == pytest.approx(SOFT.torque_range * j / SOFT.stages)
+        assert SOFT.law_torque(deflection) == pytest.approx(SOFT.torque(deflection))
+    k = SOFT.segment_stiffness
+    assert all(a > b > 0.0 for a, b in itertools.pairwise(k))
+    assert SOFT.torque(-0.01) == -SOFT.torque(0.01)  # symmetric
+    tau = 3.0  # closed form of the law: δ = τ/k0 + τ²/(k0 τ_s)
+    assert SOFT.law_deflection(tau) == pytest.approx((tau + tau**2 / 0.5) / 4000.0)
+
+
+def test_flex_joint_static_deflection_follows_its_softening_spring() -> None:
+    flex = FlexJoint(
+        name="flex",
+        body="arm",
+        axis=(0.0, 1.0, 0.0),
+        anchor=(FLEX_ANCHOR_M, 0.0, 0.0),
+        stiffness=(SOFT.stiffness, 0.0, 0.0),
+        damping=2.0,
+        softening_torque=SOFT.softening_torque,
+        softening_torque_range=SOFT.torque_range,
+        softening_stages=SOFT.stages,
+    )
+    root = _arm()
+    add_flex_joint(root, flex)
+    add_ideal_servo(root, "j", IdealServoParams())
+    model, data = _compile(root)
+    assert model.ntendon == SOFT.stages - 1  # native: one dead-band tendon spring per stage
+    for _ in range(3000):
+        mujoco.mj_step(model, data)
+    x = _qpos(model, data, "flex")
+    lever = ARM_LENGTH_M / 2 - FLEX_ANCHOR_M
+    torque = ARM_MASS_KG * G * lever * np.cos(x + _qpos(model, data, "j"))
+    assert flex.torque(x) == pytest.approx(torque, rel=0.01)
+    assert x > 2.0 * torque / SOFT.stiffness  # it softened: over twice the rest compliance
+
+
+def test_softening_flex_joint_rejects_a_polynomial_too() -> None:
+    with pytest.raises(ParameterError, match="replaces the polynomial"):
+        FlexJoint("f", "b", (0, 1, 0), stiffness=(100.0, 0.0, 1.0), softening_torque=1.0)
+    with pytest.raises(ParameterError, match="stages must be an integer >= 1"):
+        SofteningSpring(100.0, 1.0, 10.0, stages=0)
+
+
 # --- M: voltage limit -----------------------------------------------------------------------
 
 
@@ -203,6 +252,22 @@ def test_trajectory_respects_limits_and_arrives(target: float, vmax: float, amax
         previous_v, q = v, new_q
     assert q == target
     assert not limiter.moving
+
+
+def test_synchronized_joints_move_in_proportion_and_arrive_together() -> None:
+    dt = 0.001
+    limiter = TrajectoryLimiter([0.0, 0.1, 0.0], ServoLimits(0.35, 0.5, synchronized=True), dt)
+    limiter.set_target([0.2, 0.05, 0.0])
+    arrival: dict[int, int] = {}
+    for k in range(2000):
+        position = limiter.tick()
+        assert position[1] - 0.1 == pytest.approx(-0.25 * position[0], abs=1e-12)
+        assert position[2] == 0.0
+        for i, goal in ((0, 0.2), (1, 0.05)):
+            if position[i] == goal:
+                arrival.setdefault(i, k)
+    assert limiter.position == [0.2, 0.05, 0.0]
+    assert arrival[0] == arrival[1]  # the same tick
 
 
 # --- S: F-T sensor --------------------------------------------------------------------------

@@ -8,6 +8,7 @@ import pytest
 
 from zmpkit.errors import InputFileError, ParameterError
 from zmpkit.robots.teo import (
+    DEFAULT_TRUTH_PATH,
     TEO_BALANCE_MASS_KG,
     TEO_COM_HEIGHT_M,
     TEO_DRIVEN_JOINTS,
@@ -146,21 +147,20 @@ def test_truth_file_missing_section_names_it(tmp_path) -> None:
         load_truth(bad)
 
 
-def _lean_error(effects: str, zmp_target: float) -> float:
-    """Steady-state relative ZMP error of an ankle-pitch lean vs the rigid static expectation."""
-    lever = 0.7767  # dx_com/dtheta of the rigid model about the ankle axis [m]
-    theta = float(np.arcsin(zmp_target / lever))
-    sim = make_teo(effects)
-    sim.run(1.5)
-    x0 = np.mean([(sim.run(0.01), _zmp_x_world(sim, False))[1] for _ in range(20)])
-    sim.command({"right_ankle_frontal": -theta, "left_ankle_frontal": -theta})
-    sim.run(4.0)
-    x_ss = np.mean([(sim.run(0.01), _zmp_x_world(sim, False))[1] for _ in range(100)]) - x0
-    return (x_ss - lever * np.sin(theta)) / (lever * np.sin(theta))
+def test_truth_file_unknown_gear_joint_is_named(tmp_path) -> None:
+    text = DEFAULT_TRUTH_PATH.read_text(encoding="utf-8").replace(
+        "joints: [right_hip_sagittal,", "joints: [right_elbow,", 1
+    )
+    bad = tmp_path / "truth.yaml"
+    bad.write_text(text, encoding="utf-8")
+    with pytest.raises(InputFileError, match=r"gear.joints: unknown joints \['right_elbow'\]"):
+        load_truth(bad)
 
 
-@pytest.mark.slow
-def test_flex_makes_the_steady_state_zmp_error_grow_with_the_target() -> None:
-    near, far = _lean_error("F", 0.02), _lean_error("F", 0.10)
-    assert abs(_lean_error("none", 0.10)) < 0.005
-    assert far > near > 0.0
+def test_all_effects_scene_has_the_truth_degrees_of_freedom() -> None:
+    truth = load_truth()
+    model = mujoco.MjModel.from_xml_string(teo_mjcf("all"))
+    rigid = mujoco.MjModel.from_xml_string(teo_mjcf("none"))
+    assert model.nv == rigid.nv + len(truth.gear_joints) + len(truth.flex)
+    stages = sum(f.softening_stages - 1 for f in truth.flex if f.spring is not None)
+    assert model.ntendon == len(truth.gear_joints) + stages

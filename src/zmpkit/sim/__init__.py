@@ -14,6 +14,7 @@ from zmpkit.sim.effects import (
     SensorParams,
 )
 from zmpkit.sim.servo import ServoLimits, TrajectoryLimiter
+from zmpkit.sim.spring import SofteningSpring
 from zmpkit.sim.world import Simulation
 
 __all__ = [
@@ -30,5 +31,6 @@ __all__ = [
     "SensorParams",
     "ServoLimits",
     "Simulation",
+    "SofteningSpring",
     "TrajectoryLimiter",
 ]

@@ -14,7 +14,10 @@ speed and stays usable with ``mujoco.rollout`` (and later MJX):
   sum of both angles: motor side + gear deflection) and a fixed tendon on the deflection
   whose spring has a dead band ``springlength = [-b/2, b/2]`` (backlash) and the gear's
   stiffness and damping. The motor-side joint carries the gear-train inertia.
-- **F** → passive hinges with MuJoCo's polynomial joint spring and damping.
+- **F** → passive hinges with MuJoCo's polynomial joint spring and damping, or with a
+  softening spring (:mod:`zmpkit.sim.spring`): the joint's linear spring plus one fixed
+  tendon per further segment, whose dead-band spring of negative stiffness lowers the
+  tangent stiffness past its breakpoint.
 - Without **M** the joint is driven by a stiff native ``pid`` actuator ("ideal joint").
 
 The **S** effects act on the readings and live in :mod:`zmpkit.sim.sensing`.
@@ -35,6 +38,7 @@ from zmpkit.sim.effects import (
     InductanceParams,
     MotorParams,
 )
+from zmpkit.sim.spring import SofteningSpring
 
 __all__ = [
     "GEAR_JOINT_SUFFIX",
@@ -176,19 +180,43 @@ def add_flex_joint(root: ET.Element, flex: FlexJoint) -> ET.Element:
     """Add a passive compliant hinge to ``flex.body`` (effect F).
 
     The hinge goes after the body's existing joints, so it deflects the body (and what it
-    carries) relative to the driven joints.
+    carries) relative to the driven joints. A softening spring adds the tendons
+    ``{flex.name}_stage{j}``, j = 1 … n − 1.
     """
     body = find_element(root, "body", flex.body)
+    spring = flex.spring
+    stiffness = flex.stiffness if spring is None else (spring.segment_stiffness[0], 0.0, 0.0)
     attrs = {
         "name": flex.name,
         "type": "hinge",
         "axis": _fmt(*flex.axis),
         "pos": _fmt(*flex.anchor),
-        "stiffness": _fmt(*flex.stiffness),
+        "stiffness": _fmt(*stiffness),
         "damping": _fmt(flex.damping),
     }
     joints = [i for i, el in enumerate(body) if el.tag == "joint"]
     where = joints[-1] + 1 if joints else 0
     el = ET.Element("joint", attrs)
     body.insert(where, el)
+    if spring is not None:
+        _add_softening_stages(root, flex.name, spring)
     return el
+
+
+def _add_softening_stages(root: ET.Element, joint: str, spring: SofteningSpring) -> None:
+    tendons = root.find("tendon")
+    if tendons is None:
+        tendons = ET.SubElement(root, "tendon")
+    k = spring.segment_stiffness
+    for j in range(1, spring.stages):
+        edge = spring.breakpoints[j]
+        tendon = ET.SubElement(
+            tendons,
+            "fixed",
+            {
+                "name": f"{joint}_stage{j}",
+                "springlength": _fmt(-edge, edge),
+                "stiffness": _fmt(k[j] - k[j - 1]),
+            },
+        )
+        ET.SubElement(tendon, "joint", {"joint": joint, "coef": "1"})

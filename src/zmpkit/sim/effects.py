@@ -18,6 +18,7 @@ import numpy as np
 
 from zmpkit._validate import finite, finite_array, non_negative, positive
 from zmpkit.errors import ParameterError
+from zmpkit.sim.spring import SofteningSpring
 
 __all__ = [
     "FlexJoint",
@@ -148,10 +149,14 @@ class GearParams:
 class FlexJoint:
     """A passive compliant joint that stands for structural flexibility at one place.
 
-    The restoring torque is the polynomial ``tau = -(k1 x + k2 x**2 + k3 x**3)`` in the
-    deflection ``x`` [rad] (MuJoCo's polynomial joint spring) plus ``-damping * x_dot``.
-    With ``k2 < 0 < k3`` and ``k2**2 < 3 k1 k3`` the spring softens with load for ``x > 0``
-    and stiffens again further out, so it stays monotonic (never buckles).
+    Two spring laws, plus ``-damping * x_dot``:
+
+    - polynomial (``softening_torque = 0``): ``tau = -(k1 x + k2 x**2 + k3 x**3)`` in the
+      deflection ``x`` [rad] (MuJoCo's polynomial joint spring). With ``k2 < 0 < k3`` and
+      ``k2**2 < 3 k1 k3`` it softens and stiffens again, staying monotonic.
+    - softening (``softening_torque > 0``): the law of
+      :class:`~zmpkit.sim.spring.SofteningSpring` with ``k0 = k1``, symmetric and monotonic,
+      built from native tendon springs; ``k2`` and ``k3`` must then be 0.
 
     Attributes:
         name: joint name in the model, e.g. ``"right_foot_pitch_flex"``.
@@ -160,6 +165,10 @@ class FlexJoint:
         anchor: joint position in the body frame [m].
         stiffness: ``(k1, k2, k3)`` in [N·m/rad], [N·m/rad²], [N·m/rad³].
         damping: viscous damping [N·m·s/rad].
+        softening_torque: ``τ_s`` of the softening law [N·m]; 0 = polynomial spring.
+        softening_torque_range: torque up to which the native approximation follows the
+            softening law [N·m].
+        softening_stages: number of linear segments of that approximation [-].
     """
 
     name: str
@@ -168,6 +177,9 @@ class FlexJoint:
     anchor: tuple[float, float, float] = (0.0, 0.0, 0.0)
     stiffness: tuple[float, float, float] = (20000.0, 0.0, 0.0)
     damping: float = 50.0
+    softening_torque: float = 0.0
+    softening_torque_range: float = 50.0
+    softening_stages: int = 6
 
     def __post_init__(self) -> None:
         k1, k2, k3 = (finite(f"FlexJoint {self.name} stiffness", k) for k in self.stiffness)
@@ -179,9 +191,31 @@ class FlexJoint:
                 "monotonic; need k2**2 < 3 k1 k3 so the spring never buckles"
             )
         non_negative(f"FlexJoint {self.name} damping", self.damping, "N·m·s/rad")
+        non_negative(f"FlexJoint {self.name} softening_torque", self.softening_torque, "N·m")
+        if self.softening_torque > 0.0 and (k2 != 0.0 or k3 != 0.0):
+            raise ParameterError(
+                f"FlexJoint {self.name}: a softening spring (softening_torque > 0) replaces "
+                f"the polynomial; stiffness must be (k1, 0, 0), got {self.stiffness}"
+            )
+        self.spring  # noqa: B018 - validates the softening parameters
+
+    @property
+    def spring(self) -> SofteningSpring | None:
+        """The softening law, or None for a polynomial spring."""
+        if self.softening_torque == 0.0:
+            return None
+        return SofteningSpring(
+            self.stiffness[0],
+            self.softening_torque,
+            self.softening_torque_range,
+            self.softening_stages,
+        )
 
     def torque(self, deflection: float) -> float:
-        """Static spring torque k1 x + k2 x² + k3 x³ the joint carries at a deflection [N·m]."""
+        """Static spring torque the joint carries at a deflection [N·m]."""
+        spring = self.spring
+        if spring is not None:
+            return spring.torque(deflection)
         k1, k2, k3 = self.stiffness
         return k1 * deflection + k2 * deflection**2 + k3 * deflection**3
 

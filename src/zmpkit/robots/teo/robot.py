@@ -28,9 +28,11 @@ from zmpkit.sim.world import Simulation
 
 __all__ = ["TEO_SERVO_LIMITS", "make_teo", "teo_mjcf", "teo_robot"]
 
-TEO_SERVO_LIMITS = ServoLimits(max_velocity=0.35, max_acceleration=0.1)
+TEO_SERVO_LIMITS = ServoLimits(max_velocity=0.35, max_acceleration=0.1, synchronized=True)
 """Setpoint trajectory limits of TEO's drives (20 °/s, 5.7 °/s²; assumed, not in the
-parameters file)."""
+parameters file). Synchronized: the joints of one command move in proportion and arrive
+together, as the host's cyclic-synchronous-position interpolation does; a frontal lean
+closes a loop through both legs and the floor (see :mod:`zmpkit.robots.teo.lean`)."""
 
 
 def _resolve_truth(truth: TeoTruth | str | Path | None) -> TeoTruth:
@@ -48,7 +50,7 @@ def teo_mjcf(effects: EffectSet | str = "all", truth: TeoTruth | str | Path | No
     params = _resolve_truth(truth)
     root = base_mjcf(params)
     for joint in TEO_DRIVEN_JOINTS:
-        if on.gear:
+        if on.gear and joint in params.gear_joints:
             add_gear_compliance(root, joint, params.gear)
         if on.motor:
             inductance = params.inductances[joint] if on.inductance else None
@@ -96,6 +98,10 @@ def make_teo(
     seed: int = 0,
 ) -> Simulation:
     """Start a simulation of the virtual TEO standing in its zero pose.
+
+    The robot starts with unloaded springs and settles within about 2 s with all effects
+    on (the lean mode is lightly damped on purpose); with gear compliance but the ideal
+    servo (``"G"``, ``"G,F"``) allow about 6 s. Measure the start-up offset after that.
 
     Args:
         effects: which effects are on (see :class:`~zmpkit.sim.effect_set.EffectSet`).

@@ -38,7 +38,9 @@ class TeoTruth:
         servo_rate_hz: drive control rate = physics rate [Hz].
         motors: driven joint name → motor, gear and PID parameters.
         inductances: driven joint name → winding inductance.
-        gear: gear compliance and backlash, the same for every driven joint.
+        gear: gear compliance and backlash, the same for every geared joint.
+        gear_joints: the driven joints that get gear compliance (G); the others stay
+            rigid between motor and link (a gear DOF costs simulation time).
         flex: passive structural compliances.
         sensors: sensor errors (the F-T offset field is the right foot's).
         ft_offsets: foot side → F-T offset (Fx, Fy, Fz, Tx, Ty, Tz) [N, N·m].
@@ -51,6 +53,7 @@ class TeoTruth:
     motors: Mapping[str, MotorParams]
     inductances: Mapping[str, InductanceParams]
     gear: GearParams
+    gear_joints: tuple[str, ...]
     flex: tuple[FlexJoint, ...]
     sensors: SensorParams
     ft_offsets: Mapping[str, tuple[float, ...]]
@@ -98,6 +101,9 @@ def _flex(entry: Mapping[str, Any]) -> FlexJoint:
         anchor=tuple(float(a) for a in entry.get("anchor", (0, 0, 0))),  # type: ignore[arg-type]
         stiffness=tuple(float(k) for k in entry["stiffness"]),  # type: ignore[arg-type]
         damping=float(entry.get("damping", 0.0)),
+        softening_torque=float(entry.get("softening_torque", 0.0)),
+        softening_torque_range=float(entry.get("softening_torque_range", 50.0)),
+        softening_stages=int(entry.get("softening_stages", 6)),
     )
 
 
@@ -112,11 +118,19 @@ def _parse(doc: Mapping[str, Any], path: Path) -> TeoTruth:
     sensors = dict(_section(doc, "sensors", path))
     offsets = {side: tuple(float(v) for v in vec) for side, vec in sensors.pop("ft_offset").items()}
     payload = _section(doc, "payload", path)
+    gear = dict(_section(doc, "gear", path))
+    gear_joints = tuple(gear.pop("joints", joints))
+    unknown = sorted(set(gear_joints) - set(joints))
+    if unknown:
+        raise InputFileError(
+            path, f"gear.joints: unknown joints {unknown}; known: {sorted(joints)}", column="gear"
+        )
     return TeoTruth(
         servo_rate_hz=float(_section(doc, "servo_rate_hz", path)),
         motors=motors,
         inductances=inductances,
-        gear=GearParams(**_section(doc, "gear", path)),
+        gear=GearParams(**gear),
+        gear_joints=gear_joints,
         flex=tuple(_flex(e) for e in _section(doc, "flex", path)),
         sensors=SensorParams(ft_offset=offsets["right"], **sensors),
         ft_offsets=offsets,
