@@ -13,7 +13,7 @@ from zmpkit.pipelines.demo import DemoConfig, run_demo
 
 
 def test_demo_writes_report_and_matches_second_order_theory(tmp_path: Path) -> None:
-    result = run_demo(tmp_path, DemoConfig(duration_s=30.0), echo=lambda _: None)
+    result = run_demo(tmp_path, DemoConfig(duration_s=30.0, balance=False), echo=lambda _: None)
     assert result.report_path.read_text().startswith("# zmpkit demo")
     assert all(p.stat().st_size > 1000 for p in result.figures)
     zeta = 0.8
@@ -30,6 +30,10 @@ def test_demo_writes_report_and_matches_second_order_theory(tmp_path: Path) -> N
     assert float(rows["dlipm_si"]["omega_n_rad_s"]) == pytest.approx(math.sqrt(9.81 / length))
 
 
+@pytest.mark.slow
 def test_demo_command(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """The whole demo, including the quick balance pipeline on the virtual TEO (~70 s)."""
     assert main(["demo", "--out", str(tmp_path / "d")]) == 0
     assert f"report: {tmp_path / 'd' / 'report.md'}" in capsys.readouterr().out
+    assert "(balance/report.md)" in (tmp_path / "d" / "report.md").read_text()
+    assert (tmp_path / "d" / "balance" / "table1.csv").exists()

@@ -166,7 +166,9 @@ def test_resume_skips_finished_trials_and_refuses_other_settings(
     (tmp_path / "trial_sagittal_0020.csv").unlink()
     ran: list[float] = []
     real = sweep_module.run_step_trial
-    monkeypatch.setattr(sweep_module, "run_step_trial", lambda c, t: ran.append(t) or real(c, t))
+    monkeypatch.setattr(
+        sweep_module, "run_step_trial", lambda c, t, ctl=None: ran.append(t) or real(c, t, ctl)
+    )
     seen: list[tuple[int, int]] = []
     run_step_sweep(config, tmp_path, workers=1, progress=lambda k, n, t: seen.append((k, n)))
     assert ran == [0.02]

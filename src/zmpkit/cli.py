@@ -174,6 +174,92 @@ def sim_push_command(
     )
 
 
+@cli.command("balance")
+@click.option("--robot", type=click.Choice(ROBOT_CHOICES), default="teo", show_default=True)
+@click.option(
+    "--out",
+    "out_dir",
+    type=click.Path(path_type=Path),
+    required=True,
+    help="Output folder (resumed: finished trials are kept).",
+)
+@click.option("--quick", is_flag=True, help="Fewer targets and shorter holds (under 2 min).")
+@click.option(
+    "--truth",
+    type=click.Path(path_type=Path),
+    help="Truth YAML replacing the virtual robot's shipped one.",
+)
+@click.option("--seed", type=int, default=0, show_default=True, help="Seed of the sensor noise.")
+@click.option(
+    "--effects",
+    default="all",
+    show_default=True,
+    help="Simulated effects: all, none, or letters M,I,G,F,S.",
+)
+@click.option(
+    "--plane",
+    "planes",
+    multiple=True,
+    type=click.Choice(("sagittal", "frontal")),
+    help="Plane(s) to run; default both.",
+)
+@click.option("--workers", type=int, default=2, show_default=True, help="Parallel processes.")
+def balance_command(
+    robot: str,
+    out_dir: Path,
+    quick: bool,
+    truth: Path | None,
+    seed: int,
+    effects: str,
+    planes: tuple[str, ...],
+    workers: int,
+) -> None:
+    """Paper A end to end: LIPM steps, DLIPM identification, scheduled controller, Table 1."""
+    from zmpkit.pipelines.balance import BalanceConfig
+    from zmpkit.pipelines.balance_run import balance_with_progress
+
+    changes = {
+        "robot": robot,
+        "seed": seed,
+        "effects": effects,
+        "workers": workers,
+        "truth": None if truth is None else str(truth),
+    }
+    if planes:
+        changes["planes"] = planes
+    config = BalanceConfig.quick(**changes) if quick else BalanceConfig(**changes)
+    artifacts = balance_with_progress(config, out_dir, echo=click.echo)
+    click.echo(f"report: {artifacts.report}")
+
+
+@cli.group("identify")
+def identify_group() -> None:
+    """Identify models of the robot from recorded data."""
+
+
+@identify_group.command("balance")
+@click.argument("dataset", type=click.Path(path_type=Path))
+@click.option(
+    "--out", "out_dir", type=click.Path(path_type=Path), required=True, help="Output folder."
+)
+@click.option("--mass", type=float, help="Pendulum mass [kg] (default: the robot's design).")
+@click.option(
+    "--length",
+    type=float,
+    help="Pendulum length, ankle to CoM [m] (default: the dataset's lean length).",
+)
+def identify_balance_command(
+    dataset: Path, out_dir: Path, mass: float | None, length: float | None
+) -> None:
+    """Fit the steady-state ZMP error model (eq. 13) and transients of a step DATASET."""
+    from zmpkit.pipelines.identify_balance import run_identify_balance
+
+    result = run_identify_balance(dataset, out_dir, mass_kg=mass, length_m=length)
+    plane = next(iter(result.identification.planes.values()))
+    click.echo(f"{plane.error_fit.model.equation}: {dict(plane.error_fit.model.as_dict())}")
+    click.echo(f"wrote {result.params_path}, {result.figure_path} and {result.summary_path}")
+
+
 def _robot_feet(robot: str):
     from zmpkit.io import feet_from_mapping
 

@@ -28,14 +28,21 @@ from zmpkit.experiments.response import (
     STEADY_STATE_COLUMNS,
     STEADY_WINDOW_S,
     TrialResponse,
+    measured_zmp,
     step_responses,
     trial_response,
     write_steady_state_csv,
 )
 from zmpkit.experiments.sweep import DEFAULT_WORKERS, run_step_sweep
-from zmpkit.experiments.trial import StepTrialRecord, run_step_trial
+from zmpkit.experiments.trial import (
+    CONTROL_PERIOD_S,
+    LeanController,
+    StepTrialRecord,
+    run_step_trial,
+)
 
 __all__ = [
+    "CONTROL_PERIOD_S",
     "DATASET_FORMAT",
     "DEFAULT_TARGETS_M",
     "DEFAULT_WORKERS",
@@ -45,6 +52,7 @@ __all__ = [
     "ROBOTS",
     "STEADY_STATE_COLUMNS",
     "STEADY_WINDOW_S",
+    "LeanController",
     "LeanModel",
     "PushConfig",
     "StepDataset",
@@ -53,6 +61,7 @@ __all__ = [
     "TrialResponse",
     "design_lean_model",
     "lean_angle",
+    "measured_zmp",
     "parse_targets",
     "read_step_dataset",
     "run_step_sweep",

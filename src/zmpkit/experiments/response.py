@@ -23,6 +23,7 @@ window (peak-to-peak beyond :data:`SETTLED_SPREAD_FRACTION` of the target) keeps
 from __future__ import annotations
 
 import csv
+from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -32,13 +33,19 @@ from numpy.typing import NDArray
 from zmpkit.analysis import step_metrics
 from zmpkit.experiments.dataset import StepDataset
 from zmpkit.experiments.trial import StepTrialRecord
-from zmpkit.sensors import remove_zmp_offset, zmp_offset_from_standing_window, zmp_series
+from zmpkit.sensors import (
+    SensorMount,
+    remove_zmp_offset,
+    zmp_offset_from_standing_window,
+    zmp_series,
+)
 
 __all__ = [
     "STEADY_STATE_COLUMNS",
     "STEADY_WINDOW_S",
     "TrialResponse",
     "expected_zmp",
+    "measured_zmp",
     "step_responses",
     "trial_response",
     "write_steady_state_csv",
@@ -97,15 +104,29 @@ class TrialResponse:
         return self.tail_spread_m <= limit
 
 
-def _measured(dataset: StepDataset, index: int) -> NDArray[np.float64]:
-    trial = dataset.trials[index]
-    mounts = dataset.mounts
+def measured_zmp(
+    trial: StepTrialRecord,
+    mounts: Mapping[str, SensorMount],
+    startup_window: tuple[float, float],
+) -> NDArray[np.float64]:
+    """Measured ZMP of ``trial`` in its plane [m], start-up offset removed, NaN where undefined.
+
+    Args:
+        trial: the recorded trial.
+        mounts: the F-T sensor mounts, ``{"right": ..., "left": ...}``.
+        startup_window: quiet standing before the step (t0, t1) [s], whose mean ZMP is the
+            offset removed (as TEO's code does at start-up).
+    """
     series = zmp_series(
         trial.time, trial.right_wrench, trial.left_wrench, mounts["right"], mounts["left"]
     )
-    offset = zmp_offset_from_standing_window(series, None, dataset.startup_window(index))
+    offset = zmp_offset_from_standing_window(series, None, startup_window)
     axis = 0 if trial.plane == "sagittal" else 1
     return remove_zmp_offset(series, offset).zmp[:, axis].copy()
+
+
+def _measured(dataset: StepDataset, index: int) -> NDArray[np.float64]:
+    return measured_zmp(dataset.trials[index], dataset.mounts, dataset.startup_window(index))
 
 
 def expected_zmp(trial: StepTrialRecord, angle_joints: dict[str, float]) -> NDArray[np.float64]:

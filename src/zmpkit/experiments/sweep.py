@@ -29,21 +29,27 @@ from zmpkit.experiments.dataset import (
     write_trial_csv,
 )
 from zmpkit.experiments.lean import design_lean_model, lean_angle, lean_angle_joints
-from zmpkit.experiments.trial import StepTrialRecord, run_step_trial
+from zmpkit.experiments.trial import LeanController, StepTrialRecord, run_step_trial
 
 __all__ = ["DEFAULT_WORKERS", "ProgressCallback", "check_sweep", "new_meta", "run_step_sweep"]
 
 DEFAULT_WORKERS = 2
 """Processes that run trials in parallel by default."""
 _CONSISTENT_FIELDS = ("format", "robot", "plane", "effects", "seed", "settings", "joint_names")
-_CONSISTENT_FIELDS += ("sensor_mounts", "lean_length_m")
+_CONSISTENT_FIELDS += ("sensor_mounts", "lean_length_m", "controller")
 
 ProgressCallback = Callable[[int, int, float], None]
 """``progress(finished, total, target_m)``: called once per trial, skipped ones included."""
 
 
-def new_meta(config: StepExperimentConfig) -> dict[str, Any]:
-    """``meta.json`` of a sweep of ``config`` with no trials yet."""
+def new_meta(
+    config: StepExperimentConfig, controller: Callable[[], LeanController] | None = None
+) -> dict[str, Any]:
+    """``meta.json`` of a sweep of ``config`` with no trials yet.
+
+    ``controller`` (the lean controller's factory, if any) is recorded by its ``settings()``
+    when it has one, else by its repr, under the key ``"controller"`` (None: LIPM step).
+    """
     from zmpkit.robots.teo import TEO_DRIVEN_JOINTS, teo_feet_mounts
 
     joints = tuple(TEO_DRIVEN_JOINTS)
@@ -61,8 +67,16 @@ def new_meta(config: StepExperimentConfig) -> dict[str, Any]:
         "lean_length_m": design_lean_model(config.robot, config.plane).lean_length_m,
         "lean_length_source": "design model: rigid MJCF (effects none), CAD masses and geometry",
         "lean_angle_joints": lean_angle_joints(config.robot, config.plane),
+        "controller": _controller_settings(controller),
         "trials": [],
     }
+
+
+def _controller_settings(controller: Callable[[], LeanController] | None) -> Any:
+    if controller is None:
+        return None
+    settings = getattr(controller, "settings", None)
+    return _json_roundtrip(settings()) if callable(settings) else repr(controller)
 
 
 def _trial_entry(config: StepExperimentConfig, record: StepTrialRecord) -> dict[str, Any]:
@@ -133,6 +147,7 @@ def run_step_sweep(
     *,
     workers: int = DEFAULT_WORKERS,
     progress: ProgressCallback | None = None,
+    controller: Callable[[], LeanController] | None = None,
 ) -> StepDataset:
     """Run every trial of ``config`` not yet in ``out_dir`` and return the whole dataset.
 
@@ -141,6 +156,8 @@ def run_step_sweep(
         out_dir: the dataset folder, created if missing; resumed if it holds the same sweep.
         workers: processes running trials in parallel (1: in this process).
         progress: called after each trial (and once per skipped one).
+        controller: a picklable factory of the lean controller driving every trial (see
+            :func:`~zmpkit.experiments.trial.run_step_trial`); None: the LIPM step.
 
     Raises:
         ParameterError: on ``workers < 1``, or if ``out_dir`` holds a sweep of other settings.
@@ -150,7 +167,7 @@ def run_step_sweep(
     check_sweep(config)
     folder = Path(out_dir)
     folder.mkdir(parents=True, exist_ok=True)
-    meta = new_meta(config)
+    meta = new_meta(config, controller)
     meta["trials"] = _resume(folder, meta)
     write_meta(meta, folder)
     done = {e["file"] for e in meta["trials"]}
@@ -160,7 +177,7 @@ def run_step_sweep(
         finished += 1
         if progress is not None:
             progress(finished, total, target)
-    for record in _records(config, todo, workers):
+    for record in _records(config, todo, workers, controller):
         _finish(folder, meta, config, record)
         finished += 1
         if progress is not None:
@@ -168,13 +185,18 @@ def run_step_sweep(
     return read_step_dataset(folder)
 
 
-def _records(config: StepExperimentConfig, targets: list[float], workers: int):
+def _records(
+    config: StepExperimentConfig,
+    targets: list[float],
+    workers: int,
+    controller: Callable[[], LeanController] | None,
+):
     """Yield the trial records of ``targets`` as they finish."""
     if workers == 1 or len(targets) <= 1:
         for target in targets:
-            yield run_step_trial(config, target)
+            yield run_step_trial(config, target, controller)
         return
     with _pool(min(workers, len(targets))) as pool:
-        futures = [pool.submit(run_step_trial, config, t) for t in targets]
+        futures = [pool.submit(run_step_trial, config, t, controller) for t in targets]
         for future in as_completed(futures):
             yield future.result()

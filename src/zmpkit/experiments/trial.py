@@ -17,7 +17,9 @@ simulation is read for the record.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
+from typing import Protocol
 
 import numpy as np
 from numpy.typing import NDArray
@@ -27,9 +29,31 @@ from zmpkit.experiments.lean import PLANES, LeanModel, design_lean_model, lean_a
 from zmpkit.sim.servo import ServoLimits, TrajectoryLimiter
 from zmpkit.sim.world import Simulation
 
-__all__ = ["StepTrialRecord", "run_step_trial", "trial_seed"]
+__all__ = [
+    "CONTROL_PERIOD_S",
+    "LeanController",
+    "StepTrialRecord",
+    "run_step_trial",
+    "trial_seed",
+]
+
+
+class LeanController(Protocol):
+    """What drives the lean in a controlled trial: a target in, an ankle lean angle out."""
+
+    def set_target(self, x_ref: float) -> float:
+        """Set the ZMP target [m]; returns the target in use [m]."""
+        ...
+
+    def step(self) -> float:
+        """Advance one control period; the lean angle to command [rad]."""
+        ...
+
 
 _TABLE_POINTS = 65
+CONTROL_PERIOD_S = 0.01
+"""Period at which a lean controller is stepped (TEO's simulated control boards) [s]."""
+_MAX_REACH_FRACTION = 0.3  # lean table covers ZMPs up to this fraction of l_lean [-]
 _PUSH_BODY = {"com": "root_waist", "trunk": "trunk_frontal"}
 
 
@@ -74,19 +98,27 @@ def trial_seed(seed: int, plane: str, target_m: float) -> int:
 
 
 class _LeanStream:
-    """Setpoints of the leaning joints along a servo-limited lean-angle trajectory."""
+    """Setpoints of the leaning joints along a servo-limited lean-angle trajectory.
 
-    def __init__(self, lean: LeanModel, angle_rad: float, limits: ServoLimits, dt: float) -> None:
-        grid = np.linspace(0.0, angle_rad, _TABLE_POINTS)
+    The joint targets are tabulated over ``±angle_range_rad`` once; the lean angle follows
+    its target through the servo's velocity and acceleration limits, scaled so no leaning
+    joint exceeds them.
+    """
+
+    def __init__(
+        self, lean: LeanModel, angle_range_rad: float, limits: ServoLimits, dt: float
+    ) -> None:
+        grid = np.linspace(-angle_range_rad, angle_range_rad, 2 * _TABLE_POINTS - 1)
         table = [lean.joint_targets(float(a)) for a in grid]
         self.joints = tuple(table[0])
-        self._grid = grid if angle_rad >= 0 else grid[::-1]
+        self._grid = grid
         self._values = [np.array([row[j] for row in table]) for j in self.joints]
-        if angle_rad < 0:
-            self._values = [v[::-1] for v in self._values]
-        gain = max(abs(table[-1][j]) for j in self.joints) / abs(angle_rad) if angle_rad else 1.0
+        gain = max(abs(table[-1][j]) for j in self.joints) / angle_range_rad
         scaled = ServoLimits(limits.max_velocity / gain, limits.max_acceleration / gain)
         self._limiter = TrajectoryLimiter([0.0], scaled, dt)
+
+    def set_target(self, angle_rad: float) -> None:
+        """The lean angle to move to [rad], within ``±angle_range_rad``."""
         self._limiter.set_target([angle_rad])
 
     def tick(self) -> list[float]:
@@ -130,8 +162,18 @@ def _sample(sim: Simulation, stream_q: list[float]) -> list[NDArray[np.float64]]
     ]
 
 
-def run_step_trial(config: StepExperimentConfig, target_m: float) -> StepTrialRecord:
+def run_step_trial(
+    config: StepExperimentConfig,
+    target_m: float,
+    controller: Callable[[], LeanController] | None = None,
+) -> StepTrialRecord:
     """Run one trial of ``config`` for the ZMP target ``target_m`` [m] and record it.
+
+    Without ``controller`` the lean angle steps to the LIPM angle (the classic open-loop
+    ankle strategy of paper A Fig. 9). With it, ``controller()`` builds a
+    :class:`LeanController` (a picklable factory, so trials can run in worker processes)
+    whose target is set at ``t_step`` and which is stepped every :data:`CONTROL_PERIOD_S`;
+    its angle goes through the same servo limits.
 
     Raises:
         ParameterError: if the target is out of reach of the lean.
@@ -143,9 +185,11 @@ def run_step_trial(config: StepExperimentConfig, target_m: float) -> StepTrialRe
     angle = lean_angle(target_m, lean.lean_length_m)
     seed = trial_seed(config.seed, config.plane, target_m)
     sim = make_teo(config.effects, config.truth, seed=seed)
-    stream = _LeanStream(lean, angle, sim.robot.servo_limits, sim.dt) if angle else None
+    command = _command(angle, target_m, controller, sim.dt)
+    reach = lean_angle(_MAX_REACH_FRACTION * lean.lean_length_m, lean.lean_length_m)
+    stream = _LeanStream(lean, reach, sim.robot.servo_limits, sim.dt) if command else None
     pusher = _Pusher(sim, config.push, config.plane) if config.push else None
-    data = _record(sim, config, stream, pusher)
+    data = _record(sim, config, stream, command, pusher)
     j = len(sim.joint_names)
     return StepTrialRecord(
         plane=config.plane,
@@ -163,10 +207,23 @@ def run_step_trial(config: StepExperimentConfig, target_m: float) -> StepTrialRe
     )
 
 
+def _command(
+    angle: float, target_m: float, controller: Callable[[], LeanController] | None, dt: float
+) -> Callable[[int], float | None] | None:
+    """Lean-angle target per servo tick after the step (None: keep), or None for no lean."""
+    if controller is None:
+        return (lambda k: angle if k == 0 else None) if angle else None
+    lean_controller = controller()
+    lean_controller.set_target(target_m)
+    every = max(1, round(CONTROL_PERIOD_S / dt))
+    return lambda k: lean_controller.step() if k % every == 0 else None
+
+
 def _record(
     sim: Simulation,
     config: StepExperimentConfig,
     stream: _LeanStream | None,
+    command: Callable[[int], float | None] | None,
     pusher: _Pusher | None,
 ) -> NDArray[np.float64]:
     """Step ``sim`` through the trial's timeline; one row per F-T sample after settling."""
@@ -178,7 +235,10 @@ def _record(
     setpoints = list(sim.servo.position)
     rows: list[NDArray[np.float64]] = []
     for k in range(round(config.duration_s / dt)):
-        if stream is not None and k >= n_step:
+        if stream is not None and command is not None and k >= n_step:
+            target = command(k - n_step)
+            if target is not None:
+                stream.set_target(target)
             for i, q in zip(index, stream.tick(), strict=True):
                 setpoints[i] = q
             sim.servo.reset(setpoints)

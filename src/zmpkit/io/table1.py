@@ -94,14 +94,19 @@ def table1_markdown(rows: Sequence[Table1Row]) -> str:
         c = row.cells()
         mark = "" if row.fitted_on else " *"
         lines.append(
-            f"| {c['plane']} | {c['zmp_ref']}{mark} | {c['lipm_zmp']} "
+            f"| {c['plane']} | {c['zmp_ref']}{mark} | {_fixed(c['lipm_zmp'], 5)} "
             f"| {_pct(c['lipm_error_pct'])} "
-            f"| {c['dlipm_zmp']} | {_pct(c['dlipm_error_pct'])} | {_pct(c['linear_error_pct'])} "
+            f"| {_fixed(c['dlipm_zmp'], 5)} | {_pct(c['dlipm_error_pct'])} "
+            f"| {_pct(c['linear_error_pct'])} "
             f"| {_pct(c['lipm_overshoot_pct'])} | {_pct(c['dlipm_overshoot_pct'])} "
-            f"| {c['lipm_settling_s'] or '–'} | {c['dlipm_settling_s'] or '–'} |"
+            f"| {_fixed(c['lipm_settling_s'], 2)} | {_fixed(c['dlipm_settling_s'], 2)} |"
         )
     return "\n".join(lines) + "\n\n\\* validation target, not used in the fit.\n"
 
 
 def _pct(cell: str) -> str:
-    return f"{float(cell):.1f}" if cell else "–"
+    return _fixed(cell, 1)
+
+
+def _fixed(cell: str, digits: int) -> str:
+    return f"{float(cell):.{digits}f}" if cell else "–"

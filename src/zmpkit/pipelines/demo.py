@@ -1,8 +1,12 @@
 """``zmpkit demo``: the main job on the built-in virtual robot.
 
-Until the virtual TEO exists, the demo runs what exists: the angular step responses of the
-LIPM and the DLIPM for a ZMP step (paper A, §4.4, Fig. 17 and 18), with their step metrics,
-and writes ``report.md``, the figures, ``step_metrics.csv`` and ``dlipm.yaml``.
+1. The model: angular step responses of the LIPM and the DLIPM for a ZMP step (paper A
+   §4.4, Fig. 17 and 18), with their step metrics: ``report.md``, the figures,
+   ``step_metrics.csv`` and ``dlipm.yaml``.
+2. The robot: ``zmpkit balance --quick`` on the virtual TEO (LIPM steps, identification,
+   gain-scheduled DLIPM, Table 1) into ``balance/``, linked from the report.
+
+The walking pipelines (virtual NAO) join when they exist.
 """
 
 from __future__ import annotations
@@ -38,6 +42,7 @@ class DemoConfig:
     zeta: float = PAPER_ZETA
     duration_s: float = 20.0
     dt_s: float = 0.002
+    balance: bool = True
 
 
 @dataclass(frozen=True)
@@ -77,9 +82,18 @@ def run_demo(
     figures = _figures(out, t, theta, lipm_static, config)
     _write_metrics_csv(out / "step_metrics.csv", models, metrics)
     _write_params_yaml(out / "dlipm.yaml", models)
-    report = _write_report(out, config, models, metrics, figures)
-    echo("to come: the virtual TEO, identification of its DLIPM and the gain-scheduled controller")
+    balance_report = _run_balance(out, echo) if config.balance else None
+    report = _write_report(out, config, models, metrics, figures, balance_report)
+    echo("to come: the virtual NAO walking pipelines and their compensation")
     return DemoResult(out, report, figures, metrics)
+
+
+def _run_balance(out: Path, echo: Callable[[str], None]) -> Path:
+    from zmpkit.pipelines.balance import BalanceConfig
+    from zmpkit.pipelines.balance_run import balance_with_progress
+
+    echo("virtual TEO: zmpkit balance --quick (LIPM steps, DLIPM identification, Table 1)")
+    return balance_with_progress(BalanceConfig.quick(), out / "balance", echo=echo).report
 
 
 def _demo_models(config: DemoConfig) -> dict[str, Dlipm]:
@@ -178,7 +192,12 @@ def _write_params_yaml(path: Path, models: dict[str, Dlipm]) -> None:
 
 
 def _write_report(
-    out: Path, config: DemoConfig, models: dict[str, Dlipm], metrics, figures
+    out: Path,
+    config: DemoConfig,
+    models: dict[str, Dlipm],
+    metrics,
+    figures,
+    balance_report: Path | None,
 ) -> Path:
     si, paper = models["dlipm_si"], models["dlipm_paper_units"]
     rows = "\n".join(
@@ -216,12 +235,24 @@ slower in time for the same damping ratio.
 
 Data: `step_metrics.csv`; parameters: `dlipm.yaml`.
 
+{_balance_section(out, balance_report)}
 ## To come
 
-The virtual TEO (MuJoCo, with motor, gear, flexibility and sensor effects), the push/step
-experiments on it, the identification of its DLIPM from F-T data, the gain-scheduled
-controller and paper A's Table 1; then the NAO walking pipelines.
+The NAO walking pipelines (3D-LIPM walk in the effects simulator) and the compensation of
+their model abstractions.
 """
     path = out / "report.md"
     path.write_text(text, encoding="utf-8")
     return path
+
+
+def _balance_section(out: Path, balance_report: Path | None) -> str:
+    if balance_report is None:
+        return ""
+    link = balance_report.relative_to(out).as_posix()
+    return f"""## The virtual TEO: LIPM vs scheduled DLIPM (paper A §4.1–4.6, Table 1)
+
+The quick balance pipeline ran on the virtual TEO with every effect on: LIPM step
+experiments, identification of the steady-state error model from the force–torque sensors,
+the gain-scheduled DLIPM and paper A's Table 1. Its report: [{link}]({link}).
+"""

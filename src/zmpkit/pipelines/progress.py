@@ -5,7 +5,7 @@ from __future__ import annotations
 from rich.console import Console
 from rich.progress import BarColumn, MofNCompleteColumn, Progress, TimeElapsedColumn
 
-__all__ = ["TrialProgressBar"]
+__all__ = ["SweepProgress", "TrialProgressBar"]
 
 
 class TrialProgressBar:
@@ -37,3 +37,33 @@ class TrialProgressBar:
         self._bar.update(
             self._task, completed=finished, total=total, description=f"target {target_m:g} m"
         )
+
+
+class SweepProgress:
+    """One rich display with a bar per sweep; the instance is a ``progress(label, total)``
+    factory returning that sweep's ``progress(finished, total, target_m)`` callback."""
+
+    def __init__(self) -> None:
+        self._bar = Progress(
+            "[progress.description]{task.description}",
+            BarColumn(),
+            MofNCompleteColumn(),
+            TimeElapsedColumn(),
+            console=Console(stderr=True),
+        )
+
+    def __enter__(self) -> SweepProgress:
+        self._bar.start()
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self._bar.stop()
+
+    def __call__(self, label: str, total: int):
+        """A new bar named ``label`` for ``total`` trials, and its callback."""
+        task = self._bar.add_task(label, total=total)
+
+        def update(finished: int, total: int, target_m: float) -> None:
+            self._bar.update(task, completed=finished, total=total)
+
+        return update

@@ -1,0 +1,92 @@
+"""The balance issue's acceptance figures, computed from Table 1 rows (never asserted here).
+
+- error ratio at the farthest target: |DLIPM error| / |LIPM error| (target ≤ 0.20; paper A:
+  2.0 / 11.6 = 0.17);
+- mean |error| over targets ≠ 0: DLIPM / LIPM (target ≤ 1/3);
+- targets ≥ 0.03 m where the DLIPM's overshoot, resp. settling time, is lower than LIPM's.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+from zmpkit.io.table1 import Table1Row
+
+__all__ = ["BalanceTargets", "balance_targets"]
+
+FAR_TARGET_RATIO_MAX = 0.20
+MEAN_ERROR_RATIO_MAX = 1.0 / 3.0
+TRANSIENT_FROM_M = 0.03
+
+
+@dataclass(frozen=True)
+class BalanceTargets:
+    """Acceptance figures of one plane (None where the data leave them undefined)."""
+
+    plane: str
+    far_target_m: float
+    far_error_ratio: float | None
+    mean_abs_error_lipm_pct: float | None
+    mean_abs_error_dlipm_pct: float | None
+    mean_error_ratio: float | None
+    overshoot_lower: tuple[int, int]
+    settling_lower: tuple[int, int]
+
+    def lines(self) -> list[str]:
+        """Human-readable lines with each figure against its target."""
+        return [
+            f"error at {self.far_target_m:g} m, DLIPM/LIPM: {_num(self.far_error_ratio)} "
+            f"(target ≤ {FAR_TARGET_RATIO_MAX:.2f})",
+            f"mean |error| over targets ≠ 0: LIPM {_num(self.mean_abs_error_lipm_pct)} %, "
+            f"DLIPM {_num(self.mean_abs_error_dlipm_pct)} %, ratio {_num(self.mean_error_ratio)}"
+            f" (target ≤ {MEAN_ERROR_RATIO_MAX:.2f})",
+            f"targets ≥ {TRANSIENT_FROM_M} m with lower overshoot under DLIPM: "
+            f"{self.overshoot_lower[0]} of {self.overshoot_lower[1]}",
+            f"targets ≥ {TRANSIENT_FROM_M} m with shorter settling under DLIPM: "
+            f"{self.settling_lower[0]} of {self.settling_lower[1]}",
+        ]
+
+
+def _num(x: float | None) -> str:
+    return "undefined" if x is None else f"{x:.3g}"
+
+
+def balance_targets(plane: str, rows: Sequence[Table1Row]) -> BalanceTargets:
+    """Compute the acceptance figures of ``rows`` (one plane's Table 1)."""
+    far = max(rows, key=lambda r: abs(r.zmp_ref))
+    lipm_far, dlipm_far = far.lipm.error_pct, far.dlipm.error_pct
+    ratio = abs(dlipm_far / lipm_far) if lipm_far and dlipm_far is not None else None
+    lipm_mean = _mean_abs([r.lipm.error_pct for r in rows if r.zmp_ref != 0.0])
+    dlipm_mean = _mean_abs([r.dlipm.error_pct for r in rows if r.zmp_ref != 0.0])
+    mean_ratio = dlipm_mean / lipm_mean if lipm_mean and dlipm_mean is not None else None
+    transient = [r for r in rows if abs(r.zmp_ref) >= TRANSIENT_FROM_M - 1e-9]
+    return BalanceTargets(
+        plane=plane,
+        far_target_m=far.zmp_ref,
+        far_error_ratio=ratio,
+        mean_abs_error_lipm_pct=lipm_mean,
+        mean_abs_error_dlipm_pct=dlipm_mean,
+        mean_error_ratio=mean_ratio,
+        overshoot_lower=_count_lower(transient, "overshoot_pct"),
+        settling_lower=_count_lower(transient, "settling_time_s"),
+    )
+
+
+def _mean_abs(values: list[float | None]) -> float | None:
+    if not values or any(v is None for v in values):
+        return None
+    return float(np.mean(np.abs(values)))
+
+
+def _count_lower(rows: Sequence[Table1Row], attribute: str) -> tuple[int, int]:
+    """(targets where DLIPM < LIPM, targets compared); an undefined DLIPM value counts as
+    not lower."""
+    lower = 0
+    for r in rows:
+        lipm, dlipm = getattr(r.lipm, attribute), getattr(r.dlipm, attribute)
+        if lipm is not None and dlipm is not None and dlipm < lipm:
+            lower += 1
+    return lower, len(rows)

@@ -1,0 +1,251 @@
+"""``zmpkit balance``: experiments → identification → controller → validation → report.
+
+Paper A §4.1–4.6 on a (virtual) robot, per plane:
+
+1. the classic LIPM step sweep (Fig. 9, 14): the dataset the identification reads exactly as
+   it would read a real robot's recorded steps;
+2. identification on the *fit* targets only (even targets by default): steady-state error
+   model (eq. 13 or a model chosen by cross-validation) and transients → ``params.yaml``;
+3. the gain-scheduled DLIPM (Fig. 19) and a single linear correction, each run on *every*
+   target, so the schedule is also tested between the points it was fitted on;
+4. Table 1 and Fig. 16, 20, 21 → ``table1.csv``, figures and ``report.md``.
+
+Every sweep is a resumable dataset folder under ``DIR/datasets/``: an interrupted run loses
+no finished trial. Nothing here reads the robot's truth: only recorded sensors and design data
+(mass, lean length from the design model, sole size, servo limits).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass, field, replace
+from pathlib import Path
+
+from zmpkit.analysis.balance_validation import evaluate_trial
+from zmpkit.control import PAPER_A_TIME_SCALE
+from zmpkit.errors import ParameterError
+from zmpkit.experiments import (
+    StepDataset,
+    StepExperimentConfig,
+    design_lean_model,
+    lean_angle,
+    run_step_sweep,
+    trial_response,
+)
+from zmpkit.identify import (
+    BalanceIdentification,
+    BalanceParams,
+    ErrorModel,
+    StepTrial,
+    identify_balance,
+)
+from zmpkit.io.table1 import Table1Row
+from zmpkit.pipelines.balance_controllers import LeanControllerFactory
+from zmpkit.robots.teo import TEO_BALANCE_MASS_KG, TEO_SERVO_LIMITS, teo_feet_mounts
+from zmpkit.robots.teo.geometry import ANKLE_TO_TOE_M, HEEL_TO_ANKLE_M, SOLE_WIDTH_M
+
+__all__ = [
+    "FULL_TARGETS_M",
+    "QUICK_TARGETS_M",
+    "BalanceConfig",
+    "BalanceResult",
+    "PlaneResult",
+    "dataset_trials",
+    "run_balance",
+    "support_polygon",
+]
+
+FULL_TARGETS_M = tuple(round(0.01 * k, 2) for k in range(11))
+QUICK_TARGETS_M = (0.0, 0.02, 0.03, 0.04, 0.06, 0.08, 0.09, 0.1)
+_ZETA = 0.8
+_REACH_FRACTION = 0.3  # controllers lean at most to a ZMP of this fraction of l_lean [-]
+_ProgressFactory = Callable[[str, int], Callable[[int, int, float], None]]
+
+
+@dataclass(frozen=True)
+class BalanceConfig:
+    """Settings of one balance run.
+
+    Attributes:
+        robot: ``"teo"``.
+        planes: planes to run, ``"sagittal"`` and/or ``"frontal"``.
+        targets_m: validation targets [m]; the fit uses those in ``fit_targets_m``.
+        fit_targets_m: targets whose LIPM steps the identification uses [m].
+        effects: effects of the virtual robot (``"all"``, ``"none"``, letters).
+        seed: sensor-noise seed.
+        hold_s: recorded time after each step [s].
+        zeta: damping ratio of the scheduled DLIPM [-].
+        time_scale: DLIPM time scale; default paper A's √(180/π) [-].
+        truth: a truth file replacing the robot's shipped one (for the simulator only).
+        workers: processes running trials in parallel.
+    """
+
+    robot: str = "teo"
+    planes: tuple[str, ...] = ("sagittal", "frontal")
+    targets_m: tuple[float, ...] = FULL_TARGETS_M
+    fit_targets_m: tuple[float, ...] = tuple(round(0.02 * k, 2) for k in range(6))
+    effects: str = "all"
+    seed: int = 0
+    hold_s: float = 20.0
+    zeta: float = _ZETA
+    time_scale: float = PAPER_A_TIME_SCALE
+    truth: str | None = None
+    workers: int = 2
+
+    def __post_init__(self) -> None:
+        run = {round(x, 6) for x in self.targets_m}
+        for x in self.fit_targets_m:
+            if round(x, 6) not in run:
+                raise ParameterError(
+                    f"fit target {x:g} m is not among the targets "
+                    f"{', '.join(f'{t:g}' for t in self.targets_m)} m; the fit uses their "
+                    "LIPM steps"
+                )
+
+    @classmethod
+    def quick(cls, **changes: object) -> BalanceConfig:
+        """Fewer targets and shorter holds; still fits on even targets, validates on all."""
+        return replace(cls(targets_m=QUICK_TARGETS_M, hold_s=14.0), **changes)  # type: ignore[arg-type]
+
+
+@dataclass(frozen=True, eq=False)
+class PlaneResult:
+    """One plane: the identification, the controllers' factories and the Table 1 rows."""
+
+    plane: str
+    identification: BalanceIdentification
+    factories: dict[str, LeanControllerFactory]
+    rows: tuple[Table1Row, ...]
+    lean_length_m: float
+
+
+@dataclass(frozen=True, eq=False)
+class BalanceResult:
+    """What ``run_balance`` produced: per-plane results and the identified parameters."""
+
+    config: BalanceConfig
+    planes: dict[str, PlaneResult] = field(default_factory=dict)
+
+    def params(self, plane: str) -> BalanceParams:
+        """The identified parameters of ``plane`` (pendulum length: its lean length)."""
+        return self.planes[plane].identification.params
+
+
+def dataset_trials(dataset: StepDataset) -> list[StepTrial]:
+    """A dataset's trials as :class:`~zmpkit.identify.StepTrial` (time from the step) [s, m]."""
+    trials = []
+    for k, record in enumerate(dataset.trials):
+        response = trial_response(dataset, k)
+        trials.append(
+            StepTrial(
+                time=response.time_since_step,
+                zmp_measured=response.zmp_measured,
+                zmp_ref=record.target_m,
+                t_step=0.0,
+                plane=record.plane,
+                zmp_commanded=record.lean_length_m * math.sin(record.lean_angle_rad),
+            )
+        )
+    return trials
+
+
+def run_balance(
+    config: BalanceConfig,
+    out_dir: str | Path,
+    *,
+    progress: _ProgressFactory | None = None,
+    echo: Callable[[str], None] = print,
+) -> BalanceResult:
+    """Run every plane of ``config``; write datasets, ``params.yaml``, ``table1.csv``, figures
+    and ``report.md`` into ``out_dir`` (created if missing)."""
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    planes = {}
+    for plane in config.planes:
+        echo(f"{plane} plane: LIPM steps, identification, DLIPM and linear validation")
+        planes[plane] = _run_plane(config, plane, out, progress)
+    return BalanceResult(config=config, planes=planes)
+
+
+def _run_plane(
+    config: BalanceConfig, plane: str, out: Path, progress: _ProgressFactory | None
+) -> PlaneResult:
+    experiment = StepExperimentConfig(
+        robot=config.robot,
+        targets_m=config.targets_m,
+        plane=plane,
+        effects=config.effects,
+        seed=config.seed,
+        hold_s=config.hold_s,
+        truth=config.truth,
+    )
+    lean_length = design_lean_model(config.robot, plane).lean_length_m
+    lipm = _outcomes(config, experiment, plane, "lipm", out, progress, None)
+    fit_set = {round(x, 6) for x in config.fit_targets_m}
+    fit_trials = [t for t in lipm if round(t.zmp_ref, 6) in fit_set]
+    identification = identify_balance(fit_trials, mass=TEO_BALANCE_MASS_KG, com_height=lean_length)
+    model = identification.params.plane(plane).error_model
+    factories = {
+        kind: _factory(kind, model, lean_length, plane, config) for kind in ("dlipm", "linear")
+    }
+    runs = {
+        kind: _outcomes(config, experiment, plane, kind, out, progress, factories[kind])
+        for kind in factories
+    }
+    rows = tuple(
+        Table1Row(
+            plane=plane,
+            zmp_ref=trial.zmp_ref,
+            lipm=evaluate_trial("lipm", trial),
+            dlipm=evaluate_trial("dlipm", runs["dlipm"][k]),
+            linear=evaluate_trial("linear", runs["linear"][k]),
+            fitted_on=round(trial.zmp_ref, 6) in fit_set,
+        )
+        for k, trial in enumerate(lipm)
+    )
+    return PlaneResult(plane, identification, factories, rows, lean_length)
+
+
+def _outcomes(
+    config: BalanceConfig,
+    experiment: StepExperimentConfig,
+    plane: str,
+    kind: str,
+    out: Path,
+    progress: _ProgressFactory | None,
+    factory: LeanControllerFactory | None,
+) -> list[StepTrial]:
+    callback = progress(f"{plane} {kind.upper()}", len(experiment.targets_m)) if progress else None
+    dataset = run_step_sweep(
+        experiment,
+        out / "datasets" / f"{plane}_{kind}",
+        workers=config.workers,
+        progress=callback,
+        controller=factory,
+    )
+    return dataset_trials(dataset)
+
+
+def support_polygon(plane: str) -> tuple[float, float]:
+    """Double-support extent of TEO's soles in ``plane``, from the design [m]."""
+    if plane == "sagittal":
+        return (-HEEL_TO_ANKLE_M, ANKLE_TO_TOE_M)
+    half_width = abs(teo_feet_mounts()["left"]["position"][1]) + SOLE_WIDTH_M / 2
+    return (-half_width, half_width)
+
+
+def _factory(
+    kind: str, model: ErrorModel, lean_length: float, plane: str, config: BalanceConfig
+) -> LeanControllerFactory:
+    return LeanControllerFactory(
+        kind=kind,
+        error_model=model,
+        mass_kg=TEO_BALANCE_MASS_KG,
+        lean_length_m=lean_length,
+        zeta=config.zeta,
+        time_scale=config.time_scale,
+        angle_limit_rad=lean_angle(_REACH_FRACTION * lean_length, lean_length),
+        rate_limit_rad_s=TEO_SERVO_LIMITS.max_velocity,
+        support_polygon=support_polygon(plane),
+    )

@@ -1,0 +1,87 @@
+"""Picklable factories of the lean controllers compared in the balance validation.
+
+A sweep runs its trials in worker processes, so it receives a factory, not a controller:
+each trial builds its own controller, at rest, from these settings. ``settings()`` goes into
+the dataset's ``meta.json``, so a resumed sweep refuses a folder run with other settings.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+from zmpkit.control import DlipmController, GainSchedule, LinearCorrectionController
+from zmpkit.experiments import CONTROL_PERIOD_S, LeanController
+from zmpkit.identify import ErrorModel
+
+__all__ = ["CONTROLLER_KINDS", "LeanControllerFactory"]
+
+CONTROLLER_KINDS = ("dlipm", "linear")
+"""Controllers built here: the scheduled DLIPM (Fig. 19) and one linear correction."""
+
+
+@dataclass(frozen=True)
+class LeanControllerFactory:
+    """Builds one plane's lean controller from identified parameters and design data.
+
+    Attributes:
+        kind: ``"dlipm"`` (gain-scheduled DLIPM) or ``"linear"`` (θ from the fitted slope).
+        error_model: the identified steady-state error model x_FT = f(x_cmd).
+        mass_kg: pendulum mass the controller believes [kg].
+        lean_length_m: pendulum length, ankle pivot to CoM, from the design model [m].
+        zeta: damping ratio the DLIPM is designed for [-].
+        time_scale: DLIPM time scale (see :mod:`zmpkit.control.dlipm_controller`) [-].
+        angle_limit_rad: lean angle limit [rad].
+        rate_limit_rad_s: lean rate limit [rad/s].
+        support_polygon: target clamp (x_min, x_max) in this plane [m].
+        g: gravitational acceleration [m/s²].
+    """
+
+    kind: str
+    error_model: ErrorModel
+    mass_kg: float
+    lean_length_m: float
+    zeta: float
+    time_scale: float
+    angle_limit_rad: float
+    rate_limit_rad_s: float
+    support_polygon: tuple[float, float]
+    g: float = 9.81
+
+    def __call__(self) -> LeanController:
+        """A new controller at rest on target 0."""
+        limits = {
+            "angle_limit_rad": self.angle_limit_rad,
+            "rate_limit_rad_s": self.rate_limit_rad_s,
+            "support_polygon": self.support_polygon,
+        }
+        if self.kind == "linear":
+            return LinearCorrectionController.from_error_model(
+                self.error_model, self.lean_length_m, CONTROL_PERIOD_S, **limits
+            )
+        schedule = GainSchedule(
+            self.error_model, self.mass_kg, self.lean_length_m, self.zeta, self.g
+        )
+        controller = DlipmController(
+            schedule, CONTROL_PERIOD_S, time_scale=self.time_scale, **limits
+        )
+        controller.reset(0.0)  # the robot stands upright when the target is given
+        return controller
+
+    def settings(self) -> dict[str, Any]:
+        """JSON-ready description, recorded in the dataset's ``meta.json``."""
+        return {
+            "kind": self.kind,
+            "error_model": {
+                "kind": self.error_model.kind,
+                "coefficients": list(self.error_model.coefficients),
+            },
+            "mass_kg": self.mass_kg,
+            "lean_length_m": self.lean_length_m,
+            "zeta": self.zeta,
+            "time_scale": self.time_scale,
+            "angle_limit_rad": self.angle_limit_rad,
+            "rate_limit_rad_s": self.rate_limit_rad_s,
+            "support_polygon_m": list(self.support_polygon),
+            "control_period_s": CONTROL_PERIOD_S,
+        }

@@ -1,0 +1,79 @@
+"""``zmpkit identify balance``: identify the DLIPM error model from a recorded step dataset.
+
+Reads a dataset folder of LIPM step trials (one plane; written by ``zmpkit sim push`` or
+converted from a real robot's logs into the same format), fits the steady-state error model
+and the transients on every trial, and writes ``params.yaml``, ``fig16_<plane>.png`` and
+``identification.md``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+
+from zmpkit.analysis.balance_plots import plot_error_fit
+from zmpkit.errors import InputFileError
+from zmpkit.experiments import read_step_dataset
+from zmpkit.identify import BalanceIdentification, identify_balance
+from zmpkit.pipelines.balance import dataset_trials
+
+__all__ = ["IdentifyBalanceResult", "run_identify_balance"]
+
+_DESIGN_MASS_KG = {"teo": 62.6}  # paper A §4.1
+
+
+@dataclass(frozen=True, eq=False)
+class IdentifyBalanceResult:
+    """The identification and the files written."""
+
+    identification: BalanceIdentification
+    params_path: Path
+    figure_path: Path
+    summary_path: Path
+
+
+def run_identify_balance(
+    dataset_dir: str | Path,
+    out_dir: str | Path,
+    *,
+    mass_kg: float | None = None,
+    length_m: float | None = None,
+) -> IdentifyBalanceResult:
+    """Identify from ``dataset_dir`` and write the results into ``out_dir``.
+
+    Args:
+        dataset_dir: a step dataset folder (``meta.json`` + one CSV per trial).
+        out_dir: output folder, created if missing.
+        mass_kg: pendulum mass [kg]; default: the robot's design mass (TEO: 62.6 kg).
+        length_m: pendulum length, ankle to CoM [m]; default: the dataset's design lean length.
+    """
+    dataset = read_step_dataset(dataset_dir)
+    meta_path = Path(dataset_dir) / "meta.json"
+    mass = mass_kg if mass_kg is not None else _DESIGN_MASS_KG.get(dataset.meta.get("robot"))
+    if mass is None:
+        raise InputFileError(meta_path, "unknown robot: give the pendulum mass with --mass KG")
+    length = length_m if length_m is not None else dataset.meta.get("lean_length_m")
+    if length is None:
+        raise InputFileError(meta_path, "no 'lean_length_m': give the pendulum with --length M")
+    identification = identify_balance(dataset_trials(dataset), mass=mass, com_height=length)
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    plane = dataset.plane
+    fit = identification.planes[plane].error_fit
+    figure = plot_error_fit(
+        fit.x_cmd,
+        fit.x_measured,
+        [True] * len(fit.x_cmd),
+        fit,
+        out / f"fig16_{plane}.png",
+        plane=plane,
+    )
+    params = identification.params.to_yaml(out / "params.yaml")
+    summary = out / "identification.md"
+    summary.write_text(
+        f"# Identification of {dataset_dir}\n\nPlane {plane}; {fit.reason}.\n\n"
+        f"{fit.model.equation} with coefficients {dict(fit.model.as_dict())}, "
+        f"R² = {fit.r_squared:.5f}.\n\n![fig16]({figure.name})\n",
+        encoding="utf-8",
+    )
+    return IdentifyBalanceResult(identification, params, figure, summary)

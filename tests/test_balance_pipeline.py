@@ -1,0 +1,95 @@
+"""``zmpkit balance`` end to end on the virtual TEO (a few targets), and its CLI contracts."""
+
+from __future__ import annotations
+
+import csv
+import pickle
+from pathlib import Path
+
+import pytest
+
+from zmpkit.cli import main
+from zmpkit.identify import BalanceParams
+from zmpkit.io.table1 import TABLE1_COLUMNS
+from zmpkit.pipelines.balance import BalanceConfig, run_balance
+from zmpkit.pipelines.balance_report import write_balance_outputs
+
+CONFIG = BalanceConfig(
+    planes=("sagittal",),
+    targets_m=(0.0, 0.02, 0.04, 0.05, 0.06, 0.08),
+    fit_targets_m=(0.0, 0.02, 0.04, 0.06, 0.08),
+    hold_s=12.0,
+)
+
+
+@pytest.fixture(scope="module")
+def balance_run(tmp_path_factory: pytest.TempPathFactory):
+    out = tmp_path_factory.mktemp("balance")
+    result = run_balance(CONFIG, out, echo=lambda _: None)
+    return out, result, write_balance_outputs(result, out)
+
+
+def test_dlipm_error_is_below_lipm_error(balance_run) -> None:
+    _, result, _ = balance_run
+    rows = [r for r in result.planes["sagittal"].rows if r.zmp_ref > 0]
+    for row in rows:
+        assert row.lipm.error_pct is not None
+        assert row.dlipm.error_pct is not None
+        assert abs(row.dlipm.error_pct) < abs(row.lipm.error_pct)
+    validation = [r for r in rows if not r.fitted_on]
+    assert [r.zmp_ref for r in validation] == [0.05]  # the schedule between fitted points
+
+
+def test_artefacts_follow_their_contracts(balance_run) -> None:
+    out, _, artifacts = balance_run
+    with artifacts.table1.open() as f:
+        reader = csv.DictReader(f)
+        assert tuple(reader.fieldnames or ()) == TABLE1_COLUMNS
+        assert [row["zmp_ref"] for row in reader] == ["0", "0.02", "0.04", "0.05", "0.06", "0.08"]
+    params = BalanceParams.from_yaml(out / "params_sagittal.yaml")
+    assert params.mass == pytest.approx(62.6)
+    assert "### Table 1" in artifacts.report.read_text()
+    assert all(p.exists() for p in artifacts.figures)
+
+
+def test_rerun_resumes_every_sweep(balance_run) -> None:
+    out, first, _ = balance_run
+    again = run_balance(CONFIG, out, echo=lambda _: None)
+    old, new = first.planes["sagittal"].rows, again.planes["sagittal"].rows
+    assert [r.dlipm.zmp_measured for r in new] == [r.dlipm.zmp_measured for r in old]
+
+
+def test_controller_factory_pickles_for_worker_processes(balance_run) -> None:
+    _, result, _ = balance_run
+    factory = result.planes["sagittal"].factories["dlipm"]
+    clone = pickle.loads(pickle.dumps(factory))
+    a, b = factory(), clone()
+    a.set_target(0.05)
+    b.set_target(0.05)
+    assert [a.step() for _ in range(50)] == [b.step() for _ in range(50)]
+
+
+def test_identify_balance_command_on_a_recorded_dataset(
+    balance_run, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    out, _, _ = balance_run
+    dataset = out / "datasets" / "sagittal_lipm"
+    assert main(["identify", "balance", str(dataset), "--out", str(tmp_path)]) == 0
+    assert "x_ft = " in capsys.readouterr().out
+    assert BalanceParams.from_yaml(tmp_path / "params.yaml").plane("sagittal") is not None
+
+
+def test_balance_bad_effects_is_one_line_exit_2(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    assert main(["balance", "--effects", "X", "--out", str(tmp_path)]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1
+    assert "X" in err
+
+
+def test_fit_targets_must_be_run() -> None:
+    from zmpkit.errors import ParameterError
+
+    with pytest.raises(ParameterError, match=r"fit target 0.07 m is not among the targets"):
+        BalanceConfig(targets_m=(0.0, 0.05), fit_targets_m=(0.0, 0.07))
