@@ -1,0 +1,199 @@
+"""Play a joint trajectory on a simulated robot and record what its sensors and a motion
+capture see.
+
+The robot's motion frame (NAO: 10 ms) gives one IK solution per frame; its device manager
+interpolates linearly between frames, so the servos get a new setpoint every physics step.
+Recorded once per motion frame:
+
+- commanded and measured (encoder) joint angles [rad] and the joint torques the actuators
+  apply [N·m] (NAO estimates these from its motor currents);
+- trunk pitch and roll from the IMU's orientation [rad];
+- each foot's F-T wrench rotated into the world frame, and the sensor's world position, from
+  which the measured ZMP follows (:mod:`zmpkit.analysis.walk_metrics`);
+- each sole centre's world position and the torso position: a motion capture of the robot.
+
+A fall (trunk tilt beyond :data:`FALL_TILT_RAD` or torso below :data:`FALL_TORSO_HEIGHT_M`)
+stops the run; the record then ends at the fall.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+
+from zmpkit.sim.world import Simulation
+from zmpkit.walking.ik import JointTrajectory
+
+__all__ = [
+    "FALL_TILT_RAD",
+    "FALL_TORSO_HEIGHT_M",
+    "ProgressCallback",
+    "WalkRecord",
+    "quaternion_pitch_roll",
+    "simulate_walk",
+]
+
+FALL_TILT_RAD = 0.8
+"""Trunk tilt (pitch or roll) beyond which the robot has fallen [rad]."""
+FALL_TORSO_HEIGHT_M = 0.18
+"""Torso height below which the robot has fallen [m]."""
+PROGRESS_EVERY_S = 0.5
+"""Simulated time between two progress reports [s]."""
+
+ProgressCallback = Callable[[float, float], None]
+"""``progress(simulated_s, total_s)``, called during a run."""
+
+
+@dataclass(frozen=True)
+class WalkRecord:
+    """Signals of one simulated walk, one row per motion frame.
+
+    Attributes:
+        time_s: [s], shape (N,).
+        joint_names: the driven joints, columns of the joint arrays.
+        q_cmd_rad: commanded joint angles [rad], shape (N, J).
+        q_meas_rad: encoder joint angles [rad], shape (N, J).
+        torque_nm: actuator torque at each joint [N·m], shape (N, J).
+        trunk_pitch_rad: IMU pitch (nose down positive) [rad], shape (N,).
+        trunk_roll_rad: IMU roll [rad], shape (N,).
+        feet: foot names, in the order of the foot arrays.
+        force_in_world: F-T force of each foot in the world frame [N], shape (N, F, 3).
+        moment_in_world: F-T moment about the sensor, world frame [N·m], shape (N, F, 3).
+        sensor_in_world: F-T sensor origin [m], shape (N, F, 3).
+        sole_in_world: sole-centre position [m], shape (N, F, 3).
+        torso_in_world: torso origin [m], shape (N, 3).
+        fell: whether the robot fell.
+        fall_time_s: when, or None.
+    """
+
+    time_s: NDArray[np.float64]
+    joint_names: tuple[str, ...]
+    q_cmd_rad: NDArray[np.float64]
+    q_meas_rad: NDArray[np.float64]
+    torque_nm: NDArray[np.float64]
+    trunk_pitch_rad: NDArray[np.float64]
+    trunk_roll_rad: NDArray[np.float64]
+    feet: tuple[str, ...]
+    force_in_world: NDArray[np.float64]
+    moment_in_world: NDArray[np.float64]
+    sensor_in_world: NDArray[np.float64]
+    sole_in_world: NDArray[np.float64]
+    torso_in_world: NDArray[np.float64]
+    fell: bool
+    fall_time_s: float | None
+
+    def joint(self, name: str) -> int:
+        """Column of joint ``name``."""
+        return self.joint_names.index(name)
+
+
+def quaternion_pitch_roll(quat_wxyz: NDArray[np.float64]) -> tuple[float, float]:
+    """Pitch and roll [rad] of an orientation (ZYX Euler angles; pitch about y)."""
+    w, x, y, z = (float(v) for v in quat_wxyz)
+    pitch = math.asin(max(-1.0, min(1.0, 2.0 * (w * y - z * x))))
+    roll = math.atan2(2.0 * (w * x + y * z), 1.0 - 2.0 * (x * x + y * y))
+    return pitch, roll
+
+
+def _start_pose(sim: Simulation, trajectory: JointTrajectory) -> list[float]:
+    """Place the robot in the trajectory's first pose at rest; return the servo targets."""
+    data, model = sim.data, sim.model
+    data.qpos[:7] = trajectory.base_qpos[0]
+    data.qvel[:] = 0.0
+    for name, angle in zip(trajectory.joint_names, trajectory.q_rad[0], strict=True):
+        data.qpos[int(model.joint(name).qposadr[0])] = angle
+    q0 = [float(trajectory.q_rad[0, trajectory.joint_names.index(j)]) for j in sim.joint_names]
+    sim.servo.reset(q0)
+    sim.command(q0)
+    sim.step(1)
+    return q0
+
+
+class _Recorder:
+    """Collects one row per motion frame."""
+
+    def __init__(self, sim: Simulation, n: int, feet: tuple[str, ...]) -> None:
+        self.sim, self.feet = sim, feet
+        j, f = len(sim.joint_names), len(feet)
+        self.dof = [int(sim.model.joint(name).dofadr[0]) for name in sim.joint_names]
+        self.rows = 0
+        self.time = np.zeros(n)
+        self.q_cmd, self.q_meas, self.torque = np.zeros((n, j)), np.zeros((n, j)), np.zeros((n, j))
+        self.pitch, self.roll = np.zeros(n), np.zeros(n)
+        self.force, self.moment = np.zeros((n, f, 3)), np.zeros((n, f, 3))
+        self.sensor, self.sole = np.zeros((n, f, 3)), np.zeros((n, f, 3))
+        self.torso = np.zeros((n, 3))
+
+    def record(self, q_cmd: NDArray[np.float64]) -> tuple[float, float]:
+        sim, k = self.sim, self.rows
+        data = sim.data
+        self.time[k] = sim.time
+        self.q_cmd[k], self.q_meas[k] = q_cmd, sim.encoders()
+        self.torque[k] = data.qfrc_actuator[self.dof]
+        self.pitch[k], self.roll[k] = quaternion_pitch_roll(sim.imu()[2])
+        for i, foot in enumerate(self.feet):
+            sensor = next(f for f in sim.robot.feet if f.foot == foot)
+            site = data.site(sensor.site)
+            rotation = site.xmat.reshape(3, 3)
+            wrench = sim.ft(foot)
+            self.force[k, i], self.moment[k, i] = rotation @ wrench[:3], rotation @ wrench[3:]
+            self.sensor[k, i] = site.xpos
+            self.sole[k, i] = data.site(f"{foot}_sole").xpos
+        self.torso[k] = data.qpos[:3]
+        self.rows += 1
+        return self.pitch[k], self.roll[k]
+
+    def result(self, fell: bool, fall_time: float | None) -> WalkRecord:
+        n = self.rows
+        return WalkRecord(
+            self.time[:n], self.sim.joint_names, self.q_cmd[:n], self.q_meas[:n],
+            self.torque[:n], self.pitch[:n], self.roll[:n], self.feet, self.force[:n],
+            self.moment[:n], self.sensor[:n], self.sole[:n], self.torso[:n], fell, fall_time,
+        )  # fmt: skip
+
+
+def _fallen(sim: Simulation, pitch: float, roll: float) -> bool:
+    tilt = max(abs(pitch), abs(roll))
+    return tilt > FALL_TILT_RAD or float(sim.data.qpos[2]) < FALL_TORSO_HEIGHT_M
+
+
+def simulate_walk(
+    sim: Simulation,
+    trajectory: JointTrajectory,
+    progress: ProgressCallback | None = None,
+) -> WalkRecord:
+    """Track ``trajectory`` with the simulated robot's servos from its first pose.
+
+    Args:
+        sim: a fresh simulation of the robot (its driven joints must be in the trajectory).
+        trajectory: joint angles per motion frame, from :func:`~zmpkit.walking.ik.solve_walking_ik`.
+        progress: called with (simulated time, total time) [s] every half second of walk.
+
+    Returns:
+        The record, ending at the fall if the robot fell.
+    """
+    columns = [trajectory.joint_names.index(j) for j in sim.joint_names]
+    q_frames = trajectory.q_rad[:, columns]
+    frame_s = float(trajectory.time_s[1] - trajectory.time_s[0])
+    substeps = max(1, round(frame_s / sim.dt))
+    feet = tuple(f.foot for f in sim.robot.feet)
+    recorder = _Recorder(sim, len(q_frames), feet)
+    _start_pose(sim, trajectory)
+    recorder.record(q_frames[0])
+    total = float(trajectory.time_s[-1])
+    every = max(1, round(PROGRESS_EVERY_S / frame_s))
+    for k in range(1, len(q_frames)):
+        step = (q_frames[k] - q_frames[k - 1]) / substeps
+        for i in range(1, substeps + 1):
+            sim.command(q_frames[k - 1] + i * step)
+            sim.step(1)
+        pitch, roll = recorder.record(q_frames[k])
+        if _fallen(sim, pitch, roll):
+            return recorder.result(True, sim.time)
+        if progress is not None and k % every == 0:
+            progress(sim.time, total)
+    return recorder.result(False, None)

@@ -1,0 +1,174 @@
+"""The numbers of one walk (``summary.json``): fall, speed, trunk oscillation, feet.
+
+Paper B §III reports the trunk oscillation (its spectrum peaks at the step frequency), the
+actual vs commanded speed, and traces the speed difference to the feet: the distance between
+the feet in double support (step length) and their slip while they stand. Every metric is
+taken over the steady walk (see :func:`steady_window`). Metrics that cannot be taken (the
+robot fell before the window) are None.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+
+from zmpkit.analysis.walk_metrics import (
+    CONTACT_FORCE_N,
+    amplitude_spectrum,
+    double_support_distance,
+    fitted_speed,
+    foot_slip,
+)
+from zmpkit.pipelines.walk_sim import WalkRecord
+from zmpkit.walking.ik import JointTrajectory
+from zmpkit.walking.pattern import WalkingPattern
+
+__all__ = ["MIN_WINDOW_S", "WalkSummary", "steady_window", "summarise_walk"]
+
+MIN_WINDOW_S = 1.0
+"""Shortest steady window that gives metrics [s]."""
+
+
+@dataclass(frozen=True)
+class WalkSummary:
+    """The contract of ``summary.json`` (the first eight fields are required by the CLI).
+
+    Attributes:
+        fell: whether the robot fell.
+        mean_speed_mps: fitted torso speed over the steady walk [m/s].
+        commanded_speed_mps: commanded speed [m/s].
+        trunk_pitch_peak_hz: largest peak of the trunk-pitch spectrum above 0.5 Hz [Hz].
+        trunk_pitch_peak_amplitude_rad: its amplitude [rad].
+        trunk_pitch_std_rad: standard deviation of the trunk pitch [rad].
+        mean_double_support_foot_distance_m: mean x distance of the feet in double support [m].
+        foot_slip_m: mean horizontal sole displacement over a stance phase [m].
+        foot_slip_x_m: the same along x; negative = backwards [m].
+        planned_speed_mps: the planned CoM's fitted speed over the same window [m/s].
+        planned_double_support_foot_distance_m: the planned feet distance in double support [m].
+        step_frequency_hz: 1 / step duration [Hz].
+        trunk_pitch_step_frequency_amplitude_rad: spectrum amplitude at the step frequency [rad].
+        fall_time_s: time of the fall [s], or None.
+        window_s: the steady window (start, end) [s].
+        effects: the effects that were on.
+        seed: the sensor-noise seed.
+        ik_max_com_error_m: largest CoM error the IK left [m].
+        ik_max_foot_error_m: largest foot error the IK left [m].
+    """
+
+    fell: bool
+    mean_speed_mps: float | None
+    commanded_speed_mps: float
+    trunk_pitch_peak_hz: float | None
+    trunk_pitch_peak_amplitude_rad: float | None
+    trunk_pitch_std_rad: float | None
+    mean_double_support_foot_distance_m: float | None
+    foot_slip_m: float | None
+    foot_slip_x_m: float | None
+    planned_speed_mps: float | None
+    planned_double_support_foot_distance_m: float | None
+    step_frequency_hz: float
+    trunk_pitch_step_frequency_amplitude_rad: float | None
+    fall_time_s: float | None
+    window_s: tuple[float, float]
+    effects: str
+    seed: int
+    ik_max_com_error_m: float
+    ik_max_foot_error_m: float
+
+
+def steady_window(pattern: WalkingPattern, record: WalkRecord) -> tuple[float, float]:
+    """From the end of the second step to one step before the last one ends, or the fall [s]."""
+    steps = pattern.footsteps.steps
+    step_s = pattern.footsteps.gait.step_duration_s
+    start = steps[min(1, len(steps) - 1)].t_end
+    end = steps[-1].t_end - step_s
+    if record.fall_time_s is not None:
+        end = min(end, record.fall_time_s)
+    return float(start), float(end)
+
+
+def _mean(values: NDArray[np.float64]) -> float | None:
+    finite = values[np.isfinite(values)]
+    return float(np.mean(finite)) if finite.size else None
+
+
+def _planned_distance(pattern: WalkingPattern, mask: NDArray[np.bool_]) -> float | None:
+    feet = pattern.feet
+    sole_x = np.column_stack(
+        [feet.left.position_in_world[:, 0], feet.right.position_in_world[:, 0]]
+    )
+    contact = np.column_stack([feet.left.in_contact, feet.right.in_contact])
+    return _mean(double_support_distance(sole_x, contact)[mask])
+
+
+def _trunk(record: WalkRecord, mask: NDArray[np.bool_], step_hz: float) -> dict[str, float]:
+    pitch = record.trunk_pitch_rad[mask]
+    spectrum = amplitude_spectrum(pitch, float(np.median(np.diff(record.time_s))))
+    peak_hz, peak_amplitude = spectrum.peak()
+    return {
+        "trunk_pitch_peak_hz": peak_hz,
+        "trunk_pitch_peak_amplitude_rad": peak_amplitude,
+        "trunk_pitch_std_rad": float(np.std(pitch)),
+        "trunk_pitch_step_frequency_amplitude_rad": spectrum.at(step_hz),
+    }
+
+
+def _feet(
+    record: WalkRecord,
+    pattern: WalkingPattern,
+    mask: NDArray[np.bool_],
+    planned_mask: NDArray[np.bool_],
+) -> dict[str, float | None]:
+    contact = record.force_in_world[..., 2] >= CONTACT_FORCE_N
+    distance = double_support_distance(record.sole_in_world[..., 0], contact)
+    slip = foot_slip(record.sole_in_world, contact, mask)
+    return {
+        "mean_double_support_foot_distance_m": _mean(distance[mask]),
+        "planned_double_support_foot_distance_m": _planned_distance(pattern, planned_mask),
+        "foot_slip_m": slip.mean_abs_m if slip.phases else None,
+        "foot_slip_x_m": slip.mean_x_m if slip.phases else None,
+    }
+
+
+def summarise_walk(
+    pattern: WalkingPattern,
+    trajectory: JointTrajectory,
+    record: WalkRecord,
+    effects: str,
+    seed: int,
+) -> WalkSummary:
+    """The summary of one simulated walk (see :class:`WalkSummary`)."""
+    step_hz = 1.0 / pattern.footsteps.gait.step_duration_s
+    window = steady_window(pattern, record)
+    time = record.time_s
+    mask = (time >= window[0]) & (time <= window[1])
+    metrics: dict[str, float | None] = dict.fromkeys(
+        ("mean_speed_mps", "planned_speed_mps", "trunk_pitch_peak_hz",
+         "trunk_pitch_peak_amplitude_rad", "trunk_pitch_std_rad",
+         "trunk_pitch_step_frequency_amplitude_rad", "mean_double_support_foot_distance_m",
+         "planned_double_support_foot_distance_m", "foot_slip_m", "foot_slip_x_m"),
+    )  # fmt: skip
+    if window[1] - window[0] >= MIN_WINDOW_S:
+        planned_mask = (pattern.time_s >= window[0]) & (pattern.time_s <= window[1])
+        metrics["mean_speed_mps"] = fitted_speed(time, record.torso_in_world[:, 0], mask)
+        com_x = pattern.com_position_in_world[:, 0]
+        metrics["planned_speed_mps"] = fitted_speed(pattern.time_s, com_x, planned_mask)
+        metrics.update(_trunk(record, mask, step_hz))
+        metrics.update(_feet(record, pattern, mask, planned_mask))
+    return WalkSummary(
+        fell=record.fell,
+        commanded_speed_mps=float(pattern.config.command.v_x),
+        step_frequency_hz=step_hz,
+        fall_time_s=record.fall_time_s,
+        window_s=window,
+        effects=effects,
+        seed=seed,
+        ik_max_com_error_m=trajectory.max_com_error_m,
+        ik_max_foot_error_m=trajectory.max_foot_error_m,
+        **{
+            k: (None if v is None or not math.isfinite(v) else float(v)) for k, v in metrics.items()
+        },
+    )

@@ -1,0 +1,133 @@
+"""Assemble the virtual NAO: its rigid MJCF, the switched-on effects, and a simulation.
+
+:func:`nao_robot` gives the :class:`~zmpkit.sim.description.RobotDescription`;
+:func:`make_nao` starts a :class:`~zmpkit.sim.world.Simulation` of it; :func:`nao_ik_mjcf`
+is the rigid kinematic model a controller (the IK) may use — the design, not the truth.
+
+Joints whose motor effect is off are driven by the stiff ideal servo and keep the rotor's
+reflected inertia ``J N²`` as joint ``armature``: the inertia is a property of the robot, not
+of the motor effect, and it keeps a stiff servo on NAO's light links stable at 1 kHz.
+"""
+
+from __future__ import annotations
+
+import xml.etree.ElementTree as ET
+from pathlib import Path
+
+import mujoco
+
+from zmpkit.robots.nao.model import NAO_DRIVEN_JOINTS, NAO_SIDES, SOLE_PLATE_M, base_mjcf
+from zmpkit.robots.nao.truth import NaoTruth, load_truth
+from zmpkit.sim.builder import (
+    add_flex_joint,
+    add_gear_compliance,
+    add_ideal_servo,
+    add_motor,
+    find_element,
+)
+from zmpkit.sim.description import FootSensor, RobotDescription
+from zmpkit.sim.effect_set import EffectSet
+from zmpkit.sim.servo import ServoLimits
+from zmpkit.sim.world import Simulation
+
+__all__ = ["NAO_SERVO_LIMITS", "make_nao", "nao_ik_mjcf", "nao_ik_model", "nao_mjcf", "nao_robot"]
+
+NAO_SERVO_LIMITS = ServoLimits(max_velocity=15.0, max_acceleration=5000.0, synchronized=False)
+"""Setpoint limits of NAO's leg drives: the URDF velocity limit 6.40 rad/s; the acceleration
+limit (ASSUMED) only smooths the 1 ms setpoint ramps the DCM interpolates."""
+IK_TIMESTEP_S = 0.01
+"""Timestep of the kinematic model [s] (unused by the IK, NAO's 10 ms motion frame)."""
+
+
+def _resolve_truth(truth: NaoTruth | str | Path | None) -> NaoTruth:
+    return truth if isinstance(truth, NaoTruth) else load_truth(truth)
+
+
+def _drive(root: ET.Element, joint: str, on: EffectSet, params: NaoTruth) -> None:
+    motor = params.motors[joint]
+    if on.gear:
+        add_gear_compliance(root, joint, params.gear)
+    if on.motor:
+        inductance = params.inductances[joint] if on.inductance else None
+        add_motor(root, joint, motor, inductance)
+        return
+    joint_el = find_element(root, "joint", joint)
+    armature = float(joint_el.get("armature", "0")) + motor.armature_link
+    joint_el.set("armature", f"{armature:.10g}")
+    add_ideal_servo(root, joint, params.ideal_servo)
+
+
+def nao_mjcf(effects: EffectSet | str = "all", truth: NaoTruth | str | Path | None = None) -> str:
+    """NAO's MJCF text with the chosen effects applied.
+
+    Args:
+        effects: ``"all"``, ``"none"``, letters such as ``"M,G,F"``, or an EffectSet.
+        truth: truth parameters, a truth file, or ``None`` for the shipped truth.
+    """
+    on = EffectSet.parse(effects)
+    params = _resolve_truth(truth)
+    root = base_mjcf(1.0 / params.servo_rate_hz, params.floor_friction)
+    coupled = find_element(root, "joint", "RHipYawPitch")
+    coupled.set("armature", f"{params.motors['LHipYawPitch'].armature_link:.10g}")
+    for joint in NAO_DRIVEN_JOINTS:
+        _drive(root, joint, on, params)
+    if on.flex:
+        for flex in params.flex:
+            add_flex_joint(root, flex)
+    ET.indent(root)
+    return ET.tostring(root, encoding="unicode")
+
+
+def nao_ik_mjcf() -> str:
+    """The rigid NAO without actuators: the kinematic and inertial model of the design."""
+    root = base_mjcf(IK_TIMESTEP_S)
+    ET.indent(root)
+    return ET.tostring(root, encoding="unicode")
+
+
+def nao_ik_model() -> mujoco.MjModel:
+    """The compiled :func:`nao_ik_mjcf`, for :func:`~zmpkit.walking.ik.solve_walking_ik`."""
+    return mujoco.MjModel.from_xml_string(nao_ik_mjcf())
+
+
+def nao_robot(
+    effects: EffectSet | str = "all", truth: NaoTruth | str | Path | None = None
+) -> RobotDescription:
+    """The virtual NAO as a robot description, ready for :class:`Simulation`."""
+    on = EffectSet.parse(effects)
+    params = _resolve_truth(truth)
+    feet = tuple(
+        FootSensor(
+            foot=side,
+            force_sensor=f"{side}_ft_force",
+            torque_sensor=f"{side}_ft_torque",
+            site=f"{side}_ft",
+            sole_height_m=SOLE_PLATE_M,
+        )
+        for side in NAO_SIDES
+    )
+    return RobotDescription(
+        name="nao",
+        mjcf=nao_mjcf(on, params),
+        driven_joints=NAO_DRIVEN_JOINTS,
+        feet=feet,
+        effects=on,
+        servo_limits=NAO_SERVO_LIMITS,
+        sensor_params=params.sensors,
+        ft_offsets=params.ft_offsets,
+    )
+
+
+def make_nao(
+    effects: EffectSet | str = "all",
+    truth: NaoTruth | str | Path | None = None,
+    seed: int = 0,
+) -> Simulation:
+    """Start a simulation of the virtual NAO standing in its zero pose (legs straight).
+
+    Args:
+        effects: which effects are on (see :class:`~zmpkit.sim.effect_set.EffectSet`).
+        truth: truth parameters, a truth file, or ``None`` for the shipped truth.
+        seed: seed of the sensor noise.
+    """
+    return Simulation(nao_robot(effects, truth), seed=seed)

@@ -1,0 +1,239 @@
+"""Whole-body inverse kinematics of a walking pattern with mink (differential IK on MuJoCo).
+
+At every sample of the pattern (NAO: every 10 ms) the IK drives the robot model to
+
+- both sole-centre frames at the planned foot poses (position and yaw; flat on the ground),
+- the torso upright with the planned torso yaw (orientation only),
+- the whole-body CoM at the planned CoM ``(x, y, z_c)``,
+- and, with a small weight, a nominal posture (which fixes the redundant directions),
+
+subject to the joint limits and to the model's joint equalities (NAO's coupled HipYawPitch).
+Each sample is warm-started from the previous solution and iterated until the CoM and feet
+errors fall below :attr:`IkSettings.tolerance_m` or :attr:`IkSettings.max_iterations` is
+spent. The footstep planner's foot point is the *sole centre*; the model must carry a site
+there (NAO's ankle lies 25 mm behind it), so the ankle offset is the model's geometry.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+
+import mink
+import mujoco
+import numpy as np
+from numpy.typing import NDArray
+
+from zmpkit import _validate
+from zmpkit.errors import ModelError
+from zmpkit.walking.pattern import WalkingPattern
+
+__all__ = ["IkSettings", "JointTrajectory", "solve_walking_ik"]
+
+NAO_CROUCH_POSTURE_RAD: Mapping[str, float] = {
+    f"{side}{joint}": angle
+    for side in ("L", "R")
+    for joint, angle in (("HipPitch", -0.45), ("KneePitch", 0.90), ("AnklePitch", -0.45))
+}
+"""Walking crouch whose CoM is 0.26 m high (nao-parameters.md §1) [rad]."""
+
+
+@dataclass(frozen=True)
+class IkSettings:
+    """Frames, weights and stopping rule of the walking IK.
+
+    Attributes:
+        joint_names: the joints reported in the trajectory, in order.
+        sole_sites: foot side → site at the sole centre on the sole plane.
+        torso_body: body whose orientation follows the planned torso.
+        posture_rad: nominal posture [rad] (joints not named: 0); also the start guess.
+        foot_cost: weight of the feet position [1/m] and orientation [1/rad] errors.
+        com_cost: weight of the CoM error [1/m].
+        torso_cost: weight of the torso orientation error [1/rad].
+        posture_cost: weight of the posture error [1/rad].
+        equality_cost: weight of the joint-equality residuals.
+        damping: Levenberg–Marquardt damping of the QP [-].
+        tolerance_m: stop iterating a sample when the CoM and feet errors are below this [m].
+        max_iterations: iterations per sample (the first sample gets ten times as many).
+        solver: the QP solver mink calls.
+    """
+
+    joint_names: tuple[str, ...]
+    sole_sites: Mapping[str, str] = field(
+        default_factory=lambda: {"left": "left_sole", "right": "right_sole"}
+    )
+    torso_body: str = "torso"
+    posture_rad: Mapping[str, float] = field(default_factory=lambda: dict(NAO_CROUCH_POSTURE_RAD))
+    foot_cost: float = 10.0
+    com_cost: float = 10.0
+    torso_cost: float = 1.0
+    posture_cost: float = 1e-3
+    equality_cost: float = 100.0
+    damping: float = 1e-6
+    tolerance_m: float = 2e-5
+    max_iterations: int = 8
+    solver: str = "daqp"
+
+    def __post_init__(self) -> None:
+        for name in ("foot_cost", "com_cost", "torso_cost", "posture_cost", "tolerance_m"):
+            _validate.positive(f"IkSettings.{name}", getattr(self, name))
+        _validate.non_negative("IkSettings.damping", self.damping)
+        if self.max_iterations < 1:
+            raise ModelError(f"IkSettings.max_iterations must be >= 1, got {self.max_iterations}")
+
+
+@dataclass(frozen=True)
+class JointTrajectory:
+    """Joint angles that realise a walking pattern on a model, with the errors left.
+
+    Attributes:
+        time_s: sample times [s], shape (N,).
+        joint_names: names of the columns of ``q_rad``.
+        q_rad: joint angles [rad], shape (N, J).
+        base_qpos: floating-base pose (x, y, z, qw, qx, qy, qz) the IK found, shape (N, 7).
+        com_error_m: CoM position error after the IK [m], shape (N,).
+        foot_error_m: largest sole-centre position error of both feet [m], shape (N,).
+        torso_error_rad: torso orientation error [rad], shape (N,).
+    """
+
+    time_s: NDArray[np.float64]
+    joint_names: tuple[str, ...]
+    q_rad: NDArray[np.float64]
+    base_qpos: NDArray[np.float64]
+    com_error_m: NDArray[np.float64]
+    foot_error_m: NDArray[np.float64]
+    torso_error_rad: NDArray[np.float64]
+
+    @property
+    def max_com_error_m(self) -> float:
+        """Largest CoM error over the walk [m]."""
+        return float(np.max(self.com_error_m))
+
+    @property
+    def max_foot_error_m(self) -> float:
+        """Largest foot position error over the walk [m]."""
+        return float(np.max(self.foot_error_m))
+
+    @property
+    def max_torso_error_rad(self) -> float:
+        """Largest torso orientation error over the walk [rad]."""
+        return float(np.max(self.torso_error_rad))
+
+    def joint(self, name: str) -> NDArray[np.float64]:
+        """One joint's angles [rad], shape (N,)."""
+        if name not in self.joint_names:
+            raise ModelError(f"unknown joint {name!r}; joints: {list(self.joint_names)}")
+        return self.q_rad[:, self.joint_names.index(name)]
+
+
+def _pose(x: float, y: float, z: float, yaw: float) -> mink.SE3:
+    rotation = mink.SO3.from_rpy_radians(0.0, 0.0, yaw)
+    return mink.SE3.from_rotation_and_translation(rotation, np.array([x, y, z]))
+
+
+class _WalkingIk:
+    """The tasks of one model, re-targeted sample after sample."""
+
+    def __init__(self, model: mujoco.MjModel, settings: IkSettings) -> None:
+        self.settings = settings
+        self.model = model
+        self.configuration = mink.Configuration(model, _start_q(model, settings))
+        self.feet = {
+            side: mink.FrameTask(site, "site", settings.foot_cost, settings.foot_cost)
+            for side, site in settings.sole_sites.items()
+        }
+        self.torso = mink.FrameTask(settings.torso_body, "body", 0.0, settings.torso_cost)
+        self.com = mink.ComTask(settings.com_cost)
+        posture = mink.PostureTask(model, settings.posture_cost)
+        posture.set_target(self.configuration.q.copy())
+        self.tasks: list[mink.Task] = [*self.feet.values(), self.torso, self.com, posture]
+        if model.neq > 0:
+            self.tasks.append(mink.EqualityConstraintTask(model, settings.equality_cost))
+        self.limits = [mink.ConfigurationLimit(model)]
+        self.qadr = [_qpos_address(model, name) for name in settings.joint_names]
+
+    def set_targets(self, pattern: WalkingPattern, k: int) -> None:
+        feet = pattern.feet
+        for side, task in self.feet.items():
+            trajectory = feet.left if side == "left" else feet.right
+            x, y, z = trajectory.position_in_world[k]
+            task.set_target(_pose(x, y, z, trajectory.yaw_in_world[k]))
+        self.torso.set_target(_pose(0.0, 0.0, 0.0, feet.torso_yaw_in_world[k]))
+        self.com.set_target(pattern.com_position_in_world[k])
+
+    def errors(self) -> tuple[float, float, float]:
+        """CoM [m], largest foot position [m] and torso orientation [rad] errors."""
+        c = self.configuration
+        com = float(np.linalg.norm(self.com.compute_error(c)))
+        foot = max(float(np.linalg.norm(t.compute_error(c)[:3])) for t in self.feet.values())
+        torso = float(np.linalg.norm(self.torso.compute_error(c)[3:]))
+        return com, foot, torso
+
+    def solve(self, iterations: int, dt: float) -> tuple[float, float, float]:
+        s = self.settings
+        for _ in range(iterations):
+            velocity = mink.solve_ik(
+                self.configuration, self.tasks, dt, s.solver, s.damping, limits=self.limits
+            )
+            self.configuration.integrate_inplace(velocity, dt)
+            errors = self.errors()
+            if max(errors[:2]) < s.tolerance_m:
+                break
+        return errors
+
+
+def _qpos_address(model: mujoco.MjModel, name: str) -> int:
+    joint_id = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_JOINT, name)
+    if joint_id < 0:
+        raise ModelError(f"the IK model has no joint {name!r}")
+    return int(model.jnt_qposadr[joint_id])
+
+
+def _start_q(model: mujoco.MjModel, settings: IkSettings) -> NDArray[np.float64]:
+    q = model.qpos0.copy()
+    for name, angle in settings.posture_rad.items():
+        q[_qpos_address(model, name)] = angle
+    return q
+
+
+def solve_walking_ik(
+    pattern: WalkingPattern,
+    model: mujoco.MjModel,
+    settings: IkSettings | None = None,
+) -> JointTrajectory:
+    """Joint angles that realise ``pattern`` on ``model``, one IK solution per sample.
+
+    Args:
+        pattern: the walk (feet, torso yaw and CoM on one time grid).
+        model: the robot's rigid kinematic model, floating base first, with a site at each
+            sole centre (see :class:`IkSettings`).
+        settings: frames, weights and stopping rule; NAO's leg joints when None.
+
+    Returns:
+        The joint trajectory with the CoM, feet and torso errors left at each sample.
+    """
+    if settings is None:
+        from zmpkit.robots.nao import NAO_LEG_JOINTS  # the default robot
+
+        settings = IkSettings(joint_names=NAO_LEG_JOINTS)
+    ik = _WalkingIk(model, settings)
+    n = pattern.time_s.size
+    q = np.empty((n, len(settings.joint_names)))
+    base = np.empty((n, 7))
+    errors = np.empty((n, 3))
+    dt = pattern.config.control_period_s
+    for k in range(n):
+        ik.set_targets(pattern, k)
+        iterations = settings.max_iterations * (10 if k == 0 else 1)
+        errors[k] = ik.solve(iterations, dt)
+        q[k] = ik.configuration.q[ik.qadr]
+        base[k] = ik.configuration.q[:7]
+    return JointTrajectory(
+        time_s=pattern.time_s.copy(),
+        joint_names=settings.joint_names,
+        q_rad=q,
+        base_qpos=base,
+        com_error_m=errors[:, 0],
+        foot_error_m=errors[:, 1],
+        torso_error_rad=errors[:, 2],
+    )
