@@ -232,6 +232,71 @@ def balance_command(
     click.echo(f"report: {artifacts.report}")
 
 
+@cli.group("walk", invoke_without_command=True)
+@click.option("--robot", type=click.Choice(("nao",)), default="nao", show_default=True)
+@click.option("--speed", type=float, default=0.2, show_default=True, help="Forward speed [m/s].")
+@click.option(
+    "--step-duration", type=float, default=0.5, show_default=True, help="Duration of one step [s]."
+)
+@click.option("--duration", type=float, default=10.0, show_default=True, help="Walking time [s].")
+@click.option(
+    "--effects",
+    default="all",
+    show_default=True,
+    help="Simulated effects: all, none, or letters M,I,G,F,S.",
+)
+@click.option("--seed", type=int, default=0, show_default=True, help="Seed of the sensor noise.")
+@click.option(
+    "--truth",
+    type=click.Path(path_type=Path),
+    help="Truth YAML replacing the virtual robot's shipped one.",
+)
+@click.option(
+    "--out",
+    "out_dir",
+    type=click.Path(path_type=Path),
+    help="Output folder (required when walking).",
+)
+@click.pass_context
+def walk_group(
+    ctx: click.Context,
+    robot: str,
+    speed: float,
+    step_duration: float,
+    duration: float,
+    effects: str,
+    seed: int,
+    truth: Path | None,
+    out_dir: Path | None,
+) -> None:
+    """Walk the virtual robot with the 3D-LIPM pattern (paper B) and analyse the walk."""
+    if ctx.invoked_subcommand is not None:
+        return
+    if out_dir is None:
+        raise click.UsageError("walking needs --out DIR")
+    from zmpkit.pipelines.progress import SimTimeProgress
+    from zmpkit.pipelines.walk import WalkConfig, run_walk
+
+    config = WalkConfig(
+        robot=robot,
+        speed_mps=speed,
+        step_duration_s=step_duration,
+        duration_s=duration,
+        effects=effects,
+        seed=seed,
+        truth=None if truth is None else str(truth),
+    )
+    with SimTimeProgress(f"walk ({config.effects or 'none'})") as progress:
+        result = run_walk(config, out_dir, progress=progress)
+    s = result.summary
+    click.echo(
+        f"fell: {s.fell}; speed {s.mean_speed_mps:.4f} m/s (commanded "
+        f"{s.commanded_speed_mps:.4f}); trunk pitch peak {s.trunk_pitch_peak_hz:.2f} Hz, "
+        f"{s.trunk_pitch_peak_amplitude_rad:.4f} rad"
+    )
+    click.echo(f"summary: {Path(out_dir) / 'summary.json'}")
+
+
 @cli.group("identify")
 def identify_group() -> None:
     """Identify models of the robot from recorded data."""

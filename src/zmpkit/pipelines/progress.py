@@ -5,7 +5,7 @@ from __future__ import annotations
 from rich.console import Console
 from rich.progress import BarColumn, MofNCompleteColumn, Progress, TimeElapsedColumn
 
-__all__ = ["SweepProgress", "TrialProgressBar"]
+__all__ = ["SimTimeProgress", "SweepProgress", "TrialProgressBar"]
 
 
 class TrialProgressBar:
@@ -67,3 +67,28 @@ class SweepProgress:
             self._bar.update(task, completed=finished, total=total)
 
         return update
+
+
+class SimTimeProgress:
+    """A bar of simulated seconds; the instance is a ``progress(simulated_s, total_s)``."""
+
+    def __init__(self, label: str) -> None:
+        self._bar = Progress(
+            "[progress.description]{task.description}",
+            BarColumn(),
+            "{task.completed:.1f}/{task.total:.1f} s simulated",
+            TimeElapsedColumn(),
+            console=Console(stderr=True),
+        )
+        self._task = self._bar.add_task(label, total=0.0)
+
+    def __enter__(self) -> SimTimeProgress:
+        self._bar.start()
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self._bar.stop()
+
+    def __call__(self, simulated_s: float, total_s: float) -> None:
+        """Show ``simulated_s`` of ``total_s`` simulated seconds."""
+        self._bar.update(self._task, completed=simulated_s, total=total_s)
