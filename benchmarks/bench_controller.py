@@ -19,16 +19,12 @@ The target is 2 µs per tick. Speed is reported, never asserted.
 
 from __future__ import annotations
 
-import argparse
-import json
 import math
-import platform
-import timeit
-from pathlib import Path
 from typing import Any
 
 import numpy as np
 
+from harness import base_parser, best_of, environment, print_table, write_json
 from zmpkit.control import DlipmController, GainSchedule
 from zmpkit.identify import ErrorModel
 from zmpkit.sensors import DoubleSupportZmp, SensorMount
@@ -61,8 +57,7 @@ class BareStateSpace:
 
 def best_us(stmt: str, namespace: dict[str, object], number: int) -> float:
     """Best time of one execution of ``stmt`` over :data:`REPEATS` repeats [µs]."""
-    timer = timeit.Timer(stmt, globals=namespace)
-    return min(timer.repeat(repeat=REPEATS, number=number)) / number * 1e6
+    return best_of(stmt, number, REPEATS, namespace) * 1e6
 
 
 def teo_wrenches() -> tuple[DoubleSupportZmp, list[float], list[float]]:
@@ -120,39 +115,24 @@ def report(results: dict[str, Any]) -> None:
          f"tick = {results['tick_over_bare']:.1f}× baseline"),
         ("set_target (schedule + ZOH)", f"{results['set_target_us']:.1f} µs", "per target change"),
     ]  # fmt: skip
-    try:
-        from rich.console import Console
-        from rich.table import Table
-    except ImportError:
-        for row in rows:
-            print(" | ".join(row))
-        return
-    table = Table(title=f"zmpkit controller tick ({results['python']}, {results['machine']})")
-    for column in ("case", "time", "note"):
-        table.add_column(column)
-    for row in rows:
-        table.add_row(*row)
-    Console().print(table)
+    title = f"zmpkit controller tick ({results['python']}, {results['machine']})"
+    print_table(title, ("case", "time", "note"), rows)
 
 
 def main(argv: list[str] | None = None) -> dict[str, Any]:
     """Run the benchmark, print a table, write JSON if asked; returns the results."""
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--json", type=Path, help="write the results to this JSON file")
+    parser = base_parser(__doc__.splitlines()[0])
     parser.add_argument("--number", type=int, default=200_000, help="calls per repeat")
     args = parser.parse_args(argv)
     results = {
-        "python": platform.python_implementation() + " " + platform.python_version(),
-        "numpy": np.__version__,
-        "machine": platform.machine(),
-        "processor": platform.processor(),
+        **environment(),
         "repeats": REPEATS,
         "number": args.number,
         **run(args.number),
     }
     report(results)
     if args.json is not None:
-        args.json.write_text(json.dumps(results, indent=2))
+        write_json(args.json, results)
     return results
 
 

@@ -22,18 +22,13 @@ Target of issue 3: all effects cost <= 1.5x the rigid model (stretch 1.2x).
 
 from __future__ import annotations
 
-import argparse
-import json
-import platform
 import time
 from collections.abc import Callable
-from pathlib import Path
 from typing import Any
 
 import mujoco
-from rich.console import Console
-from rich.table import Table
 
+from harness import base_parser, environment, print_table, write_json
 from zmpkit.robots.teo import make_teo, teo_mjcf
 
 __all__ = ["main"]
@@ -94,32 +89,38 @@ def measure(seconds: float, repeats: int) -> list[dict[str, Any]]:
 
 
 def show(rows: list[dict[str, Any]], seconds: float) -> None:
-    table = Table(title=f"virtual TEO standing {seconds:g} s (best of repeats)")
-    for column in ("case", "wall (s)", "sim s / wall s", "cost vs bare rigid"):
-        table.add_column(column, justify="left" if column == "case" else "right")
-    for r in rows:
-        table.add_row(
+    """Print the rows as a table (rich if available)."""
+    cells = [
+        (
             r["case"],
             f"{r['wall_s']:.3f}",
             f"{r['sim_s_per_wall_s']:.1f}",
             f"{r['cost_vs_bare_rigid']:.2f}x",
         )
-    Console().print(table)
+        for r in rows
+    ]
+    print_table(
+        f"virtual TEO standing {seconds:g} s (best of repeats)",
+        ("case", "wall (s)", "sim s / wall s", "cost vs bare rigid"),
+        cells,
+        justify=("left", "right", "right", "right"),
+    )
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--json", type=Path, help="also write the results as JSON here")
+    """Run the benchmark, print a table, write JSON if asked; returns the exit status."""
+    parser = base_parser(__doc__.splitlines()[0])
     parser.add_argument("--seconds", type=float, default=DEFAULT_SECONDS)
     parser.add_argument("--repeats", type=int, default=DEFAULT_REPEATS)
     args = parser.parse_args(argv)
     rows = measure(args.seconds, args.repeats)
     show(rows, args.seconds)
     if args.json is not None:
-        info = {"mujoco": mujoco.__version__, "python": platform.python_version()}
-        info["machine"] = platform.machine()
+        env = environment()
+        # "python" is the bare version here, as this JSON always had it.
+        info = {"mujoco": mujoco.__version__, **env, "python": env["python_version"]}
         payload = {"seconds": args.seconds, "repeats": args.repeats, "env": info, "rows": rows}
-        args.json.write_text(json.dumps(payload, indent=2) + "\n", encoding="utf-8")
+        write_json(args.json, payload)
     return 0
 
 

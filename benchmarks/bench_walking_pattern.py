@@ -22,18 +22,14 @@ Small-matrix LAPACK calls are sensitive to BLAS threading: compare with
 
 from __future__ import annotations
 
-import argparse
-import json
 import os
-import platform
-import timeit
-from pathlib import Path
+from collections.abc import Callable
 from typing import Any
 
 import numpy as np
-import scipy
 import scipy.linalg
 
+from harness import base_parser, best_of, environment, print_table, write_json
 from zmpkit.walking import (
     PatternConfig,
     PreviewController,
@@ -51,9 +47,9 @@ REPEATS = 9
 TARGET_PATTERN_MS = 5.0
 
 
-def best_ms(function: Any, number: int) -> float:
+def best_ms(function: Callable[[], object], number: int) -> float:
     """Best time of one call of ``function`` over :data:`REPEATS` repeats [ms]."""
-    return min(timeit.repeat(function, repeat=REPEATS, number=number)) / number * 1e3
+    return best_of(function, number, REPEATS) * 1e3
 
 
 def measure(duration_s: float) -> dict[str, Any]:
@@ -103,34 +99,16 @@ def report(results: dict[str, Any]) -> None:
         f"OPENBLAS_NUM_THREADS={results['openblas_num_threads']}; pattern {verdict} the "
         f"{TARGET_PATTERN_MS:g} ms target"
     )
-    try:
-        from rich.console import Console
-        from rich.table import Table
-    except ImportError:
-        print(title)
-        for row in rows:
-            print(" | ".join(row))
-        return
-    table = Table(title=title)
-    for column in ("case", "best [ms]", "x Riccati"):
-        table.add_column(column)
-    for row in rows:
-        table.add_row(*row)
-    Console().print(table)
+    print_table(title, ("case", "best [ms]", "x Riccati"), rows)
 
 
 def main(argv: list[str] | None = None) -> dict[str, Any]:
     """Run the benchmark, print a table, write JSON if asked; returns the results."""
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--json", type=Path, help="write the results to this JSON file")
+    parser = base_parser(__doc__.splitlines()[0])
     parser.add_argument("--duration", type=float, default=10.0, help="walking time [s]")
     args = parser.parse_args(argv)
     results = {
-        "python": platform.python_implementation() + " " + platform.python_version(),
-        "numpy": np.__version__,
-        "scipy": scipy.__version__,
-        "machine": platform.machine(),
-        "cpu_count": os.cpu_count(),
+        **environment(),
         "openblas_num_threads": os.environ.get("OPENBLAS_NUM_THREADS", "unset"),
         "repeats": REPEATS,
         "duration_s": args.duration,
@@ -140,7 +118,7 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
     results["pattern_over_riccati"] = results["ms"]["pattern"] / results["ms"]["riccati_solve"]
     report(results)
     if args.json is not None:
-        args.json.write_text(json.dumps(results, indent=2))
+        write_json(args.json, results)
     return results
 
 

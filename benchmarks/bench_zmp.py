@@ -17,17 +17,13 @@ Speed is reported, never asserted.
 
 from __future__ import annotations
 
-import argparse
-import json
 import math
-import platform
-import timeit
-from pathlib import Path
 from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
+from harness import base_parser, best_of, environment, print_table, write_json
 from zmpkit.sensors import (
     CONTACT_FORCE_THRESHOLD_N,
     DoubleSupportZmp,
@@ -43,8 +39,7 @@ REPEATS = 7
 
 def best_seconds(stmt: str, namespace: dict[str, object], number: int) -> float:
     """Best time of one execution of ``stmt`` over :data:`REPEATS` repeats [s]."""
-    timer = timeit.Timer(stmt, globals=namespace)
-    return min(timer.repeat(repeat=REPEATS, number=number)) / number
+    return best_of(stmt, number, REPEATS, namespace)
 
 
 def numpy_sample(
@@ -195,32 +190,17 @@ def report(results: dict[str, Any]) -> None:
             f"zmp_series takes {series['series_over_divide']:.1f}x its time",
         )
     )
-    try:
-        from rich.console import Console
-        from rich.table import Table
-    except ImportError:
-        for row in rows:
-            print(" | ".join(row))
-        return
-    table = Table(title=f"zmpkit ZMP benchmark ({results['python']}, numpy {results['numpy']})")
-    for column in ("case", "speed", "note"):
-        table.add_column(column)
-    for row in rows:
-        table.add_row(*row)
-    Console().print(table)
+    title = f"zmpkit ZMP benchmark ({results['python']}, numpy {results['numpy']})"
+    print_table(title, ("case", "speed", "note"), rows)
 
 
 def main(argv: list[str] | None = None) -> dict[str, Any]:
     """Run the benchmark, print a table, write JSON if asked; returns the results."""
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--json", type=Path, help="write the results to this JSON file")
+    parser = base_parser(__doc__.splitlines()[0])
     parser.add_argument("--samples", type=int, default=1_000_000, help="time-series length")
     args = parser.parse_args(argv)
     results = {
-        "python": platform.python_implementation() + " " + platform.python_version(),
-        "numpy": np.__version__,
-        "machine": platform.machine(),
-        "processor": platform.processor(),
+        **environment(),
         "repeats": REPEATS,
         "sample": {
             "TEO mount (pi about x)": bench_sample((math.pi, 0.0, 0.0)),
@@ -230,7 +210,7 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
     }
     report(results)
     if args.json is not None:
-        args.json.write_text(json.dumps(results, indent=2))
+        write_json(args.json, results)
     return results
 
 
