@@ -29,6 +29,7 @@ import numpy as np
 import pytest
 
 from zmpkit.errors import SimulationDivergedError
+from zmpkit.experiments import design_lean_model
 from zmpkit.io import feet_from_mapping
 from zmpkit.robots.teo import (
     TEO_BALANCE_MASS_KG,
@@ -36,7 +37,6 @@ from zmpkit.robots.teo import (
     TeoTruth,
     make_teo,
     teo_feet_mounts,
-    teo_lean_joints,
     teo_mjcf,
 )
 from zmpkit.sensors.fast import DoubleSupportZmp
@@ -55,7 +55,7 @@ STEADY_WINDOW_S = 1.0  # steady-state mean over the last second [s]
 
 def lean_joints(plane: str, angle: float) -> dict[str, float]:
     """Joint targets [rad] of a lean by ``angle`` [rad] in ``plane`` (positive = +x or +y)."""
-    return teo_lean_joints(plane, angle)
+    return design_lean_model("teo", plane).joint_targets(angle)
 
 
 @cache

@@ -5,7 +5,6 @@ The balance model a controller believes is :data:`TEO_BALANCE_MASS_KG` and
 ``data/truth.yaml`` and is read only by the simulator and tests.
 """
 
-from zmpkit.robots.teo.lean import LEAN_PLANES, teo_lean_joints
 from zmpkit.robots.teo.model import (
     TEO_BALANCE_MASS_KG,
     TEO_COM_HEIGHT_M,
@@ -17,7 +16,6 @@ from zmpkit.robots.teo.truth import DEFAULT_TRUTH_PATH, TeoTruth, load_truth
 
 __all__ = [
     "DEFAULT_TRUTH_PATH",
-    "LEAN_PLANES",
     "TEO_BALANCE_MASS_KG",
     "TEO_COM_HEIGHT_M",
     "TEO_DRIVEN_JOINTS",
@@ -26,7 +24,6 @@ __all__ = [
     "load_truth",
     "make_teo",
     "teo_feet_mounts",
-    "teo_lean_joints",
     "teo_mjcf",
     "teo_robot",
 ]
