@@ -330,3 +330,26 @@ def test_time_scale_slows_the_trajectory_by_exactly_that_factor() -> None:
     slow_angles = [slow.step() for _ in range(4 * 4 * 200)]
     np.testing.assert_allclose(slow_angles[15::16], fast_angles, rtol=1e-9, atol=1e-12)
     assert math.isclose(PAPER_A_TIME_SCALE, 7.5694, abs_tol=1e-4)  # √(180/π)
+
+
+@pytest.mark.parametrize("target", [0.01, 0.05, 0.1])
+def test_servo_paced_plan_stays_within_the_acceleration_limit(target: float) -> None:
+    """ω_n²|Δθ| ≤ a: the planned angle's acceleration (finite differences) stays below a."""
+    schedule = GainSchedule(PAPER_A, MASS_KG, LENGTH_M)
+    limit = 0.1  # [rad/s²], TEO's servo acceleration limit
+    controller = DlipmController(
+        schedule,
+        DT_S,
+        angle_limit_rad=0.3,
+        rate_limit_rad_s=10.0,
+        support_polygon=POLYGON_M,
+        max_acceleration_rad_s2=limit,
+    )
+    controller.reset(0.0)
+    controller.set_target(target)
+    angles = np.array([0.0] + [controller.step() for _ in range(3000)])
+    acceleration = np.diff(angles, 2) / DT_S**2
+    assert controller.active_time_scale > 1.0
+    assert np.max(np.abs(acceleration)) <= limit * 1.01
+    assert np.max(np.abs(acceleration)) >= limit * 0.9  # no slower than it needs to be
+    assert angles[-1] == pytest.approx(schedule.steady_angle(target), rel=1e-6)

@@ -204,6 +204,14 @@ def sim_push_command(
     help="Plane(s) to run; default both.",
 )
 @click.option("--workers", type=int, default=2, show_default=True, help="Parallel processes.")
+@click.option(
+    "--dlipm-pace",
+    type=click.Choice(("servo", "paper")),
+    default="servo",
+    show_default=True,
+    help="servo: the fastest DLIPM the servos' acceleration limit allows, per target; "
+    "paper: paper A's fixed time scale sqrt(180/pi).",
+)
 def balance_command(
     robot: str,
     out_dir: Path,
@@ -213,6 +221,7 @@ def balance_command(
     effects: str,
     planes: tuple[str, ...],
     workers: int,
+    dlipm_pace: str,
 ) -> None:
     """Paper A end to end: LIPM steps, DLIPM identification, scheduled controller, Table 1."""
     from zmpkit.pipelines.balance import BalanceConfig
@@ -227,6 +236,10 @@ def balance_command(
     }
     if planes:
         changes["planes"] = planes
+    if dlipm_pace == "paper":
+        from zmpkit.control import PAPER_A_TIME_SCALE
+
+        changes.update(time_scale=PAPER_A_TIME_SCALE, servo_paced=False)
     config = BalanceConfig.quick(**changes) if quick else BalanceConfig(**changes)
     artifacts = balance_with_progress(config, out_dir, echo=click.echo)
     click.echo(f"report: {artifacts.report}")

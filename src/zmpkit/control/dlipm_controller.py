@@ -25,6 +25,12 @@ at a step, :math:`\beta\,\theta_{cmd}`, is far beyond what a tall robot's servos
 :math:`\omega_n/s`, same ζ, same DC gain). :data:`PAPER_A_TIME_SCALE` = √(180/π) gives
 exactly the dynamics paper A ran on TEO: its code sends θ in degrees, which scales γ and β
 by π/180 (its ω_n = 0.4376, see :func:`zmpkit.models.paper_units_omega_n`).
+
+With ``max_acceleration_rad_s2`` = a, each target change picks the time scale
+:math:`s = \max(s_0, \sqrt{\beta\,|\Delta\theta| / a})`: the DLIPM's step response from
+rest peaks in acceleration at its start, :math:`\omega_n^2 |\Delta\theta|`, so this is the
+fastest schedule of the same ζ and DC gain that the servos can follow (:math:`s_0` is
+``time_scale``).
 """
 
 from __future__ import annotations
@@ -65,6 +71,8 @@ class DlipmController:
             are clamped into it.
         time_scale: the DLIPM trajectory runs this many times slower (module note) [-], ≥ 1
             is typical; 1 is the SI model.
+        max_acceleration_rad_s2: if given, the time scale grows per target change so the
+            planned angular acceleration stays within this [rad/s²] (module note).
 
     The controller starts at rest on target 0 (clamped into the polygon).
     """
@@ -79,6 +87,7 @@ class DlipmController:
         "_angle_min",
         "_delta_max",
         "_requested",
+        "_scale",
         "_target",
         "_theta0",
         "_u0",
@@ -86,6 +95,7 @@ class DlipmController:
         "_x0",
         "_x1",
         "dt",
+        "max_acceleration",
         "schedule",
         "support_polygon",
         "time_scale",
@@ -100,10 +110,17 @@ class DlipmController:
         rate_limit_rad_s: float,
         support_polygon: tuple[float, float],
         time_scale: float = 1.0,
+        max_acceleration_rad_s2: float | None = None,
     ) -> None:
         self.schedule = schedule
         self.dt = positive("dt", dt, "s")
         self.time_scale = positive("time_scale", time_scale)
+        self.max_acceleration = (
+            None
+            if max_acceleration_rad_s2 is None
+            else positive("max_acceleration_rad_s2", max_acceleration_rad_s2, "rad/s^2")
+        )
+        self._angle = 0.0
         limit = positive("angle_limit_rad", angle_limit_rad, "rad")
         self._angle_min, self._angle_max = -limit, limit
         self._delta_max = positive("rate_limit_rad_s", rate_limit_rad_s, "rad/s") * self.dt
@@ -149,12 +166,25 @@ class DlipmController:
         low, high = self.support_polygon
         target = min(max(self._requested, low), high)
         system = self.schedule.dlipm(target).state_space()
-        Ad, Bd = zero_order_hold(system.A, system.B, self.dt / self.time_scale)
+        self._scale = self._time_scale_for(target)
+        Ad, Bd = zero_order_hold(system.A, system.B, self.dt / self._scale)
         self._a00, self._a01 = float(Ad[0, 0]), float(Ad[0, 1])
         self._a10, self._a11 = float(Ad[1, 0]), float(Ad[1, 1])
         self._u0, self._u1 = float(Bd[0, 0]) * target, float(Bd[1, 0]) * target
         self._target = target
         return target
+
+    @property
+    def active_time_scale(self) -> float:
+        """The time scale in use for the current target [-]."""
+        return self._scale
+
+    def _time_scale_for(self, target: float) -> float:
+        if self.max_acceleration is None:
+            return self.time_scale
+        swing = abs(float(self.schedule.steady_angle(target)) - self._angle)
+        needed = math.sqrt(float(self.schedule.beta(target)) * swing / self.max_acceleration)
+        return max(self.time_scale, needed)
 
     def reset(self, angle_rad: float | None = None, rate_rad_s: float = 0.0) -> None:
         """Set the state: the current ankle angle [rad] (default: the steady angle of the

@@ -23,7 +23,6 @@ from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 from zmpkit.analysis.balance_validation import evaluate_trial
-from zmpkit.control import PAPER_A_TIME_SCALE
 from zmpkit.errors import ParameterError
 from zmpkit.experiments import (
     StepDataset,
@@ -76,7 +75,10 @@ class BalanceConfig:
         seed: sensor-noise seed.
         hold_s: recorded time after each step [s].
         zeta: damping ratio of the scheduled DLIPM [-].
-        time_scale: DLIPM time scale; default paper A's √(180/π) [-].
+        time_scale: the DLIPM's (minimum) time scale [-]; paper A ran √(180/π)
+            (:data:`~zmpkit.control.PAPER_A_TIME_SCALE`).
+        servo_paced: slow the DLIPM per target only as much as the servos' acceleration
+            limit needs (``time_scale`` is then the minimum); False: the fixed time scale.
         truth: a truth file replacing the robot's shipped one (for the simulator only).
         workers: processes running trials in parallel.
     """
@@ -89,7 +91,8 @@ class BalanceConfig:
     seed: int = 0
     hold_s: float = 20.0
     zeta: float = _ZETA
-    time_scale: float = PAPER_A_TIME_SCALE
+    time_scale: float = 1.0
+    servo_paced: bool = True
     truth: str | None = None
     workers: int = 2
 
@@ -248,4 +251,11 @@ def _factory(
         angle_limit_rad=lean_angle(_REACH_FRACTION * lean_length, lean_length),
         rate_limit_rad_s=TEO_SERVO_LIMITS.max_velocity,
         support_polygon=support_polygon(plane),
+        max_acceleration_rad_s2=_lean_acceleration_limit(plane) if config.servo_paced else None,
     )
+
+
+def _lean_acceleration_limit(plane: str) -> float:
+    """The lean angle's acceleration limit from TEO's servo limits [rad/s²] (lean joints
+    move by the lean angle, in the frontal plane about as much)."""
+    return TEO_SERVO_LIMITS.max_acceleration

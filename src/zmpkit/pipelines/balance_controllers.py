@@ -34,6 +34,8 @@ class LeanControllerFactory:
         angle_limit_rad: lean angle limit [rad].
         rate_limit_rad_s: lean rate limit [rad/s].
         support_polygon: target clamp (x_min, x_max) in this plane [m].
+        max_acceleration_rad_s2: if set, the DLIPM slows per target so its planned angular
+            acceleration stays within this (the servos' limit) [rad/s²].
         g: gravitational acceleration [m/s²].
     """
 
@@ -46,6 +48,7 @@ class LeanControllerFactory:
     angle_limit_rad: float
     rate_limit_rad_s: float
     support_polygon: tuple[float, float]
+    max_acceleration_rad_s2: float | None = None
     g: float = 9.81
 
     def __call__(self) -> LeanController:
@@ -63,7 +66,11 @@ class LeanControllerFactory:
             self.error_model, self.mass_kg, self.lean_length_m, self.zeta, self.g
         )
         controller = DlipmController(
-            schedule, CONTROL_PERIOD_S, time_scale=self.time_scale, **limits
+            schedule,
+            CONTROL_PERIOD_S,
+            time_scale=self.time_scale,
+            max_acceleration_rad_s2=self.max_acceleration_rad_s2,
+            **limits,
         )
         controller.reset(0.0)  # the robot stands upright when the target is given
         return controller
@@ -83,5 +90,6 @@ class LeanControllerFactory:
             "angle_limit_rad": self.angle_limit_rad,
             "rate_limit_rad_s": self.rate_limit_rad_s,
             "support_polygon_m": list(self.support_polygon),
+            "max_acceleration_rad_s2": self.max_acceleration_rad_s2,
             "control_period_s": CONTROL_PERIOD_S,
         }

@@ -126,12 +126,21 @@ def _identification_text(plane: PlaneResult) -> str:
     )
 
 
+def _pace(config) -> str:
+    if config.servo_paced:
+        return (
+            f"paced by the servos' acceleration limit (time scale ≥ {config.time_scale:.3g}, "
+            "chosen per target)"
+        )
+    return f"fixed time scale {config.time_scale:.3f}"
+
+
 def _write_report(result: BalanceResult, out: Path, figures: list[Path]) -> Path:
     c = result.config
     parts = [
         "# zmpkit balance: LIPM vs gain-scheduled DLIPM (paper A §4)\n",
         f"Robot `{c.robot}` (virtual), effects `{c.effects}`, seed {c.seed}, hold {c.hold_s} s, "
-        f"DLIPM ζ = {c.zeta}, time scale {c.time_scale:.3f}. Fit on targets "
+        f"DLIPM ζ = {c.zeta}, {_pace(c)}. Fit on targets "
         f"{', '.join(f'{x:g}' for x in c.fit_targets_m)} m (LIPM steps); validated on "
         f"{', '.join(f'{x:g}' for x in c.targets_m)} m.\n",
     ]
