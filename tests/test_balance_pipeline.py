@@ -93,3 +93,31 @@ def test_fit_targets_must_be_run() -> None:
 
     with pytest.raises(ParameterError, match=r"fit target 0.07 m is not among the targets"):
         BalanceConfig(targets_m=(0.0, 0.05), fit_targets_m=(0.0, 0.07))
+
+
+@pytest.mark.slow
+def test_nothing_is_tuned_to_the_shipped_truth(tmp_path: Path) -> None:
+    """Another robot (less softening, 3x backlash, a larger F-T offset, heavier payload):
+    the same pipeline identifies it and the DLIPM still beats the LIPM at every target."""
+    from zmpkit.robots.teo import truth as teo_truth
+
+    text = Path(teo_truth.__file__).with_name("data").joinpath("truth.yaml").read_text()
+    other = (
+        text.replace("softening_torque: 0.65", "softening_torque: 1.2")
+        .replace("backlash: 0.0003 ", "backlash: 0.0010 ")
+        .replace("right: [3.0, -2.0, 3.0,", "right: [3.0, -2.0, 8.0,")
+        .replace("mass_kg: 6.66 ", "mass_kg: 8.00 ")
+    )
+    assert other.count("1.2, softening_torque_range") == 2  # the edits took
+    (tmp_path / "truth.yaml").write_text(other)
+    config = BalanceConfig(
+        planes=("sagittal",),
+        targets_m=CONFIG.targets_m,
+        fit_targets_m=CONFIG.fit_targets_m,
+        hold_s=12.0,
+        truth=str(tmp_path / "truth.yaml"),
+    )
+    result = run_balance(config, tmp_path / "out", echo=lambda _: None)
+    for row in result.planes["sagittal"].rows:
+        if row.zmp_ref > 0:
+            assert abs(row.dlipm.error_pct) < abs(row.lipm.error_pct)

@@ -373,3 +373,16 @@ def test_balance_params_rejects_other_files(tmp_path: Path) -> None:
     path.write_text("pendulum: [1, 2\n")
     with pytest.raises(InputFileError, match=r"line 2: invalid YAML"):
         BalanceParams.from_yaml(path)
+
+
+def test_transient_fit_survives_an_overshoot_beyond_100_percent() -> None:
+    """A lean's ZMP can overshoot by more than any 2nd-order step; the fit must not crash."""
+    t = np.arange(0.0, 8.0, 0.005)
+    tau = np.clip(t - 1.0, 0.0, None)
+    y = 0.02 * (1.0 - np.exp(-0.8 * tau) * (np.cos(6.0 * tau) - 3.0 * np.sin(6.0 * tau)))
+    trial = StepTrial(time=t, zmp_measured=y, zmp_ref=0.02, t_step=1.0)
+    fit = fit_transient(trial)
+    assert fit.metrics is not None
+    assert fit.metrics.overshoot_pct is not None
+    assert fit.metrics.overshoot_pct > 100.0
+    assert isinstance(fit.ok, bool)

@@ -53,6 +53,7 @@ PARAMETER_NAMES = ("initial_value", "step_size", "zeta", "omega_n", "dead_time")
 """Parameters of :class:`SecondOrderStep`, in the order of its ``std_errors``."""
 
 ZETA_BOUNDS = (0.01, 10.0)
+_MAX_GUESS_OVERSHOOT = 0.9  # largest overshoot [-] the starting ζ is derived from
 """Search range of the damping ratio [-]."""
 
 MIN_STEP_NOISE_RATIO = 5.0
@@ -191,7 +192,9 @@ def _guesses(metrics: StepMetrics, span_s: float) -> list[tuple[float, float]]:
     """Starting (ζ, ω_n) pairs from the measured overshoot, peak and rise times."""
     overshoot = (metrics.overshoot_pct or 0.0) / 100.0
     if overshoot > 0.005:
-        log_m = math.log(overshoot)
+        # A measured overshoot beyond 100 % (the ZMP of a real lean can exceed any
+        # 2nd-order step) would give ζ < 0: start lightly damped instead.
+        log_m = math.log(min(overshoot, _MAX_GUESS_OVERSHOOT))
         zeta = min(0.95, -log_m / math.sqrt(math.pi**2 + log_m**2))
         omega = math.pi / max(metrics.peak_time_s, 1e-6) / math.sqrt(1.0 - zeta**2)
     else:
