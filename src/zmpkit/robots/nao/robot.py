@@ -96,16 +96,7 @@ def nao_robot(
     """The virtual NAO as a robot description, ready for :class:`Simulation`."""
     on = EffectSet.parse(effects)
     params = _resolve_truth(truth)
-    feet = tuple(
-        FootSensor(
-            foot=side,
-            force_sensor=f"{side}_ft_force",
-            torque_sensor=f"{side}_ft_torque",
-            site=f"{side}_ft",
-            sole_height_m=SOLE_PLATE_M,
-        )
-        for side in NAO_SIDES
-    )
+    feet = tuple(FootSensor.named(side, SOLE_PLATE_M) for side in NAO_SIDES)
     return RobotDescription(
         name="nao",
         mjcf=nao_mjcf(on, params),

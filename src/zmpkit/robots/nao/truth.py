@@ -23,9 +23,6 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-import yaml
-
-from zmpkit.errors import InputFileError, ZmpkitError
 from zmpkit.sim.effects import (
     FlexJoint,
     GearParams,
@@ -34,6 +31,7 @@ from zmpkit.sim.effects import (
     MotorParams,
     SensorParams,
 )
+from zmpkit.sim.truth_file import flex_joint, read_truth_file, section
 
 __all__ = ["DEFAULT_TRUTH_PATH", "NaoTruth", "load_truth"]
 
@@ -70,16 +68,10 @@ class NaoTruth:
     source: str = str(DEFAULT_TRUTH_PATH)
 
 
-def _section(doc: Mapping[str, Any], key: str, path: Path) -> Any:
-    if key not in doc:
-        raise InputFileError(path, f"missing section '{key}'", column=key)
-    return doc[key]
-
-
 def _motor(ratio: float, doc: Mapping[str, Any], path: Path) -> MotorParams:
     """One drive: the voltage PID turned into joint-side torque gains (module docstring)."""
-    spec, pid = _section(doc, "motor", path), _section(doc, "pid_volts", path)
-    friction, s = _section(doc, "friction", path), float(_section(doc, "stiffness", path))
+    spec, pid = section(doc, "motor", path), section(doc, "pid_volts", path)
+    friction, s = section(doc, "friction", path), float(section(doc, "stiffness", path))
     k, r = float(spec["torque_constant"]), float(spec["resistance"])
     volts_to_torque = s * k * float(ratio) / r  # [N·m/V] at the joint
     return MotorParams(
@@ -98,30 +90,19 @@ def _motor(ratio: float, doc: Mapping[str, Any], path: Path) -> MotorParams:
     )
 
 
-def _flex(entry: Mapping[str, Any]) -> FlexJoint:
-    return FlexJoint(
-        name=entry["name"],
-        body=entry["body"],
-        axis=tuple(float(a) for a in entry["axis"]),  # type: ignore[arg-type]
-        anchor=tuple(float(a) for a in entry.get("anchor", (0, 0, 0))),  # type: ignore[arg-type]
-        stiffness=tuple(float(k) for k in entry["stiffness"]),  # type: ignore[arg-type]
-        damping=float(entry.get("damping", 0.0)),
-    )
-
-
 def _parse(doc: Mapping[str, Any], path: Path) -> NaoTruth:
-    joints = _section(doc, "joints", path)
-    inductance = InductanceParams(float(_section(doc, "motor", path)["inductance"]))
-    sensors = dict(_section(doc, "sensors", path))
+    joints = section(doc, "joints", path)
+    inductance = InductanceParams(float(section(doc, "motor", path)["inductance"]))
+    sensors = dict(section(doc, "sensors", path))
     offsets = {side: tuple(float(v) for v in vec) for side, vec in sensors.pop("ft_offset").items()}
     return NaoTruth(
-        servo_rate_hz=float(_section(doc, "servo_rate_hz", path)),
+        servo_rate_hz=float(section(doc, "servo_rate_hz", path)),
         motors={name: _motor(ratio, doc, path) for name, ratio in joints.items()},
         inductances=dict.fromkeys(joints, inductance),
-        ideal_servo=IdealServoParams(**_section(doc, "ideal_servo", path)),
-        gear=GearParams(**_section(doc, "gear", path)),
-        flex=tuple(_flex(e) for e in _section(doc, "flex", path)),
-        floor_friction=float(_section(doc, "contact", path)["friction"]),
+        ideal_servo=IdealServoParams(**section(doc, "ideal_servo", path)),
+        gear=GearParams(**section(doc, "gear", path)),
+        flex=tuple(flex_joint(e) for e in section(doc, "flex", path)),
+        floor_friction=float(section(doc, "contact", path)["friction"]),
         sensors=SensorParams(ft_offset=offsets["right"], **sensors),
         ft_offsets=offsets,
         source=str(path),
@@ -138,15 +119,4 @@ def load_truth(path: str | Path | None = None) -> NaoTruth:
         InputFileError: if the file cannot be read or a field is missing or invalid.
     """
     file = Path(path) if path is not None else DEFAULT_TRUTH_PATH
-    try:
-        doc = yaml.safe_load(file.read_text(encoding="utf-8"))
-    except (OSError, yaml.YAMLError) as exc:
-        raise InputFileError(file, f"cannot read the truth file: {exc}") from None
-    if not isinstance(doc, Mapping):
-        raise InputFileError(file, "expected a mapping of sections at the top level")
-    try:
-        return _parse(doc, file)
-    except InputFileError:
-        raise
-    except (KeyError, TypeError, ValueError, AttributeError, ZmpkitError) as exc:
-        raise InputFileError(file, f"invalid truth: {exc}") from None
+    return read_truth_file(file, _parse)

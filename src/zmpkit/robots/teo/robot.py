@@ -70,16 +70,7 @@ def teo_robot(
     """The virtual TEO as a robot description, ready for :class:`Simulation`."""
     on = EffectSet.parse(effects)
     params = _resolve_truth(truth)
-    feet = tuple(
-        FootSensor(
-            foot=side,
-            force_sensor=f"{side}_ft_force",
-            torque_sensor=f"{side}_ft_torque",
-            site=f"{side}_ft",
-            sole_height_m=geo.FT_HEIGHT_ABOVE_SOLE_M,
-        )
-        for side in TEO_SIDES
-    )
+    feet = tuple(FootSensor.named(side, geo.FT_HEIGHT_ABOVE_SOLE_M) for side in TEO_SIDES)
     return RobotDescription(
         name="teo",
         mjcf=teo_mjcf(on, params),

@@ -13,9 +13,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-import yaml
-
-from zmpkit.errors import InputFileError, ZmpkitError
+from zmpkit.errors import InputFileError
 from zmpkit.sim.effects import (
     FlexJoint,
     GearParams,
@@ -23,6 +21,7 @@ from zmpkit.sim.effects import (
     MotorParams,
     SensorParams,
 )
+from zmpkit.sim.truth_file import flex_joint, read_truth_file, section
 
 __all__ = ["DEFAULT_TRUTH_PATH", "TeoTruth", "load_truth"]
 
@@ -62,21 +61,15 @@ class TeoTruth:
     source: str = str(DEFAULT_TRUTH_PATH)
 
 
-def _section(doc: Mapping[str, Any], key: str, path: Path) -> Any:
-    if key not in doc:
-        raise InputFileError(path, f"missing section '{key}'", column=key)
-    return doc[key]
-
-
 def _motor(name: str, entry: Mapping[str, Any], doc: Mapping[str, Any], path: Path) -> MotorParams:
-    types = _section(doc, "motor_types", path)
+    types = section(doc, "motor_types", path)
     kind = entry.get("motor")
     if kind not in types:
         raise InputFileError(
             path, f"joint {name}: unknown motor {kind!r}; known: {sorted(types)}", column="joints"
         )
     spec = types[kind]
-    pid, friction = _section(doc, "pid", path), _section(doc, "friction", path)
+    pid, friction = section(doc, "pid", path), section(doc, "friction", path)
     return MotorParams(
         torque_constant=spec["torque_constant"],
         resistance=spec["resistance"],
@@ -93,32 +86,18 @@ def _motor(name: str, entry: Mapping[str, Any], doc: Mapping[str, Any], path: Pa
     )
 
 
-def _flex(entry: Mapping[str, Any]) -> FlexJoint:
-    return FlexJoint(
-        name=entry["name"],
-        body=entry["body"],
-        axis=tuple(float(a) for a in entry["axis"]),  # type: ignore[arg-type]
-        anchor=tuple(float(a) for a in entry.get("anchor", (0, 0, 0))),  # type: ignore[arg-type]
-        stiffness=tuple(float(k) for k in entry["stiffness"]),  # type: ignore[arg-type]
-        damping=float(entry.get("damping", 0.0)),
-        softening_torque=float(entry.get("softening_torque", 0.0)),
-        softening_torque_range=float(entry.get("softening_torque_range", 50.0)),
-        softening_stages=int(entry.get("softening_stages", 6)),
-    )
-
-
 def _parse(doc: Mapping[str, Any], path: Path) -> TeoTruth:
-    joints = _section(doc, "joints", path)
+    joints = section(doc, "joints", path)
     motors = {name: _motor(name, entry, doc, path) for name, entry in joints.items()}
     types = doc["motor_types"]
     inductances = {
         name: InductanceParams(types[entry["motor"]]["inductance"])
         for name, entry in joints.items()
     }
-    sensors = dict(_section(doc, "sensors", path))
+    sensors = dict(section(doc, "sensors", path))
     offsets = {side: tuple(float(v) for v in vec) for side, vec in sensors.pop("ft_offset").items()}
-    payload = _section(doc, "payload", path)
-    gear = dict(_section(doc, "gear", path))
+    payload = section(doc, "payload", path)
+    gear = dict(section(doc, "gear", path))
     gear_joints = tuple(gear.pop("joints", joints))
     unknown = sorted(set(gear_joints) - set(joints))
     if unknown:
@@ -126,12 +105,12 @@ def _parse(doc: Mapping[str, Any], path: Path) -> TeoTruth:
             path, f"gear.joints: unknown joints {unknown}; known: {sorted(joints)}", column="gear"
         )
     return TeoTruth(
-        servo_rate_hz=float(_section(doc, "servo_rate_hz", path)),
+        servo_rate_hz=float(section(doc, "servo_rate_hz", path)),
         motors=motors,
         inductances=inductances,
         gear=GearParams(**gear),
         gear_joints=gear_joints,
-        flex=tuple(_flex(e) for e in _section(doc, "flex", path)),
+        flex=tuple(flex_joint(e) for e in section(doc, "flex", path)),
         sensors=SensorParams(ft_offset=offsets["right"], **sensors),
         ft_offsets=offsets,
         payload_mass_kg=float(payload["mass_kg"]),
@@ -150,15 +129,4 @@ def load_truth(path: str | Path | None = None) -> TeoTruth:
         InputFileError: if the file cannot be read or a field is missing or invalid.
     """
     file = Path(path) if path is not None else DEFAULT_TRUTH_PATH
-    try:
-        doc = yaml.safe_load(file.read_text(encoding="utf-8"))
-    except (OSError, yaml.YAMLError) as exc:
-        raise InputFileError(file, f"cannot read the truth file: {exc}") from None
-    if not isinstance(doc, Mapping):
-        raise InputFileError(file, "expected a mapping of sections at the top level")
-    try:
-        return _parse(doc, file)
-    except InputFileError:
-        raise
-    except (KeyError, TypeError, ValueError, AttributeError, ZmpkitError) as exc:
-        raise InputFileError(file, f"invalid truth: {exc}") from None
+    return read_truth_file(file, _parse)

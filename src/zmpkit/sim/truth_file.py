@@ -1,0 +1,65 @@
+"""Reading a virtual robot's truth file: the YAML shell every robot's truth shares.
+
+Each robot parses its own sections (its motors, joints, payload, …) with a ``parse(doc,
+path)`` function; this module reads the file, checks its top level, turns every parsing
+failure into one :class:`~zmpkit.errors.InputFileError` naming the file, and parses the
+sections whose layout is common (``flex`` entries).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Mapping
+from pathlib import Path
+from typing import Any, TypeVar
+
+import yaml
+
+from zmpkit.errors import InputFileError, ZmpkitError
+from zmpkit.sim.effects import FlexJoint
+
+__all__ = ["flex_joint", "read_truth_file", "section"]
+
+T = TypeVar("T")
+
+
+def read_truth_file(path: Path, parse: Callable[[Mapping[str, Any], Path], T]) -> T:
+    """Read the YAML truth file at ``path`` and return ``parse(document, path)``.
+
+    Raises:
+        InputFileError: the file cannot be read, is not a mapping, or a field is missing or
+            invalid (the parser's error, with the file named).
+    """
+    try:
+        doc = yaml.safe_load(path.read_text(encoding="utf-8"))
+    except (OSError, yaml.YAMLError) as exc:
+        raise InputFileError(path, f"cannot read the truth file: {exc}") from None
+    if not isinstance(doc, Mapping):
+        raise InputFileError(path, "expected a mapping of sections at the top level")
+    try:
+        return parse(doc, path)
+    except InputFileError:
+        raise
+    except (KeyError, TypeError, ValueError, AttributeError, ZmpkitError) as exc:
+        raise InputFileError(path, f"invalid truth: {exc}") from None
+
+
+def section(doc: Mapping[str, Any], key: str, path: Path) -> Any:
+    """The top-level section ``key`` of a truth document, or an error naming it."""
+    if key not in doc:
+        raise InputFileError(path, f"missing section '{key}'", column=key)
+    return doc[key]
+
+
+def flex_joint(entry: Mapping[str, Any]) -> FlexJoint:
+    """One entry of a truth file's ``flex`` list (a passive compliant joint)."""
+    return FlexJoint(
+        name=entry["name"],
+        body=entry["body"],
+        axis=tuple(float(a) for a in entry["axis"]),  # type: ignore[arg-type]
+        anchor=tuple(float(a) for a in entry.get("anchor", (0, 0, 0))),  # type: ignore[arg-type]
+        stiffness=tuple(float(k) for k in entry["stiffness"]),  # type: ignore[arg-type]
+        damping=float(entry.get("damping", 0.0)),
+        softening_torque=float(entry.get("softening_torque", 0.0)),
+        softening_torque_range=float(entry.get("softening_torque_range", 50.0)),
+        softening_stages=int(entry.get("softening_stages", 6)),
+    )
