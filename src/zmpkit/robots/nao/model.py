@@ -24,6 +24,7 @@ from __future__ import annotations
 import xml.etree.ElementTree as ET
 
 from zmpkit.robots.nao import geometry as geo
+from zmpkit.sim.sole_plate import SolePlate, add_sole_plate
 
 __all__ = [
     "NAO_DRIVEN_JOINTS",
@@ -139,27 +140,17 @@ def _sole(foot: ET.Element, side: str, friction: float) -> None:
     z_ft = -(geo.ANKLE_TO_SOLE_M - h)
     _capsule(foot, (0, 0, 0), (0, 0, z_ft + 0.01), 0.02)
     sole = _body(foot, side_letter(side) + "Sole", (0.0, 0.0, z_ft))
-    x_centre = geo.SOLE_CENTRE_AHEAD_OF_ANKLE_M
-    ET.SubElement(
-        sole,
-        "geom",
-        {
-            "name": f"{side}_sole",
-            "type": "box",
-            "pos": _f(x_centre, 0.0, -0.5 * h),
-            "size": _f(0.5 * geo.SOLE_LENGTH_M, 0.5 * geo.SOLE_WIDTH_M, 0.5 * h),
-            "mass": _f(SOLE_PLATE_MASS_KG),
-            "friction": _f(friction, 0.005, 0.0001),
-            "solref": _SOLE_SOLREF,
-            "solimp": _SOLE_SOLIMP,
-            "priority": "1",
-            "rgba": "0.3 0.3 0.35 1",
-        },
+    plate = SolePlate(
+        geo.SOLE_LENGTH_M,
+        geo.SOLE_WIDTH_M,
+        h,
+        geo.SOLE_CENTRE_AHEAD_OF_ANKLE_M,
+        SOLE_PLATE_MASS_KG,
+        friction,
+        _SOLE_SOLREF,
+        _SOLE_SOLIMP,
     )
-    ET.SubElement(sole, "site", {"name": f"{side}_ft", "pos": "0 0 0", "size": "0.005"})
-    ET.SubElement(
-        sole, "site", {"name": f"{side}_sole", "pos": _f(x_centre, 0, -h), "size": "0.005"}
-    )
+    add_sole_plate(sole, side, plate, centre_site=f"{side}_sole")
 
 
 def _upper_body(torso: ET.Element) -> None:

@@ -28,6 +28,7 @@ import xml.etree.ElementTree as ET
 
 from zmpkit.robots.teo import geometry as geo
 from zmpkit.robots.teo.truth import TeoTruth
+from zmpkit.sim.sole_plate import SolePlate, add_sole_plate
 
 __all__ = [
     "FLOOR_FRICTION",
@@ -148,28 +149,17 @@ def _foot(ankle: ET.Element, side: str) -> None:
     z_ft = -(geo.ANKLE_TO_SOLE_M - geo.FT_HEIGHT_ABOVE_SOLE_M)
     _capsule(ankle, (0, 0, 0), (0, 0, z_ft), 0.03)
     sole = _body(ankle, f"{side}_sole", (0.0, 0.0, z_ft))
-    h = geo.FT_HEIGHT_ABOVE_SOLE_M
-    x_centre = 0.5 * (geo.ANKLE_TO_TOE_M - geo.HEEL_TO_ANKLE_M)
-    ET.SubElement(
-        sole,
-        "geom",
-        {
-            "name": f"{side}_sole",
-            "type": "box",
-            "pos": _f(x_centre, 0.0, -0.5 * h),
-            "size": _f(0.5 * geo.SOLE_LENGTH_M, 0.5 * geo.SOLE_WIDTH_M, 0.5 * h),
-            "mass": _f(SOLE_PLATE_MASS_KG),
-            "friction": _f(FLOOR_FRICTION, 0.005, 0.0001),
-            "solref": _SOLE_CONTACT_SOLREF,
-            "solimp": _SOLE_CONTACT_SOLIMP,
-            "priority": "1",
-            "rgba": "0.3 0.3 0.35 1",
-        },
+    plate = SolePlate(
+        geo.SOLE_LENGTH_M,
+        geo.SOLE_WIDTH_M,
+        geo.FT_HEIGHT_ABOVE_SOLE_M,
+        0.5 * (geo.ANKLE_TO_TOE_M - geo.HEEL_TO_ANKLE_M),
+        SOLE_PLATE_MASS_KG,
+        FLOOR_FRICTION,
+        _SOLE_CONTACT_SOLREF,
+        _SOLE_CONTACT_SOLIMP,
     )
-    ET.SubElement(sole, "site", {"name": f"{side}_ft", "pos": "0 0 0", "size": "0.01"})
-    ET.SubElement(
-        sole, "site", {"name": f"{side}_sole_centre", "pos": _f(0, 0, -h), "size": "0.005"}
-    )
+    add_sole_plate(sole, side, plate, centre_site=f"{side}_sole_centre")
 
 
 def _trunk(root: ET.Element, truth: TeoTruth) -> None:
