@@ -28,6 +28,21 @@ def cli() -> None:
 
 @cli.command("zmp")
 @click.argument("log", type=click.Path(path_type=Path))
+@click.option("--right-topic", help="ROS 2 bag: WrenchStamped topic of the right foot.")
+@click.option("--left-topic", help="ROS 2 bag: WrenchStamped topic of the left foot.")
+@click.option(
+    "--units",
+    "units_path",
+    type=click.Path(path_type=Path),
+    help="Units/frames YAML: axis order, signs, N vs daN, N·m vs dN·m, mounting rotation.",
+)
+@click.option(
+    "--time-source",
+    type=click.Choice(("header", "receive")),
+    default="header",
+    show_default=True,
+    help="Bags and YARP logs: the message header (sender) stamp or the receive time.",
+)
 @click.option(
     "--feet",
     "feet_path",
@@ -56,13 +71,18 @@ def cli() -> None:
 )
 def zmp_command(
     log: Path,
+    right_topic: str | None,
+    left_topic: str | None,
+    units_path: Path | None,
+    time_source: str,
     feet_path: Path | None,
     robot: str | None,
     columns_path: Path | None,
     contact_threshold: float | None,
     out_dir: Path,
 ) -> None:
-    """Compute the ZMP of a recorded force-torque LOG (CSV) and write zmp.csv and zmp.png."""
+    """ZMP of a recorded force-torque LOG: CSV, Parquet, ROS 2 bag (folder, .db3, .mcap) or
+    YARP dump folder; writes zmp.csv and zmp.png."""
     from zmpkit.pipelines.zmp_log import run_zmp_log
     from zmpkit.sensors import CONTACT_FORCE_THRESHOLD_N
 
@@ -77,6 +97,10 @@ def zmp_command(
         feet_path=feet_path,
         columns_path=columns_path,
         contact_threshold_n=threshold,
+        right_topic=right_topic,
+        left_topic=left_topic,
+        units_path=units_path,
+        time_source=time_source,
     )
     s = result.series
     click.echo(

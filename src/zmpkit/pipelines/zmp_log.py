@@ -7,7 +7,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from zmpkit.analysis.zmp_plot import plot_zmp_series
-from zmpkit.io import read_column_map, read_feet_yaml, read_ft_log_csv, write_zmp_csv
+from zmpkit.io import read_feet_yaml, read_ft_source, write_zmp_csv
 from zmpkit.sensors import CONTACT_FORCE_THRESHOLD_N, SensorMount, ZmpSeries, zmp_series
 
 __all__ = ["ZmpRunResult", "run_zmp_log"]
@@ -36,22 +36,39 @@ def run_zmp_log(
     feet_path: str | Path | None = None,
     columns_path: str | Path | None = None,
     contact_threshold_n: float = CONTACT_FORCE_THRESHOLD_N,
+    right_topic: str | None = None,
+    left_topic: str | None = None,
+    units_path: str | Path | None = None,
+    time_source: str = "header",
 ) -> ZmpRunResult:
     """Compute the ZMP of a recorded two-foot F-T log and write ``zmp.csv`` and ``zmp.png``.
 
     Args:
-        log_path: CSV with the columns of :data:`zmpkit.io.FT_LOG_COLUMNS`.
+        log_path: any log :func:`zmpkit.io.read_ft_source` reads: CSV or Parquet with the
+            columns of :data:`zmpkit.io.FT_LOG_COLUMNS`, a ROS 2 bag (folder, .db3, .mcap)
+            or YARP dumps.
         out_dir: output folder, created if missing.
         feet: sensor mounts per foot; or give ``feet_path`` (FEET.yaml) instead.
         feet_path: FEET.yaml with both feet's sensor poses.
-        columns_path: optional column-map YAML ``{canonical: header}``.
+        columns_path: optional column-map YAML ``{canonical: header}`` (CSV, Parquet).
         contact_threshold_n: minimum world F_z for a foot to count as in contact [N].
+        right_topic: the right foot's WrenchStamped topic (bags) or port (YARP).
+        left_topic: the left foot's WrenchStamped topic (bags) or port (YARP).
+        units_path: optional units YAML (:func:`zmpkit.io.read_log_units`): axis order,
+            signs, units and mounting rotation of each sensor.
+        time_source: "header" (sensor stamps, default) or "receive" (bags, YARP).
     """
     if (feet is None) == (feet_path is None):
         raise ValueError("give exactly one of feet and feet_path")
     mounts = feet if feet is not None else read_feet_yaml(feet_path)  # type: ignore[arg-type]
-    column_map = read_column_map(columns_path) if columns_path is not None else None
-    log = read_ft_log_csv(log_path, column_map)
+    log = read_ft_source(
+        log_path,
+        right_topic=right_topic,
+        left_topic=left_topic,
+        column_map=columns_path,
+        units=units_path,
+        time_source=time_source,
+    )
     series = zmp_series(
         log.time,
         log.right_wrench,
