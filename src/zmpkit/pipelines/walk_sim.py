@@ -14,6 +14,11 @@ Recorded once per motion frame:
 
 A fall (trunk tilt beyond :data:`FALL_TILT_RAD` or torso below :data:`FALL_TORSO_HEIGHT_M`)
 stops the run; the record then ends at the fall.
+
+An online controller (paper B's Algorithm 2) enters through ``frame_hook``: before each motion
+frame ``k`` it gets the :class:`FrameReading` of frame ``k - 1`` and returns the joint targets
+of frame ``k`` (in the trajectory's joint order), or None to keep the planned ones. Without a
+hook the planned trajectory is played unchanged.
 """
 
 from __future__ import annotations
@@ -31,6 +36,8 @@ from zmpkit.walking.ik import JointTrajectory
 __all__ = [
     "FALL_TILT_RAD",
     "FALL_TORSO_HEIGHT_M",
+    "FrameHook",
+    "FrameReading",
     "ProgressCallback",
     "WalkRecord",
     "quaternion_pitch_roll",
@@ -46,6 +53,29 @@ PROGRESS_EVERY_S = 0.5
 
 ProgressCallback = Callable[[float, float], None]
 """``progress(simulated_s, total_s)``, called during a run."""
+
+
+@dataclass(frozen=True)
+class FrameReading:
+    """What the robot's sensors read at one motion frame (views, valid during the hook call).
+
+    Attributes:
+        frame: index of the frame [-].
+        time_s: its time [s].
+        force_in_world: F-T force of each foot in the world frame [N], shape (F, 3).
+        moment_in_world: F-T moment about each sensor, world frame [N·m], shape (F, 3).
+        sensor_in_world: F-T sensor origins [m], shape (F, 3).
+    """
+
+    frame: int
+    time_s: float
+    force_in_world: NDArray[np.float64]
+    moment_in_world: NDArray[np.float64]
+    sensor_in_world: NDArray[np.float64]
+
+
+FrameHook = Callable[[int, FrameReading], "NDArray[np.float64] | None"]
+"""``hook(k, reading_of_frame_k_minus_1)`` -> joint targets of frame k [rad], or None."""
 
 
 @dataclass(frozen=True)
@@ -68,6 +98,8 @@ class WalkRecord:
         torso_in_world: torso origin [m], shape (N, 3).
         fell: whether the robot fell.
         fall_time_s: when, or None.
+        qpos: the simulator's whole configuration (MuJoCo ``qpos``), shape (N, nq); for
+            validating models against the simulation, not something a real robot reports.
     """
 
     time_s: NDArray[np.float64]
@@ -85,6 +117,7 @@ class WalkRecord:
     torso_in_world: NDArray[np.float64]
     fell: bool
     fall_time_s: float | None
+    qpos: NDArray[np.float64] | None = None
 
     def joint(self, name: str) -> int:
         """Column of joint ``name``."""
@@ -127,6 +160,7 @@ class _Recorder:
         self.force, self.moment = np.zeros((n, f, 3)), np.zeros((n, f, 3))
         self.sensor, self.sole = np.zeros((n, f, 3)), np.zeros((n, f, 3))
         self.torso = np.zeros((n, 3))
+        self.qpos = np.zeros((n, sim.model.nq))
 
     def record(self, q_cmd: NDArray[np.float64]) -> tuple[float, float]:
         sim, k = self.sim, self.rows
@@ -144,6 +178,7 @@ class _Recorder:
             self.sensor[k, i] = site.xpos
             self.sole[k, i] = data.site(f"{foot}_sole").xpos
         self.torso[k] = data.qpos[:3]
+        self.qpos[k] = data.qpos
         self.rows += 1
         return self.pitch[k], self.roll[k]
 
@@ -153,7 +188,13 @@ class _Recorder:
             self.time[:n], self.sim.joint_names, self.q_cmd[:n], self.q_meas[:n],
             self.torque[:n], self.pitch[:n], self.roll[:n], self.feet, self.force[:n],
             self.moment[:n], self.sensor[:n], self.sole[:n], self.torso[:n], fell, fall_time,
+            self.qpos[:n],
         )  # fmt: skip
+
+    def reading(self) -> FrameReading:
+        """The last recorded frame."""
+        k = self.rows - 1
+        return FrameReading(k, float(self.time[k]), self.force[k], self.moment[k], self.sensor[k])
 
 
 def _fallen(sim: Simulation, pitch: float, roll: float) -> bool:
@@ -165,6 +206,7 @@ def simulate_walk(
     sim: Simulation,
     trajectory: JointTrajectory,
     progress: ProgressCallback | None = None,
+    frame_hook: FrameHook | None = None,
 ) -> WalkRecord:
     """Track ``trajectory`` with the simulated robot's servos from its first pose.
 
@@ -172,6 +214,8 @@ def simulate_walk(
         sim: a fresh simulation of the robot (its driven joints must be in the trajectory).
         trajectory: joint angles per motion frame, from :func:`~zmpkit.walking.ik.solve_walking_ik`.
         progress: called with (simulated time, total time) [s] every half second of walk.
+        frame_hook: online controller that may replace each frame's joint targets (module
+            docstring); None plays ``trajectory`` as planned.
 
     Returns:
         The record, ending at the fall if the robot fell.
@@ -186,7 +230,13 @@ def simulate_walk(
     recorder.record(q_frames[0])
     total = float(trajectory.time_s[-1])
     every = max(1, round(PROGRESS_EVERY_S / frame_s))
+    if frame_hook is not None:
+        q_frames = q_frames.copy()
     for k in range(1, len(q_frames)):
+        if frame_hook is not None:
+            online = frame_hook(k, recorder.reading())
+            if online is not None:
+                q_frames[k] = np.asarray(online, dtype=np.float64)[columns]
         step = (q_frames[k] - q_frames[k - 1]) / substeps
         for i in range(1, substeps + 1):
             sim.command(q_frames[k - 1] + i * step)

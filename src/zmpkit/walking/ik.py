@@ -28,7 +28,7 @@ from zmpkit import _validate
 from zmpkit.errors import ModelError
 from zmpkit.walking.pattern import WalkingPattern
 
-__all__ = ["IkSettings", "JointTrajectory", "solve_walking_ik"]
+__all__ = ["IkSettings", "JointTrajectory", "WalkingIk", "solve_walking_ik"]
 
 NAO_CROUCH_POSTURE_RAD: Mapping[str, float] = {
     f"{side}{joint}": angle
@@ -131,8 +131,9 @@ def _pose(x: float, y: float, z: float, yaw: float) -> mink.SE3:
     return mink.SE3.from_rotation_and_translation(rotation, np.array([x, y, z]))
 
 
-class _WalkingIk:
-    """The tasks of one model, re-targeted sample after sample."""
+class WalkingIk:
+    """The whole-body IK of one model, re-targeted sample after sample (for online use,
+    e.g. a compensation that changes the CoM plan while walking)."""
 
     def __init__(self, model: mujoco.MjModel, settings: IkSettings) -> None:
         self.settings = settings
@@ -216,7 +217,7 @@ def solve_walking_ik(
         from zmpkit.robots.nao import NAO_LEG_JOINTS  # the default robot
 
         settings = IkSettings(joint_names=NAO_LEG_JOINTS)
-    ik = _WalkingIk(model, settings)
+    ik = WalkingIk(model, settings)
     n = pattern.time_s.size
     q = np.empty((n, len(settings.joint_names)))
     base = np.empty((n, 7))

@@ -1,0 +1,149 @@
+r"""Paper B's Algorithm 2: compensate measured ZMP deviations online, with a bias filter (Fig. 10).
+
+Inside the walking loop, at every motion frame ``i`` (10 ms) with the measured ZMP ``p``,
+the desired ZMP ``p_r`` and one offset per frame of a step, ``p_o[0..T-1]`` (``T`` frames per
+step, 50 for NAO's 0.5 s steps), paper B writes::
+
+    b = α1 b + (1 - α1)(p_r - p)                       # bias of the deviation
+    p' = p_r + p_o[i mod T]                             # desired ZMP of this frame
+    p_o[i mod T] = α2 p_o[i mod T] + (1 - α2) p_r - p + b   # "add difference, remove bias"
+
+Line 7 is printed without brackets and with ``+ b``; read literally it would store
+``-α2 p_r`` in the offset (tens of centimetres), contradicting its comment. zmpkit reads it as
+the comment and the text say — the smoothed deviation with its bias removed:
+
+.. math::
+
+    p_o[i \bmod T] \leftarrow \alpha_2\, p_o[i \bmod T] + (1-\alpha_2)\,(p_r - p - b).
+
+Online this means: each frame the preview controller advances the CoM one period with the
+window ``p_r(i+j) + p_o[(i+j) mod T]``, ``j = 0..N_L`` (future frames with today's offsets),
+the whole-body IK turns CoM and feet into joint targets, and the simulated robot's F-T
+sensors give the next ``p``. ``i`` counts frames from the start of walking, so ``p_o[k]`` is
+tied to one phase of the step; the offsets act only between the first lift-off's weight
+transfer and the last touch-down.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+
+from zmpkit.analysis.walk_metrics import measured_zmp
+from zmpkit.errors import ParameterError
+from zmpkit.pipelines.walk_sim import FrameReading
+from zmpkit.walking.ik import IkSettings, WalkingIk
+from zmpkit.walking.pattern import WalkingPattern
+from zmpkit.walking.preview import PreviewController
+
+__all__ = ["Algorithm2Parameters", "OnlineZmpCompensator"]
+
+
+@dataclass(frozen=True)
+class Algorithm2Parameters:
+    """Gains of Algorithm 2 (paper B gives none; these are zmpkit's defaults).
+
+    Attributes:
+        bias_gain: α1 of the bias filter, per frame [-] (0.99: time constant ~1 s at 10 ms).
+        smoothing_gain: α2 of the offset update, per step [-].
+        axes: ZMP axes compensated (0 = x, walking direction; 1 = y) [-].
+    """
+
+    bias_gain: float = 0.99
+    smoothing_gain: float = 0.8
+    axes: tuple[int, ...] = (0,)
+
+    def __post_init__(self) -> None:
+        for name in ("bias_gain", "smoothing_gain"):
+            value = getattr(self, name)
+            if not 0.0 <= value < 1.0:
+                raise ParameterError(f"Algorithm2Parameters.{name} must be in [0, 1); got {value}")
+        if not self.axes or any(a not in (0, 1) for a in self.axes):
+            raise ParameterError(f"Algorithm2Parameters.axes must hold 0 and/or 1; got {self.axes}")
+
+
+class _OnlineTargets:
+    """What the IK reads of a pattern, with the CoM written frame by frame."""
+
+    def __init__(self, pattern: WalkingPattern) -> None:
+        self.feet = pattern.feet
+        self.com_position_in_world = pattern.com_position_in_world.copy()
+
+
+class OnlineZmpCompensator:
+    """Algorithm 2 as a ``frame_hook`` of :func:`~zmpkit.pipelines.walk_sim.simulate_walk`.
+
+    Args:
+        pattern: the planned (uncompensated) walk; its linear reference is p_r.
+        model: the IK's rigid model.
+        parameters: α1, α2 and the axes.
+        ik_settings: the IK settings the planned trajectory was solved with.
+    """
+
+    def __init__(self, pattern: WalkingPattern, model, parameters: Algorithm2Parameters,
+                 ik_settings: IkSettings) -> None:  # fmt: skip
+        self.parameters = parameters
+        plan = pattern.footsteps
+        dt = pattern.config.control_period_s
+        self.frames_per_step = round(plan.gait.step_duration_s / dt)
+        self.first_frame = round(plan.walk_start_s / dt)
+        self.last_frame = round(plan.steps[-1].t_end / dt)
+        self.desired = pattern.linear_zmp_reference.zmp_in_world
+        n = self.desired.shape[0]
+        self.offsets = np.zeros((self.frames_per_step, 2))
+        self.bias = np.zeros(2)
+        self.target = self.desired.copy()  # p' actually used at each frame
+        self.measured = np.full((n, 2), np.nan)
+        self.controller = PreviewController(pattern.gains, tuple(self.desired[0]))
+        self.window = self.controller.window_length
+        self.targets = _OnlineTargets(pattern)
+        self.ik = WalkingIk(model, ik_settings)
+        self.ik.set_targets(self.targets, 0)
+        self.ik.solve(ik_settings.max_iterations * 10, dt)
+        self.dt = dt
+
+    def _slot(self, frame: int) -> int | None:
+        if not self.first_frame <= frame <= self.last_frame:
+            return None
+        return (frame - self.first_frame) % self.frames_per_step
+
+    def update(self, frame: int, zmp_in_world: NDArray[np.float64]) -> None:
+        """Lines 5 and 7 for frame ``frame`` with its measured ZMP [m] (skipped if NaN)."""
+        self.measured[frame] = zmp_in_world
+        slot = self._slot(frame)
+        if slot is None or not np.all(np.isfinite(zmp_in_world)):
+            return
+        a1, a2 = self.parameters.bias_gain, self.parameters.smoothing_gain
+        axes = list(self.parameters.axes)
+        deviation = self.desired[frame, axes] - zmp_in_world[axes]
+        self.bias[axes] = a1 * self.bias[axes] + (1.0 - a1) * deviation
+        old = self.offsets[slot, axes]
+        self.offsets[slot, axes] = a2 * old + (1.0 - a2) * (deviation - self.bias[axes])
+
+    def reference_window(self, frame: int) -> NDArray[np.float64]:
+        """Line 6 for frames ``frame .. frame + N_L``: p_r + p_o [m], shape (N_L + 1, 2)."""
+        n = self.desired.shape[0]
+        idx = np.minimum(np.arange(frame, frame + self.window), n - 1)
+        window = self.desired[idx].copy()
+        for j, k in enumerate(idx):
+            slot = self._slot(int(k))
+            if slot is not None:
+                window[j] += self.offsets[slot]
+        return window
+
+    def __call__(self, frame: int, reading: FrameReading) -> NDArray[np.float64]:
+        """Joint targets of ``frame`` [rad] from the reading of ``frame - 1``."""
+        zmp = measured_zmp(
+            reading.force_in_world[None], reading.moment_in_world[None],
+            reading.sensor_in_world[None],
+        )[0]  # fmt: skip
+        self.update(reading.frame, zmp)
+        window = self.reference_window(frame - 1)
+        self.target[frame - 1] = window[0]
+        self.controller.step(window[:, 0], window[:, 1])
+        self.targets.com_position_in_world[frame, :2] = self.controller.state_in_world[:, 0]
+        self.ik.set_targets(self.targets, frame)
+        self.ik.solve(self.ik.settings.max_iterations, self.dt)
+        return self.ik.configuration.q[self.ik.qadr].copy()

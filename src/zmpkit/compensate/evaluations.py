@@ -1,0 +1,154 @@
+"""Simulated walks with an offset, run in a process pool and cached in a folder.
+
+Each evaluation is one walk (:class:`WalkSpec`) with one offset (:class:`OffsetParameters`,
+or none). Its metrics are written to ``cache_dir/<key>.json`` as soon as it finishes, the
+key a hash of the walk and the offset, so an interrupted tuning loses no finished walk and a
+rerun with the same folder reads them back instead of simulating again.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import multiprocessing
+from collections.abc import Sequence
+from concurrent.futures import ProcessPoolExecutor
+from dataclasses import asdict, dataclass
+from pathlib import Path
+
+from zmpkit.compensate.evaluate import simulate_with_offset
+from zmpkit.compensate.offsets import OffsetParameters, offset_in_world
+from zmpkit.pipelines.walk import WalkConfig
+from zmpkit.walking import generate_pattern
+
+__all__ = ["DEFAULT_WORKERS", "Evaluation", "WalkSpec", "evaluate_all"]
+
+DEFAULT_WORKERS = 2
+"""Processes of the pool [-]."""
+
+
+@dataclass(frozen=True)
+class WalkSpec:
+    """A walk used for tuning or validation.
+
+    Attributes:
+        speed_mps: commanded speed [m/s].
+        seed: sensor-noise seed.
+        duration_s: walking time [s].
+        effects: effect letters of the virtual NAO.
+    """
+
+    speed_mps: float = 0.2
+    seed: int = 0
+    duration_s: float = 10.0
+    effects: str = "all"
+
+    def walk_config(self) -> WalkConfig:
+        """The walk as ``zmpkit walk`` runs it (no figures)."""
+        return WalkConfig(
+            speed_mps=self.speed_mps, seed=self.seed, duration_s=self.duration_s,
+            effects=self.effects, figures=False,
+        )  # fmt: skip
+
+    @property
+    def label(self) -> str:
+        """Short name, e.g. ``0.2 m/s seed 1``."""
+        return f"{self.speed_mps:g} m/s seed {self.seed}"
+
+
+@dataclass(frozen=True)
+class Evaluation:
+    """Metrics of one walk with one offset.
+
+    Attributes:
+        walk: the walk.
+        offset: the offset, or None for the uncompensated walk.
+        step_peak_rad: trunk-pitch spectrum amplitude at the step frequency [rad].
+        std_rad: trunk-pitch standard deviation over the steady walk [rad].
+        largest_peak_hz: frequency of the largest spectral peak above 0.5 Hz [Hz].
+        largest_peak_rad: its amplitude [rad].
+        fell: whether the walk fell or diverged (metrics then penalised).
+    """
+
+    walk: WalkSpec
+    offset: OffsetParameters | None
+    step_peak_rad: float
+    std_rad: float
+    largest_peak_hz: float | None
+    largest_peak_rad: float | None
+    fell: bool
+
+
+def _key(walk: WalkSpec, offset: OffsetParameters | None) -> str:
+    payload = {"walk": asdict(walk), "offset": None if offset is None else offset.as_dict()}
+    text = json.dumps(payload, sort_keys=True, default=lambda v: round(float(v), 10))
+    return hashlib.sha1(text.encode()).hexdigest()[:20]
+
+
+def _simulate(task: tuple[WalkSpec, OffsetParameters | None]) -> Evaluation:
+    walk, offset = task
+    config = walk.walk_config()
+    zmp_offset = None
+    if offset is not None:
+        zmp_offset = offset_in_world(offset, generate_pattern(config.pattern_config()))
+    outcome = simulate_with_offset(config, zmp_offset)
+    summary = outcome.summary
+    return Evaluation(
+        walk, offset, outcome.step_peak_rad, outcome.std_rad,
+        None if summary is None else summary.trunk_pitch_peak_hz,
+        None if summary is None else summary.trunk_pitch_peak_amplitude_rad, outcome.fell,
+    )  # fmt: skip
+
+
+def _to_json(evaluation: Evaluation) -> str:
+    data = asdict(evaluation)
+    return json.dumps(data, indent=1) + "\n"
+
+
+def _from_json(text: str) -> Evaluation:
+    data = json.loads(text)
+    walk = WalkSpec(**data.pop("walk"))
+    offset = data.pop("offset")
+    if offset is not None:
+        offset = OffsetParameters(**{**offset, "fourier_m": tuple(offset["fourier_m"])})
+    return Evaluation(walk, offset, **data)
+
+
+def evaluate_all(
+    tasks: Sequence[tuple[WalkSpec, OffsetParameters | None]],
+    cache_dir: Path | None = None,
+    workers: int = DEFAULT_WORKERS,
+) -> list[Evaluation]:
+    """Evaluate every (walk, offset) pair, in order, reusing and filling ``cache_dir``."""
+    results: dict[int, Evaluation] = {}
+    todo = []
+    for i, (walk, offset) in enumerate(tasks):
+        path = None if cache_dir is None else Path(cache_dir) / f"{_key(walk, offset)}.json"
+        if path is not None and path.is_file():
+            results[i] = _from_json(path.read_text(encoding="utf-8"))
+        else:
+            todo.append((i, path))
+    if todo:
+        _run(tasks, todo, results, workers)
+    return [results[i] for i in range(len(tasks))]
+
+
+def _run(tasks, todo, results: dict[int, Evaluation], workers: int) -> None:
+    for _, path in todo:
+        if path is not None:
+            path.parent.mkdir(parents=True, exist_ok=True)
+    if workers <= 1 or len(todo) == 1:
+        done = ((i, path, _simulate(tasks[i])) for i, path in todo)
+        _store(done, results)
+        return
+    context = multiprocessing.get_context("spawn")
+    with ProcessPoolExecutor(max_workers=workers, mp_context=context) as pool:
+        futures = [(i, path, pool.submit(_simulate, tasks[i])) for i, path in todo]
+        _store(((i, path, f.result()) for i, path, f in futures), results)
+
+
+def _store(done, results: dict[int, Evaluation]) -> None:
+    for i, path, evaluation in done:
+        results[i] = evaluation
+        if path is not None:
+            path.write_text(_to_json(evaluation), encoding="utf-8")

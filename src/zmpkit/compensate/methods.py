@@ -1,0 +1,112 @@
+"""One validation walk compensated by Algorithm 1, Algorithm 2 or an offset, for the pipeline.
+
+Each function simulates one walk and returns a :class:`CompensatedWalk`: the oscillation
+metrics and the signals the figures need (trunk pitch, measured and target ZMP). They are
+module-level so a process pool can run them.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+
+from zmpkit.analysis.walk_metrics import measured_zmp
+from zmpkit.compensate.algorithm1 import DEFAULT_ITERATIONS, compensate_abstraction
+from zmpkit.compensate.algorithm2 import Algorithm2Parameters, OnlineZmpCompensator
+from zmpkit.compensate.evaluate import oscillation_of, simulate_with_offset
+from zmpkit.compensate.evaluations import WalkSpec
+from zmpkit.compensate.offsets import OffsetParameters, offset_in_world
+from zmpkit.errors import SimulationDivergedError
+from zmpkit.pipelines.walk_sim import WalkRecord, simulate_walk
+from zmpkit.pipelines.walk_summary import summarise_walk
+from zmpkit.robots.nao import NAO_LEG_JOINTS, make_nao, nao_ik_model
+from zmpkit.walking import generate_pattern
+from zmpkit.walking.ik import IkSettings, solve_walking_ik
+from zmpkit.walking.pattern import WalkingPattern
+
+__all__ = ["CompensatedWalk", "walk_with_algorithm1", "walk_with_algorithm2", "walk_with_offset"]
+
+
+@dataclass(frozen=True)
+class CompensatedWalk:
+    """One simulated walk with its compensation.
+
+    Attributes:
+        walk: the walk.
+        step_peak_rad: trunk-pitch amplitude at the step frequency [rad].
+        std_rad: trunk-pitch std over the steady walk [rad].
+        fell: whether it fell (metrics penalised).
+        time_s: [s], shape (N,).
+        trunk_pitch_rad: [rad], shape (N,).
+        window_s: the steady window [s].
+        desired_zmp_in_world: the linear reference [m], shape (N, 2).
+        target_zmp_in_world: the reference actually tracked, p' [m], shape (N, 2).
+        measured_zmp_in_world: from the feet's F-T sensors [m], shape (N, 2).
+        iteration_rms_m: Algorithm 1's RMS per iteration [m], empty otherwise.
+    """
+
+    walk: WalkSpec
+    step_peak_rad: float
+    std_rad: float
+    fell: bool
+    time_s: NDArray[np.float64]
+    trunk_pitch_rad: NDArray[np.float64]
+    window_s: tuple[float, float]
+    desired_zmp_in_world: NDArray[np.float64]
+    target_zmp_in_world: NDArray[np.float64]
+    measured_zmp_in_world: NDArray[np.float64]
+    iteration_rms_m: tuple[float, ...] = ()
+
+
+def _result(walk, pattern: WalkingPattern, record: WalkRecord | None, summary, target,
+            rms=()) -> CompensatedWalk:  # fmt: skip
+    peak, std, fell = oscillation_of(summary)
+    desired = pattern.linear_zmp_reference.zmp_in_world
+    if record is None:
+        empty = np.zeros(0)
+        return CompensatedWalk(walk, peak, std, True, empty, empty, (0.0, 0.0), desired, target,
+                               np.zeros((0, 2)), tuple(rms))  # fmt: skip
+    zmp = measured_zmp(record.force_in_world, record.moment_in_world, record.sensor_in_world)
+    n = record.time_s.size
+    return CompensatedWalk(
+        walk, peak, std, fell, record.time_s, record.trunk_pitch_rad, summary.window_s,
+        desired[:n], target[:n], zmp, tuple(float(r) for r in rms),
+    )  # fmt: skip
+
+
+def walk_with_offset(walk: WalkSpec, offset: OffsetParameters | None) -> CompensatedWalk:
+    """``walk`` with ``offset`` on its reference (None: uncompensated)."""
+    config = walk.walk_config()
+    base = generate_pattern(config.pattern_config())
+    zmp_offset = None if offset is None else offset_in_world(offset, base)
+    outcome = simulate_with_offset(config, zmp_offset)
+    target = outcome.pattern.zmp_reference_in_world
+    return _result(walk, outcome.pattern, outcome.record, outcome.summary, target)
+
+
+def walk_with_algorithm1(walk: WalkSpec, iterations: int = DEFAULT_ITERATIONS) -> CompensatedWalk:
+    """``walk`` with Algorithm 1's offset, computed for this walk on the design model."""
+    config = walk.walk_config()
+    compensation = compensate_abstraction(config.pattern_config(), nao_ik_model(), iterations)
+    outcome = simulate_with_offset(config, compensation.zmp_offset_in_world)
+    target = outcome.pattern.zmp_reference_in_world
+    return _result(walk, outcome.pattern, outcome.record, outcome.summary, target,
+                   compensation.iteration_rms_m)  # fmt: skip
+
+
+def walk_with_algorithm2(walk: WalkSpec, parameters: Algorithm2Parameters) -> CompensatedWalk:
+    """``walk`` with Algorithm 2 running online on the measured ZMP."""
+    config = walk.walk_config()
+    pattern = generate_pattern(config.pattern_config())
+    model, settings = nao_ik_model(), IkSettings(joint_names=NAO_LEG_JOINTS)
+    trajectory = solve_walking_ik(pattern, model, settings)
+    hook = OnlineZmpCompensator(pattern, model, parameters, settings)
+    try:
+        record = simulate_walk(make_nao(config.effects, seed=config.seed), trajectory,
+                               frame_hook=hook)  # fmt: skip
+    except SimulationDivergedError:
+        return _result(walk, pattern, None, None, hook.target)
+    summary = summarise_walk(pattern, trajectory, record, config.effects, config.seed)
+    return _result(walk, pattern, record, summary, hook.target)

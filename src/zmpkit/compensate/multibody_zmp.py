@@ -1,0 +1,180 @@
+r"""ZMP of the whole floating-base robot by inverse dynamics (Algorithm 1's "Newton–Euler").
+
+For a configuration ``q`` with velocity ``v`` and acceleration ``a``, MuJoCo's ``mj_inverse``
+returns the generalised force :math:`\tau = M(q) a + c(q, v) - \tau_{passive}` that produces
+them. With contacts and constraints disabled nothing but that force acts, and on the six
+free-joint coordinates nothing is actuated: their entries are exactly the external wrench the
+ground must apply, the force :math:`F` [N] in the world frame and the moment
+:math:`\tau_o` [N·m] about the base origin ``o`` in the base frame (MuJoCo's free joint). Its
+centre of pressure on the floor z = 0 is the multibody ZMP:
+
+.. math::
+
+    p_x = o_x - \frac{\tau_y + o_z F_x}{F_z}, \qquad
+    p_y = o_y + \frac{\tau_x - o_z F_y}{F_z}, \qquad \tau = R_{base}\,\tau_o.
+
+Why MuJoCo: it is the same model and the same dynamics the simulator integrates (no second
+robot description to keep in step), ``mj_inverse`` is compiled C (a few µs per sample), and it
+adds no dependency (Pinocchio would add one and a URDF export).
+
+Over a trajectory sampled every ``dt`` the velocities and accelerations are central finite
+differences on the configuration manifold (``mj_differentiatePos``, which handles the base
+quaternion): :math:`v_k = \Delta(q_{k-1}, q_{k+1}) / 2dt`,
+:math:`a_k = (\Delta(q_k, q_{k+1}) - \Delta(q_{k-1}, q_k)) / dt^2`, second order in ``dt``;
+the first and last samples are taken at rest (a walking pattern starts and ends standing).
+"""
+
+from __future__ import annotations
+
+import copy
+from dataclasses import dataclass
+
+import mujoco
+import numpy as np
+from numpy.typing import NDArray
+
+from zmpkit.errors import ModelError, ParameterError
+from zmpkit.walking.ik import JointTrajectory
+
+__all__ = [
+    "MIN_VERTICAL_FORCE_N",
+    "InverseDynamicsZmp",
+    "MultibodyZmp",
+    "finite_differences",
+    "trajectory_qpos",
+]
+
+MIN_VERTICAL_FORCE_N = 1e-6
+"""Below this required vertical force the robot would fly and the ZMP is undefined [N]."""
+_DISABLED = (
+    mujoco.mjtDisableBit.mjDSBL_CONTACT
+    | mujoco.mjtDisableBit.mjDSBL_CONSTRAINT
+    | mujoco.mjtDisableBit.mjDSBL_SENSOR
+)
+
+
+@dataclass(frozen=True)
+class MultibodyZmp:
+    """The ground wrench a trajectory requires, and its ZMP.
+
+    Attributes:
+        zmp_in_world: [m], shape (N, 2); NaN where the required F_z is not positive.
+        force_in_world: ground force on the robot [N], shape (N, 3).
+        moment_about_base_in_world: its moment about the base origin [N·m], shape (N, 3).
+    """
+
+    zmp_in_world: NDArray[np.float64]
+    force_in_world: NDArray[np.float64]
+    moment_about_base_in_world: NDArray[np.float64]
+
+
+def finite_differences(
+    model: mujoco.MjModel, qpos: NDArray[np.float64], dt_s: float
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Central-difference velocity [m/s, rad/s] and acceleration, shape (N, nv) each.
+
+    Args:
+        model: the model whose configurations ``qpos`` holds.
+        qpos: configurations, shape (N, nq), N >= 3.
+        dt_s: sampling period [s].
+    """
+    if qpos.ndim != 2 or qpos.shape[1] != model.nq or qpos.shape[0] < 3:
+        raise ParameterError(f"qpos must have shape (N >= 3, {model.nq}); got {qpos.shape}")
+    if not dt_s > 0.0:
+        raise ParameterError(f"dt_s must be > 0 s; got {dt_s}")
+    n = qpos.shape[0]
+    delta = np.empty((n - 1, model.nv))
+    for k in range(n - 1):
+        mujoco.mj_differentiatePos(model, delta[k], 1.0, qpos[k], qpos[k + 1])
+    qvel, qacc = np.zeros((n, model.nv)), np.zeros((n, model.nv))
+    qvel[1:-1] = (delta[1:] + delta[:-1]) / (2.0 * dt_s)
+    qacc[1:-1] = (delta[1:] - delta[:-1]) / dt_s**2
+    return qvel, qacc
+
+
+def trajectory_qpos(model: mujoco.MjModel, trajectory: JointTrajectory) -> NDArray[np.float64]:
+    """Whole configurations (N, nq) of an IK trajectory: its base pose and joint angles."""
+    qpos = np.tile(model.qpos0, (trajectory.time_s.size, 1))
+    qpos[:, :7] = trajectory.base_qpos
+    for i, name in enumerate(trajectory.joint_names):
+        joint_id = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_JOINT, name)
+        if joint_id < 0:
+            raise ModelError(f"the model has no joint {name!r} of the trajectory")
+        qpos[:, int(model.jnt_qposadr[joint_id])] = trajectory.q_rad[:, i]
+    return qpos
+
+
+def _base_rotation(quat_wxyz: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Rotation matrices (N, 3, 3) of unit quaternions (N, 4)."""
+    q = quat_wxyz / np.linalg.norm(quat_wxyz, axis=1, keepdims=True)
+    w, x, y, z = q.T
+    return np.stack(
+        [
+            np.stack([1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)], -1),
+            np.stack([2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)], -1),
+            np.stack([2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)], -1),
+        ],
+        axis=1,
+    )
+
+
+def _centre_of_pressure(
+    base_in_world: NDArray[np.float64],
+    force: NDArray[np.float64],
+    moment: NDArray[np.float64],
+) -> NDArray[np.float64]:
+    """Point on z = 0 about which ``moment`` (about ``base``) has no x, y part [m], (N, 2)."""
+    fz = force[:, 2]
+    ok = fz > MIN_VERTICAL_FORCE_N
+    fz = np.where(ok, fz, np.nan)
+    o = base_in_world
+    zmp_x = o[:, 0] - (moment[:, 1] + o[:, 2] * force[:, 0]) / fz
+    zmp_y = o[:, 1] + (moment[:, 0] - o[:, 2] * force[:, 1]) / fz
+    return np.column_stack([zmp_x, zmp_y])
+
+
+class InverseDynamicsZmp:
+    """Multibody ZMP of a floating-base MuJoCo model (module docstring).
+
+    Args:
+        model: the robot, a free joint first (copied; contacts, constraints and sensors are
+            disabled in the copy).
+    """
+
+    def __init__(self, model: mujoco.MjModel) -> None:
+        if model.njnt == 0 or model.jnt_type[0] != mujoco.mjtJoint.mjJNT_FREE:
+            raise ModelError("the multibody ZMP needs a model whose first joint is free")
+        self.model = copy.deepcopy(model)
+        self.model.opt.disableflags |= int(_DISABLED)
+        self.data = mujoco.MjData(self.model)
+
+    def wrench(
+        self, qpos: NDArray[np.float64], qvel: NDArray[np.float64], qacc: NDArray[np.float64]
+    ) -> NDArray[np.float64]:
+        """Free-joint rows of ``mj_inverse`` per sample, shape (N, 6): F (world), tau_o (base)."""
+        m, d = self.model, self.data
+        out = np.empty((qpos.shape[0], 6))
+        for k in range(qpos.shape[0]):
+            d.qpos[:], d.qvel[:], d.qacc[:] = qpos[k], qvel[k], qacc[k]
+            mujoco.mj_inverse(m, d)
+            out[k] = d.qfrc_inverse[:6]
+        return out
+
+    def from_states(
+        self, qpos: NDArray[np.float64], qvel: NDArray[np.float64], qacc: NDArray[np.float64]
+    ) -> MultibodyZmp:
+        """The multibody ZMP of explicit states, each of shape (N, nq or nv)."""
+        wrench = self.wrench(qpos, qvel, qacc)
+        moment = np.einsum("nij,nj->ni", _base_rotation(qpos[:, 3:7]), wrench[:, 3:])
+        zmp = _centre_of_pressure(qpos[:, :3], wrench[:, :3], moment)
+        return MultibodyZmp(zmp, wrench[:, :3], moment)
+
+    def from_qpos(self, qpos: NDArray[np.float64], dt_s: float) -> MultibodyZmp:
+        """The multibody ZMP of configurations (N, nq) sampled every ``dt_s`` [s]."""
+        qvel, qacc = finite_differences(self.model, qpos, dt_s)
+        return self.from_states(qpos, qvel, qacc)
+
+    def from_trajectory(self, trajectory: JointTrajectory) -> MultibodyZmp:
+        """The multibody ZMP of an IK trajectory (its base pose and joint angles)."""
+        dt = float(trajectory.time_s[1] - trajectory.time_s[0])
+        return self.from_qpos(trajectory_qpos(self.model, trajectory), dt)
