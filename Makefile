@@ -4,6 +4,9 @@ PYTHON ?= python3
 VENV   := .venv
 BIN    := $(VENV)/bin
 OUT    ?= out/demo
+# Locally `make test` skips the slow simulation tests (~10 min budget); CI (CI=true) runs
+# them too, as they fit its time.
+PYTEST_MARK := $(if $(CI),,-m "not slow")
 
 .PHONY: demo test test-slow bench lint format clean
 
@@ -25,7 +28,7 @@ demo: $(VENV)/.installed
 test: $(VENV)/.installed-test
 	$(BIN)/ruff check .
 	$(BIN)/ruff format --check .
-	$(BIN)/python -m pytest -m "not slow" -q
+	$(BIN)/python -m pytest $(PYTEST_MARK) -q
 
 test-slow: $(VENV)/.installed-test
 	$(BIN)/python -m pytest -m slow -q

@@ -14,7 +14,9 @@ from zmpkit.pipelines.demo import DemoConfig, run_demo
 
 def test_demo_writes_report_and_matches_second_order_theory(tmp_path: Path) -> None:
     result = run_demo(
-        tmp_path, DemoConfig(duration_s=30.0, balance=False, walking=False), echo=lambda _: None
+        tmp_path,
+        DemoConfig(duration_s=30.0, balance=False, walking=False, compensation=False),
+        echo=lambda _: None,
     )
     assert result.report_path.read_text().startswith("# zmpkit demo")
     assert all(p.stat().st_size > 1000 for p in result.figures)
@@ -40,3 +42,4 @@ def test_demo_command(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> Non
     assert "(balance/report.md)" in (tmp_path / "d" / "report.md").read_text()
     assert (tmp_path / "d" / "balance" / "table1.csv").exists()
     assert (tmp_path / "d" / "walk_all" / "summary.json").exists()
+    assert (tmp_path / "d" / "compensate" / "summary.json").exists()

@@ -3,9 +3,9 @@
 from __future__ import annotations
 
 from rich.console import Console
-from rich.progress import BarColumn, MofNCompleteColumn, Progress, TimeElapsedColumn
+from rich.progress import BarColumn, MofNCompleteColumn, Progress, TaskID, TimeElapsedColumn
 
-__all__ = ["SimTimeProgress", "SweepProgress", "TrialProgressBar"]
+__all__ = ["SimTimeProgress", "StageProgress", "SweepProgress", "TrialProgressBar"]
 
 
 class TrialProgressBar:
@@ -92,3 +92,30 @@ class SimTimeProgress:
     def __call__(self, simulated_s: float, total_s: float) -> None:
         """Show ``simulated_s`` of ``total_s`` simulated seconds."""
         self._bar.update(self._task, completed=simulated_s, total=total_s)
+
+
+class StageProgress:
+    """One bar per named stage; the instance is a ``progress(stage, finished, total)``."""
+
+    def __init__(self) -> None:
+        self._bar = Progress(
+            "[progress.description]{task.description}",
+            BarColumn(),
+            MofNCompleteColumn(),
+            TimeElapsedColumn(),
+            console=Console(stderr=True),
+        )
+        self._tasks: dict[str, TaskID] = {}
+
+    def __enter__(self) -> StageProgress:
+        self._bar.start()
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self._bar.stop()
+
+    def __call__(self, stage: str, finished: int, total: int) -> None:
+        """Show ``finished`` of ``total`` steps of ``stage`` (a new bar for a new stage)."""
+        if stage not in self._tasks:
+            self._tasks[stage] = self._bar.add_task(stage, total=total)
+        self._bar.update(self._tasks[stage], completed=finished, total=total)
