@@ -5,6 +5,8 @@ from __future__ import annotations
 import mujoco
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from zmpkit.analysis.walk_metrics import measured_zmp
 from zmpkit.compensate.evaluate import simulate_with_offset
@@ -82,3 +84,29 @@ def test_matches_the_contact_force_zmp_on_an_ideal_walk() -> None:
     assert rms[1] < IDEAL_WALK_RMS_Y_M
     linear = outcome.pattern.zmp_reference_in_world[steady] - contact[steady]
     assert rms[0] < 0.5 * np.sqrt(np.nanmean(linear[:, 0] ** 2))
+
+
+@settings(max_examples=25, deadline=None)
+@given(seed=st.integers(0, 2**32 - 1))
+def test_vectorised_position_differences_equal_mujoco(seed: int) -> None:
+    """Free base + hinges: the one-pass difference equals mj_differentiatePos per sample."""
+    from zmpkit.compensate.multibody_zmp import (
+        _free_base_and_scalar_joints,
+        _position_differences,
+    )
+    from zmpkit.robots.nao import nao_ik_model
+
+    model = nao_ik_model()
+    assert _free_base_and_scalar_joints(model)  # the one-pass path is the one tested
+    rng = np.random.default_rng(seed)
+    qpos = np.tile(model.qpos0, (6, 1))
+    qpos[:, :3] += rng.normal(0.0, 0.05, (6, 3))
+    quats = rng.normal(size=(6, 4))
+    quats[1::2] = quats[::2] + rng.normal(0.0, 0.2, (3, 4))  # small and large steps
+    quats *= np.where(rng.random((6, 1)) < 0.5, -1.0, 1.0)  # both hemispheres
+    qpos[:, 3:7] = quats / np.linalg.norm(quats, axis=1, keepdims=True)
+    qpos[:, 7:] += rng.normal(0.0, 0.3, (6, model.nq - 7))
+    expected = np.empty((5, model.nv))
+    for k in range(5):
+        mujoco.mj_differentiatePos(model, expected[k], 1.0, qpos[k], qpos[k + 1])
+    np.testing.assert_allclose(_position_differences(model, qpos), expected, atol=1e-10)

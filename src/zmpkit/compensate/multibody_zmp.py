@@ -83,13 +83,53 @@ def finite_differences(
     if not dt_s > 0.0:
         raise ParameterError(f"dt_s must be > 0 s; got {dt_s}")
     n = qpos.shape[0]
-    delta = np.empty((n - 1, model.nv))
-    for k in range(n - 1):
-        mujoco.mj_differentiatePos(model, delta[k], 1.0, qpos[k], qpos[k + 1])
+    delta = _position_differences(model, qpos)
     qvel, qacc = np.zeros((n, model.nv)), np.zeros((n, model.nv))
     qvel[1:-1] = (delta[1:] + delta[:-1]) / (2.0 * dt_s)
     qacc[1:-1] = (delta[1:] - delta[:-1]) / dt_s**2
     return qvel, qacc
+
+
+def _position_differences(model: mujoco.MjModel, qpos: NDArray[np.float64]) -> NDArray[np.float64]:
+    """``mj_differentiatePos`` of consecutive configurations, shape (N − 1, nv).
+
+    A free base followed by hinge/slide joints (every walking robot here) is done in one
+    vectorised pass: linear part in the world frame, angular part the rotation vector of
+    q_k⁻¹ q_{k+1} in the base frame, as MuJoCo does; other models use MuJoCo per sample.
+    """
+    if _free_base_and_scalar_joints(model):
+        delta = np.empty((qpos.shape[0] - 1, model.nv))
+        delta[:, :3] = np.diff(qpos[:, :3], axis=0)
+        delta[:, 3:6] = _quaternion_log_difference(qpos[:-1, 3:7], qpos[1:, 3:7])
+        delta[:, 6:] = np.diff(qpos[:, 7:], axis=0)
+        return delta
+    delta = np.empty((qpos.shape[0] - 1, model.nv))
+    for k in range(qpos.shape[0] - 1):
+        mujoco.mj_differentiatePos(model, delta[k], 1.0, qpos[k], qpos[k + 1])
+    return delta
+
+
+def _free_base_and_scalar_joints(model: mujoco.MjModel) -> bool:
+    """Whether joint 0 is free and every other joint a hinge or slide."""
+    types = [int(t) for t in model.jnt_type]
+    scalar = {int(mujoco.mjtJoint.mjJNT_HINGE), int(mujoco.mjtJoint.mjJNT_SLIDE)}
+    return bool(types) and types[0] == int(mujoco.mjtJoint.mjJNT_FREE) and set(types[1:]) <= scalar
+
+
+def _quaternion_log_difference(
+    q1: NDArray[np.float64], q2: NDArray[np.float64]
+) -> NDArray[np.float64]:
+    """Rotation vectors [rad] of q1⁻¹ q2 (rows w, x, y, z), shortest way, in q1's frame."""
+    w1, v1 = q1[:, :1], -q1[:, 1:]  # conjugate of q1
+    w2, v2 = q2[:, :1], q2[:, 1:]
+    w = w1 * w2 - np.sum(v1 * v2, axis=1, keepdims=True)
+    v = w1 * v2 + w2 * v1 + np.cross(v1, v2)
+    flip = np.where(w < 0.0, -1.0, 1.0)
+    w, v = w * flip, v * flip
+    sin_half = np.linalg.norm(v, axis=1, keepdims=True)
+    angle = 2.0 * np.arctan2(sin_half, w)
+    scale = np.divide(angle, sin_half, out=np.full_like(angle, 2.0), where=sin_half > 1e-12)
+    return v * scale
 
 
 def trajectory_qpos(model: mujoco.MjModel, trajectory: JointTrajectory) -> NDArray[np.float64]:
@@ -153,12 +193,16 @@ class InverseDynamicsZmp:
     ) -> NDArray[np.float64]:
         """Free-joint rows of ``mj_inverse`` per sample, shape (N, 6): F (world), tau_o (base)."""
         m, d = self.model, self.data
-        out = np.empty((qpos.shape[0], 6))
-        for k in range(qpos.shape[0]):
-            d.qpos[:], d.qvel[:], d.qacc[:] = qpos[k], qvel[k], qacc[k]
-            mujoco.mj_inverse(m, d)
-            out[k] = d.qfrc_inverse[:6]
-        return out
+        # Local names and row iteration: this loop is the per-sample cost beyond mj_inverse.
+        d_qpos, d_qvel, d_qacc, frc = d.qpos, d.qvel, d.qacc, d.qfrc_inverse
+        inverse, rows = mujoco.mj_inverse, []
+        for q, v, a in zip(qpos, qvel, qacc, strict=True):
+            d_qpos[:] = q
+            d_qvel[:] = v
+            d_qacc[:] = a
+            inverse(m, d)
+            rows.append(frc[:6].copy())
+        return np.array(rows).reshape(-1, 6)
 
     def from_states(
         self, qpos: NDArray[np.float64], qvel: NDArray[np.float64], qacc: NDArray[np.float64]
