@@ -111,14 +111,19 @@ class Simulation:
         """Advance ``n`` physics steps."""
         model, data = self.model, self.data
         warn = data.warning[mujoco.mjtWarning.mjWARN_BADQACC]
-        for _ in range(n):
+        remaining = n
+        while remaining > 0:
             setpoints = self.servo.tick()
             ctrl = data.ctrl
             for i, g, q in zip(self._act, self._gear, setpoints, strict=True):
                 ctrl[i] = g * q
+            # Setpoints held still stay still until the next sensor sample: step there in C.
+            to_sample = self._ft_every - self._steps % self._ft_every
+            chunk = 1 if self.servo.moving else min(remaining, to_sample)
             bad = warn.number
-            mujoco.mj_step(model, data)
-            self._steps += 1
+            mujoco.mj_step(model, data, nstep=chunk)
+            self._steps += chunk
+            remaining -= chunk
             if warn.number != bad:
                 self._diverged("MuJoCo reported bad accelerations (bad qacc)")
             if self._steps % self._ft_every == 0:
