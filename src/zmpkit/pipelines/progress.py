@@ -5,7 +5,13 @@ from __future__ import annotations
 from rich.console import Console
 from rich.progress import BarColumn, MofNCompleteColumn, Progress, TaskID, TimeElapsedColumn
 
-__all__ = ["SimTimeProgress", "StageProgress", "SweepProgress", "TrialProgressBar"]
+__all__ = [
+    "GenerationProgress",
+    "SimTimeProgress",
+    "StageProgress",
+    "SweepProgress",
+    "TrialProgressBar",
+]
 
 
 class TrialProgressBar:
@@ -119,3 +125,42 @@ class StageProgress:
         if stage not in self._tasks:
             self._tasks[stage] = self._bar.add_task(stage, total=total)
         self._bar.update(self._tasks[stage], completed=finished, total=total)
+
+
+class GenerationProgress:
+    """A bar of CMA-ES generations with the best cost and ETA; the instance is the fit's
+    ``progress(FitProgress)`` callback. It appears with the first finished generation, so
+    an input error before the fit starts prints alone."""
+
+    def __init__(self, label: str = "fit") -> None:
+        self._bar = Progress(
+            "[progress.description]{task.description}",
+            BarColumn(),
+            MofNCompleteColumn(),
+            "best cost {task.fields[best]}",
+            "ETA {task.fields[eta]}",
+            TimeElapsedColumn(),
+            console=Console(stderr=True),
+        )
+        self._task = self._bar.add_task(label, total=None, best="–", eta="–")
+        self._started = False
+
+    def __enter__(self) -> GenerationProgress:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        if self._started:
+            self._bar.stop()
+
+    def __call__(self, progress) -> None:
+        """Show one finished generation (a ``FitProgress``)."""
+        if not self._started:
+            self._bar.start()
+            self._started = True
+        self._bar.update(
+            self._task,
+            completed=progress.generation,
+            total=progress.generations,
+            best=f"{progress.best_cost:.4g}",
+            eta=f"{progress.eta_s:.0f} s",
+        )

@@ -1,0 +1,140 @@
+r"""The fit's cost: how far a simulated experiment is from the recorded one.
+
+Three terms per experiment, each normalised by a scale taken from the recording itself so
+they are dimensionless, comparable across robots and about 1 when the simulation misses by
+as much as the signal varies:
+
+- joint-angle error, against the recorded tracking error (the effects' footprint):
+
+  .. math:: e_q = \frac{\operatorname{RMS}(q_{sim} - q_{rec})}
+                        {\operatorname{RMS}(q_{rec} - q_{cmd})}
+
+  over every sample and joint [rad/rad];
+- ZMP error, against the recorded ZMP's variation about its linear trend (the walk's
+  progress), over the samples where both ZMPs are defined, with the mean difference
+  :math:`\bar d` removed (an F-T offset the user zeroes differently shifts the whole ZMP):
+
+  .. math:: e_p = \frac{\operatorname{RMS}\lVert p_{sim} - p_{rec} - \bar d\rVert}
+                        {\operatorname{RMS}\lVert p_{rec} - \operatorname{trend}(p_{rec})\rVert};
+
+- trunk-oscillation spectrum distance: amplitude spectra of the IMU trunk tilt
+  (:func:`~zmpkit.analysis.walk_metrics.amplitude_spectrum`) compared in
+  :data:`SPECTRUM_BAND_HZ`:
+
+  .. math:: e_s = \lVert A_{sim} - A_{rec} \rVert_2 / \lVert A_{rec} \rVert_2.
+
+An experiment's cost is :math:`w_q e_q^2 + w_p e_p^2 + w_s e_s^2`; the fit minimises the mean
+over experiments. A rollout that falls or diverges before the recording ends costs
+:data:`FAILED_COST` times (2 − the fraction it completed), so shorter falls cost more.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+
+from zmpkit.analysis.walk_metrics import amplitude_spectrum
+from zmpkit.identify.simfit.experiments import RecordedSignals
+
+__all__ = [
+    "FAILED_COST",
+    "SPECTRUM_BAND_HZ",
+    "CostTerms",
+    "CostWeights",
+    "experiment_cost",
+    "spectrum_in_band",
+]
+
+SPECTRUM_BAND_HZ = (0.5, 8.0)
+"""Band of the trunk-oscillation spectrum the cost compares [Hz]."""
+FAILED_COST = 1000.0
+"""Cost of a rollout that falls or diverges at its start [-]."""
+_MIN_SCALE = 1e-6
+
+
+@dataclass(frozen=True)
+class CostWeights:
+    """Weights of the three cost terms [-].
+
+    Attributes:
+        joint: weight of :math:`e_q^2`.
+        zmp: weight of :math:`e_p^2`.
+        spectrum: weight of :math:`e_s^2`.
+    """
+
+    joint: float = 1.0
+    zmp: float = 1.0
+    spectrum: float = 1.0
+
+
+@dataclass(frozen=True)
+class CostTerms:
+    """One experiment's normalised errors (module docstring) [-].
+
+    Attributes:
+        joint: :math:`e_q`.
+        zmp: :math:`e_p`.
+        spectrum: :math:`e_s`.
+        completed: fraction of the recording the rollout reproduced [-].
+        joint_rms_rad: the unnormalised joint-angle RMS error [rad].
+    """
+
+    joint: float
+    zmp: float
+    spectrum: float
+    completed: float
+    joint_rms_rad: float
+
+    def total(self, weights: CostWeights) -> float:
+        """Weighted sum of squares, or the failure cost of an incomplete rollout [-]."""
+        if self.completed < 1.0:
+            return FAILED_COST * (2.0 - self.completed)
+        return (
+            weights.joint * self.joint**2
+            + weights.zmp * self.zmp**2
+            + (weights.spectrum * self.spectrum**2)
+        )
+
+
+def _rms(x: NDArray[np.float64]) -> float:
+    return float(np.sqrt(np.mean(np.square(x)))) if x.size else 0.0
+
+
+def _detrended(t: NDArray[np.float64], x: NDArray[np.float64]) -> NDArray[np.float64]:
+    return x - np.polyval(np.polyfit(t, x, 1), t)
+
+
+def spectrum_in_band(signal: NDArray[np.float64], dt_s: float) -> tuple[NDArray, NDArray]:
+    """Frequencies [Hz] and amplitudes [rad] of ``signal``'s spectrum in the cost band."""
+    spectrum = amplitude_spectrum(signal, dt_s)
+    lo, hi = SPECTRUM_BAND_HZ
+    band = (spectrum.frequency_hz >= lo) & (spectrum.frequency_hz <= hi)
+    return spectrum.frequency_hz[band], spectrum.amplitude[band]
+
+
+def _zmp_error(rec: RecordedSignals, sim: RecordedSignals) -> float:
+    both = np.all(np.isfinite(rec.zmp_m), axis=1) & np.all(np.isfinite(sim.zmp_m), axis=1)
+    if np.count_nonzero(both) < 3:
+        return 0.0
+    t, p = rec.time_s[both], rec.zmp_m[both]
+    scale = np.hypot(_rms(_detrended(t, p[:, 0])), _rms(_detrended(t, p[:, 1])))
+    d = sim.zmp_m[both] - p
+    miss = np.linalg.norm(d - d.mean(axis=0), axis=1)
+    return _rms(miss) / max(scale, _MIN_SCALE)
+
+
+def experiment_cost(recorded: RecordedSignals, simulated: RecordedSignals) -> CostTerms:
+    """The normalised errors of ``simulated`` against ``recorded`` (same time grid)."""
+    n = recorded.time_s.size
+    completed = min(simulated.time_s.size, n) / n
+    if completed < 1.0:
+        return CostTerms(np.inf, np.inf, np.inf, completed, np.inf)
+    q_err = _rms(simulated.q_meas_rad - recorded.q_meas_rad)
+    q_scale = max(_rms(recorded.q_meas_rad - recorded.q_cmd_rad), _MIN_SCALE)
+    dt = recorded.dt_s
+    _, a_rec = spectrum_in_band(recorded.trunk_tilt_rad, dt)
+    _, a_sim = spectrum_in_band(simulated.trunk_tilt_rad, dt)
+    spectrum = float(np.linalg.norm(a_sim - a_rec) / max(np.linalg.norm(a_rec), _MIN_SCALE))
+    return CostTerms(q_err / q_scale, _zmp_error(recorded, simulated), spectrum, 1.0, q_err)

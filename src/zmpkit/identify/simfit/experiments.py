@@ -1,0 +1,273 @@
+"""Recorded experiments the simulator is fitted to, and how their folders are read.
+
+Only signals a real robot records enter the fit (:class:`RecordedSignals`): the commanded
+joint angles, the joint encoders, the ZMP from the ankle F-T sensors and the trunk tilt
+from the IMU. Two kinds of experiment:
+
+- :class:`WalkExperiment` — a NAO walk folder written by ``zmpkit walk``
+  (:func:`~zmpkit.pipelines.walk.run_walk`): ``summary.json`` and ``timeseries.csv``. The
+  CSV holds the commanded angles of the six pitch joints only; the whole commanded
+  trajectory is re-planned from the walk's command (speed, step duration, duration, CoM
+  height), which a user knows because they commanded it, and checked against the recorded
+  commanded angles. A walk that fell is refused.
+- :class:`StepExperiment` — one trial of a TEO step dataset
+  (:func:`~zmpkit.experiments.read_step_dataset`): the commanded setpoints of every joint are
+  in the trial CSV; the robot stands ``settle_s`` before the recording starts.
+
+:func:`read_experiments` reads a list of folders; every problem is an
+:class:`~zmpkit.errors.InputFileError` naming the file and what was expected.
+"""
+
+from __future__ import annotations
+
+import json
+from collections.abc import Sequence
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+from numpy.typing import NDArray
+
+from zmpkit.errors import InputFileError, ZmpkitError
+
+__all__ = [
+    "WALK_SERIES_FILE",
+    "WALK_SUMMARY_FILE",
+    "Experiment",
+    "RecordedSignals",
+    "StepExperiment",
+    "WalkExperiment",
+    "read_experiments",
+    "read_walk_folder",
+    "tilt_from_quaternions",
+]
+
+WALK_SUMMARY_FILE = "summary.json"
+WALK_SERIES_FILE = "timeseries.csv"
+
+
+@dataclass(frozen=True, eq=False)
+class RecordedSignals:
+    """What a robot recorded in one experiment, one row per sample.
+
+    Attributes:
+        time_s: sample times [s], shape (N,).
+        joint_names: columns of the joint arrays.
+        q_cmd_rad: commanded joint angles [rad], shape (N, J).
+        q_meas_rad: joint encoders [rad], shape (N, J).
+        zmp_m: ZMP from the F-T sensors, world x and y [m], shape (N, 2); NaN without contact.
+        trunk_tilt_rad: trunk tilt from the IMU in the experiment's plane (pitch for walks
+            and sagittal steps, roll for frontal steps) [rad], shape (N,).
+    """
+
+    time_s: NDArray[np.float64]
+    joint_names: tuple[str, ...]
+    q_cmd_rad: NDArray[np.float64]
+    q_meas_rad: NDArray[np.float64]
+    zmp_m: NDArray[np.float64]
+    trunk_tilt_rad: NDArray[np.float64]
+
+    @property
+    def dt_s(self) -> float:
+        """Median sample period [s]."""
+        return float(np.median(np.diff(self.time_s)))
+
+
+@dataclass(frozen=True, eq=False)
+class WalkExperiment:
+    """A NAO walk: its command and its recorded signals.
+
+    Attributes:
+        name: label (the folder name).
+        speed_mps: commanded forward speed [m/s].
+        step_duration_s: step duration [s].
+        duration_s: walking time of the pattern [s].
+        com_height_m: CoM height of the pattern [m].
+        signals: the recording.
+    """
+
+    name: str
+    speed_mps: float
+    step_duration_s: float
+    duration_s: float
+    com_height_m: float
+    signals: RecordedSignals
+    robot: str = "nao"
+
+
+@dataclass(frozen=True, eq=False)
+class StepExperiment:
+    """A TEO step trial: commanded setpoints and recorded signals.
+
+    Attributes:
+        name: label (dataset folder and trial file).
+        plane: ``"sagittal"`` or ``"frontal"``.
+        settle_s: standing time before the recording starts [s].
+        mounts: the F-T sensor mounts, ``{"right": ..., "left": ...}``.
+        signals: the recording; ``q_cmd_rad`` holds every driven joint.
+    """
+
+    name: str
+    plane: str
+    settle_s: float
+    mounts: dict
+    signals: RecordedSignals
+    robot: str = "teo"
+
+
+Experiment = WalkExperiment | StepExperiment
+"""Any experiment the fit takes."""
+
+
+def _read_summary(folder: Path) -> dict:
+    path = folder / WALK_SUMMARY_FILE
+    try:
+        summary = json.loads(path.read_text(encoding="utf-8"))
+    except (OSError, json.JSONDecodeError) as exc:
+        raise InputFileError(path, f"cannot read the walk summary: {exc}") from None
+    for key in ("fell", "commanded_speed_mps", "step_frequency_hz"):
+        if key not in summary:
+            raise InputFileError(path, f"missing field '{key}' of a zmpkit walk summary")
+    if summary["fell"]:
+        raise InputFileError(
+            path, f"the walk fell at {summary.get('fall_time_s')} s; fit to complete walks only"
+        )
+    return summary
+
+
+def _read_series(path: Path) -> tuple[list[str], NDArray[np.float64]]:
+    from zmpkit.pipelines.walk_report import SERIES_COLUMNS
+
+    try:
+        lines = path.read_text(encoding="utf-8").splitlines()
+    except OSError as exc:
+        raise InputFileError(path, f"cannot read the walk time series: {exc}") from None
+    header = lines[0].split(",") if lines else []
+    missing = [c for c in SERIES_COLUMNS if c not in header]
+    if missing:
+        raise InputFileError(path, f"missing columns {missing[:4]}; expected {SERIES_COLUMNS}")
+    rows = []
+    for number, line in enumerate(lines[1:], start=2):
+        cells = line.split(",")
+        if len(cells) != len(header):
+            raise InputFileError(path, f"{len(cells)} fields, expected {len(header)}", row=number)
+        try:
+            rows.append([float(c) if c else np.nan for c in cells])
+        except ValueError:
+            raise InputFileError(
+                path, "expected numbers (or empty for no ZMP)", row=number
+            ) from None
+    table = np.array(rows, dtype=np.float64).reshape(-1, len(header))
+    return header, table
+
+
+def _walk_signals(path: Path, header: list[str], table: NDArray[np.float64]) -> RecordedSignals:
+    from zmpkit.pipelines.walk_report import PITCH_JOINTS
+
+    col = {name: table[:, header.index(name)] for name in header}
+    time = col["time_s"]
+    if time.size < 16 or np.any(np.diff(time) <= 0):
+        raise InputFileError(
+            path, "time_s must rise strictly over at least 16 rows", column="time_s"
+        )
+    for name in ("time_s", "trunk_pitch_rad", *(f"{j}_meas_rad" for j in PITCH_JOINTS)):
+        if not np.all(np.isfinite(col[name])):
+            raise InputFileError(path, "expected finite numbers", column=name)
+    return RecordedSignals(
+        time_s=time,
+        joint_names=PITCH_JOINTS,
+        q_cmd_rad=np.column_stack([col[f"{j}_cmd_rad"] for j in PITCH_JOINTS]),
+        q_meas_rad=np.column_stack([col[f"{j}_meas_rad"] for j in PITCH_JOINTS]),
+        zmp_m=np.column_stack([col["zmp_x_m"], col["zmp_y_m"]]),
+        trunk_tilt_rad=col["trunk_pitch_rad"],
+    )
+
+
+def read_walk_folder(folder: str | Path) -> WalkExperiment:
+    """Read a ``zmpkit walk`` output folder as a :class:`WalkExperiment`.
+
+    Raises:
+        InputFileError: on a missing or malformed file, a fallen walk, or commanded angles
+            that the re-planned walk does not reproduce.
+    """
+    from zmpkit.identify.simfit.walk_plan import match_walk_plan
+
+    folder = Path(folder)
+    summary = _read_summary(folder)
+    path = folder / WALK_SERIES_FILE
+    signals = _walk_signals(path, *_read_series(path))
+    speed = float(summary["commanded_speed_mps"])
+    step_s = 1.0 / float(summary["step_frequency_hz"])
+    duration, height = match_walk_plan(path, speed, step_s, signals)
+    return WalkExperiment(folder.name, speed, step_s, duration, height, signals)
+
+
+def tilt_from_quaternions(quat_wxyz: NDArray[np.float64], plane: str) -> NDArray[np.float64]:
+    """Trunk pitch (sagittal) or roll (frontal) of IMU quaternions (w, x, y, z) [rad]."""
+    from zmpkit.pipelines.walk_sim import quaternion_pitch_roll
+
+    angles = np.array([quaternion_pitch_roll(q) for q in quat_wxyz])
+    return angles[:, 0 if plane == "sagittal" else 1].copy()
+
+
+def _step_experiments(folder: Path) -> list[StepExperiment]:
+    from zmpkit.experiments import read_step_dataset
+    from zmpkit.sensors import zmp_series
+
+    dataset = read_step_dataset(folder)
+    settings = dataset.meta.get("settings", {})
+    if settings.get("push") is not None:
+        raise InputFileError(
+            folder / "meta.json",
+            "trials with a push cannot be replayed; fit to ZMP-step trials without push",
+            column="settings",
+        )
+    out = []
+    for trial in dataset.trials:
+        zmp = zmp_series(
+            trial.time,
+            trial.right_wrench,
+            trial.left_wrench,
+            dataset.mounts["right"],
+            dataset.mounts["left"],
+        ).zmp
+        signals = RecordedSignals(
+            trial.time,
+            trial.joint_names,
+            trial.commanded,
+            trial.encoders,
+            zmp,
+            tilt_from_quaternions(trial.imu[:, 6:10], trial.plane),
+        )
+        name = f"{folder.name}/{trial.plane}_{trial.target_m:g}"
+        settle = float(settings.get("settle_s", trial.time[0]))
+        out.append(StepExperiment(name, trial.plane, settle, dict(dataset.mounts), signals))
+    return out
+
+
+def read_experiments(folders: Sequence[str | Path], robot: str) -> list[Experiment]:
+    """Read recorded experiment folders for ``robot``.
+
+    A NAO folder is a walk output folder (``summary.json`` + ``timeseries.csv``); a TEO
+    folder is a step dataset (``meta.json`` + trial CSVs), each trial one experiment.
+
+    Raises:
+        InputFileError: naming the folder or file and what was expected.
+    """
+    if not folders:
+        raise InputFileError("DATA", "no experiment folders given; expected at least one")
+    out: list[Experiment] = []
+    for item in folders:
+        folder = Path(item)
+        if not folder.is_dir():
+            raise InputFileError(folder, "expected an experiment folder (does not exist)")
+        if robot == "nao":
+            out.append(read_walk_folder(folder))
+            continue
+        try:
+            out.extend(_step_experiments(folder))
+        except InputFileError:
+            raise
+        except ZmpkitError as exc:
+            raise InputFileError(folder, f"not a step dataset: {exc}") from None
+    return out

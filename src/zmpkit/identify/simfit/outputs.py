@@ -1,0 +1,194 @@
+"""Files a simulator fit writes into its output folder (besides the checkpoint).
+
+- :data:`FITTED_TRUTH_FILE`: the base truth with the fitted values — a truth file the
+  simulator loads as ``--truth``;
+- :data:`FITTED_PARAMETERS_FILE`: per parameter its value, unit, nominal, bounds, path in the
+  truth file and identifiability;
+- :data:`HISTORY_CSV`: one row per generation (costs, step size, best-so-far values);
+- :data:`IDENTIFIABILITY_FILE`: the cost profile and CMA-ES spread per parameter;
+- :data:`REPRODUCTION_FILE`: per fitted and held-out experiment, trunk-oscillation frequency
+  and amplitude recorded vs simulated and the joint-angle RMS error.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from pathlib import Path
+
+import numpy as np
+import yaml
+
+from zmpkit.identify.simfit.checkpoint import GenerationRecord
+from zmpkit.identify.simfit.identifiability import ParameterIdentifiability
+from zmpkit.identify.simfit.parameters import FitParameter
+from zmpkit.identify.simfit.truth_doc import truth_doc_with, write_truth_doc
+from zmpkit.identify.simfit.validation import ReproductionCheck
+
+__all__ = [
+    "FITTED_PARAMETERS_FILE",
+    "FITTED_TRUTH_FILE",
+    "HISTORY_CSV",
+    "IDENTIFIABILITY_FILE",
+    "REPRODUCTION_FILE",
+    "write_fitted_parameters",
+    "write_fitted_truth",
+    "write_history_csv",
+    "write_identifiability_csv",
+    "write_reproduction_csv",
+]
+
+FITTED_TRUTH_FILE = "fitted_truth.yaml"
+FITTED_PARAMETERS_FILE = "fitted_parameters.yaml"
+HISTORY_CSV = "cost_history.csv"
+IDENTIFIABILITY_FILE = "identifiability.csv"
+REPRODUCTION_FILE = "reproduction.csv"
+
+
+def _csv(path: Path, header: Sequence[str], rows: Sequence[Sequence[object]]) -> Path:
+    def cell(v: object) -> str:
+        if isinstance(v, bool):
+            return str(v).lower()
+        if isinstance(v, float | np.floating):
+            return "" if not np.isfinite(v) else f"{float(v):.8g}"
+        return str(v)
+
+    lines = [",".join(header)] + [",".join(cell(v) for v in row) for row in rows]
+    path.write_text("\n".join(lines) + "\n", encoding="utf-8")
+    return path
+
+
+def write_fitted_truth(
+    path: Path,
+    base_doc: dict,
+    parameters: Sequence[FitParameter],
+    values: Sequence[float],
+    source: str,
+) -> Path:
+    """The base truth with the fitted values, loadable as ``--truth``."""
+    header = f"Truth fitted by 'zmpkit identify sim' (CMA-ES) from {source}.\nFitted: " + ", ".join(
+        f"{p.path} = {v:.6g} {p.unit}" for p, v in zip(parameters, values, strict=True)
+    )
+    return write_truth_doc(truth_doc_with(base_doc, parameters, values), path, header)
+
+
+def write_fitted_parameters(
+    path: Path,
+    robot: str,
+    effects: str,
+    cost: float,
+    parameters: Sequence[FitParameter],
+    ident: Sequence[ParameterIdentifiability],
+) -> Path:
+    """Per parameter: value, unit, nominal, bounds, truth path, identifiability."""
+    entries = {
+        p.name: {
+            "value": float(i.value),
+            "unit": p.unit,
+            "nominal": p.nominal,
+            "bounds": [p.lower, p.upper],
+            "path": p.path,
+            "effect": p.effect,
+            "identifiable": bool(i.identifiable),
+            "resolution_pct": None if not np.isfinite(i.resolution) else 100 * i.resolution,
+            "cma_relative_std": float(i.cma_relative_std),
+        }
+        for p, i in zip(parameters, ident, strict=True)
+    }
+    doc = {"robot": robot, "effects": effects, "cost": float(cost), "parameters": entries}
+    path.write_text(yaml.safe_dump(doc, sort_keys=False, allow_unicode=True), encoding="utf-8")
+    return path
+
+
+def write_history_csv(
+    path: Path, history: Sequence[GenerationRecord], parameters: Sequence[FitParameter]
+) -> Path:
+    """One row per generation: costs [-], step size [-], wall time [s], best values [units]."""
+    header = [
+        "generation",
+        "evaluations",
+        "best_cost",
+        "best_so_far",
+        "median_cost",
+        "sigma",
+        "wall_s",
+        *(p.name for p in parameters),
+    ]
+    rows = [
+        [
+            r.generation,
+            r.evaluations,
+            r.best_cost,
+            r.best_so_far,
+            r.median_cost,
+            r.sigma,
+            r.wall_s,
+            *(r.best_values[p.name] for p in parameters),
+        ]
+        for r in history
+    ]
+    return _csv(path, header, rows)
+
+
+def write_identifiability_csv(path: Path, ident: Sequence[ParameterIdentifiability]) -> Path:
+    """The profile costs, resolution [%], CMA-ES spread [%] and verdict per parameter."""
+    header = [
+        "parameter",
+        "value",
+        "cost_minus",
+        "cost_opt",
+        "cost_plus",
+        "resolution_pct",
+        "cma_relative_std_pct",
+        "identifiable",
+    ]
+    rows = [
+        [
+            i.name,
+            i.value,
+            i.cost_minus,
+            i.cost_opt,
+            i.cost_plus,
+            100 * i.resolution,
+            100 * i.cma_relative_std,
+            i.identifiable,
+        ]
+        for i in ident
+    ]
+    return _csv(path, header, rows)
+
+
+def write_reproduction_csv(
+    path: Path, fitted: Sequence[ReproductionCheck], held_out: Sequence[ReproductionCheck]
+) -> Path:
+    """Trunk oscillation and joint-angle error per experiment, fitted and held out."""
+    header = [
+        "experiment",
+        "set",
+        "recorded_peak_hz",
+        "simulated_peak_hz",
+        "frequency_error_hz",
+        "recorded_amplitude_rad",
+        "simulated_amplitude_rad",
+        "amplitude_error_pct",
+        "joint_rms_error_rad",
+        "resolution_hz",
+        "passed",
+    ]
+    rows = [
+        [
+            c.experiment,
+            label,
+            c.recorded_peak_hz,
+            c.simulated_peak_hz,
+            c.frequency_error_hz,
+            c.recorded_amplitude_rad,
+            c.simulated_amplitude_rad,
+            100 * c.amplitude_error,
+            c.joint_rms_error_rad,
+            c.resolution_hz,
+            c.passed,
+        ]
+        for label, checks in (("fit", fitted), ("held_out", held_out))
+        for c in checks
+    ]
+    return _csv(path, header, rows)

@@ -1,0 +1,62 @@
+"""The fit problem as data, and the cost of one candidate on one experiment.
+
+A :class:`FitProblem` is everything a worker needs — robot, switched-on effects, fitted
+parameters, the base truth document and the recorded experiments — and is pickled once per
+worker (process pool) or put once in the object store (Ray).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from zmpkit.identify.simfit.cost import CostTerms, CostWeights, experiment_cost
+from zmpkit.identify.simfit.experiments import Experiment, RecordedSignals
+from zmpkit.identify.simfit.parameters import FitParameter
+from zmpkit.identify.simfit.rollout import simulate_experiment
+from zmpkit.identify.simfit.truth_doc import load_robot_truth, truth_doc_with
+
+__all__ = ["FitProblem", "evaluate", "simulate"]
+
+
+@dataclass(frozen=True, eq=False)
+class FitProblem:
+    """What the fit minimises.
+
+    Attributes:
+        robot: ``"nao"`` or ``"teo"``.
+        sim_effects: effect letters the simulator runs with, e.g. ``"M,G"``.
+        parameters: the fitted parameters.
+        base_doc: the base truth document (every unfitted value).
+        experiments: the recorded experiments, fitted jointly.
+        weights: weights of the cost terms.
+    """
+
+    robot: str
+    sim_effects: str
+    parameters: tuple[FitParameter, ...]
+    base_doc: dict
+    experiments: tuple[Experiment, ...]
+    weights: CostWeights = field(default_factory=CostWeights)
+
+    def truth(self, values: Sequence[float]) -> object:
+        """The robot's truth object with the parameters at ``values`` [units]."""
+        return load_robot_truth(self.robot, truth_doc_with(self.base_doc, self.parameters, values))
+
+
+def simulate(problem: FitProblem, values: Sequence[float], index: int) -> RecordedSignals:
+    """Simulated signals of experiment ``index`` with the parameters at ``values``.
+
+    With the sensor effect on, the noise seed is fixed (0): every candidate sees the same
+    noise, so the cost is a deterministic function of the parameters.
+    """
+    truth = problem.truth(np.asarray(values, dtype=float).tolist())
+    return simulate_experiment(problem.experiments[index], truth, problem.sim_effects)
+
+
+def evaluate(problem: FitProblem, values: Sequence[float], index: int) -> CostTerms:
+    """Cost terms of experiment ``index`` with the parameters at ``values`` [units]."""
+    simulated = simulate(problem, values, index)
+    return experiment_cost(problem.experiments[index].signals, simulated)

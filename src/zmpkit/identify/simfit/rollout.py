@@ -1,0 +1,135 @@
+"""Replay a recorded experiment on the simulator and record the same signals.
+
+- A walk: the re-planned commanded trajectory (:mod:`~zmpkit.identify.simfit.walk_plan`)
+  is played by :func:`~zmpkit.pipelines.walk_sim.simulate_walk`, exactly as ``zmpkit walk``
+  does, and the pitch joints, the F-T ZMP and the IMU pitch are kept.
+- A step trial: the robot stands ``settle_s`` and then its servos get the recorded
+  commanded setpoints, linearly interpolated to every servo tick (the drive streams them at
+  the physics rate); the F-T sensors, encoders and IMU are sampled at the recorded times.
+
+A rollout that falls or diverges returns the signals up to that point; the cost charges it.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numpy.typing import NDArray
+
+from zmpkit.errors import SimulationDivergedError
+from zmpkit.identify.simfit.experiments import (
+    Experiment,
+    RecordedSignals,
+    StepExperiment,
+    WalkExperiment,
+)
+
+__all__ = ["simulate_experiment"]
+
+
+def simulate_experiment(experiment: Experiment, truth: object, effects: str) -> RecordedSignals:
+    """The signals the simulator with ``truth`` and ``effects`` records in ``experiment``.
+
+    Args:
+        experiment: the recorded experiment to replay.
+        truth: the robot's truth object (``NaoTruth`` or ``TeoTruth``).
+        effects: effect letters switched on, e.g. ``"M,G"``.
+
+    Returns:
+        Signals on the recorded time grid, shorter if the robot fell or the simulation diverged.
+    """
+    if isinstance(experiment, WalkExperiment):
+        return _walk(experiment, truth, effects)
+    return _step(experiment, truth, effects)
+
+
+def _walk(experiment: WalkExperiment, truth: object, effects: str) -> RecordedSignals:
+    from zmpkit.analysis.walk_metrics import measured_zmp
+    from zmpkit.identify.simfit.walk_plan import walk_trajectory
+    from zmpkit.pipelines.walk_sim import simulate_walk
+    from zmpkit.robots.nao import make_nao
+
+    trajectory = walk_trajectory(
+        experiment.speed_mps,
+        experiment.step_duration_s,
+        experiment.duration_s,
+        experiment.com_height_m,
+    )
+    try:
+        record = simulate_walk(make_nao(effects, truth, seed=0), trajectory)  # type: ignore[arg-type]
+    except SimulationDivergedError:
+        return _empty(experiment.signals)
+    names = experiment.signals.joint_names
+    columns = [record.joint(j) for j in names]
+    zmp = measured_zmp(record.force_in_world, record.moment_in_world, record.sensor_in_world)
+    return RecordedSignals(
+        record.time_s,
+        names,
+        record.q_cmd_rad[:, columns],
+        record.q_meas_rad[:, columns],
+        zmp,
+        record.trunk_pitch_rad,
+    )
+
+
+def _empty(signals: RecordedSignals) -> RecordedSignals:
+    j = len(signals.joint_names)
+    zero = np.zeros((0, j))
+    return RecordedSignals(
+        np.zeros(0), signals.joint_names, zero, zero, np.zeros((0, 2)), np.zeros(0)
+    )
+
+
+def _setpoint_table(signals: RecordedSignals, n_ticks: int, dt: float) -> NDArray[np.float64]:
+    """Commanded setpoints at the end of every tick, shape (n_ticks, J) [rad]."""
+    t = (np.arange(n_ticks) + 1) * dt
+    cmd = signals.q_cmd_rad
+    return np.column_stack([np.interp(t, signals.time_s, cmd[:, j]) for j in range(cmd.shape[1])])
+
+
+def _step(experiment: StepExperiment, truth: object, effects: str) -> RecordedSignals:
+    from zmpkit.robots.teo import make_teo
+
+    signals = experiment.signals
+    sim = make_teo(effects, truth, seed=0)  # type: ignore[arg-type]
+    if tuple(sim.joint_names) != tuple(signals.joint_names):
+        raise SimulationDivergedError(0.0, "the joint list", "recorded joints differ from TEO's")
+    dt = sim.dt
+    sample_ticks = np.round(signals.time_s / dt).astype(int)
+    table = _setpoint_table(signals, int(sample_ticks[-1]), dt)
+    rows: list[NDArray[np.float64]] = []
+    wanted = set(sample_ticks.tolist())
+    try:
+        for k in range(int(sample_ticks[-1])):
+            sim.servo.reset(table[k].tolist())
+            sim.step(1)
+            if k + 1 in wanted:
+                rows.append(_sample(sim))
+    except SimulationDivergedError:
+        pass
+    return _step_signals(experiment, np.array(rows).reshape(len(rows), -1), len(rows))
+
+
+def _sample(sim: object) -> NDArray[np.float64]:
+    quat = sim.imu()[2]  # type: ignore[attr-defined]
+    return np.concatenate([sim.ft("right"), sim.ft("left"), sim.encoders(), quat])  # type: ignore[attr-defined]
+
+
+def _step_signals(experiment: StepExperiment, data: NDArray[np.float64], n: int) -> RecordedSignals:
+    from zmpkit.identify.simfit.experiments import tilt_from_quaternions
+    from zmpkit.sensors import zmp_series
+
+    signals = experiment.signals
+    if n < 2:
+        return _empty(signals)
+    time = signals.time_s[:n]
+    j = len(signals.joint_names)
+    mounts = experiment.mounts
+    zmp = zmp_series(time, data[:, :6], data[:, 6:12], mounts["right"], mounts["left"]).zmp
+    return RecordedSignals(
+        time,
+        signals.joint_names,
+        signals.q_cmd_rad[:n],
+        data[:, 12 : 12 + j],
+        zmp,
+        tilt_from_quaternions(data[:, 12 + j :], experiment.plane),
+    )

@@ -1,0 +1,193 @@
+"""Self-test of the simulator fit: a virtual robot with hidden, perturbed truth.
+
+1. :func:`perturbed_values`: every fitted parameter moves from its nominal value by a
+   factor :math:`e^{\\pm u}`, :math:`u \\sim U(\\ln 1.08, \\ln 1.25)` with a random sign
+   (linear parameters by ±8–25 % of their bounds' range), drawn from the seed and kept
+   inside the bounds. These values are the hidden truth.
+2. :func:`record_experiments`: the virtual robot with that truth and the sensor effects on
+   (S: encoder quantisation, F-T offsets, noise) runs the plan's experiments through the
+   ordinary pipelines — NAO walks with :func:`~zmpkit.pipelines.walk.run_walk`, TEO step
+   sweeps with :func:`~zmpkit.experiments.run_step_sweep` — into folders. The fit then
+   reads those folders like any recorded data and never sees the truth.
+3. :func:`recovery_rows` compares truth and fit per parameter (``recovery.csv``).
+
+Plans (:func:`self_test_plan`): NAO walks at several speeds; TEO ZMP steps. Held-out
+experiments are recorded the same way but never fitted.
+"""
+
+from __future__ import annotations
+
+import math
+import tempfile
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+from numpy.typing import NDArray
+
+from zmpkit.identify.simfit.parameters import FitParameter
+from zmpkit.identify.simfit.truth_doc import truth_doc_with, write_truth_doc
+
+__all__ = [
+    "RECOVERY_COLUMNS",
+    "RecoveryRow",
+    "SelfTestPlan",
+    "perturbed_values",
+    "record_experiments",
+    "recovery_rows",
+    "self_test_plan",
+    "write_recovery_csv",
+]
+
+RECOVERY_COLUMNS = ("parameter", "truth", "fitted", "error_pct", "identifiable")
+"""Columns of ``recovery.csv``, in order."""
+_PERTURB_RANGE = (math.log(1.08), math.log(1.25))
+
+
+@dataclass(frozen=True)
+class SelfTestPlan:
+    """The experiments of a self-test.
+
+    Attributes:
+        fit: NAO: (speed [m/s], duration [s]) per walk; TEO: ZMP targets [m] of one sweep.
+        held_out: the same for the held-out experiments.
+        hold_s: TEO only: recorded time after the step [s].
+        held_out_hold_s: TEO only: recorded time after the held-out step [s].
+    """
+
+    fit: tuple
+    held_out: tuple
+    hold_s: float = 3.0
+    held_out_hold_s: float = 8.0
+
+
+def self_test_plan(robot: str, quick: bool) -> SelfTestPlan:
+    """The plan for ``robot``; ``quick`` keeps it small (2 short walks or 3 steps)."""
+    if robot == "nao":
+        if quick:
+            return SelfTestPlan(((0.2, 3.0), (0.15, 3.0)), ((0.175, 10.0),))
+        return SelfTestPlan(((0.1, 6.0), (0.15, 6.0), (0.2, 6.0)), ((0.175, 10.0), (0.2, 10.0)))
+    if quick:
+        return SelfTestPlan((0.02, 0.05, 0.08), (0.065,))
+    return SelfTestPlan((0.02, 0.04, 0.06, 0.08), (0.03, 0.07), hold_s=5.0)
+
+
+def perturbed_values(parameters: tuple[FitParameter, ...], seed: int) -> NDArray[np.float64]:
+    """The hidden truth: nominal values moved 8–25 % by ``seed`` (module docstring) [units]."""
+    rng = np.random.default_rng([seed, 7])
+    out = []
+    for p in parameters:
+        u = rng.uniform(*_PERTURB_RANGE) * rng.choice((-1.0, 1.0))
+        if p.log_scale:
+            value = p.nominal * math.exp(u)
+        else:
+            value = p.nominal + math.copysign(math.expm1(abs(u)), u) * (p.upper - p.lower)
+        out.append(min(max(value, p.lower), p.upper))
+    return np.array(out)
+
+
+def _walks(specs: tuple, truth: Path, effects: str, seed: int, out: Path) -> list[Path]:
+    from zmpkit.pipelines.walk import WalkConfig, run_walk
+
+    folders = []
+    for k, (speed, duration) in enumerate(specs):
+        folder = out / f"walk_{speed:g}mps_{duration:g}s"
+        config = WalkConfig(
+            speed_mps=speed,
+            duration_s=duration,
+            effects=effects,
+            seed=seed + k,
+            truth=str(truth),
+            figures=False,
+        )
+        run_walk(config, folder)
+        folders.append(folder)
+    return folders
+
+
+def _steps(targets: tuple, hold_s: float, truth: Path, effects: str, seed: int, out: Path) -> Path:
+    from zmpkit.experiments import StepExperimentConfig, run_step_sweep
+
+    config = StepExperimentConfig(
+        targets_m=tuple(targets),
+        effects=effects,
+        seed=seed,
+        settle_s=2.0,
+        hold_s=hold_s,
+        truth=str(truth),
+    )
+    return Path(run_step_sweep(config, out, workers=1).path)
+
+
+def record_experiments(
+    robot: str,
+    plan: SelfTestPlan,
+    base_doc: dict,
+    parameters: tuple[FitParameter, ...],
+    truth_values: NDArray[np.float64],
+    effects: str,
+    seed: int,
+    out: Path,
+) -> tuple[list[Path], list[Path]]:
+    """Record the plan's fit and held-out experiments from the hidden truth into ``out``.
+
+    The truth file lives in a temporary folder only while recording.
+
+    Returns:
+        (fit folders, held-out folders).
+    """
+    recorded = "S" if effects == "none" else f"{effects},S"
+    with tempfile.TemporaryDirectory(prefix="zmpkit-hidden-truth-") as hidden:
+        truth = write_truth_doc(
+            truth_doc_with(base_doc, parameters, truth_values), Path(hidden) / "truth.yaml"
+        )
+        if robot == "nao":
+            fit = _walks(plan.fit, truth, recorded, seed, out / "fit")
+            held = _walks(plan.held_out, truth, recorded, seed + 100, out / "held_out")
+            return fit, held
+        fit_dir = _steps(plan.fit, plan.hold_s, truth, recorded, seed, out / "fit_steps")
+        held_dir = _steps(
+            plan.held_out, plan.held_out_hold_s, truth, recorded, seed + 100, out / "held_out_steps"
+        )
+        return [fit_dir], [held_dir]
+
+
+@dataclass(frozen=True)
+class RecoveryRow:
+    """One parameter: hidden truth vs fitted value.
+
+    Attributes:
+        parameter: its name.
+        truth: hidden value [unit].
+        fitted: fitted value [unit].
+        error_pct: 100 (fitted − truth) / truth [%].
+        identifiable: whether the data pin it down (profile test).
+    """
+
+    parameter: str
+    truth: float
+    fitted: float
+    error_pct: float
+    identifiable: bool
+
+
+def recovery_rows(
+    parameters: tuple[FitParameter, ...], truth: NDArray, fitted: NDArray, identifiable: list[bool]
+) -> list[RecoveryRow]:
+    """Truth vs fit per parameter."""
+    return [
+        RecoveryRow(p.name, float(t), float(f), 100.0 * (f - t) / t if t else math.nan, ok)
+        for p, t, f, ok in zip(parameters, truth, fitted, identifiable, strict=True)
+    ]
+
+
+def write_recovery_csv(rows: list[RecoveryRow], path: Path) -> Path:
+    """Write ``recovery.csv`` with exactly :data:`RECOVERY_COLUMNS`."""
+    lines = [",".join(RECOVERY_COLUMNS)]
+    lines += [
+        f"{r.parameter},{r.truth:.8g},{r.fitted:.8g},{r.error_pct:.4g},"
+        f"{str(r.identifiable).lower()}"
+        for r in rows
+    ]
+    path.write_text("\n".join(lines) + "\n", encoding="utf-8")
+    return path

@@ -1,0 +1,159 @@
+"""A robot's truth YAML as a document the fit edits: read, set parameters by path, write.
+
+The fit never reads the hidden truth of the robot it fits; it starts from a *base* truth
+file (the shipped one, or the user's ``--truth``) that holds every parameter it does not fit,
+and writes the fitted values into a copy of it. That copy is a normal truth file, loadable
+as ``--truth`` by the simulator (:func:`zmpkit.robots.nao.load_truth`,
+:func:`zmpkit.robots.teo.load_truth`).
+
+Paths: keys joined by dots, list items in brackets; ``[0,2]`` or ``[*]`` addresses several
+items at once (a shared value), e.g. ``flex[0,1].stiffness[0]`` or ``sensors.ft_offset.right[2]``.
+"""
+
+from __future__ import annotations
+
+import copy
+import os
+import re
+import tempfile
+from collections.abc import Mapping, Sequence
+from pathlib import Path
+from typing import Any
+
+import yaml
+
+from zmpkit.errors import InputFileError, ParameterError
+from zmpkit.identify.simfit.parameters import FitParameter
+
+__all__ = [
+    "base_truth_path",
+    "get_path",
+    "load_robot_truth",
+    "load_truth_doc",
+    "set_path",
+    "truth_doc_with",
+    "write_truth_doc",
+]
+
+_TOKEN = re.compile(r"([^.\[\]]+)|\[([^\]]*)\]")
+
+
+def _tokens(path: str) -> list[str | list[int] | None]:
+    """``"a.b[0,1].c"`` → ``["a", "b", [0, 1], "c"]``; ``[*]`` → None (every item)."""
+    out: list[str | list[int] | None] = []
+    for key, index in _TOKEN.findall(path):
+        if key:
+            out.append(key)
+        elif index.strip() == "*":
+            out.append(None)
+        else:
+            try:
+                out.append([int(i) for i in index.split(",")])
+            except ValueError:
+                raise ParameterError(f"bad index [{index}] in truth path {path!r}") from None
+    if not out:
+        raise ParameterError(f"empty truth path {path!r}")
+    return out
+
+
+def _children(node: Any, token: str | list[int] | None, path: str) -> list[Any]:
+    if isinstance(token, str):
+        if not isinstance(node, Mapping) or token not in node:
+            raise ParameterError(f"truth path {path!r}: no key {token!r}")
+        return [node[token]]
+    if not isinstance(node, list):
+        raise ParameterError(f"truth path {path!r}: expected a list before the index")
+    indices = range(len(node)) if token is None else token
+    bad = [i for i in indices if not 0 <= i < len(node)]
+    if bad:
+        raise ParameterError(f"truth path {path!r}: index {bad} outside a list of {len(node)}")
+    return [node[i] for i in indices]
+
+
+def _parents(doc: Mapping[str, Any], path: str) -> tuple[list[Any], str | list[int] | None]:
+    tokens = _tokens(path)
+    nodes: list[Any] = [doc]
+    for token in tokens[:-1]:
+        nodes = [child for node in nodes for child in _children(node, token, path)]
+    return nodes, tokens[-1]
+
+
+def get_path(doc: Mapping[str, Any], path: str) -> list[float]:
+    """Every number at ``path`` (one per addressed item)."""
+    nodes, last = _parents(doc, path)
+    values = [v for node in nodes for v in _children(node, last, path)]
+    if not all(isinstance(v, int | float) and not isinstance(v, bool) for v in values):
+        raise ParameterError(f"truth path {path!r} does not hold numbers: {values}")
+    return [float(v) for v in values]
+
+
+def set_path(doc: dict[str, Any], path: str, value: float) -> None:
+    """Set every number at ``path`` to ``value`` (in place)."""
+    get_path(doc, path)  # validates that numbers live there
+    nodes, last = _parents(doc, path)
+    for node in nodes:
+        if isinstance(last, str):
+            node[last] = float(value)
+        else:
+            for i in range(len(node)) if last is None else last:
+                node[i] = float(value)
+
+
+def base_truth_path(robot: str, truth: str | Path | None) -> Path:
+    """The base truth file: ``truth`` if given, else the robot's shipped one."""
+    if truth is not None:
+        return Path(truth)
+    if robot == "nao":
+        from zmpkit.robots.nao import DEFAULT_TRUTH_PATH
+    else:
+        from zmpkit.robots.teo import DEFAULT_TRUTH_PATH
+    return Path(DEFAULT_TRUTH_PATH)
+
+
+def load_truth_doc(path: str | Path) -> dict[str, Any]:
+    """Read a truth YAML as a plain mapping.
+
+    Raises:
+        InputFileError: if it cannot be read or is not a mapping.
+    """
+    try:
+        doc = yaml.safe_load(Path(path).read_text(encoding="utf-8"))
+    except (OSError, yaml.YAMLError) as exc:
+        raise InputFileError(path, f"cannot read the truth file: {exc}") from None
+    if not isinstance(doc, dict):
+        raise InputFileError(path, "expected a mapping of sections at the top level")
+    return doc
+
+
+def truth_doc_with(
+    base: Mapping[str, Any], parameters: Sequence[FitParameter], values: Sequence[float]
+) -> dict[str, Any]:
+    """A copy of ``base`` with each parameter's path set to its value [units]."""
+    doc = copy.deepcopy(dict(base))
+    for parameter, value in zip(parameters, values, strict=True):
+        set_path(doc, parameter.path, value)
+    return doc
+
+
+def write_truth_doc(doc: Mapping[str, Any], path: str | Path, header: str = "") -> Path:
+    """Write ``doc`` as a truth YAML (atomically), with ``header`` as leading comments."""
+    path = Path(path)
+    lines = "".join(f"# {line}\n" for line in header.splitlines())
+    text = lines + yaml.safe_dump(dict(doc), sort_keys=False, allow_unicode=True)
+    tmp = path.with_name(path.name + ".tmp")
+    tmp.write_text(text, encoding="utf-8")
+    os.replace(tmp, path)
+    return path
+
+
+def load_robot_truth(robot: str, doc: Mapping[str, Any]) -> Any:
+    """The robot's truth object (``NaoTruth`` or ``TeoTruth``) for a truth document.
+
+    The robots read truth files only, so the document passes through a temporary file.
+    """
+    if robot == "nao":
+        from zmpkit.robots.nao import load_truth
+    else:
+        from zmpkit.robots.teo import load_truth
+    with tempfile.TemporaryDirectory(prefix="zmpkit-simfit-") as folder:
+        return load_truth(write_truth_doc(doc, Path(folder) / "truth.yaml"))

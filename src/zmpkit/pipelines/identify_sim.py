@@ -1,0 +1,298 @@
+"""``zmpkit identify sim``: fit the simulator's effect parameters to recorded experiments.
+
+Paper B §II: "The simulation is optimized by Evolutionary Algorithms to fit a physical
+robot." The fitted parameters of the chosen effects (M, I, G, F, S, and C for mass/CoM)
+are found by CMA-ES (:mod:`zmpkit.identify.simfit`) from recorded experiments — NAO walk
+folders or TEO step datasets, using only the commanded angles, encoders, F-T ZMP and IMU
+— with rollouts on a local process pool or a Ray cluster, checkpointed every generation.
+
+Writes into the output folder: the checkpoint and ``history.json``; ``fitted_truth.yaml``
+(loadable as ``--truth``), ``fitted_parameters.yaml``, ``cost_history.csv``,
+``identifiability.csv``, ``reproduction.csv``, figures; with ``self_test``, the recorded
+experiments under ``self_test/`` and ``recovery.csv``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from zmpkit.errors import ParameterError
+from zmpkit.identify.simfit.backends import BACKENDS, DEFAULT_WORKERS, make_evaluator
+from zmpkit.identify.simfit.cost import CostWeights
+from zmpkit.identify.simfit.experiments import Experiment, read_experiments
+from zmpkit.identify.simfit.identifiability import ParameterIdentifiability, identifiability
+from zmpkit.identify.simfit.optimizer import CmaOptions, CmaResult, ProgressCallback, run_cma
+from zmpkit.identify.simfit.parameters import (
+    ROBOTS,
+    FitParameter,
+    default_parameters,
+    parse_fit_effects,
+)
+from zmpkit.identify.simfit.problem import FitProblem
+from zmpkit.identify.simfit.self_test import (
+    RecoveryRow,
+    perturbed_values,
+    record_experiments,
+    recovery_rows,
+    self_test_plan,
+    write_recovery_csv,
+)
+from zmpkit.identify.simfit.truth_doc import base_truth_path, load_truth_doc
+from zmpkit.identify.simfit.validation import ReproductionCheck
+from zmpkit.pipelines.identify_sim_report import reproduction_checks, write_fit_files
+
+__all__ = [
+    "QUICK_PARAMETERS",
+    "IdentifySimConfig",
+    "IdentifySimResult",
+    "run_identify_sim",
+]
+
+QUICK_PARAMETERS: dict[str, tuple[str, ...]] = {
+    "nao": ("pid_gain_scale", "gear_stiffness"),
+    "teo": ("foot_softening_torque", "gear_stiffness"),
+}
+"""The 2-parameter cases of ``quick``: NAO's PID gain scale sets the joint tracking error
+(encoders) and, with the gear stiffness, the trunk oscillation at the step frequency (IMU);
+TEO's gear stiffness sets the lean's linear compliance and its foot softening torque the
+growth of the steady ZMP error with the target (paper A eq. 13)."""
+DEFAULT_GENERATIONS = 40
+QUICK_GENERATIONS = 30
+
+
+@dataclass(frozen=True)
+class IdentifySimConfig:
+    """``zmpkit identify sim DATA... --robot R --effects M,G --out DIR [...]``.
+
+    Attributes:
+        data: recorded experiment folders (NAO walk folders, TEO step datasets); empty
+            with ``self_test``.
+        robot: ``"nao"`` or ``"teo"``.
+        effects: letters of the effects whose parameters are fitted (``M,I,G,F,S,C``); the
+            simulator runs with these effects on (C is not a switch).
+        parameters: fit only these catalogue names; None = all of the effects (quick: the
+            :data:`QUICK_PARAMETERS` where they belong to the effects).
+        truth: base truth file holding every unfitted value; None = the shipped one.
+        held_out: experiment folders not fitted, only checked (``--held-out``).
+        backend: ``"local"`` (process pool), ``"serial"`` or ``"ray"``.
+        address: Ray cluster address (``--address``), only with ``backend="ray"``.
+        workers: processes of the local pool.
+        resume: a folder of an interrupted fit to continue (``--resume``).
+        generations: CMA-ES generations; None = 40, or 30 with ``quick``.
+        popsize: candidates per generation; None = CMA-ES's 4 + 3 ln n.
+        sigma0: initial CMA-ES step, fraction of each parameter's (log-)range [-].
+        seed: seed of CMA-ES and, in a self-test, of the hidden truth and the sensor noise.
+        quick: small fit (2–3 parameters; short experiments in a self-test).
+        self_test: record experiments from a virtual robot with hidden perturbed truth,
+            fit them, and compare (``recovery.csv``).
+        weights: weights of the cost terms.
+        sensor_model: simulate the sensors as the base truth describes them (S: F-T filter,
+            rate, quantisation, noise with a fixed seed; encoder resolution), so the
+            simulated signals pass through the same sensor chain as the recorded ones.
+        figures: draw the figures.
+    """
+
+    data: tuple[str, ...] = ()
+    robot: str = "nao"
+    effects: str = "M,G"
+    parameters: tuple[str, ...] | None = None
+    truth: str | None = None
+    held_out: tuple[str, ...] = ()
+    backend: str = "local"
+    address: str | None = None
+    workers: int = DEFAULT_WORKERS
+    resume: str | None = None
+    generations: int | None = None
+    popsize: int | None = None
+    sigma0: float = 0.2
+    seed: int = 1
+    quick: bool = False
+    self_test: bool = False
+    weights: CostWeights = field(default_factory=CostWeights)
+    sensor_model: bool = True
+    figures: bool = True
+
+    def __post_init__(self) -> None:
+        if self.robot not in ROBOTS:
+            raise ParameterError(f"robot must be one of {', '.join(ROBOTS)}; got {self.robot!r}")
+        object.__setattr__(self, "effects", ",".join(parse_fit_effects(self.effects)))
+        object.__setattr__(self, "data", tuple(str(d) for d in self.data))
+        if self.backend not in BACKENDS:
+            raise ParameterError(
+                f"backend must be one of {', '.join(BACKENDS)}; got {self.backend!r}"
+            )
+        if self.address is not None and self.backend != "ray":
+            raise ParameterError(f"--address is for --backend ray; got backend {self.backend!r}")
+        if self.self_test and self.data:
+            raise ParameterError("--self-test records its own experiments; give no DATA with it")
+        if not self.self_test and not self.data:
+            raise ParameterError(
+                "give at least one DATA folder (a NAO walk or a TEO dataset), or --self-test"
+            )
+        _positive_int("generations", self.generations, allow_none=True)
+        _positive_int("popsize", self.popsize, allow_none=True)
+        _positive_int("workers", self.workers)
+        if isinstance(self.seed, bool) or not isinstance(self.seed, int) or self.seed < 0:
+            raise ParameterError(f"seed must be an integer >= 0; got {self.seed!r}")
+        if not 0.0 < self.sigma0 <= 0.5:
+            raise ParameterError(f"sigma0 must be in (0, 0.5]; got {self.sigma0!r}")
+        self.fit_parameters()  # validates the parameter names against the effects
+
+    @property
+    def n_generations(self) -> int:
+        """Generations to run."""
+        if self.generations is not None:
+            return self.generations
+        return QUICK_GENERATIONS if self.quick else DEFAULT_GENERATIONS
+
+    @property
+    def physics_effects(self) -> str:
+        """The fitted effect letters that switch physics on (all but C and S)."""
+        letters = [x for x in self.effects.split(",") if x not in ("C", "S")]
+        return ",".join(letters) if letters else "none"
+
+    @property
+    def sim_effects(self) -> str:
+        """Effect letters the simulator runs with: the physics, plus S for the sensors."""
+        sensors = self.sensor_model or "S" in self.effects.split(",")
+        physics = self.physics_effects
+        if not sensors:
+            return physics
+        return "S" if physics == "none" else f"{physics},S"
+
+    def fit_parameters(self) -> tuple[FitParameter, ...]:
+        """The fitted parameters."""
+        chosen = default_parameters(self.robot, self.effects, self.parameters)
+        if self.parameters is not None or not self.quick:
+            return chosen
+        quick = [p for p in chosen if p.name in QUICK_PARAMETERS[self.robot]]
+        return tuple(quick) if len(quick) >= 2 else chosen[:3]
+
+
+def _positive_int(name: str, value: object, allow_none: bool = False) -> None:
+    if value is None and allow_none:
+        return
+    if isinstance(value, bool) or not isinstance(value, int) or value < 1:
+        raise ParameterError(f"{name} must be an integer >= 1; got {value!r}")
+
+
+@dataclass(frozen=True)
+class IdentifySimResult:
+    """What a simulator fit produced.
+
+    Attributes:
+        config: what was asked.
+        parameters: the fitted parameters.
+        fitted: fitted value per parameter name [units].
+        cost: the best cost [-].
+        cma: the evolution strategy's outcome (history, spread, checkpoint).
+        identifiability: per parameter, whether the data pin it down.
+        fit_checks: trunk oscillation and joint error on the fitted experiments.
+        held_out_checks: the same on the held-out experiments.
+        recovery: self-test only: truth vs fit per parameter.
+        files: every file written, by role.
+    """
+
+    config: IdentifySimConfig
+    parameters: tuple[FitParameter, ...]
+    fitted: dict[str, float]
+    cost: float
+    cma: CmaResult
+    identifiability: tuple[ParameterIdentifiability, ...]
+    fit_checks: tuple[ReproductionCheck, ...]
+    held_out_checks: tuple[ReproductionCheck, ...]
+    recovery: tuple[RecoveryRow, ...] = ()
+    files: dict[str, Path] = field(default_factory=dict)
+
+
+def _experiments(
+    config: IdentifySimConfig, base_doc: dict, parameters: tuple[FitParameter, ...], out: Path
+) -> tuple[list[Experiment], list[Experiment], np.ndarray | None]:
+    """(fit experiments, held-out experiments, hidden truth values or None)."""
+    if not config.self_test:
+        held = read_experiments(config.held_out, config.robot) if config.held_out else []
+        return read_experiments(config.data, config.robot), held, None
+    truth = perturbed_values(parameters, config.seed)
+    plan = self_test_plan(config.robot, config.quick)
+    fit_dirs, held_dirs = record_experiments(
+        config.robot,
+        plan,
+        base_doc,
+        parameters,
+        truth,
+        config.physics_effects,
+        config.seed,
+        out / "self_test",
+    )
+    return (
+        read_experiments(fit_dirs, config.robot),
+        read_experiments(held_dirs, config.robot),
+        truth,
+    )
+
+
+def run_identify_sim(
+    config: IdentifySimConfig, out_dir: str | Path, progress: ProgressCallback | None = None
+) -> IdentifySimResult:
+    """Fit the simulator to the recorded experiments; write the results to ``out_dir``.
+
+    Args:
+        config: the fit.
+        out_dir: output folder (created if missing); the checkpoint is written there.
+        progress: called after every generation with a
+            :class:`~zmpkit.identify.simfit.optimizer.FitProgress`.
+
+    Raises:
+        InputFileError: on an unreadable experiment folder, base truth or checkpoint.
+        ParameterError: on a resume of another fit, or ``backend="ray"`` without Ray.
+        FitInterruptedError: on Ctrl-C, naming the checkpoint to resume from.
+    """
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    params = config.fit_parameters()
+    base_doc = load_truth_doc(base_truth_path(config.robot, config.truth))
+    fit_exps, held_exps, truth = _experiments(config, base_doc, params, out)
+    problem = FitProblem(
+        config.robot, config.sim_effects, params, base_doc, tuple(fit_exps), config.weights
+    )
+    options = CmaOptions(config.n_generations, config.popsize, config.sigma0, config.seed)
+    evaluator = make_evaluator(problem, config.backend, config.workers, config.address)
+    try:
+        resume = Path(config.resume) if config.resume is not None else None
+        cma_result = run_cma(problem, evaluator, options, out, resume, progress)
+        ident = identifiability(
+            problem, evaluator, cma_result.best_values, cma_result.best_cost, cma_result.unit_std
+        )
+    finally:
+        evaluator.close()
+    figures = out if config.figures else None
+    fit_checks, fit_files = reproduction_checks(problem, fit_exps, cma_result.best_values, figures)
+    held_checks, held_files = reproduction_checks(
+        problem, held_exps, cma_result.best_values, figures
+    )
+    files = write_fit_files(
+        problem, cma_result, ident, (fit_checks, held_checks), out, config.figures
+    )
+    files |= fit_files | held_files
+    recovery: tuple[RecoveryRow, ...] = ()
+    if truth is not None:
+        recovery = tuple(
+            recovery_rows(params, truth, cma_result.best_values, [i.identifiable for i in ident])
+        )
+        files["recovery"] = write_recovery_csv(list(recovery), out / "recovery.csv")
+    fitted = {p.name: float(v) for p, v in zip(params, cma_result.best_values, strict=True)}
+    return IdentifySimResult(
+        config,
+        params,
+        fitted,
+        cma_result.best_cost,
+        cma_result,
+        ident,
+        fit_checks,
+        held_checks,
+        recovery,
+        files,
+    )

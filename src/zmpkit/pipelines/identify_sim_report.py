@@ -1,0 +1,90 @@
+"""The result files of ``zmpkit identify sim``: fit tables and per-experiment fit figures.
+
+:func:`reproduction_checks` replays every experiment with the fitted values and compares
+its trunk oscillation and joint angles (:mod:`zmpkit.identify.simfit.validation`), drawing
+its per-signal fit figure (:mod:`zmpkit.analysis.simfit_plots`); :func:`write_fit_files`
+writes the files of :mod:`zmpkit.identify.simfit.outputs`.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from zmpkit.identify.simfit import outputs
+from zmpkit.identify.simfit.experiments import Experiment
+from zmpkit.identify.simfit.identifiability import ParameterIdentifiability
+from zmpkit.identify.simfit.optimizer import CmaResult
+from zmpkit.identify.simfit.problem import FitProblem, simulate
+from zmpkit.identify.simfit.validation import ReproductionCheck, reproduction_check
+
+__all__ = ["reproduction_checks", "write_fit_files"]
+
+
+def reproduction_checks(
+    problem: FitProblem, experiments: list[Experiment], values: np.ndarray, out: Path | None
+) -> tuple[tuple[ReproductionCheck, ...], dict[str, Path]]:
+    """Simulate each experiment with the fitted values; compare; draw its fit figure."""
+    held = FitProblem(
+        problem.robot,
+        problem.sim_effects,
+        problem.parameters,
+        problem.base_doc,
+        tuple(experiments),
+        problem.weights,
+    )
+    checks, files = [], {}
+    for i, experiment in enumerate(experiments):
+        simulated = simulate(held, values, i)
+        checks.append(reproduction_check(experiment.name, experiment.signals, simulated))
+        if out is not None:
+            from zmpkit.analysis.simfit_plots import plot_signal_fit
+
+            label = experiment.name.replace("/", "_")
+            files[f"fit_{label}"] = plot_signal_fit(
+                experiment.signals, simulated, out / f"fit_{label}.png", experiment.name
+            )
+    return tuple(checks), files
+
+
+def write_fit_files(
+    problem: FitProblem,
+    cma_result: CmaResult,
+    ident: tuple[ParameterIdentifiability, ...],
+    checks: tuple,
+    out: Path,
+    figures: bool = True,
+) -> dict[str, Path]:
+    """Write the fitted truth, parameters, history, identifiability and reproduction tables
+    and the cost-history figure into ``out``; return them by role."""
+    params, best = problem.parameters, cma_result.best_values
+    source = ", ".join(e.name for e in problem.experiments)
+    files = {
+        "truth": outputs.write_fitted_truth(
+            out / outputs.FITTED_TRUTH_FILE, problem.base_doc, params, best, source
+        ),
+        "parameters": outputs.write_fitted_parameters(
+            out / outputs.FITTED_PARAMETERS_FILE,
+            problem.robot,
+            problem.sim_effects,
+            cma_result.best_cost,
+            params,
+            ident,
+        ),
+        "history": outputs.write_history_csv(out / outputs.HISTORY_CSV, cma_result.history, params),
+        "identifiability": outputs.write_identifiability_csv(
+            out / outputs.IDENTIFIABILITY_FILE, ident
+        ),
+        "reproduction": outputs.write_reproduction_csv(out / outputs.REPRODUCTION_FILE, *checks),
+        "checkpoint": cma_result.checkpoint,
+    }
+    if figures and cma_result.history:
+        from zmpkit.analysis.simfit_plots import plot_cost_history
+
+        files["cost_plot"] = plot_cost_history(
+            cma_result.history,
+            out / "cost_history.png",
+            f"{problem.robot} effects {problem.sim_effects}",
+        )
+    return files

@@ -1,0 +1,237 @@
+"""Simulator fit, the parts without a fit: parameters, truth paths, data, cost, errors."""
+
+from __future__ import annotations
+
+import importlib.util
+import json
+import shutil
+from pathlib import Path
+
+import numpy as np
+import pytest
+from hypothesis import given
+from hypothesis import strategies as st
+
+from zmpkit.errors import InputFileError, ParameterError
+from zmpkit.identify.simfit.checkpoint import check_fingerprint, load_checkpoint
+from zmpkit.identify.simfit.cost import FAILED_COST, CostWeights, experiment_cost
+from zmpkit.identify.simfit.experiments import RecordedSignals, read_experiments
+from zmpkit.identify.simfit.outputs import write_fitted_truth
+from zmpkit.identify.simfit.parameters import FitParameter, default_parameters
+from zmpkit.identify.simfit.self_test import (
+    RECOVERY_COLUMNS,
+    perturbed_values,
+    recovery_rows,
+    write_recovery_csv,
+)
+from zmpkit.identify.simfit.truth_doc import (
+    base_truth_path,
+    get_path,
+    load_truth_doc,
+    set_path,
+    truth_doc_with,
+)
+from zmpkit.pipelines.identify_sim import IdentifySimConfig
+
+
+@given(u=st.floats(0.0, 1.0), log=st.booleans())
+def test_normalised_coordinates_round_trip(u: float, log: bool) -> None:
+    p = FitParameter("k", "gear.stiffness", 1000.0, 100.0, 10000.0, "N·m/rad", log)
+    value = p.from_unit(u)
+    assert 100.0 <= value <= 10000.0
+    assert p.to_unit(value) == pytest.approx(u, abs=1e-12)
+
+
+def test_log_scale_midpoint_is_geometric_mean() -> None:
+    p = FitParameter("k", "x", 1000.0, 100.0, 10000.0, "N·m/rad", True)
+    assert p.from_unit(0.5) == pytest.approx(1000.0)
+
+
+def test_fit_parameter_rejects_nominal_outside_bounds() -> None:
+    with pytest.raises(ParameterError, match=r"nominal 5.0 - is outside \[0.0, 1.0\]"):
+        FitParameter("a", "x", 5.0, 0.0, 1.0, "-")
+
+
+def test_catalogue_names_valid_letters_and_robot_gaps() -> None:
+    with pytest.raises(ParameterError, match=r"letters from: M .*C \(mass and CoM"):
+        default_parameters("nao", "M,X")
+    with pytest.raises(ParameterError, match="nao has no fit parameters for effect C"):
+        default_parameters("nao", "C")
+    with pytest.raises(ParameterError, match="valid: \\['gear_backlash'"):
+        default_parameters("nao", "G", ("nope",))
+
+
+@pytest.mark.parametrize("robot", ["nao", "teo"])
+def test_every_catalogue_path_exists_in_the_shipped_truth(robot: str) -> None:
+    doc = load_truth_doc(base_truth_path(robot, None))
+    letters = "M,I,G,F,S" + (",C" if robot == "teo" else "")
+    for p in default_parameters(robot, letters):
+        values = get_path(doc, p.path)
+        assert values == pytest.approx([p.nominal] * len(values)), p.name
+
+
+def test_set_path_sets_every_indexed_item_and_names_bad_keys() -> None:
+    doc = {"flex": [{"k": [1.0, 0.0]}, {"k": [2.0, 0.0]}, {"k": [3.0, 0.0]}]}
+    set_path(doc, "flex[0,2].k[0]", 9.0)
+    assert [f["k"][0] for f in doc["flex"]] == [9.0, 2.0, 9.0]
+    set_path(doc, "flex[*].k[1]", 5.0)
+    assert [f["k"][1] for f in doc["flex"]] == [5.0, 5.0, 5.0]
+    with pytest.raises(ParameterError, match="no key 'gear'"):
+        set_path(doc, "gear.stiffness", 1.0)
+    with pytest.raises(ParameterError, match=r"index \[7\] outside a list of 3"):
+        get_path(doc, "flex[7].k[0]")
+
+
+@pytest.mark.parametrize("robot", ["nao", "teo"])
+def test_fitted_truth_is_loadable_as_truth(robot: str, tmp_path: Path) -> None:
+    params = default_parameters(robot, "G")
+    doc = load_truth_doc(base_truth_path(robot, None))
+    values = [p.from_unit(0.3) for p in params]
+    path = write_fitted_truth(tmp_path / "fitted.yaml", doc, params, values, "test")
+    if robot == "nao":
+        from zmpkit.robots.nao import load_truth
+    else:
+        from zmpkit.robots.teo import load_truth
+    truth = load_truth(path)
+    assert truth.gear.stiffness == pytest.approx(values[0])
+    assert truth_doc_with(doc, params, values)["gear"]["stiffness"] == pytest.approx(values[0])
+
+
+def test_recovery_csv_has_exactly_the_columns(tmp_path: Path) -> None:
+    params = default_parameters("nao", "M,G", ("pid_gain_scale", "gear_stiffness"))
+    truth = perturbed_values(params, 3)
+    for p, t in zip(params, truth, strict=True):
+        assert 0.079 < abs(np.log(t / p.nominal)) < 0.224  # 8-25 % off nominal
+    rows = recovery_rows(params, truth, truth * 1.02, [True, False])
+    lines = write_recovery_csv(rows, tmp_path / "recovery.csv").read_text().splitlines()
+    assert tuple(lines[0].split(",")) == RECOVERY_COLUMNS
+    assert lines[0] == "parameter,truth,fitted,error_pct,identifiable"
+    assert lines[1].startswith("pid_gain_scale,")
+    assert lines[1].endswith(",2,true")
+    assert lines[2].endswith(",2,false")
+
+
+def _signals(n: int, shift: float = 0.0) -> RecordedSignals:
+    t = np.arange(n) * 0.01
+    q_cmd = np.column_stack([np.sin(2 * np.pi * t), np.cos(2 * np.pi * t)])
+    q_meas = q_cmd + 0.01 * np.sin(2 * np.pi * 2 * t)[:, None] + shift
+    zmp = np.column_stack([0.1 * t, 0.03 * np.sin(2 * np.pi * 2 * t)])
+    tilt = 0.02 * np.sin(2 * np.pi * 2 * t) * (1 + shift)
+    return RecordedSignals(t, ("a", "b"), q_cmd, q_meas, zmp, tilt)
+
+
+def test_cost_is_zero_for_identical_signals_and_grows_with_the_miss() -> None:
+    rec = _signals(400)
+    same = experiment_cost(rec, rec)
+    assert (same.joint, same.zmp, same.spectrum) == (0.0, 0.0, 0.0)
+    off = experiment_cost(rec, _signals(400, shift=0.005))
+    # encoder offset 0.005 rad vs a recorded tracking error of RMS 0.01/sqrt(2) rad
+    assert off.joint == pytest.approx(0.005 / (0.01 / np.sqrt(2)), rel=1e-6)
+    assert off.spectrum == pytest.approx(0.005, rel=0.05)
+    assert off.total(CostWeights()) > 0.0
+
+
+def test_a_fallen_rollout_costs_more_the_earlier_it_falls() -> None:
+    rec = _signals(400)
+    early = experiment_cost(rec, _signals(100)).total(CostWeights())
+    late = experiment_cost(rec, _signals(300)).total(CostWeights())
+    assert early == pytest.approx(FAILED_COST * 1.75)
+    assert late == pytest.approx(FAILED_COST * 1.25)
+
+
+def test_config_errors_say_what_is_valid() -> None:
+    with pytest.raises(ParameterError, match="robot must be one of nao, teo; got 'asimo'"):
+        IdentifySimConfig(data=("x",), robot="asimo")
+    with pytest.raises(ParameterError, match="give at least one DATA folder"):
+        IdentifySimConfig()
+    with pytest.raises(ParameterError, match="--self-test records its own experiments"):
+        IdentifySimConfig(data=("x",), self_test=True)
+    with pytest.raises(ParameterError, match="--address is for --backend ray"):
+        IdentifySimConfig(data=("x",), address="10.0.0.1:6379")
+    with pytest.raises(ParameterError, match="backend must be one of local, serial, ray"):
+        IdentifySimConfig(data=("x",), backend="dask")
+    with pytest.raises(ParameterError, match="generations must be an integer >= 1; got 0"):
+        IdentifySimConfig(data=("x",), generations=0)
+
+
+def test_quick_nao_fits_pid_gain_scale_and_gear_stiffness() -> None:
+    config = IdentifySimConfig(self_test=True, quick=True, effects="m, g")
+    assert [p.name for p in config.fit_parameters()] == ["pid_gain_scale", "gear_stiffness"]
+    assert config.effects == "M,G"
+    assert config.sim_effects == "M,G,S"
+    assert config.n_generations == 30
+
+
+@pytest.mark.skipif(importlib.util.find_spec("ray") is not None, reason="ray is installed")
+def test_ray_backend_without_ray_names_the_extra(tmp_path: Path) -> None:
+    from zmpkit.identify.simfit.backends import make_evaluator
+
+    with pytest.raises(ParameterError, match=r"pip install zmpkit\[ray\]"):
+        make_evaluator(None, "ray", address="auto")  # type: ignore[arg-type]
+
+
+def test_data_folder_errors_name_the_file(tmp_path: Path) -> None:
+    with pytest.raises(InputFileError, match="expected an experiment folder"):
+        read_experiments([tmp_path / "missing"], "nao")
+    with pytest.raises(InputFileError, match="no experiment folders given"):
+        read_experiments([], "nao")
+    with pytest.raises(InputFileError, match=r"summary\.json: cannot read the walk summary"):
+        read_experiments([tmp_path], "nao")
+    with pytest.raises(InputFileError, match=r"meta\.json"):
+        read_experiments([tmp_path], "teo")
+
+
+def test_walk_folder_errors(nao_walk_folder: Path, tmp_path: Path) -> None:
+    folder = tmp_path / "walk"
+    shutil.copytree(nao_walk_folder, folder)
+    series = folder / "timeseries.csv"
+    lines = series.read_text().splitlines()
+    cells = lines[2].split(",")
+    cells[1] = "abc"
+    series.write_text("\n".join([*lines[:2], ",".join(cells), *lines[3:]]) + "\n")
+    with pytest.raises(InputFileError, match=r"timeseries.csv, line 3: expected numbers"):
+        read_experiments([folder], "nao")
+    cells[1] = str(float(lines[2].split(",")[1]) + 0.01)
+    series.write_text("\n".join([*lines[:2], ",".join(cells), *lines[3:]]) + "\n")
+    with pytest.raises(InputFileError, match=r"differs from the recorded command by 0\.01 rad"):
+        read_experiments([folder], "nao")
+    summary = json.loads((folder / "summary.json").read_text())
+    summary["fell"], summary["fall_time_s"] = True, 2.5
+    (folder / "summary.json").write_text(json.dumps(summary))
+    with pytest.raises(InputFileError, match=r"the walk fell at 2\.5 s"):
+        read_experiments([folder], "nao")
+
+
+def test_resume_refuses_another_fit(tmp_path: Path) -> None:
+    with pytest.raises(InputFileError, match=r"checkpoint\.pkl: no checkpoint here"):
+        load_checkpoint(tmp_path)
+    with pytest.raises(ParameterError, match="seed: 1 there, 2 now"):
+        check_fingerprint({"seed": 1, "robot": "nao"}, {"seed": 2, "robot": "nao"}, tmp_path)
+
+
+@pytest.fixture(scope="module")
+def nao_walk_folder(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    from simfit_data import record_walk
+
+    return record_walk(tmp_path_factory.mktemp("simfit_walk"))
+
+
+def test_walk_folder_reads_back_as_recorded(nao_walk_folder: Path) -> None:
+    (experiment,) = read_experiments([nao_walk_folder], "nao")
+    assert experiment.speed_mps == 0.2
+    assert experiment.step_duration_s == 0.5
+    assert experiment.duration_s == pytest.approx(1.5)
+    signals = experiment.signals
+    assert signals.q_meas_rad.shape == (signals.time_s.size, 6)
+    assert signals.dt_s == pytest.approx(0.01)
+    assert np.isfinite(signals.zmp_m).all(axis=1).mean() > 0.9
+
+
+def test_identify_sim_command_bad_data_is_one_line_exit_2(tmp_path, capsys) -> None:
+    from zmpkit.cli import main
+
+    code = main(["identify", "sim", str(tmp_path / "missing"), "--out", str(tmp_path / "o")])
+    err = capsys.readouterr().err.strip()
+    assert code == 2
+    assert len(err.splitlines()) == 1
+    assert "missing" in err
