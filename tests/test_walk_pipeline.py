@@ -125,3 +125,15 @@ def test_walk_command_bad_input_is_one_line_exit_2(
     assert len(capsys.readouterr().err.strip().splitlines()) == 1
     assert main(["walk"]) == 2
     assert "walking needs --out DIR" in capsys.readouterr().err
+
+
+def test_walk_command_too_short_for_a_speed_says_undefined(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    from zmpkit.cli import main
+
+    assert main(["walk", "--effects", "none", "--duration", "2", "--out", str(tmp_path)]) == 0
+    out = capsys.readouterr().out
+    summary = json.loads((tmp_path / "summary.json").read_text())
+    assert summary["mean_speed_mps"] is None  # 2 s leave no steady walk to fit a speed on
+    assert "speed undefined m/s" in out

@@ -327,9 +327,9 @@ def walk_group(
         result = run_walk(config, out_dir, progress=progress)
     s = result.summary
     click.echo(
-        f"fell: {s.fell}; speed {s.mean_speed_mps:.4f} m/s (commanded "
-        f"{s.commanded_speed_mps:.4f}); trunk pitch peak {s.trunk_pitch_peak_hz:.2f} Hz, "
-        f"{s.trunk_pitch_peak_amplitude_rad:.4f} rad"
+        f"fell: {s.fell}; speed {_num(s.mean_speed_mps, '.4f')} m/s (commanded "
+        f"{s.commanded_speed_mps:.4f}); trunk pitch peak {_num(s.trunk_pitch_peak_hz, '.2f')} "
+        f"Hz, {_num(s.trunk_pitch_peak_amplitude_rad, '.4f')} rad"
     )
     click.echo(f"summary: {Path(out_dir) / 'summary.json'}")
 
@@ -503,6 +503,11 @@ def identify_sim_command(
     if "recovery" in result.files:
         click.echo(f"recovery: {result.files['recovery']}")
     click.echo(f"fitted truth: {Path(out_dir) / 'fitted_truth.yaml'} (best cost {result.cost:.4g})")
+
+
+def _num(value: float | None, spec: str) -> str:
+    """``value`` formatted, or "undefined" (e.g. a walk too short to fit its speed)."""
+    return "undefined" if value is None else format(value, spec)
 
 
 def _robot_feet(robot: str):

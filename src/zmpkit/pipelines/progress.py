@@ -1,6 +1,12 @@
-"""A rich progress bar for trial sweeps, usable as their progress callback."""
+"""Rich progress displays on stderr, each usable as a pipeline's progress callback.
+
+Every display is a context manager (``with ... as progress:``) and the instance itself is
+the callback the pipeline takes; they differ only in what the callback receives.
+"""
 
 from __future__ import annotations
+
+from typing import Any
 
 from rich.console import Console
 from rich.progress import BarColumn, MofNCompleteColumn, Progress, TaskID, TimeElapsedColumn
@@ -13,30 +19,39 @@ __all__ = [
     "TrialProgressBar",
 ]
 
+_COUNT = MofNCompleteColumn
 
-class TrialProgressBar:
-    """A progress bar on stderr; the instance is a ``progress(finished, total, target_m)``.
+
+class _Display:
+    """A rich display with a description, a bar, ``middle`` columns and the elapsed time."""
+
+    def __init__(self, *middle: Any) -> None:
+        self._bar = Progress(
+            "[progress.description]{task.description}",
+            BarColumn(),
+            *middle,
+            TimeElapsedColumn(),
+            console=Console(stderr=True),
+        )
+
+    def __enter__(self) -> Any:
+        self._bar.start()
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self._bar.stop()
+
+
+class TrialProgressBar(_Display):
+    """One sweep's bar; the instance is a ``progress(finished, total, target_m)``.
 
     Args:
         total: number of trials.
     """
 
     def __init__(self, total: int) -> None:
-        self._bar = Progress(
-            "[progress.description]{task.description}",
-            BarColumn(),
-            MofNCompleteColumn(),
-            TimeElapsedColumn(),
-            console=Console(stderr=True),
-        )
+        super().__init__(_COUNT())
         self._task = self._bar.add_task("trials", total=total)
-
-    def __enter__(self) -> TrialProgressBar:
-        self._bar.start()
-        return self
-
-    def __exit__(self, *exc: object) -> None:
-        self._bar.stop()
 
     def __call__(self, finished: int, total: int, target_m: float) -> None:
         """Show ``finished`` of ``total`` trials; ``target_m`` is the last one's target [m]."""
@@ -45,25 +60,12 @@ class TrialProgressBar:
         )
 
 
-class SweepProgress:
-    """One rich display with a bar per sweep; the instance is a ``progress(label, total)``
-    factory returning that sweep's ``progress(finished, total, target_m)`` callback."""
+class SweepProgress(_Display):
+    """A bar per sweep; the instance is a ``progress(label, total)`` factory returning that
+    sweep's ``progress(finished, total, target_m)`` callback."""
 
     def __init__(self) -> None:
-        self._bar = Progress(
-            "[progress.description]{task.description}",
-            BarColumn(),
-            MofNCompleteColumn(),
-            TimeElapsedColumn(),
-            console=Console(stderr=True),
-        )
-
-    def __enter__(self) -> SweepProgress:
-        self._bar.start()
-        return self
-
-    def __exit__(self, *exc: object) -> None:
-        self._bar.stop()
+        super().__init__(_COUNT())
 
     def __call__(self, label: str, total: int):
         """A new bar named ``label`` for ``total`` trials, and its callback."""
@@ -75,50 +77,24 @@ class SweepProgress:
         return update
 
 
-class SimTimeProgress:
+class SimTimeProgress(_Display):
     """A bar of simulated seconds; the instance is a ``progress(simulated_s, total_s)``."""
 
     def __init__(self, label: str) -> None:
-        self._bar = Progress(
-            "[progress.description]{task.description}",
-            BarColumn(),
-            "{task.completed:.1f}/{task.total:.1f} s simulated",
-            TimeElapsedColumn(),
-            console=Console(stderr=True),
-        )
+        super().__init__("{task.completed:.1f}/{task.total:.1f} s simulated")
         self._task = self._bar.add_task(label, total=0.0)
-
-    def __enter__(self) -> SimTimeProgress:
-        self._bar.start()
-        return self
-
-    def __exit__(self, *exc: object) -> None:
-        self._bar.stop()
 
     def __call__(self, simulated_s: float, total_s: float) -> None:
         """Show ``simulated_s`` of ``total_s`` simulated seconds."""
         self._bar.update(self._task, completed=simulated_s, total=total_s)
 
 
-class StageProgress:
+class StageProgress(_Display):
     """One bar per named stage; the instance is a ``progress(stage, finished, total)``."""
 
     def __init__(self) -> None:
-        self._bar = Progress(
-            "[progress.description]{task.description}",
-            BarColumn(),
-            MofNCompleteColumn(),
-            TimeElapsedColumn(),
-            console=Console(stderr=True),
-        )
+        super().__init__(_COUNT())
         self._tasks: dict[str, TaskID] = {}
-
-    def __enter__(self) -> StageProgress:
-        self._bar.start()
-        return self
-
-    def __exit__(self, *exc: object) -> None:
-        self._bar.stop()
 
     def __call__(self, stage: str, finished: int, total: int) -> None:
         """Show ``finished`` of ``total`` steps of ``stage`` (a new bar for a new stage)."""
@@ -127,21 +103,13 @@ class StageProgress:
         self._bar.update(self._tasks[stage], completed=finished, total=total)
 
 
-class GenerationProgress:
+class GenerationProgress(_Display):
     """A bar of CMA-ES generations with the best cost and ETA; the instance is the fit's
     ``progress(FitProgress)`` callback. It appears with the first finished generation, so
     an input error before the fit starts prints alone."""
 
     def __init__(self, label: str = "fit") -> None:
-        self._bar = Progress(
-            "[progress.description]{task.description}",
-            BarColumn(),
-            MofNCompleteColumn(),
-            "best cost {task.fields[best]}",
-            "ETA {task.fields[eta]}",
-            TimeElapsedColumn(),
-            console=Console(stderr=True),
-        )
+        super().__init__(_COUNT(), "best cost {task.fields[best]}", "ETA {task.fields[eta]}")
         self._task = self._bar.add_task(label, total=None, best="–", eta="–")
         self._started = False
 
@@ -152,7 +120,7 @@ class GenerationProgress:
         if self._started:
             self._bar.stop()
 
-    def __call__(self, progress) -> None:
+    def __call__(self, progress: Any) -> None:
         """Show one finished generation (a ``FitProgress``)."""
         if not self._started:
             self._bar.start()
