@@ -1,0 +1,7 @@
+"""``python -m zmpkit.cli``."""
+
+import sys
+
+from zmpkit.cli import main
+
+sys.exit(main())

@@ -1,0 +1,126 @@
+"""``zmpkit identify``: balance models and simulator parameters from recorded data."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import click
+
+from zmpkit.cli.app import cli
+
+__all__ = ["identify_balance_command", "identify_group", "identify_sim_command"]
+
+
+@cli.group("identify")
+def identify_group() -> None:
+    """Identify models of the robot from recorded data."""
+
+
+@identify_group.command("balance")
+@click.argument("dataset", type=click.Path(path_type=Path))
+@click.option(
+    "--out", "out_dir", type=click.Path(path_type=Path), required=True, help="Output folder."
+)
+@click.option("--mass", type=float, help="Pendulum mass [kg] (default: the robot's design).")
+@click.option(
+    "--length",
+    type=float,
+    help="Pendulum length, ankle to CoM [m] (default: the dataset's lean length).",
+)
+def identify_balance_command(
+    dataset: Path, out_dir: Path, mass: float | None, length: float | None
+) -> None:
+    """Fit the steady-state ZMP error model (eq. 13) and transients of a step DATASET."""
+    from zmpkit.pipelines.identify_balance import run_identify_balance
+
+    result = run_identify_balance(dataset, out_dir, mass_kg=mass, length_m=length)
+    plane = next(iter(result.identification.planes.values()))
+    click.echo(f"{plane.error_fit.model.equation}: {dict(plane.error_fit.model.as_dict())}")
+    click.echo(f"wrote {result.params_path}, {result.figure_path} and {result.summary_path}")
+
+
+@identify_group.command("sim")
+@click.argument("data", nargs=-1, type=click.Path(path_type=Path))
+@click.option("--robot", type=click.Choice(("nao", "teo")), default="nao", show_default=True)
+@click.option(
+    "--effects",
+    default="M,G",
+    show_default=True,
+    help="Effects whose parameters are fitted: letters M, I, G, F, S, C (mass/CoM, TEO).",
+)
+@click.option(
+    "--out", "out_dir", type=click.Path(path_type=Path), required=True, help="Output folder."
+)
+@click.option(
+    "--backend",
+    type=click.Choice(("local", "serial", "ray")),
+    default="local",
+    show_default=True,
+    help="Where rollouts run: a local process pool, this process, or a Ray cluster.",
+)
+@click.option("--address", help="Ray cluster address (with --backend ray), e.g. HOST:6379.")
+@click.option(
+    "--resume",
+    type=click.Path(path_type=Path),
+    help="Continue the fit checkpointed in this folder.",
+)
+@click.option("--generations", type=int, help="CMA-ES generations (default 40; 30 quick).")
+@click.option("--workers", type=int, default=2, show_default=True, help="Local processes.")
+@click.option("--seed", type=int, default=1, show_default=True, help="Seed of the fit.")
+@click.option("--quick", is_flag=True, help="A small, fast fit (2-3 parameters).")
+@click.option(
+    "--self-test",
+    is_flag=True,
+    help="Record experiments from a seed-perturbed robot, fit them, write recovery.csv.",
+)
+@click.option(
+    "--held-out",
+    multiple=True,
+    type=click.Path(path_type=Path),
+    help="Recorded experiments checked but not fitted (repeatable).",
+)
+def identify_sim_command(
+    data: tuple[Path, ...],
+    robot: str,
+    effects: str,
+    out_dir: Path,
+    backend: str,
+    address: str | None,
+    resume: Path | None,
+    generations: int | None,
+    workers: int,
+    seed: int,
+    quick: bool,
+    self_test: bool,
+    held_out: tuple[Path, ...],
+) -> None:
+    """Fit the simulator's effect parameters to recorded DATA (walk folders, step datasets)."""
+    from zmpkit.identify.simfit.optimizer import FitInterruptedError
+    from zmpkit.pipelines.identify_sim import IdentifySimConfig, run_identify_sim
+    from zmpkit.pipelines.progress import GenerationProgress
+
+    config = IdentifySimConfig(
+        data=tuple(str(d) for d in data),
+        robot=robot,
+        effects=effects,
+        held_out=tuple(str(h) for h in held_out),
+        backend=backend,
+        address=address,
+        workers=workers,
+        resume=None if resume is None else str(resume),
+        generations=generations,
+        seed=seed,
+        quick=quick,
+        self_test=self_test,
+    )
+    try:
+        with GenerationProgress() as progress:
+            result = run_identify_sim(config, out_dir, progress=progress)
+    except FitInterruptedError as exc:  # Ctrl-C: every finished generation is checkpointed
+        click.echo(f"zmpkit: {exc}", err=True)
+        raise click.exceptions.Exit(130) from None
+    for name, value in result.fitted.items():
+        click.echo(f"{name} = {value:.6g}")
+    if "recovery" in result.files:
+        click.echo(f"recovery: {result.files['recovery']}")
+    click.echo(f"fitted truth: {Path(out_dir) / 'fitted_truth.yaml'} (best cost {result.cost:.4g})")

@@ -1,0 +1,104 @@
+"""``zmpkit zmp``: the ZMP of a recorded force-torque log."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import click
+
+from zmpkit.cli.app import ROBOT_CHOICES, cli
+
+__all__ = ["zmp_command"]
+
+
+@cli.command("zmp")
+@click.argument("log", type=click.Path(path_type=Path))
+@click.option("--right-topic", help="ROS 2 bag: WrenchStamped topic of the right foot.")
+@click.option("--left-topic", help="ROS 2 bag: WrenchStamped topic of the left foot.")
+@click.option(
+    "--units",
+    "units_path",
+    type=click.Path(path_type=Path),
+    help="Units/frames YAML: axis order, signs, N vs daN, N·m vs dN·m, mounting rotation.",
+)
+@click.option(
+    "--time-source",
+    type=click.Choice(("header", "receive")),
+    default="header",
+    show_default=True,
+    help="Bags and YARP logs: the message header (sender) stamp or the receive time.",
+)
+@click.option(
+    "--feet",
+    "feet_path",
+    type=click.Path(path_type=Path),
+    help="FEET.yaml: each foot's sensor position [m], rpy [rad] and sole_height [m].",
+)
+@click.option(
+    "--robot",
+    type=click.Choice(ROBOT_CHOICES),
+    help="Use a built-in robot's sensor mounts instead of --feet.",
+)
+@click.option(
+    "--columns",
+    "columns_path",
+    type=click.Path(path_type=Path),
+    help="Column-map YAML {canonical_name: header_in_file} for logs with other headers.",
+)
+@click.option(
+    "--contact-threshold",
+    type=float,
+    default=None,
+    help="Minimum normal force for a foot to be in contact [N] (default 10).",
+)
+@click.option(
+    "--out", "out_dir", type=click.Path(path_type=Path), required=True, help="Output folder."
+)
+def zmp_command(
+    log: Path,
+    right_topic: str | None,
+    left_topic: str | None,
+    units_path: Path | None,
+    time_source: str,
+    feet_path: Path | None,
+    robot: str | None,
+    columns_path: Path | None,
+    contact_threshold: float | None,
+    out_dir: Path,
+) -> None:
+    """ZMP of a recorded force-torque LOG: CSV, Parquet, ROS 2 bag (folder, .db3, .mcap) or
+    YARP dump folder; writes zmp.csv and zmp.png."""
+    from zmpkit.pipelines.zmp_log import run_zmp_log
+    from zmpkit.sensors import CONTACT_FORCE_THRESHOLD_N
+
+    if (feet_path is None) == (robot is None):
+        raise click.UsageError("give exactly one of --feet FEET.yaml or --robot ROBOT")
+    feet = _robot_feet(robot) if robot is not None else None
+    threshold = CONTACT_FORCE_THRESHOLD_N if contact_threshold is None else contact_threshold
+    result = run_zmp_log(
+        log,
+        out_dir,
+        feet=feet,
+        feet_path=feet_path,
+        columns_path=columns_path,
+        contact_threshold_n=threshold,
+        right_topic=right_topic,
+        left_topic=left_topic,
+        units_path=units_path,
+        time_source=time_source,
+    )
+    s = result.series
+    click.echo(
+        f"{len(s.time)} samples, ZMP defined on {len(s.time) - s.n_undefined}; "
+        f"wrote {result.csv_path} and {result.figure_path}"
+    )
+
+
+def _robot_feet(robot: str):
+    from zmpkit.io import feet_from_mapping
+
+    if robot == "teo":
+        from zmpkit.robots.teo import teo_feet_mounts
+
+        return feet_from_mapping(teo_feet_mounts(), source="built-in robot 'teo'")
+    raise click.UsageError(f"unknown robot {robot!r}; valid: {', '.join(ROBOT_CHOICES)}")
