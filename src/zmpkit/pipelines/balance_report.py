@@ -14,7 +14,7 @@ from zmpkit.analysis.balance_plots import (
     plot_step_responses_by_target,
     plot_zmp_ref_vs_measured,
 )
-from zmpkit.analysis.balance_targets import balance_targets
+from zmpkit.analysis.balance_targets import BalanceTargets, balance_targets
 from zmpkit.analysis.step_plot import Curve, plot_step_responses
 from zmpkit.experiments import CONTROL_PERIOD_S
 from zmpkit.identify import TERMS
@@ -29,12 +29,13 @@ _PLANNED_DURATION_S = 15.0
 
 @dataclass(frozen=True)
 class BalanceArtifacts:
-    """Paths written by :func:`write_balance_outputs`."""
+    """Paths written by :func:`write_balance_outputs`, and each plane's acceptance figures."""
 
     report: Path
     table1: Path
     params: Path
     figures: tuple[Path, ...]
+    targets: dict[str, BalanceTargets]
 
 
 def write_balance_outputs(result: BalanceResult, out_dir: str | Path) -> BalanceArtifacts:
@@ -47,7 +48,8 @@ def write_balance_outputs(result: BalanceResult, out_dir: str | Path) -> Balance
     for plane in result.planes.values():
         figures += _plane_figures(plane, out)
     report = _write_report(result, out, figures)
-    return BalanceArtifacts(report, table1, params, tuple(figures))
+    targets = {name: balance_targets(name, plane.rows) for name, plane in result.planes.items()}
+    return BalanceArtifacts(report, table1, params, tuple(figures), targets)
 
 
 def _write_params(result: BalanceResult, out: Path) -> Path:

@@ -28,6 +28,7 @@ import yaml
 from zmpkit.analysis.step_metrics import StepMetrics, step_metrics
 from zmpkit.analysis.step_plot import Curve, plot_step_responses
 from zmpkit.models import Dlipm, paper_units_omega_n
+from zmpkit.pipelines.balance_report import BalanceArtifacts
 from zmpkit.pipelines.demo_report import LABELS, format_optional, write_report
 
 __all__ = ["DEMO_STEP_M", "DemoConfig", "DemoResult", "run_demo"]
@@ -125,12 +126,12 @@ def _run_walks(out: Path, echo: Callable[[str], None]) -> dict[str, Any]:
     return walks
 
 
-def _run_balance(out: Path, echo: Callable[[str], None]) -> Path:
+def _run_balance(out: Path, echo: Callable[[str], None]) -> BalanceArtifacts:
     from zmpkit.pipelines.balance import BalanceConfig
     from zmpkit.pipelines.balance_run import balance_with_progress
 
     echo("virtual TEO: zmpkit balance --quick (LIPM steps, DLIPM identification, Table 1)")
-    return balance_with_progress(BalanceConfig.quick(), out / "balance", echo=echo).report
+    return balance_with_progress(BalanceConfig.quick(), out / "balance", echo=echo)
 
 
 def _demo_models(config: DemoConfig) -> dict[str, Dlipm]:

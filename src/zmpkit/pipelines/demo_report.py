@@ -28,7 +28,7 @@ def write_report(
     models: dict[str, Dlipm],
     metrics,
     figures,
-    balance_report: Path | None,
+    balance: Any,
     walks: dict[str, Any],
     compensation: dict[str, Any] | None,
 ) -> Path:
@@ -68,7 +68,7 @@ slower in time for the same damping ratio.
 
 Data: `step_metrics.csv`; parameters: `dlipm.yaml`.
 
-{_balance_section(out, balance_report)}{_walk_section(walks)}{_compensation_section(compensation)}
+{_balance_section(out, balance)}{_walk_section(walks)}{_compensation_section(compensation)}
 ## To come
 
 Fitting the simulator to recorded data (MoToFlex's evolutionary identification).
@@ -78,15 +78,23 @@ Fitting the simulator to recorded data (MoToFlex's evolutionary identification).
     return path
 
 
-def _balance_section(out: Path, balance_report: Path | None) -> str:
-    if balance_report is None:
+def _balance_section(out: Path, balance: Any) -> str:
+    """``balance`` is the quick balance run's :class:`BalanceArtifacts`, or None."""
+    if balance is None:
         return ""
-    link = balance_report.relative_to(out).as_posix()
+    link = balance.report.relative_to(out).as_posix()
+    figures = "".join(
+        f"\n**{plane}** plane:\n\n" + "".join(f"- {line}\n" for line in targets.lines())
+        for plane, targets in balance.targets.items()
+    )
     return f"""## The virtual TEO: LIPM vs scheduled DLIPM (paper A §4.1–4.6, Table 1)
 
 The quick balance pipeline ran on the virtual TEO with every effect on: LIPM step
-experiments, identification of the steady-state error model from the force–torque sensors,
-the gain-scheduled DLIPM and paper A's Table 1. Its report: [{link}]({link}).
+experiments, identification of the steady-state error model from the force–torque sensors
+(fitted on the even targets), the gain-scheduled DLIPM and a single linear correction on
+every target, and paper A's Table 1. Against the targets:
+{figures}
+Its report, with Table 1 and the figures: [{link}]({link}).
 """
 
 
