@@ -51,11 +51,11 @@ def plot_zmp_ref_vs_measured(rows: Sequence[Table1Row], path: str | Path, *, pla
     """Fig. 20: measured steady-state ZMP against its target for each controller [m]."""
     fig, ax = new_figure(width_in=7.0, height_in=5.5)
     ref = np.array([r.zmp_ref for r in rows])
-    ax.plot(ref, ref, "k--", lw=1, label="ZMP_LIN (ideal)")
     for name, style in (("lipm", "o-"), ("linear", "^-"), ("dlipm", "s-")):
         values = [getattr(r, name).zmp_measured for r in rows]
         y = np.array([np.nan if v is None else v for v in values])  # plotted gaps only
         ax.plot(ref, y, style, label=f"ZMP_{name.upper()}")
+    ax.plot(ref, ref, "k--", lw=1.2, zorder=5, label="ZMP_LIN (ideal)")  # on top: DLIPM hugs it
     ax.set(xlabel="ZMP_ref [m]", ylabel="measured ZMP_FT [m]")
     ax.set_title(f"ZMP comparison, {plane} (paper A Fig. 20)")
     ax.grid(True, alpha=0.3)
