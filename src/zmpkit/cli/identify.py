@@ -30,7 +30,11 @@ def identify_group() -> None:
 def identify_balance_command(
     dataset: Path, out_dir: Path, mass: float | None, length: float | None
 ) -> None:
-    """Fit the steady-state ZMP error model (eq. 13) and transients of a step DATASET."""
+    """Fit the steady-state ZMP error model (eq. 13) and transients of recorded steps.
+
+    DATASET is a step dataset folder (zmpkit sim push) or a step manifest .yaml listing a
+    robot's logs (CSV, Parquet, ROS 2 bag, YARP dump) with each step's target and time.
+    """
     from zmpkit.pipelines.identify_balance import run_identify_balance
 
     result = run_identify_balance(dataset, out_dir, mass_kg=mass, length_m=length)
