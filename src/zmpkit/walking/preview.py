@@ -1,15 +1,7 @@
 r"""Preview control of the cart-table model (Kajita et al., ICRA 2003).
 
-The cart-table model is the 3D-LIPM written with the CoM jerk as input, one copy per
-horizontal axis. Discrete state ``x = (c, c_dot, c_ddot)`` [m, m/s, m/s^2], input the jerk
-``u`` [m/s^3], held constant over a period ``T`` [s]; output the ZMP ``p`` [m]:
-
-.. math::
-
-    x_{k+1} = A x_k + B u_k, \quad p_k = C x_k, \quad
-    A = \begin{bmatrix}1 & T & T^2/2\\ 0 & 1 & T\\ 0 & 0 & 1\end{bmatrix},\;
-    B = \begin{bmatrix}T^3/6\\ T^2/2\\ T\end{bmatrix},\;
-    C = \begin{bmatrix}1 & 0 & -z_c/g\end{bmatrix}.
+On the cart-table model of :mod:`zmpkit.walking.cart_table` (state ``x = (c, c_dot,
+c_ddot)`` [m, m/s, m/s^2], jerk input ``u`` [m/s^3], ZMP output ``p = C x`` [m]).
 
 The controller minimises :math:`\sum_k Q_e e_k^2 + R \Delta u_k^2` with the tracking error
 ``e_k = p_k - p^{ref}_k`` on the augmented (error, state increment) system, whose discrete
@@ -24,7 +16,7 @@ preview controller on the same 3D-LIPM. Without sensor feedback (the pattern her
 observer is idle and it plans the same kind of preview-optimal CoM; the observer belongs to
 closed-loop stabilisation, not to this module.
 
-The model, its matrices and the gains live in :mod:`zmpkit.walking.cart_table`; they are
+The model's matrices and the gains are computed in :mod:`zmpkit.walking.cart_table` and
 re-exported here.
 """
 
