@@ -42,6 +42,8 @@ __all__ = [
     "WalkRecord",
     "quaternion_pitch_roll",
     "simulate_walk",
+    "start_pose",
+    "wrench_in_world",
 ]
 
 FALL_TILT_RAD = 0.8
@@ -132,7 +134,21 @@ def quaternion_pitch_roll(quat_wxyz: NDArray[np.float64]) -> tuple[float, float]
     return pitch, roll
 
 
-def _start_pose(sim: Simulation, trajectory: JointTrajectory) -> list[float]:
+def wrench_in_world(
+    sensor_xmat: NDArray[np.float64], wrench: NDArray[np.float64]
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Force [N] and moment [N·m] of sensor-frame wrenches in the world frame.
+
+    Args:
+        sensor_xmat: the sensor frames' rotations (MuJoCo ``site_xmat``), shape (..., 9).
+        wrench: (Fx, Fy, Fz, Tx, Ty, Tz) in the sensor frame, shape (..., 6).
+    """
+    rotation = np.reshape(sensor_xmat, (*np.shape(sensor_xmat)[:-1], 3, 3))
+    force = np.einsum("...ij,...j->...i", rotation, wrench[..., :3])
+    return force, np.einsum("...ij,...j->...i", rotation, wrench[..., 3:])
+
+
+def start_pose(sim: Simulation, trajectory: JointTrajectory) -> list[float]:
     """Place the robot in the trajectory's first pose at rest; return the servo targets."""
     data, model = sim.data, sim.model
     data.qpos[:7] = trajectory.base_qpos[0]
@@ -172,9 +188,7 @@ class _Recorder:
         for i, foot in enumerate(self.feet):
             sensor = next(f for f in sim.robot.feet if f.foot == foot)
             site = data.site(sensor.site)
-            rotation = site.xmat.reshape(3, 3)
-            wrench = sim.ft(foot)
-            self.force[k, i], self.moment[k, i] = rotation @ wrench[:3], rotation @ wrench[3:]
+            self.force[k, i], self.moment[k, i] = wrench_in_world(site.xmat, sim.ft(foot))
             self.sensor[k, i] = site.xpos
             self.sole[k, i] = data.site(f"{foot}_sole").xpos
         self.torso[k] = data.qpos[:3]
@@ -226,7 +240,7 @@ def simulate_walk(
     substeps = max(1, round(frame_s / sim.dt))
     feet = tuple(f.foot for f in sim.robot.feet)
     recorder = _Recorder(sim, len(q_frames), feet)
-    _start_pose(sim, trajectory)
+    start_pose(sim, trajectory)
     recorder.record(q_frames[0])
     total = float(trajectory.time_s[-1])
     every = max(1, round(PROGRESS_EVERY_S / frame_s))

@@ -22,7 +22,7 @@ from numpy.typing import NDArray
 
 from zmpkit.sim.effects import SensorParams
 
-__all__ = ["FtChannel", "quantise"]
+__all__ = ["FtChannel", "quantise", "sample_series"]
 
 
 def quantise(value: NDArray[np.float64], step: NDArray[np.float64]) -> NDArray[np.float64]:
@@ -62,3 +62,43 @@ class FtChannel:
             self._state = self._state + self._alpha * (raw - self._state)
         self.output = quantise(self._state, self._quantum)
         return self.output
+
+
+def sample_series(
+    channels: Sequence[FtChannel], wrenches_true: NDArray[np.float64]
+) -> NDArray[np.float64]:
+    """Samples of many channels over a series of true wrenches, advancing each channel.
+
+    The same numbers as ``[[c.sample(w) for w in series] for c, series in ...]`` (the same
+    noise draws and the same arithmetic, element by element), with the loop over channels
+    done by numpy: the F-T readings of a batch of rollouts.
+
+    Args:
+        channels: C channels.
+        wrenches_true: true wrenches [N, N·m], shape (C, n, 6).
+
+    Returns:
+        The measured wrenches, shape (C, n, 6); each channel's ``output`` is its last row.
+    """
+    wrenches_true = np.asarray(wrenches_true, dtype=np.float64)
+    n = wrenches_true.shape[1]
+    out = np.empty_like(wrenches_true)
+    if n == 0:
+        return out
+    gain = np.array([[c._gain] for c in channels])
+    offset = np.array([c._offset for c in channels])
+    noise = np.array([c._noise * np.ones(6) for c in channels])
+    quantum = np.array([c._quantum * np.ones(6) for c in channels])
+    alpha = np.array([[c._alpha] for c in channels])
+    draws = np.stack([c._rng.standard_normal((n, 6)) for c in channels])
+    fresh = np.array([c._state is None for c in channels])
+    state = np.array([np.zeros(6) if c._state is None else c._state for c in channels])
+    for k in range(n):
+        raw = gain * wrenches_true[:, k] + offset + noise * draws[:, k]
+        state = np.where(fresh[:, None], raw, state + alpha * (raw - state))
+        fresh[:] = False
+        out[:, k] = quantise(state, quantum)
+    for i, c in enumerate(channels):
+        c._state = state[i].copy()
+        c.output = out[i, -1].copy()
+    return out

@@ -71,12 +71,7 @@ class Simulation:
         self._sample_ft()
 
     def _sensor_slices(self, force: str, torque: str) -> tuple[slice, slice]:
-        out = []
-        for name in (force, torque):
-            s = self.model.sensor(name)
-            adr = int(s.adr[0])
-            out.append(slice(adr, adr + int(s.dim[0])))
-        return out[0], out[1]
+        return self.sensor_slice(force), self.sensor_slice(torque)
 
     @property
     def time(self) -> float:
@@ -147,9 +142,34 @@ class Simulation:
 
     def ft_true(self, foot: str) -> NDArray[np.float64]:
         """The exact wrench on the robot above ``foot``'s sensor, in the sensor frame [N, N·m]."""
+        return self.ft_true_of(foot, self.data.sensordata)
+
+    def ft_true_of(self, foot: str, sensordata: NDArray[np.float64]) -> NDArray[np.float64]:
+        """:meth:`ft_true` of recorded ``sensordata`` rows, shape (..., nsensordata) -> (..., 6)."""
         force, torque = self._sens[foot]
-        data = self.data.sensordata
-        return -np.concatenate((data[force], data[torque]))
+        return -np.concatenate((sensordata[..., force], sensordata[..., torque]), axis=-1)
+
+    @property
+    def ft_sample_every(self) -> int:
+        """Physics steps between two F-T samples [-]; the first is taken at step 0."""
+        return self._ft_every
+
+    def ft_channel(self, foot: str) -> FtChannel:
+        """The sensor-effect channel of ``foot``'s F-T sensor (its state is the last sample)."""
+        return self._ft[foot]
+
+    def controls_of(self, setpoints: NDArray[np.float64]) -> NDArray[np.float64]:
+        """Actuator controls (``data.ctrl`` rows) of servo setpoints [rad], shape (..., J)."""
+        setpoints = np.asarray(setpoints, dtype=np.float64)
+        ctrl = np.zeros((*setpoints.shape[:-1], self.model.nu))
+        ctrl[..., self._act] = setpoints * np.asarray(self._gear)
+        return ctrl
+
+    def sensor_slice(self, name: str) -> slice:
+        """Where MuJoCo sensor ``name`` sits in ``data.sensordata``."""
+        s = self.model.sensor(name)
+        adr = int(s.adr[0])
+        return slice(adr, adr + int(s.dim[0]))
 
     def _sample_ft(self) -> None:
         if self.robot.effects.sensors:
@@ -166,7 +186,11 @@ class Simulation:
 
     def encoders(self) -> NDArray[np.float64]:
         """Measured joint angles, motor side / N [rad], in joint order."""
-        q = self.data.qpos[self._qadr]
+        return self.encoders_of(self.data.qpos)
+
+    def encoders_of(self, qpos: NDArray[np.float64]) -> NDArray[np.float64]:
+        """:meth:`encoders` of recorded ``qpos`` rows, shape (..., nq) -> (..., J) [rad]."""
+        q = np.asarray(qpos)[..., self._qadr]
         if self.robot.effects.sensors:
             step = np.full(q.shape, self.robot.sensor_params.encoder_resolution)
             return quantise(q, step)

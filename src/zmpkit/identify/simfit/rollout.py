@@ -23,7 +23,7 @@ from zmpkit.identify.simfit.experiments import (
     WalkExperiment,
 )
 
-__all__ = ["simulate_experiment"]
+__all__ = ["empty_signals", "setpoint_table", "simulate_experiment", "step_signals"]
 
 
 def simulate_experiment(experiment: Experiment, truth: object, effects: str) -> RecordedSignals:
@@ -57,7 +57,7 @@ def _walk(experiment: WalkExperiment, truth: object, effects: str) -> RecordedSi
     try:
         record = simulate_walk(make_nao(effects, truth, seed=0), trajectory)  # type: ignore[arg-type]
     except SimulationDivergedError:
-        return _empty(experiment.signals)
+        return empty_signals(experiment.signals)
     names = experiment.signals.joint_names
     columns = [record.joint(j) for j in names]
     zmp = measured_zmp(record.force_in_world, record.moment_in_world, record.sensor_in_world)
@@ -71,7 +71,8 @@ def _walk(experiment: WalkExperiment, truth: object, effects: str) -> RecordedSi
     )
 
 
-def _empty(signals: RecordedSignals) -> RecordedSignals:
+def empty_signals(signals: RecordedSignals) -> RecordedSignals:
+    """No samples, with the recording's joint names: a rollout that diverged."""
     j = len(signals.joint_names)
     zero = np.zeros((0, j))
     return RecordedSignals(
@@ -79,7 +80,7 @@ def _empty(signals: RecordedSignals) -> RecordedSignals:
     )
 
 
-def _setpoint_table(signals: RecordedSignals, n_ticks: int, dt: float) -> NDArray[np.float64]:
+def setpoint_table(signals: RecordedSignals, n_ticks: int, dt: float) -> NDArray[np.float64]:
     """Commanded setpoints at the end of every tick, shape (n_ticks, J) [rad]."""
     t = (np.arange(n_ticks) + 1) * dt
     cmd = signals.q_cmd_rad
@@ -95,7 +96,7 @@ def _step(experiment: StepExperiment, truth: object, effects: str) -> RecordedSi
         raise SimulationDivergedError(0.0, "the joint list", "recorded joints differ from TEO's")
     dt = sim.dt
     sample_ticks = np.round(signals.time_s / dt).astype(int)
-    table = _setpoint_table(signals, int(sample_ticks[-1]), dt)
+    table = setpoint_table(signals, int(sample_ticks[-1]), dt)
     rows: list[NDArray[np.float64]] = []
     wanted = set(sample_ticks.tolist())
     try:
@@ -105,8 +106,9 @@ def _step(experiment: StepExperiment, truth: object, effects: str) -> RecordedSi
             if k + 1 in wanted:
                 rows.append(_sample(sim))
     except SimulationDivergedError:
-        pass
-    return _step_signals(experiment, np.array(rows).reshape(len(rows), -1), len(rows))
+        if not rows:  # diverged before the first sample
+            return empty_signals(signals)
+    return step_signals(experiment, np.array(rows), len(rows))
 
 
 def _sample(sim: object) -> NDArray[np.float64]:
@@ -114,13 +116,14 @@ def _sample(sim: object) -> NDArray[np.float64]:
     return np.concatenate([sim.ft("right"), sim.ft("left"), sim.encoders(), quat])  # type: ignore[attr-defined]
 
 
-def _step_signals(experiment: StepExperiment, data: NDArray[np.float64], n: int) -> RecordedSignals:
+def step_signals(experiment: StepExperiment, data: NDArray[np.float64], n: int) -> RecordedSignals:
+    """A step trial's signals from ``n`` sample rows ``[F-T right, F-T left, encoders, quat]``."""
     from zmpkit.identify.simfit.experiments import tilt_from_quaternions
     from zmpkit.sensors import zmp_series
 
     signals = experiment.signals
     if n < 2:
-        return _empty(signals)
+        return empty_signals(signals)
     time = signals.time_s[:n]
     j = len(signals.joint_names)
     mounts = experiment.mounts

@@ -1,0 +1,424 @@
+"""Many candidates of one experiment at once: open-loop rollouts on MuJoCo's thread pool.
+
+Both kinds of experiment are open loop. A walk plays its planned frames through the servo
+(no controller reads a sensor), a step trial plays its recorded setpoints; so the servo
+setpoints of every physics step are known before the rollout starts, and they are the same
+for every candidate (candidates differ in the model, not in the command). The rollouts of
+a whole CMA-ES generation then run in C on :class:`mujoco.batch.Batch` threads, a second of
+simulated time per call, with no Python per physics step; Python reads the recorded rows
+afterwards, as :mod:`~zmpkit.identify.simfit.rollout` reads the simulation step by step.
+
+The results are those of the serial path (tested): each candidate's
+:class:`~zmpkit.sim.world.Simulation` is built and posed as there, the batch continues from
+its exact integration state (warm start included), the F-T channels draw the same noise
+(:func:`~zmpkit.sim.sensing.sample_series`), and a fall or a divergence ends a rollout at
+the same step:
+
+- divergence: MuJoCo's bad-acceleration warning (the batch stops that simulation, so its
+  time stops advancing) or a joint speed beyond
+  :data:`~zmpkit.sim.world.DIVERGED_SPEED_RAD_S` at an F-T sample; a walk then has no
+  signals, a step trial keeps the samples before it;
+- a walk's fall: trunk tilt or torso height past the limits of
+  :mod:`~zmpkit.pipelines.walk_sim`; its record ends at that frame.
+
+A candidate whose simulation raises another MuJoCo warning (which stops it in the batch but
+not in the serial path) is re-run on the serial path.
+"""
+
+from __future__ import annotations
+
+import copy
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import mujoco
+import mujoco.batch
+import numpy as np
+from numpy.typing import NDArray
+
+from zmpkit.identify.simfit.experiments import (
+    Experiment,
+    RecordedSignals,
+    StepExperiment,
+    WalkExperiment,
+)
+from zmpkit.identify.simfit.rollout import (
+    empty_signals,
+    setpoint_table,
+    simulate_experiment,
+    step_signals,
+)
+from zmpkit.sim.sensing import sample_series
+from zmpkit.sim.world import DIVERGED_SPEED_RAD_S, Simulation
+
+__all__ = ["CHUNK_S", "OpenLoopSchedule", "simulate_batch"]
+
+CHUNK_S = 1.0
+"""Simulated time per batch call [s]: fallen and diverged candidates drop out between calls."""
+_TIME = mujoco.mjtState.mjSTATE_TIME
+_INTEGRATION = mujoco.mjtState.mjSTATE_INTEGRATION
+_BADQACC = int(mujoco.mjtWarning.mjWARN_BADQACC)
+
+
+@dataclass(frozen=True)
+class OpenLoopSchedule:
+    """An experiment as open-loop input, the same for every candidate.
+
+    Step counts are the simulation's own (``Simulation._steps``: 0 when built).
+
+    Attributes:
+        setpoints_rad: servo setpoints of the steps after ``start_step``, in the
+            simulation's joint order [rad], shape (nstep, J).
+        start_step: the step of the posed simulation the batch continues from [-].
+        record_steps: the steps after which a signal row is read, increasing, shape (R,);
+            those at ``start_step`` are read from the posed simulation.
+        q_cmd_rad: the commanded angles of each row, the experiment's joints [rad], (R, Je).
+    """
+
+    setpoints_rad: NDArray[np.float64]
+    start_step: int
+    record_steps: NDArray[np.int64]
+    q_cmd_rad: NDArray[np.float64]
+
+
+def simulate_batch(
+    experiment: Experiment, truths: Sequence[object], effects: str, nthread: int = 2
+) -> list[RecordedSignals]:
+    """The signals each candidate's simulator records in ``experiment``.
+
+    Args:
+        experiment: the recorded experiment to replay.
+        truths: one truth object per candidate (``NaoTruth`` or ``TeoTruth``).
+        effects: effect letters switched on, e.g. ``"M,G"``.
+        nthread: threads of the batch (the cores to use).
+
+    Returns:
+        Per candidate, what :func:`~zmpkit.identify.simfit.rollout.simulate_experiment`
+        returns for it.
+    """
+    if not truths:
+        return []
+    sims = [_posed(experiment, truth, effects) for truth in truths]
+    schedule = _schedule(experiment, sims[0])
+    out: list[RecordedSignals | None] = [None] * len(sims)
+    for group in _layout_groups(sims):
+        rows = _Rows(experiment, [sims[i] for i in group], schedule)
+        _run(rows, [sims[i] for i in group], schedule, nthread)
+        for i, j in enumerate(group):
+            if rows.rerun[i]:
+                out[j] = simulate_experiment(experiment, truths[j], effects)
+            else:
+                out[j] = rows.signals(i)
+    return [s for s in out if s is not None]
+
+
+def _posed(experiment: Experiment, truth: object, effects: str) -> Simulation:
+    """A candidate's simulation where the serial path starts its loop."""
+    if isinstance(experiment, WalkExperiment):
+        from zmpkit.identify.simfit.walk_plan import walk_trajectory
+        from zmpkit.pipelines.walk_sim import start_pose
+        from zmpkit.robots.nao import make_nao
+
+        sim = make_nao(effects, truth, seed=0)  # type: ignore[arg-type]
+        start_pose(sim, walk_trajectory(*_walk_key(experiment)))
+        return sim
+    from zmpkit.robots.teo import make_teo
+
+    return make_teo(effects, truth, seed=0)  # type: ignore[arg-type]
+
+
+def _walk_key(experiment: WalkExperiment) -> tuple[float, float, float, float]:
+    return (
+        experiment.speed_mps,
+        experiment.step_duration_s,
+        experiment.duration_s,
+        experiment.com_height_m,
+    )
+
+
+def _schedule(experiment: Experiment, sim: Simulation) -> OpenLoopSchedule:
+    if isinstance(experiment, WalkExperiment):
+        return _walk_schedule(experiment, sim)
+    return _step_schedule(experiment, sim)
+
+
+_WALK_SCHEDULES: dict[tuple, OpenLoopSchedule] = {}
+"""Walk schedules of this process, by plan, joints, servo and timestep (a few MB each)."""
+_MAX_WALK_SCHEDULES = 16
+
+
+def _walk_schedule(experiment: WalkExperiment, sim: Simulation) -> OpenLoopSchedule:
+    """The frames of :func:`~zmpkit.pipelines.walk_sim.simulate_walk`, through the servo.
+
+    The same for every candidate and generation, so computed once (Python per step).
+    """
+    key = (
+        _walk_key(experiment),
+        experiment.signals.joint_names,
+        sim.joint_names,
+        sim.robot.servo_limits,
+        sim.dt,
+    )
+    if key not in _WALK_SCHEDULES:
+        if len(_WALK_SCHEDULES) >= _MAX_WALK_SCHEDULES:
+            _WALK_SCHEDULES.clear()
+        _WALK_SCHEDULES[key] = _plan_walk_schedule(experiment, sim)
+    return _WALK_SCHEDULES[key]
+
+
+def _plan_walk_schedule(experiment: WalkExperiment, sim: Simulation) -> OpenLoopSchedule:
+    from zmpkit.identify.simfit.walk_plan import walk_trajectory
+
+    trajectory = walk_trajectory(*_walk_key(experiment))
+    columns = [trajectory.joint_names.index(j) for j in sim.joint_names]
+    frames = trajectory.q_rad[:, columns]
+    substeps = max(1, round(float(trajectory.time_s[1] - trajectory.time_s[0]) / sim.dt))
+    servo = copy.deepcopy(sim.servo)
+    setpoints = np.empty(((len(frames) - 1) * substeps, len(columns)))
+    row = 0
+    for k in range(1, len(frames)):
+        step = (frames[k] - frames[k - 1]) / substeps
+        for i in range(1, substeps + 1):
+            servo.set_target((frames[k - 1] + i * step).tolist())
+            setpoints[row] = servo.tick()
+            row += 1
+    keep = [sim.joint_names.index(j) for j in experiment.signals.joint_names]
+    start = 1  # start_pose took one step
+    return OpenLoopSchedule(
+        setpoints, start, start + substeps * np.arange(len(frames)), frames[:, keep]
+    )
+
+
+def _step_schedule(experiment: StepExperiment, sim: Simulation) -> OpenLoopSchedule:
+    """The recorded setpoints, one per servo tick, sampled at the recorded times."""
+    from zmpkit.errors import SimulationDivergedError
+
+    signals = experiment.signals
+    if tuple(sim.joint_names) != tuple(signals.joint_names):
+        raise SimulationDivergedError(0.0, "the joint list", "recorded joints differ from TEO's")
+    ticks = np.round(signals.time_s / sim.dt).astype(np.int64)
+    table = setpoint_table(signals, int(ticks[-1]), sim.dt)
+    return OpenLoopSchedule(table, 0, ticks, signals.q_cmd_rad)
+
+
+def _layout_groups(sims: Sequence[Simulation]) -> list[list[int]]:
+    """Candidates whose models give MjData the same layout (one batch each)."""
+    groups: dict[tuple[int, ...], list[int]] = {}
+    for i, sim in enumerate(sims):
+        m = sim.model
+        key = (m.nq, m.nv, m.na, m.nu, m.nbody, m.njnt, m.ngeom, m.nsite, m.ntendon, m.neq)
+        groups.setdefault((*key, m.nsensordata, m.nwrap, m.nmocap), []).append(i)
+    return list(groups.values())
+
+
+class _Rows:
+    """What each candidate records, filled chunk by chunk."""
+
+    def __init__(
+        self, experiment: Experiment, sims: Sequence[Simulation], schedule: OpenLoopSchedule
+    ) -> None:
+        self.experiment, self.sims, self.schedule = experiment, sims, schedule
+        self.walk = isinstance(experiment, WalkExperiment)
+        sim = sims[0]
+        self.feet = tuple(f.foot for f in sim.robot.feet)
+        self.ft_sites = [sim.model.site(f.site).id for f in sim.robot.feet]
+        self.quat = sim.sensor_slice(sim.robot.imu.orientation)
+        self.sensors = [s.robot.effects.sensors for s in sims]
+        n = len(sims)
+        self.done = [False] * n
+        self.rerun = [False] * n
+        self.diverged = [False] * n
+        self.rows: list[list[dict[str, NDArray[np.float64]]]] = [[] for _ in range(n)]
+        self.ft_now = [{f: self._ft_output(s, f) for f in self.feet} for s in sims]
+
+    def _ft_output(self, sim: Simulation, foot: str) -> NDArray[np.float64]:
+        if sim.robot.effects.sensors:
+            return sim.ft_channel(foot).output.copy()
+        return sim.ft_true(foot)
+
+    def read_posed(self, i: int) -> None:
+        """Rows at the posed state (a walk's frame 0)."""
+        sim = self.sims[i]
+        data = sim.data
+        row = {
+            "qpos": data.qpos.copy(),
+            "sensordata": data.sensordata.copy(),
+            "time": np.array(data.time),
+            "site_xpos": data.site_xpos[self.ft_sites].copy(),
+            "site_xmat": data.site_xmat[self.ft_sites].copy(),
+        }
+        self._add_row(i, row, self.ft_now[i], check_fall=False)  # the serial path does not
+
+    def _add_row(
+        self,
+        i: int,
+        row: dict[str, NDArray[np.float64]],
+        ft: dict[str, NDArray[np.float64]],
+        check_fall: bool = True,
+    ) -> None:
+        """Keep a row; the F-T readings are the last samples (S on) or the true wrench."""
+        row = dict(row)
+        for foot in self.feet:
+            if self.sensors[i]:
+                row[f"ft_{foot}"] = ft[foot].copy()
+            else:
+                row[f"ft_{foot}"] = self.sims[i].ft_true_of(foot, row["sensordata"])
+        self.rows[i].append(row)
+        if check_fall and self.walk and _fallen(row["qpos"], row["sensordata"][self.quat]):
+            self.done[i] = True
+
+    def signals(self, i: int) -> RecordedSignals:
+        """The candidate's recorded signals."""
+        rows, signals = self.rows[i], self.experiment.signals
+        if self.walk and self.diverged[i]:
+            return empty_signals(signals)
+        if self.walk:
+            return self._walk_signals(i, rows)
+        if not rows:
+            return empty_signals(signals)
+        data = np.array(
+            [
+                np.concatenate(
+                    [
+                        r["ft_right"],
+                        r["ft_left"],
+                        self.sims[i].encoders_of(r["qpos"]),
+                        r["sensordata"][self.quat],
+                    ]
+                )
+                for r in rows
+            ]
+        ).reshape(len(rows), -1)
+        return step_signals(self.experiment, data, len(rows))  # type: ignore[arg-type]
+
+    def _walk_signals(self, i: int, rows: list[dict[str, NDArray[np.float64]]]) -> RecordedSignals:
+        from zmpkit.analysis.walk_metrics import measured_zmp
+        from zmpkit.identify.simfit.experiments import tilt_from_quaternions
+        from zmpkit.pipelines.walk_sim import wrench_in_world
+
+        sim, n = self.sims[i], len(rows)
+        wrench = np.array([[r[f"ft_{f}"] for f in self.feet] for r in rows])
+        force, moment = wrench_in_world(np.array([r["site_xmat"] for r in rows]), wrench)
+        sensor = np.array([r["site_xpos"] for r in rows])
+        quats = np.array([r["sensordata"][self.quat] for r in rows])
+        signals = self.experiment.signals
+        keep = [sim.joint_names.index(j) for j in signals.joint_names]
+        q_meas = sim.encoders_of(np.array([r["qpos"] for r in rows]))[:, keep]
+        return RecordedSignals(
+            np.array([float(r["time"]) for r in rows]),
+            signals.joint_names,
+            self.schedule.q_cmd_rad[:n],
+            q_meas,
+            measured_zmp(force, moment, sensor),
+            tilt_from_quaternions(quats, "sagittal"),
+        )
+
+
+def _fallen(qpos: NDArray[np.float64], quat: NDArray[np.float64]) -> bool:
+    from zmpkit.pipelines.walk_sim import FALL_TILT_RAD, FALL_TORSO_HEIGHT_M, quaternion_pitch_roll
+
+    pitch, roll = quaternion_pitch_roll(quat)
+    return max(abs(pitch), abs(roll)) > FALL_TILT_RAD or float(qpos[2]) < FALL_TORSO_HEIGHT_M
+
+
+def _run(rows: _Rows, sims: Sequence[Simulation], schedule: OpenLoopSchedule, nthread: int) -> None:
+    """Roll every candidate out chunk by chunk, filling ``rows``."""
+    n = len(sims)
+    model0 = sims[0].model
+    start = schedule.start_step
+    for i in range(n):
+        if schedule.record_steps[0] == start:
+            rows.read_posed(i)
+    batch = mujoco.batch.Batch(model0, n, nthread=nthread)
+    if n > 1:
+        batch.set_models([s.model for s in sims])
+    for i, sim in enumerate(sims):
+        mujoco.mj_getState(sim.model, sim.data, batch.state[i], _INTEGRATION)
+    controls = np.stack([s.controls_of(schedule.setpoints_rad) for s in sims])
+    ft_every = sims[0].ft_sample_every
+    t0 = np.array([s.data.time for s in sims])
+    dt = sims[0].dt
+    chunk = max(1, round(CHUNK_S / dt))
+    nstep = len(schedule.setpoints_rad)
+    records = ("qpos", "qvel", "sensordata", "site_xpos", "site_xmat", _TIME)
+    for c0 in range(0, nstep, chunk):
+        alive = [i for i in range(n) if not rows.done[i]]
+        if not alive:
+            return
+        c1 = min(nstep, c0 + chunk)
+        before = batch.warning[alive, :, 1].copy()
+        out = batch.rollout(c1 - c0, controls[alive, c0:c1], record=records, ids=alive)
+        warned = batch.warning[alive, :, 1] != before
+        steps = start + np.arange(c0 + 1, c1 + 1)  # the step each recorded row ends
+        ft_rows = np.flatnonzero(steps % ft_every == 0)
+        wrenches = {f: [] for f in rows.feet}  # type: dict[str, list]
+        for a, i in enumerate(alive):
+            for f in rows.feet:
+                wrenches[f].append(sims[i].ft_true_of(f, out["sensordata"][a, ft_rows]))
+        measured = _ft_samples(rows, sims, alive, wrenches)
+        for a, i in enumerate(alive):
+            other = np.delete(warned[a], _BADQACC).any()
+            if other:
+                rows.rerun[i] = rows.done[i] = True
+                continue
+            expected = t0[i] + (steps - start) * dt
+            bad = np.flatnonzero(np.abs(out[_TIME][a, :, 0] - expected) > 0.5 * dt)
+            speed = out["qvel"][a, ft_rows]
+            fast = ft_rows[~np.all(np.abs(speed) <= DIVERGED_SPEED_RAD_S, axis=1)]
+            limit = min(bad[0] if len(bad) else len(steps), fast[0] if len(fast) else len(steps))
+            _read_chunk(rows, i, a, out, steps, ft_rows, measured, limit)
+            flagged = warned[a, _BADQACC] and limit == len(steps)
+            if (limit < len(steps) or flagged) and not rows.done[i]:
+                rows.diverged[i] = rows.done[i] = True
+
+
+def _ft_samples(
+    rows: _Rows, sims: Sequence[Simulation], alive: list[int], wrenches: dict[str, list]
+) -> dict[str, NDArray[np.float64]]:
+    """The F-T readings at the chunk's sample steps, (alive, samples, 6) per foot."""
+    out = {}
+    for f in rows.feet:
+        true = np.array(wrenches[f])
+        noisy = [a for a, i in enumerate(alive) if rows.sensors[i]]
+        if noisy:
+            with np.errstate(invalid="ignore", over="ignore"):
+                sampled = sample_series([sims[alive[a]].ft_channel(f) for a in noisy], true[noisy])
+            true = true.copy()
+            true[noisy] = sampled
+        out[f] = true
+    return out
+
+
+def _read_chunk(
+    rows: _Rows,
+    i: int,
+    a: int,
+    out: dict,
+    steps: NDArray[np.int64],
+    ft_rows: NDArray[np.int64],
+    measured: dict[str, NDArray[np.float64]],
+    limit: int,
+) -> None:
+    """Append candidate ``i``'s rows (batch index ``a``) of the chunk's first ``limit`` steps."""
+    wanted = np.flatnonzero(np.isin(steps[:limit], rows.schedule.record_steps))
+    ft = rows.ft_now[i]
+    next_sample = 0
+    for r in wanted:
+        while next_sample < len(ft_rows) and ft_rows[next_sample] <= r:
+            for f in rows.feet:
+                ft[f] = measured[f][a, next_sample]
+            next_sample += 1
+        row = {
+            "qpos": out["qpos"][a, r],
+            "sensordata": out["sensordata"][a, r],
+            "time": out[_TIME][a, r, 0],
+            "site_xpos": out["site_xpos"][a, r, rows.ft_sites],
+            "site_xmat": out["site_xmat"][a, r, rows.ft_sites],
+        }
+        rows._add_row(i, row, ft)
+        if rows.done[i]:
+            return
+    while next_sample < len(ft_rows) and ft_rows[next_sample] < limit:
+        for f in rows.feet:
+            ft[f] = measured[f][a, next_sample]
+        next_sample += 1
