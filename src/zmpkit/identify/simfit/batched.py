@@ -212,7 +212,7 @@ def _layout_groups(sims: Sequence[Simulation]) -> list[list[int]]:
 
 
 class _Rows:
-    """What each candidate records, filled chunk by chunk."""
+    """What each candidate records, filled chunk by chunk: a list of row blocks each."""
 
     def __init__(
         self, experiment: Experiment, sims: Sequence[Simulation], schedule: OpenLoopSchedule
@@ -228,97 +228,121 @@ class _Rows:
         self.done = [False] * n
         self.rerun = [False] * n
         self.diverged = [False] * n
-        self.rows: list[list[dict[str, NDArray[np.float64]]]] = [[] for _ in range(n)]
-        self.ft_now = [{f: self._ft_output(s, f) for f in self.feet} for s in sims]
-
-    def _ft_output(self, sim: Simulation, foot: str) -> NDArray[np.float64]:
-        if sim.robot.effects.sensors:
-            return sim.ft_channel(foot).output.copy()
-        return sim.ft_true(foot)
+        self.blocks: list[list[dict[str, NDArray[np.float64]]]] = [[] for _ in range(n)]
+        self.ft_now = [np.array([s.ft_channel(f).output for f in self.feet]) for s in sims]
 
     def read_posed(self, i: int) -> None:
-        """Rows at the posed state (a walk's frame 0)."""
-        sim = self.sims[i]
-        data = sim.data
-        row = {
-            "qpos": data.qpos.copy(),
-            "sensordata": data.sensordata.copy(),
-            "time": np.array(data.time),
-            "site_xpos": data.site_xpos[self.ft_sites].copy(),
-            "site_xmat": data.site_xmat[self.ft_sites].copy(),
+        """The row of the posed state (a walk's frame 0; the serial path checks no fall)."""
+        data = self.sims[i].data
+        block = {
+            "qpos": data.qpos[None].copy(),
+            "sensordata": data.sensordata[None].copy(),
+            "time": np.array([data.time]),
+            "site_xpos": data.site_xpos[None, self.ft_sites].copy(),
+            "site_xmat": data.site_xmat[None, self.ft_sites].copy(),
         }
-        self._add_row(i, row, self.ft_now[i], check_fall=False)  # the serial path does not
+        block["ft"] = self._ft(i, block["sensordata"], self.ft_now[i][None])
+        self.blocks[i].append(block)
 
-    def _add_row(
+    def _ft(
+        self, i: int, sensordata: NDArray[np.float64], sampled: NDArray[np.float64]
+    ) -> NDArray[np.float64]:
+        """F-T readings (rows, feet, 6): the last samples (S on) or the true wrench."""
+        if self.sensors[i]:
+            return sampled
+        sim = self.sims[i]
+        return np.stack([sim.ft_true_of(f, sensordata) for f in self.feet], axis=1)
+
+    def read_chunk(
         self,
         i: int,
-        row: dict[str, NDArray[np.float64]],
-        ft: dict[str, NDArray[np.float64]],
-        check_fall: bool = True,
+        rows: dict[str, NDArray[np.float64]],
+        steps: NDArray[np.int64],
+        ft_rows: NDArray[np.int64],
+        sampled: NDArray[np.float64],
+        limit: int,
     ) -> None:
-        """Keep a row; the F-T readings are the last samples (S on) or the true wrench."""
-        row = dict(row)
-        for foot in self.feet:
-            if self.sensors[i]:
-                row[f"ft_{foot}"] = ft[foot].copy()
-            else:
-                row[f"ft_{foot}"] = self.sims[i].ft_true_of(foot, row["sensordata"])
-        self.rows[i].append(row)
-        if check_fall and self.walk and _fallen(row["qpos"], row["sensordata"][self.quat]):
-            self.done[i] = True
+        """Keep candidate ``i``'s rows among a chunk's first ``limit`` steps.
+
+        Args:
+            rows: the chunk's records of this candidate, one row per step.
+            steps: the step each row ends.
+            ft_rows: the rows that are F-T sample steps.
+            sampled: the F-T readings of those samples, (len(ft_rows), feet, 6).
+            limit: rows from here on are past a divergence.
+        """
+        wanted = np.flatnonzero(np.isin(steps[:limit], self.schedule.record_steps))
+        if self.walk:
+            fall = _first_fall(rows["qpos"][wanted], rows["sensordata"][wanted, self.quat])
+            if fall is not None:
+                wanted = wanted[: fall + 1]
+                self.done[i] = True
+        last = np.searchsorted(ft_rows, wanted, side="right") - 1
+        held = np.concatenate([self.ft_now[i][None], sampled])[last + 1]
+        block = {
+            "qpos": rows["qpos"][wanted],
+            "sensordata": rows["sensordata"][wanted],
+            "time": rows["time"][wanted, 0],
+            "site_xpos": rows["site_xpos"][wanted][:, self.ft_sites],
+            "site_xmat": rows["site_xmat"][wanted][:, self.ft_sites],
+        }
+        block["ft"] = self._ft(i, block["sensordata"], held)
+        self.blocks[i].append(block)
+        taken = np.searchsorted(ft_rows, limit) - 1
+        if taken >= 0:
+            self.ft_now[i] = sampled[taken]
 
     def signals(self, i: int) -> RecordedSignals:
         """The candidate's recorded signals."""
-        rows, signals = self.rows[i], self.experiment.signals
-        if self.walk and self.diverged[i]:
+        signals, blocks = self.experiment.signals, self.blocks[i]
+        if not blocks or (self.walk and self.diverged[i]):
             return empty_signals(signals)
-        if self.walk:
-            return self._walk_signals(i, rows)
-        if not rows:
+        rows = {k: np.concatenate([b[k] for b in blocks]) for k in blocks[0]}
+        n = len(rows["time"])
+        if n == 0:
             return empty_signals(signals)
-        data = np.array(
-            [
-                np.concatenate(
-                    [
-                        r["ft_right"],
-                        r["ft_left"],
-                        self.sims[i].encoders_of(r["qpos"]),
-                        r["sensordata"][self.quat],
-                    ]
-                )
-                for r in rows
-            ]
-        ).reshape(len(rows), -1)
-        return step_signals(self.experiment, data, len(rows))  # type: ignore[arg-type]
-
-    def _walk_signals(self, i: int, rows: list[dict[str, NDArray[np.float64]]]) -> RecordedSignals:
+        sim = self.sims[i]
+        encoders = sim.encoders_of(rows["qpos"])
+        quats = rows["sensordata"][:, self.quat]
+        if not self.walk:
+            right, left = (rows["ft"][:, self.feet.index(f)] for f in ("right", "left"))
+            data = np.concatenate([right, left, encoders, quats], axis=1)
+            return step_signals(self.experiment, data, n)  # type: ignore[arg-type]
         from zmpkit.analysis.walk_metrics import measured_zmp
         from zmpkit.identify.simfit.experiments import tilt_from_quaternions
         from zmpkit.pipelines.walk_sim import wrench_in_world
 
-        sim, n = self.sims[i], len(rows)
-        wrench = np.array([[r[f"ft_{f}"] for f in self.feet] for r in rows])
-        force, moment = wrench_in_world(np.array([r["site_xmat"] for r in rows]), wrench)
-        sensor = np.array([r["site_xpos"] for r in rows])
-        quats = np.array([r["sensordata"][self.quat] for r in rows])
-        signals = self.experiment.signals
+        force, moment = wrench_in_world(rows["site_xmat"], rows["ft"])
         keep = [sim.joint_names.index(j) for j in signals.joint_names]
-        q_meas = sim.encoders_of(np.array([r["qpos"] for r in rows]))[:, keep]
         return RecordedSignals(
-            np.array([float(r["time"]) for r in rows]),
+            rows["time"],
             signals.joint_names,
             self.schedule.q_cmd_rad[:n],
-            q_meas,
-            measured_zmp(force, moment, sensor),
+            encoders[:, keep],
+            measured_zmp(force, moment, rows["site_xpos"]),
             tilt_from_quaternions(quats, "sagittal"),
         )
 
 
-def _fallen(qpos: NDArray[np.float64], quat: NDArray[np.float64]) -> bool:
+def _first_fall(qpos: NDArray[np.float64], quat: NDArray[np.float64]) -> int | None:
+    """The first row where the serial path's fall rule fires, or None.
+
+    Screened with numpy, decided with the serial path's own scalar rule (so a tilt within
+    rounding of the limit is judged exactly as there).
+    """
     from zmpkit.pipelines.walk_sim import FALL_TILT_RAD, FALL_TORSO_HEIGHT_M, quaternion_pitch_roll
 
-    pitch, roll = quaternion_pitch_roll(quat)
-    return max(abs(pitch), abs(roll)) > FALL_TILT_RAD or float(qpos[2]) < FALL_TORSO_HEIGHT_M
+    w, x, y, z = quat.T
+    pitch = np.arcsin(np.clip(2.0 * (w * y - z * x), -1.0, 1.0))
+    roll = np.arctan2(2.0 * (w * x + y * z), 1.0 - 2.0 * (x * x + y * y))
+    margin = 1e-9
+    near = np.maximum(np.abs(pitch), np.abs(roll)) > FALL_TILT_RAD - margin
+    near |= qpos[:, 2] < FALL_TORSO_HEIGHT_M + margin
+    for r in np.flatnonzero(near):
+        p, q = quaternion_pitch_roll(quat[r])
+        if max(abs(p), abs(q)) > FALL_TILT_RAD or float(qpos[r, 2]) < FALL_TORSO_HEIGHT_M:
+            return int(r)
+    return None
 
 
 def _run(rows: _Rows, sims: Sequence[Simulation], schedule: OpenLoopSchedule, nthread: int) -> None:
@@ -351,10 +375,14 @@ def _run(rows: _Rows, sims: Sequence[Simulation], schedule: OpenLoopSchedule, nt
         warned = batch.warning[alive, :, 1] != before
         steps = start + np.arange(c0 + 1, c1 + 1)  # the step each recorded row ends
         ft_rows = np.flatnonzero(steps % ft_every == 0)
-        wrenches = {f: [] for f in rows.feet}  # type: dict[str, list]
-        for a, i in enumerate(alive):
-            for f in rows.feet:
-                wrenches[f].append(sims[i].ft_true_of(f, out["sensordata"][a, ft_rows]))
+        wrenches = np.stack(
+            [
+                np.stack(
+                    [sims[i].ft_true_of(f, out["sensordata"][a, ft_rows]) for f in rows.feet], 1
+                )
+                for a, i in enumerate(alive)
+            ]
+        )
         measured = _ft_samples(rows, sims, alive, wrenches)
         for a, i in enumerate(alive):
             other = np.delete(warned[a], _BADQACC).any()
@@ -366,59 +394,27 @@ def _run(rows: _Rows, sims: Sequence[Simulation], schedule: OpenLoopSchedule, nt
             speed = out["qvel"][a, ft_rows]
             fast = ft_rows[~np.all(np.abs(speed) <= DIVERGED_SPEED_RAD_S, axis=1)]
             limit = min(bad[0] if len(bad) else len(steps), fast[0] if len(fast) else len(steps))
-            _read_chunk(rows, i, a, out, steps, ft_rows, measured, limit)
+            mine = {k: v[a] for k, v in out.items() if k != _TIME} | {"time": out[_TIME][a]}
+            rows.read_chunk(i, mine, steps, ft_rows, measured[a], limit)
             flagged = warned[a, _BADQACC] and limit == len(steps)
             if (limit < len(steps) or flagged) and not rows.done[i]:
                 rows.diverged[i] = rows.done[i] = True
 
 
 def _ft_samples(
-    rows: _Rows, sims: Sequence[Simulation], alive: list[int], wrenches: dict[str, list]
-) -> dict[str, NDArray[np.float64]]:
-    """The F-T readings at the chunk's sample steps, (alive, samples, 6) per foot."""
-    out = {}
-    for f in rows.feet:
-        true = np.array(wrenches[f])
-        noisy = [a for a, i in enumerate(alive) if rows.sensors[i]]
-        if noisy:
-            with np.errstate(invalid="ignore", over="ignore"):
-                sampled = sample_series([sims[alive[a]].ft_channel(f) for a in noisy], true[noisy])
-            true = true.copy()
-            true[noisy] = sampled
-        out[f] = true
+    rows: _Rows, sims: Sequence[Simulation], alive: list[int], wrenches: NDArray[np.float64]
+) -> NDArray[np.float64]:
+    """The F-T readings at the chunk's sample steps, (alive, samples, feet, 6).
+
+    Args:
+        wrenches: the true wrenches there, same shape.
+    """
+    noisy = [a for a, i in enumerate(alive) if rows.sensors[i]]
+    if not noisy:
+        return wrenches
+    out = wrenches.copy()
+    for k, f in enumerate(rows.feet):
+        channels = [sims[alive[a]].ft_channel(f) for a in noisy]
+        with np.errstate(invalid="ignore", over="ignore"):
+            out[noisy, :, k] = sample_series(channels, wrenches[noisy, :, k])
     return out
-
-
-def _read_chunk(
-    rows: _Rows,
-    i: int,
-    a: int,
-    out: dict,
-    steps: NDArray[np.int64],
-    ft_rows: NDArray[np.int64],
-    measured: dict[str, NDArray[np.float64]],
-    limit: int,
-) -> None:
-    """Append candidate ``i``'s rows (batch index ``a``) of the chunk's first ``limit`` steps."""
-    wanted = np.flatnonzero(np.isin(steps[:limit], rows.schedule.record_steps))
-    ft = rows.ft_now[i]
-    next_sample = 0
-    for r in wanted:
-        while next_sample < len(ft_rows) and ft_rows[next_sample] <= r:
-            for f in rows.feet:
-                ft[f] = measured[f][a, next_sample]
-            next_sample += 1
-        row = {
-            "qpos": out["qpos"][a, r],
-            "sensordata": out["sensordata"][a, r],
-            "time": out[_TIME][a, r, 0],
-            "site_xpos": out["site_xpos"][a, r, rows.ft_sites],
-            "site_xmat": out["site_xmat"][a, r, rows.ft_sites],
-        }
-        rows._add_row(i, row, ft)
-        if rows.done[i]:
-            return
-    while next_sample < len(ft_rows) and ft_rows[next_sample] < limit:
-        for f in rows.feet:
-            ft[f] = measured[f][a, next_sample]
-        next_sample += 1
