@@ -11,12 +11,17 @@ parameter vectors (PID gain scale, gear stiffness) evaluated on it, i.e. ``N`` w
 ``S`` s. Measured (best of ``--repeats``), every effect native MuJoCo (dcmotor actuators,
 tendon gears):
 
-1. ``serial``: every rollout in this process;
-2. ``local pool``: :class:`~zmpkit.identify.simfit.backends.LocalPoolEvaluator` with
-   ``--workers`` processes (started before timing; their start-up is reported apart).
+1. ``serial`` (the baseline): every rollout in this process, Python per physics step;
+2. ``pool``: :class:`~zmpkit.identify.simfit.backends.LocalPoolEvaluator` with
+   ``--workers`` processes (started before timing; their start-up is reported apart);
+3. ``local batch``: :class:`~zmpkit.identify.simfit.batch_backend.BatchEvaluator`, the
+   default backend: all candidates in one MuJoCo thread-pool batch on ``--workers`` threads.
 
+Each row also gives the process's CPU time per simulated physics step (the pool's workers
+are not counted in this process, so its row shows none). The batch's CPU per step times the
+steps of a generation, divided by the cores, is the floor of any CPU path for this model.
 Issue 7's target: a generation of 12 × 10 s walks in <= 1 s. Speed is reported, never
-asserted. An MJX batched path (GPU) is not implemented (see the report of issue 7).
+asserted. The GPU path (MuJoCo Warp) is benchmarked by ``bench_warp_batch.py``.
 """
 
 from __future__ import annotations
@@ -31,11 +36,13 @@ import numpy as np
 
 from harness import base_parser, environment, print_table, write_json
 from zmpkit.identify.simfit.backends import LocalPoolEvaluator, SerialEvaluator
+from zmpkit.identify.simfit.batch_backend import BatchEvaluator
 from zmpkit.identify.simfit.experiments import read_experiments
 from zmpkit.identify.simfit.parameters import default_parameters
 from zmpkit.identify.simfit.problem import FitProblem
 from zmpkit.identify.simfit.truth_doc import base_truth_path, load_truth_doc
 from zmpkit.pipelines.walk import WalkConfig, run_walk
+from zmpkit.robots.nao import make_nao
 
 __all__ = ["main"]
 
@@ -54,40 +61,51 @@ def candidates(n: int) -> list[list[float]]:
     return [[float(rng.uniform(0.5, 0.9)), float(rng.uniform(800, 2000))] for _ in range(n)]
 
 
-def best_generation(evaluator: Any, batch: list[list[float]], repeats: int) -> float:
-    """Best wall time of one ``evaluator.costs(batch)`` [s]."""
-    best = float("inf")
+def best_generation(evaluator: Any, batch: list[list[float]], repeats: int) -> tuple[float, float]:
+    """Best wall time of one ``evaluator.costs(batch)``, and its CPU time in this process [s]."""
+    best, cpu = float("inf"), float("inf")
     for _ in range(repeats):
-        start = time.perf_counter()
+        start, start_cpu = time.perf_counter(), time.process_time()
         evaluator.costs(batch)
-        best = min(best, time.perf_counter() - start)
-    return best
+        wall = time.perf_counter() - start
+        if wall < best:
+            best, cpu = wall, time.process_time() - start_cpu
+    return best, cpu
 
 
 def measure(n: int, duration_s: float, workers: int, repeats: int) -> dict[str, Any]:
-    """Walls of a generation, serial and on the pool, and the pool's start-up [s]."""
+    """Walls of a generation, serial, on the pool and in a batch, and the pool's start-up."""
     with tempfile.TemporaryDirectory() as folder:
         problem = make_problem(Path(folder) / "walk", duration_s)
         batch = candidates(n)
+        timings = {}
         serial = SerialEvaluator(problem)
         serial.costs(batch[:1])  # plans the walk's trajectory once (cached), as a worker does
-        serial_s = best_generation(serial, batch, repeats)
+        timings["serial"] = best_generation(serial, batch, repeats)
         start = time.perf_counter()
         pool = LocalPoolEvaluator(problem, workers)
         pool.costs(batch[:workers])  # start the workers, plan the walk in each
         startup_s = time.perf_counter() - start
         try:
-            pool_s = best_generation(pool, batch, repeats)
+            timings[f"pool ({workers} processes)"] = best_generation(pool, batch, repeats)
         finally:
             pool.close()
-    simulated = problem.experiments[0].signals.time_s[-1]
+        local = BatchEvaluator(problem, workers)
+        local.costs(batch[:1])  # plans the walk's servo schedule once (cached)
+        timings[f"local batch ({workers} threads)"] = best_generation(local, batch, repeats)
+    signals = problem.experiments[0].signals
+    simulated = float(signals.time_s[-1])
+    steps = n * simulated / make_nao("M,G,S").dt
+    base = timings["serial"][0]
     rows = [
-        {"backend": "serial", "generation_s": serial_s, "rollouts_per_s": n / serial_s},
         {
-            "backend": f"local pool ({workers})",
-            "generation_s": pool_s,
-            "rollouts_per_s": n / pool_s,
-        },
+            "backend": name,
+            "generation_s": wall,
+            "rollouts_per_s": n / wall,
+            "speedup": base / wall,
+            "cpu_us_per_step": None if name.startswith("pool") else cpu / steps * 1e6,
+        }
+        for name, (wall, cpu) in timings.items()
     ]
     return {"rows": rows, "pool_startup_s": startup_s, "simulated_s_per_rollout": simulated}
 
@@ -95,19 +113,25 @@ def measure(n: int, duration_s: float, workers: int, repeats: int) -> dict[str, 
 def show(result: dict[str, Any], n: int, duration_s: float) -> None:
     """Print the rows as a table (rich if available)."""
     cells = [
-        (r["backend"], f"{r['generation_s']:.2f}", f"{r['rollouts_per_s']:.2f}")
+        (
+            r["backend"],
+            f"{r['generation_s']:.2f}",
+            f"{r['rollouts_per_s']:.2f}",
+            f"{r['speedup']:.2f}x",
+            "-" if r["cpu_us_per_step"] is None else f"{r['cpu_us_per_step']:.1f}",
+        )
         for r in result["rows"]
     ]
     title = (
         f"simulator fit: generation of {n} x {duration_s:g} s NAO walks "
-        f"({result['simulated_s_per_rollout']:.1f} s simulated each; "
+        f"({result['simulated_s_per_rollout']:.1f} s simulated each at 1 ms; "
         f"pool start-up {result['pool_startup_s']:.1f} s)"
     )
     print_table(
         title,
-        ("backend", "generation (s)", "rollouts / s"),
+        ("backend", "generation (s)", "rollouts / s", "vs serial", "CPU µs / step"),
         cells,
-        justify=("left", "right", "right"),
+        justify=("left", "right", "right", "right", "right"),
     )
 
 

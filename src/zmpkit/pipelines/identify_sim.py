@@ -4,7 +4,8 @@ Paper B §II: "The simulation is optimized by Evolutionary Algorithms to fit a p
 robot." The fitted parameters of the chosen effects (M, I, G, F, S, and C for mass/CoM)
 are found by CMA-ES (:mod:`zmpkit.identify.simfit`) from recorded experiments — NAO walk
 folders or TEO step datasets, using only the commanded angles, encoders, F-T ZMP and IMU
-— with rollouts on a local process pool or a Ray cluster, checkpointed every generation.
+— with rollouts in MuJoCo thread-pool batches (default), on a process pool or a Ray cluster,
+checkpointed every generation.
 
 Writes into the output folder: the checkpoint and ``history.json``; ``fitted_truth.yaml``
 (loadable as ``--truth``), ``fitted_parameters.yaml``, ``cost_history.csv``,
@@ -77,9 +78,10 @@ class IdentifySimConfig:
             :data:`QUICK_PARAMETERS` where they belong to the effects).
         truth: base truth file holding every unfitted value; None = the shipped one.
         held_out: experiment folders not fitted, only checked (``--held-out``).
-        backend: ``"local"`` (process pool), ``"serial"`` or ``"ray"``.
+        backend: ``"local"`` (thread-pool batches), ``"pool"`` (process pool), ``"serial"``
+            or ``"ray"``.
         address: Ray cluster address (``--address``), only with ``backend="ray"``.
-        workers: processes of the local pool.
+        workers: threads of the local batches, or processes of the pool.
         resume: a folder of an interrupted fit to continue (``--resume``).
         generations: CMA-ES generations; None = 40, or 30 with ``quick``.
         popsize: candidates per generation; None = CMA-ES's 4 + 3 ln n.

@@ -82,7 +82,11 @@ class OpenLoopSchedule:
 
 
 def simulate_batch(
-    experiment: Experiment, truths: Sequence[object], effects: str, nthread: int = 2
+    experiment: Experiment,
+    truths: Sequence[object],
+    effects: str,
+    nthread: int = 2,
+    warp_device: str | None = None,
 ) -> list[RecordedSignals]:
     """The signals each candidate's simulator records in ``experiment``.
 
@@ -91,10 +95,14 @@ def simulate_batch(
         truths: one truth object per candidate (``NaoTruth`` or ``TeoTruth``).
         effects: effect letters switched on, e.g. ``"M,G"``.
         nthread: threads of the batch (the cores to use).
+        warp_device: roll out on MuJoCo Warp on this device (``"cuda:0"``; ``"cpu"`` for
+            testing; ``""`` for Warp's default) instead of the CPU batch: float32 physics,
+            so close to the serial path but not bit for bit, and only models MuJoCo Warp
+            supports (the M effect on).
 
     Returns:
         Per candidate, what :func:`~zmpkit.identify.simfit.rollout.simulate_experiment`
-        returns for it.
+        returns for it (with ``warp_device``, its float32 approximation).
     """
     if not truths:
         return []
@@ -103,7 +111,10 @@ def simulate_batch(
     out: list[RecordedSignals | None] = [None] * len(sims)
     for group in _layout_groups(sims):
         rows = _Rows(experiment, [sims[i] for i in group], schedule)
-        _run(rows, [sims[i] for i in group], schedule, nthread)
+        if warp_device is None:
+            _run(rows, [sims[i] for i in group], schedule, nthread)
+        else:
+            _run_warp(rows, [sims[i] for i in group], schedule, warp_device)
         for i, j in enumerate(group):
             if rows.rerun[i]:
                 out[j] = simulate_experiment(experiment, truths[j], effects)
@@ -372,7 +383,7 @@ def _run(rows: _Rows, sims: Sequence[Simulation], schedule: OpenLoopSchedule, nt
         c1 = min(nstep, c0 + chunk)
         before = batch.warning[alive, :, 1].copy()
         out = batch.rollout(c1 - c0, controls[alive, c0:c1], record=records, ids=alive)
-        warned = batch.warning[alive, :, 1] != before
+        out["time"] = out.pop(_TIME)
         steps = start + np.arange(c0 + 1, c1 + 1)  # the step each recorded row ends
         ft_rows = np.flatnonzero(steps % ft_every == 0)
         wrenches = np.stack(
@@ -384,21 +395,102 @@ def _run(rows: _Rows, sims: Sequence[Simulation], schedule: OpenLoopSchedule, nt
             ]
         )
         measured = _ft_samples(rows, sims, alive, wrenches)
-        for a, i in enumerate(alive):
-            other = np.delete(warned[a], _BADQACC).any()
-            if other:
-                rows.rerun[i] = rows.done[i] = True
-                continue
-            expected = t0[i] + (steps - start) * dt
-            bad = np.flatnonzero(np.abs(out[_TIME][a, :, 0] - expected) > 0.5 * dt)
-            speed = out["qvel"][a, ft_rows]
-            fast = ft_rows[~np.all(np.abs(speed) <= DIVERGED_SPEED_RAD_S, axis=1)]
-            limit = min(bad[0] if len(bad) else len(steps), fast[0] if len(fast) else len(steps))
-            mine = {k: v[a] for k, v in out.items() if k != _TIME} | {"time": out[_TIME][a]}
-            rows.read_chunk(i, mine, steps, ft_rows, measured[a], limit)
-            flagged = warned[a, _BADQACC] and limit == len(steps)
-            if (limit < len(steps) or flagged) and not rows.done[i]:
-                rows.diverged[i] = rows.done[i] = True
+        warned = batch.warning[alive, :, 1] != before
+        _read_candidates(rows, alive, out, steps, ft_rows, measured, warned, t0, dt)
+
+
+def _read_candidates(
+    rows: _Rows,
+    alive: list[int],
+    out: dict,
+    steps: NDArray[np.int64],
+    ft_rows: NDArray[np.int64],
+    measured: NDArray[np.float64],
+    warned: NDArray[np.bool_],
+    t0: NDArray[np.float64],
+    dt: float,
+    valid: NDArray[np.int64] | None = None,
+) -> None:
+    """Judge each alive candidate's rows of a chunk (divergence) and keep the wanted ones.
+
+    Args:
+        out: the chunk's records, ``(alive, steps, ...)`` per item.
+        warned: per alive candidate, which MuJoCo warnings rose in the chunk.
+        t0: each candidate's time at the start [s].
+        valid: rows each candidate's engine vouches for (MuJoCo Warp), or None.
+    """
+    start = rows.schedule.start_step
+    for a, i in enumerate(alive):
+        if np.delete(warned[a], _BADQACC).any():
+            rows.rerun[i] = rows.done[i] = True
+            continue
+        expected = t0[i] + (steps - start) * dt
+        bad = np.flatnonzero(np.abs(out["time"][a, :, 0] - expected) > 0.5 * dt)
+        speed = out["qvel"][a, ft_rows]
+        fast = ft_rows[~np.all(np.abs(speed) <= DIVERGED_SPEED_RAD_S, axis=1)]
+        limit = min(bad[0] if len(bad) else len(steps), fast[0] if len(fast) else len(steps))
+        if valid is not None:
+            limit = min(limit, int(valid[a]))
+        rows.read_chunk(i, {k: v[a] for k, v in out.items()}, steps, ft_rows, measured[a], limit)
+        flagged = warned[a, _BADQACC] and limit == len(steps)
+        if (limit < len(steps) or flagged) and not rows.done[i]:
+            rows.diverged[i] = rows.done[i] = True
+
+
+def _run_warp(
+    rows: _Rows, sims: Sequence[Simulation], schedule: OpenLoopSchedule, device: str
+) -> None:
+    """Roll every candidate out on MuJoCo Warp at once, filling ``rows``."""
+    from zmpkit.errors import ParameterError
+    from zmpkit.sim.warp_batch import rollout_warp
+
+    n, model0 = len(sims), sims[0].model
+    start = schedule.start_step
+    for i in range(n):
+        if schedule.record_steps[0] == start:
+            rows.read_posed(i)
+    controls = sims[0].controls_of(schedule.setpoints_rad)
+    if any(not np.array_equal(s.controls_of(schedule.setpoints_rad), controls) for s in sims):
+        raise ParameterError("the Warp backend needs the same actuator gears in every candidate")
+    full = mujoco.mjtState.mjSTATE_FULLPHYSICS
+    initial = np.empty((n, mujoco.mj_stateSize(model0, full)))
+    for i, sim in enumerate(sims):
+        mujoco.mj_getState(sim.model, sim.data, initial[i], full)
+    result = rollout_warp([s.model for s in sims], initial, controls, 1, device or None)
+    nq, nv = model0.nq, model0.nv
+    nstep = len(controls)
+    steps = start + np.arange(1, nstep + 1)
+    ft_rows = np.flatnonzero(steps % sims[0].ft_sample_every == 0)
+    wanted = np.flatnonzero(np.isin(steps, schedule.record_steps))
+    qpos = result.state[:, :, 1 : 1 + nq]
+    out = {
+        "time": result.state[:, :, :1],
+        "qpos": qpos,
+        "qvel": result.state[:, :, 1 + nq : 1 + nq + nv],
+        "sensordata": result.sensordata,
+        "site_xpos": np.zeros((n, nstep, model0.nsite, 3)),
+        "site_xmat": np.zeros((n, nstep, model0.nsite, 9)),
+    }
+    for i, sim in enumerate(sims):  # derived fields lag one step, as after mj_step
+        before = np.concatenate([initial[i, None, 1 : 1 + nq], qpos[i, :-1]])
+        data = mujoco.MjData(sim.model)
+        for r in wanted:
+            data.qpos[:] = before[r]
+            mujoco.mj_kinematics(sim.model, data)
+            out["site_xpos"][i, r], out["site_xmat"][i, r] = data.site_xpos, data.site_xmat
+    wrenches = np.stack(
+        [
+            np.stack([s.ft_true_of(f, result.sensordata[i, ft_rows]) for f in rows.feet], 1)
+            for i, s in enumerate(sims)
+        ]
+    )
+    alive = list(range(n))
+    measured = _ft_samples(rows, sims, alive, wrenches)
+    warned = np.zeros((n, int(mujoco.mjtWarning.mjNWARNING)), dtype=bool)
+    t0 = initial[:, 0]
+    _read_candidates(
+        rows, alive, out, steps, ft_rows, measured, warned, t0, sims[0].dt, result.valid_rows
+    )
 
 
 def _ft_samples(

@@ -1,0 +1,152 @@
+"""Benchmark of batched rollouts: MuJoCo Warp (:func:`rollout_warp`) against CPU MuJoCo.
+
+Usage::
+
+    python benchmarks/bench_warp_batch.py [--device cpu|cuda:0] [--nbatch N] [--steps S]
+                                          [--record-every K] [--repeats R] [--json PATH]
+
+A batch is ``--nbatch`` NAO models (M, G and S on: dcmotor actuators, tendon gears), one
+per candidate of a CMA-ES generation (PID gain scale and gear stiffness spread over their
+bounds), rolled out ``--steps`` steps of 1 ms from standing under a 2 Hz setpoint wave.
+Measured in the same run, best of ``--repeats``:
+
+1. ``mujoco.rollout`` on ``os.cpu_count()`` threads (the CPU baseline);
+2. :func:`~zmpkit.sim.warp_batch.rollout_warp` on ``--device``; its first call (kernel
+   compilation or cache load, and graph capture on CUDA) is reported apart.
+
+Both record state and sensordata after every step by default (``mujoco.rollout`` always
+does; ``--record-every`` thins Warp's records only). Throughput is in physics steps per
+second summed over the batch. Ratios are reported,
+never asserted. Without ``mujoco_warp`` installed it says so and exits 0.
+"""
+
+from __future__ import annotations
+
+import importlib.util
+import os
+import time
+from typing import Any
+
+import mujoco
+import numpy as np
+from mujoco import rollout
+
+from harness import base_parser, environment, print_table, write_json
+from zmpkit.identify.simfit.parameters import default_parameters
+from zmpkit.identify.simfit.truth_doc import (
+    base_truth_path,
+    load_robot_truth,
+    load_truth_doc,
+    truth_doc_with,
+)
+from zmpkit.robots.nao import make_nao
+
+__all__ = ["main"]
+
+EFFECTS = "M,G,S"
+FULL = mujoco.mjtState.mjSTATE_FULLPHYSICS
+
+
+def batch(nbatch: int, nstep: int) -> tuple[list[mujoco.MjModel], np.ndarray, np.ndarray]:
+    """``nbatch`` candidate models, the standing state and ``nstep`` steps of setpoints."""
+    params = default_parameters("nao", "M,G", ("pid_gain_scale", "gear_stiffness"))
+    doc = load_truth_doc(base_truth_path("nao", None))
+    rng = np.random.default_rng(0)
+    models = []
+    for _ in range(nbatch):
+        values = [p.from_unit(float(rng.uniform(0.1, 0.9))) for p in params]
+        truth = load_robot_truth("nao", truth_doc_with(doc, params, values))
+        models.append(make_nao(EFFECTS, truth, seed=0).model)
+    sim = make_nao(EFFECTS, None, seed=0)
+    state = np.empty(mujoco.mj_stateSize(sim.model, FULL))
+    mujoco.mj_getState(sim.model, sim.data, state, FULL)
+    t = (np.arange(nstep) + 1) * sim.dt
+    control = 0.05 * np.outer(np.sin(2 * np.pi * 2.0 * t), sim.model.actuator_gear[:, 0])
+    return models, state, control
+
+
+def best_wall(run: Any, repeats: int) -> float:
+    """Best wall time of ``run()`` over ``repeats`` calls [s]."""
+    best = float("inf")
+    for _ in range(repeats):
+        start = time.perf_counter()
+        run()
+        best = min(best, time.perf_counter() - start)
+    return best
+
+
+def measure(device: str, nbatch: int, nstep: int, every: int, repeats: int) -> dict[str, Any]:
+    """Walls of the CPU baseline and of MuJoCo Warp, and Warp's first call [s]."""
+    from zmpkit.sim.warp_batch import rollout_warp
+
+    models, state, control = batch(nbatch, nstep)
+    nthread = os.cpu_count() or 1
+    datas = [mujoco.MjData(models[0]) for _ in range(nthread)]
+    states, controls = np.tile(state, (nbatch, 1)), np.tile(control, (nbatch, 1, 1))
+    with rollout.Rollout(nthread=nthread) as pool:
+        cpu_s = best_wall(lambda: pool.rollout(models, datas, states, controls), repeats)
+    start = time.perf_counter()
+    out = rollout_warp(models, state, control, every, device)
+    first_s = time.perf_counter() - start
+    warp_s = best_wall(lambda: rollout_warp(models, state, control, every, device), repeats)
+    steps = nbatch * (nstep // every) * every
+    return {
+        "device": out.device,
+        "rows": [
+            {"backend": f"mujoco.rollout ({nthread} threads)", "wall_s": cpu_s, "steps": steps},
+            {"backend": f"rollout_warp ({out.device})", "wall_s": warp_s, "steps": steps},
+        ],
+        "warp_first_call_s": first_s,
+        "warp_diverged": int(out.diverged.sum()),
+    }
+
+
+def show(result: dict[str, Any], nbatch: int, nstep: int) -> None:
+    """Print the rows as a table (rich if available)."""
+    base = result["rows"][0]["wall_s"]
+    cells = [
+        (
+            r["backend"],
+            f"{r['wall_s']:.3f}",
+            f"{r['steps'] / r['wall_s']:,.0f}",
+            f"{base / r['wall_s']:.2f}x",
+        )
+        for r in result["rows"]
+    ]
+    title = (
+        f"batched rollouts: {nbatch} NAO ({EFFECTS}) candidates x {nstep} steps of 1 ms; "
+        f"Warp first call {result['warp_first_call_s']:.1f} s, "
+        f"{result['warp_diverged']} diverged"
+    )
+    print_table(
+        title,
+        ("backend", "wall (s)", "steps / s", "vs CPU"),
+        cells,
+        justify=("left", "right", "right", "right"),
+    )
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Run the benchmark, print a table, write JSON if asked; returns the exit status."""
+    parser = base_parser(__doc__.splitlines()[0])
+    parser.add_argument("--device", default=None, help="Warp device; default: Warp's default")
+    parser.add_argument("--nbatch", type=int, default=16)
+    parser.add_argument("--steps", type=int, default=1000)
+    parser.add_argument("--record-every", type=int, default=1)
+    parser.add_argument("--repeats", type=int, default=2)
+    args = parser.parse_args(argv)
+    if importlib.util.find_spec("mujoco_warp") is None:
+        print("mujoco_warp is not installed: nothing to measure (pip install 'zmpkit[gpu]')")
+        return 0
+    result = measure(args.device, args.nbatch, args.steps, args.record_every, args.repeats)
+    show(result, args.nbatch, args.steps)
+    if args.json is not None:
+        info = {"mujoco": mujoco.__version__, **environment()}
+        write_json(
+            args.json, {"args": vars(args) | {"json": str(args.json)}, "env": info, **result}
+        )
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

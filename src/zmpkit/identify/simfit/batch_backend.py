@@ -1,0 +1,64 @@
+"""The default backend on one machine: a generation's rollouts as MuJoCo thread-pool batches.
+
+Every experiment the fit takes is open loop (:mod:`~zmpkit.identify.simfit.batched`), so a
+generation runs as one :class:`mujoco.batch.Batch` per experiment, all candidates at once on
+``threads`` threads of this process: no worker processes to start or feed, no Python per
+physics step. The costs are those of the serial backend, bit for bit (tested).
+
+With ``warp_device`` the batch runs on MuJoCo Warp instead (``pip install 'zmpkit[gpu]'``;
+backend ``"warp"``): one kernel launch per physics step for all candidates on a GPU, float32
+physics, so the costs approximate the serial backend's (on the test walk within 0.1 % for
+candidates that walk, and the same fall frame for one that falls).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import numpy as np
+
+from zmpkit.errors import ParameterError
+from zmpkit.identify.simfit.batched import simulate_batch
+from zmpkit.identify.simfit.cost import CostTerms, experiment_cost
+from zmpkit.identify.simfit.problem import FitProblem
+
+__all__ = ["BatchEvaluator"]
+
+
+class BatchEvaluator:
+    """Evaluates candidates in MuJoCo thread-pool batches, one per experiment.
+
+    Args:
+        problem: the fit problem.
+        threads: threads of each batch (the cores to use).
+        warp_device: run the batches on MuJoCo Warp on this device (``"cuda:0"``, ``"cpu"``
+            for testing; ``""`` for Warp's default device) instead of MuJoCo's thread pool.
+    """
+
+    def __init__(
+        self, problem: FitProblem, threads: int = 2, warp_device: str | None = None
+    ) -> None:
+        if isinstance(threads, bool) or not isinstance(threads, int) or threads < 1:
+            raise ParameterError(f"workers must be an integer >= 1, got {threads!r}")
+        self.problem = problem
+        self.threads = threads
+        self.warp_device = warp_device
+
+    def costs(self, candidates: Sequence[Sequence[float]]) -> list[list[CostTerms]]:
+        """Cost terms per candidate and experiment."""
+        problem = self.problem
+        truths = [problem.truth(np.asarray(c, dtype=float).tolist()) for c in candidates]
+        per_experiment = [
+            simulate_batch(experiment, truths, problem.sim_effects, self.threads, self.warp_device)
+            for experiment in problem.experiments
+        ]
+        return [
+            [
+                experiment_cost(experiment.signals, simulated[c])
+                for experiment, simulated in zip(problem.experiments, per_experiment, strict=True)
+            ]
+            for c in range(len(candidates))
+        ]
+
+    def close(self) -> None:
+        """Nothing to release."""

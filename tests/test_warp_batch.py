@@ -1,0 +1,219 @@
+"""MuJoCo Warp batched rollouts against CPU MuJoCo (``mujoco.rollout``), on Warp's CPU device.
+
+Skipped where ``mujoco_warp`` is not installed (``pip install 'zmpkit[gpu]'``).
+
+Tolerances come from measurements on the virtual NAO with M, G and S on (dcmotor actuators
+and tendon gears), 300 steps of 1 ms under a 2 Hz setpoint wave: MuJoCo Warp computes in
+float32 and its largest deviations from float64 CPU MuJoCo were 4.1e-7 rad in qpos,
+1.4e-4 rad/s in qvel, 1.3e-6 in act (of 0.2) and 8e-5 of each sensor's range (F-T force
+8.3e-3 N of 127 N). The tolerances sit 10-25 times above those; the two parameter sets
+move the robot 1.7e-2 rad apart, over 1000 times the qpos tolerance.
+"""
+
+from __future__ import annotations
+
+import copy
+import sys
+
+import mujoco
+import numpy as np
+import pytest
+from mujoco import rollout
+
+pytest.importorskip("mujoco_warp")
+
+from zmpkit.errors import ParameterError
+from zmpkit.robots.nao import make_nao
+from zmpkit.sim.warp_batch import rollout_warp
+
+FULL = mujoco.mjtState.mjSTATE_FULLPHYSICS
+NSTEP = 300
+RECORD_EVERY = 3
+QPOS_TOL = 1e-5  # [rad or m], 25 x the measured 4.1e-7
+QVEL_TOL = 2e-3  # [rad/s or m/s], 14 x the measured 1.4e-4
+ACT_TOL = 2e-5  # [rad at the motor], 15 x the measured 1.3e-6
+SENSOR_REL_TOL = 1e-3  # of each sensor's largest |reading|, 12 x the measured 8e-5
+
+
+@pytest.fixture(scope="module")
+def nao() -> tuple[mujoco.MjModel, np.ndarray, np.ndarray]:
+    """NAO (M,G,S) model, its standing state, and 300 steps of a 2 Hz setpoint wave.
+
+    The robot stands in its zero pose (legs straight), whose setpoints are 0; every
+    motor's setpoint swings ±0.05 rad at the joint (times the gear ratio at the motor).
+    """
+    sim = make_nao("M,G,S", None, seed=0)
+    model = sim.model
+    state = np.empty(mujoco.mj_stateSize(model, FULL))
+    mujoco.mj_getState(model, sim.data, state, FULL)
+    t = (np.arange(NSTEP) + 1) * model.opt.timestep
+    wave = 0.05 * np.outer(np.sin(2 * np.pi * 2.0 * t), model.actuator_gear[:, 0])
+    return model, state, wave
+
+
+def variant(model: mujoco.MjModel, **scale: float) -> mujoco.MjModel:
+    """A copy of ``model`` with the named fields multiplied by ``scale``."""
+    other = copy.deepcopy(model)
+    for name, factor in scale.items():
+        getattr(other, name)[:] *= factor
+    return other
+
+
+def cpu_rows(model: mujoco.MjModel, state: np.ndarray, control: np.ndarray):
+    """CPU MuJoCo's state and sensordata after every RECORD_EVERY-th step."""
+    states, sensors = rollout.rollout(model, mujoco.MjData(model), state, control)
+    rows = slice(RECORD_EVERY - 1, None, RECORD_EVERY)
+    return states[0, rows], sensors[0, rows]
+
+
+def assert_close_to_cpu(model, warp_state, warp_sensors, cpu_state, cpu_sensors) -> None:
+    nq, nv = model.nq, model.nv
+    blocks = {"qpos": (1, 1 + nq, QPOS_TOL), "qvel": (1 + nq, 1 + nq + nv, QVEL_TOL)}
+    blocks["act"] = (1 + nq + nv, 1 + nq + nv + model.na, ACT_TOL)
+    for name, (lo, hi, tol) in blocks.items():
+        error = np.abs(warp_state[:, lo:hi] - cpu_state[:, lo:hi]).max()
+        assert error < tol, f"{name} differs by {error:.3g} > {tol}"
+    np.testing.assert_allclose(warp_state[:, 0], cpu_state[:, 0], rtol=0, atol=1e-12)
+    for i in range(model.nsensor):
+        adr, dim = model.sensor_adr[i], model.sensor_dim[i]
+        cpu = cpu_sensors[:, adr : adr + dim]
+        error = np.abs(warp_sensors[:, adr : adr + dim] - cpu).max()
+        assert error < SENSOR_REL_TOL * np.abs(cpu).max(), model.sensor(i).name
+
+
+@pytest.mark.slow
+def test_batch_matches_cpu_mujoco_per_world(nao) -> None:
+    model, state, control = nao
+    other = variant(model, tendon_stiffness=0.5, actuator_gainprm=1.5)
+    out = rollout_warp([model, other], state, control, RECORD_EVERY, device="cpu")
+    nrec = NSTEP // RECORD_EVERY
+    assert out.state.shape == (2, nrec, state.size)
+    assert out.sensordata.shape == (2, nrec, model.nsensordata)
+    assert out.batched_fields == ("actuator_gainprm", "tendon_stiffness")
+    np.testing.assert_array_equal(out.valid_rows, [nrec, nrec])
+    for world, item in enumerate((model, other)):
+        assert_close_to_cpu(
+            item, out.state[world], out.sensordata[world], *cpu_rows(item, state, control)
+        )
+    apart = np.abs(out.state[0, :, 1 : 1 + model.nq] - out.state[1, :, 1 : 1 + model.nq]).max()
+    assert apart > 1000 * QPOS_TOL
+
+
+@pytest.mark.slow
+def test_diverged_world_is_flagged_not_reset_and_alone(nao) -> None:
+    model, state, wave = nao
+    hold = np.zeros_like(wave)  # the zero pose's setpoints: stand still
+    unstable = variant(model, tendon_stiffness=-1000.0)  # gear springs pushing outwards
+    out = rollout_warp([model, unstable], state, hold, RECORD_EVERY, device="cpu")
+    nrec = NSTEP // RECORD_EVERY
+    np.testing.assert_array_equal(out.diverged, [False, True])
+    assert out.valid_rows[0] == nrec
+    finite = np.isfinite(out.state[1]).all(axis=1)
+    first_nan = int(np.argmin(finite))
+    assert out.valid_rows[1] <= first_nan < nrec
+    assert not finite[first_nan:].any()  # NaN stays NaN: no reset to qpos0
+    assert_close_to_cpu(model, out.state[0], out.sensordata[0], *cpu_rows(model, state, hold))
+
+
+def test_unsupported_model_names_feature_and_cpu_backend(nao) -> None:
+    _, _, control = nao
+    ideal = make_nao("G", None, seed=0)  # without M the joints are driven by `pid` servos
+    state = np.empty(mujoco.mj_stateSize(ideal.model, FULL))
+    mujoco.mj_getState(ideal.model, ideal.data, state, FULL)
+    with pytest.raises(ParameterError, match=r"mjDYN_PID.*CPU backend"):
+        rollout_warp([ideal.model], state, control[:, : ideal.model.nu], device="cpu")
+
+
+@pytest.mark.parametrize(
+    ("edit", "message"),
+    [
+        (
+            lambda s, c: (s[:-1], c),
+            r"initial_state must .* shape \(71,\) or \(\d+, 71\), got shape \(70,\)",
+        ),
+        (lambda s, c: (s, c[:, :-1]), r"control must have shape \(nstep, nu=11\).*\(300, 10\)"),
+        (lambda s, c: (s, c[:0]), r"nstep >= 1"),
+        (lambda s, c: (s, np.where(c == c[0, 0], np.nan, c)), r"control must be finite"),
+    ],
+)
+def test_bad_shapes_are_named(nao, edit, message) -> None:
+    model, state, control = nao
+    bad_state, bad_control = edit(state, control)
+    with pytest.raises(ParameterError, match=message):
+        rollout_warp([model], bad_state, bad_control, device="cpu")
+
+
+@pytest.mark.parametrize("every", [0, NSTEP + 1, 1.5])
+def test_bad_record_every(nao, every) -> None:
+    model, state, control = nao
+    with pytest.raises(ParameterError, match=r"record_every must be an integer in \[1, nstep"):
+        rollout_warp([model], state, control, every, device="cpu")
+
+
+def test_models_differing_in_unbatchable_field(nao) -> None:
+    model, state, control = nao
+    other = copy.deepcopy(model)
+    other.opt.iterations += 1
+    with pytest.raises(ParameterError, match=r"differ in 'opt.iterations'.*per-world fields"):
+        rollout_warp([model, other], state, control, device="cpu")
+
+
+def test_models_differing_in_zero_pattern(nao) -> None:
+    model, state, control = nao
+    other = copy.deepcopy(model)
+    other.tendon_stiffness[0] = 0.0
+    with pytest.raises(ParameterError, match=r"which entries of 'tendon_stiffness' are zero"):
+        rollout_warp([model, other], state, control, device="cpu")
+
+
+def test_models_of_different_mjcf(nao) -> None:
+    model, state, control = nao
+    other = make_nao("M,I,G,F,S", None, seed=0).model
+    with pytest.raises(ParameterError, match=r"models\[1\] differs .* in the size of"):
+        rollout_warp([model, other], state, control, device="cpu")
+
+
+def test_unknown_device(nao) -> None:
+    model, state, control = nao
+    with pytest.raises(ParameterError, match=r"unknown Warp device 'tpu:0'; available: \["):
+        rollout_warp([model], state, control, device="tpu:0")
+
+
+def test_no_models(nao) -> None:
+    _, state, control = nao
+    with pytest.raises(ParameterError, match=r"non-empty sequence of mujoco\.MjModel"):
+        rollout_warp([], state, control)
+
+
+def test_missing_package_says_how_to_install(nao, monkeypatch) -> None:
+    model, state, control = nao
+    monkeypatch.setitem(sys.modules, "mujoco_warp", None)  # makes `import mujoco_warp` fail
+    with pytest.raises(ModuleNotFoundError, match=r"pip install 'zmpkit\[gpu\]'"):
+        rollout_warp([model], state, control)
+
+
+@pytest.mark.slow
+def test_warp_backend_costs_follow_the_cpu_batch(tmp_path) -> None:
+    """The fit's ``"warp"`` backend on a recorded walk: float32 physics, the same verdicts.
+
+    Measured on this walk: the cost totals of walking candidates differ by 4e-4 of their
+    value (the ZMP and spectrum terms; encoders agree exactly after quantisation) and a
+    falling candidate falls at the same frame; the tolerance is 1 % of the total.
+    """
+    from simfit_data import record_walk, small_case
+    from zmpkit.identify.simfit.backends import make_evaluator
+    from zmpkit.identify.simfit.experiments import read_experiments
+    from zmpkit.identify.simfit.problem import FitProblem
+
+    params, doc, truth = small_case()
+    experiments = tuple(read_experiments([record_walk(tmp_path)], "nao"))
+    problem = FitProblem("nao", "M,G,S", params, doc, experiments)
+    candidates = [[p.nominal for p in params], list(truth), [0.36, 310.0]]
+    cpu = make_evaluator(problem, "local").costs(candidates)
+    warp = make_evaluator(problem, "warp").costs(candidates)
+    for (c,), (w,) in zip(cpu, warp, strict=True):
+        assert w.completed == c.completed
+        if c.completed == 1.0:
+            total = c.total(problem.weights)
+            assert abs(w.total(problem.weights) - total) <= 0.01 * total
+    assert cpu[2][0].completed < 1.0  # the third candidate falls, on both
