@@ -73,7 +73,9 @@ def test_hip_yaw_pitch_is_one_motor() -> None:
     q = sim.data.qpos
     left, right = (q[sim.model.joint(n).qposadr[0]] for n in ("LHipYawPitch", "RHipYawPitch"))
     assert left == pytest.approx(-0.2, abs=0.01)
-    assert right == pytest.approx(left, abs=1e-3)
+    # The coupling is a soft joint equality and the robot still rocks from the hip motion at
+    # 0.5 s: R lags L by up to 1.5 mrad with the truth's torso (0.8 mrad with the URDF's).
+    assert right == pytest.approx(left, abs=2e-3)
 
 
 def test_truth_turns_the_voltage_pid_into_joint_gains() -> None:

@@ -7,7 +7,8 @@ as ``--truth`` by the simulator (:func:`zmpkit.robots.nao.load_truth`,
 :func:`zmpkit.robots.teo.load_truth`).
 
 Paths: keys joined by dots, list items in brackets; ``[0,2]`` or ``[*]`` addresses several
-items at once (a shared value), e.g. ``flex[0,1].stiffness[0]`` or ``sensors.ft_offset.right[2]``.
+items at once (a shared value), e.g. ``flex[0,1].stiffness[0]`` or ``sensors.ft_offset.right[2]``
+or ``torso.com_m[0]`` (one coordinate of a vector).
 """
 
 from __future__ import annotations
@@ -59,7 +60,10 @@ def _tokens(path: str) -> list[str | list[int] | None]:
 def _children(node: Any, token: str | list[int] | None, path: str) -> list[Any]:
     if isinstance(token, str):
         if not isinstance(node, Mapping) or token not in node:
-            raise ParameterError(f"truth path {path!r}: no key {token!r}")
+            raise ParameterError(
+                f"truth path {path!r}: no key {token!r}; expected a truth document with the "
+                "layout of the robot's shipped truth file (an older file may lack a section)"
+            )
         return [node[token]]
     if not isinstance(node, list):
         raise ParameterError(f"truth path {path!r}: expected a list before the index")

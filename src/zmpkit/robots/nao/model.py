@@ -4,7 +4,8 @@ Bodies: a floating ``torso`` (the URDF base link) with two 6-DoF legs in NAO's j
 (HipYawPitch, HipRoll, HipPitch, KneePitch, AnklePitch, AnkleRoll), and the head and both
 arms held (welded, each lumped into one body; arms hanging, ShoulderPitch 1.57 rad). The
 masses, CoMs and inertias are the URDF's, 5.305 kg in all. Geoms are capsules and boxes;
-only the soles touch the floor.
+only the soles touch the floor. The truth robot replaces the torso's inertial with the real
+one of its truth file (``torso``, effect C: CAD vs real); the design model keeps the URDF's.
 
 HipYawPitch: NAO has one motor for both hip yaw-pitch joints (the right mimics the left).
 The model keeps both joints and couples them with a joint equality ``R = L``; only the left
@@ -153,9 +154,9 @@ def _sole(foot: ET.Element, side: str, friction: float) -> None:
     add_sole_plate(sole, side, plate, centre_site=f"{side}_sole")
 
 
-def _upper_body(torso: ET.Element) -> None:
+def _upper_body(torso: ET.Element, inertial: geo.Inertial) -> None:
     """Torso inertial and visuals, the IMU site, the welded head and arms."""
-    _inertial(torso, geo.TORSO)
+    _inertial(torso, inertial)
     ET.SubElement(
         torso, "geom", {"type": "box", "pos": "-0.005 0 0.04", "size": "0.04 0.06 0.07", **_VISUAL}
     )
@@ -180,7 +181,9 @@ def _sensors(root: ET.Element) -> None:
     ET.SubElement(sensors, "framequat", {"name": "imu_quat", "objtype": "site", "objname": "imu"})
 
 
-def base_mjcf(timestep_s: float = 0.001, floor_friction: float = 1.0) -> ET.Element:
+def base_mjcf(
+    timestep_s: float = 0.001, floor_friction: float = 1.0, torso: geo.Inertial = geo.TORSO
+) -> ET.Element:
     """The rigid NAO (no effects, no actuators) on a floor, as an MJCF element tree.
 
     The torso starts at its zero-pose height (legs straight, soles on the floor).
@@ -188,6 +191,8 @@ def base_mjcf(timestep_s: float = 0.001, floor_friction: float = 1.0) -> ET.Elem
     Args:
         timestep_s: physics timestep [s].
         floor_friction: sole–floor sliding friction coefficient [-].
+        torso: the torso link's mass [kg], CoM in the torso frame [m] and inertia at the
+            CoM [kg·m²]; the URDF's by default (the design), the real one for the truth.
     """
     mujoco = ET.Element("mujoco", {"model": "nao"})
     ET.SubElement(mujoco, "compiler", {"angle": "radian", "autolimits": "true"})
@@ -203,11 +208,11 @@ def base_mjcf(timestep_s: float = 0.001, floor_friction: float = 1.0) -> ET.Elem
         "geom",
         {"name": "floor", "type": "plane", "size": "10 10 0.1", "rgba": "0.8 0.8 0.8 1"},
     )
-    torso = _body(world, "torso", (0.0, 0.0, ZERO_POSE_TORSO_HEIGHT_M))
-    ET.SubElement(torso, "freejoint", {"name": "root"})
-    _upper_body(torso)
+    base = _body(world, "torso", (0.0, 0.0, ZERO_POSE_TORSO_HEIGHT_M))
+    ET.SubElement(base, "freejoint", {"name": "root"})
+    _upper_body(base, torso)
     for side in NAO_SIDES:
-        _leg(torso, side, floor_friction)
+        _leg(base, side, floor_friction)
     equality = ET.SubElement(mujoco, "equality")
     ET.SubElement(
         equality,

@@ -2,7 +2,8 @@
 
 :func:`nao_robot` gives the :class:`~zmpkit.sim.description.RobotDescription`;
 :func:`make_nao` starts a :class:`~zmpkit.sim.world.Simulation` of it; :func:`nao_ik_mjcf`
-is the rigid kinematic model a controller (the IK) may use — the design, not the truth.
+is the rigid kinematic model a controller (the IK) may use — the design, not the truth: it
+has the URDF's torso mass and CoM, while the truth robot has its truth file's (effect C).
 
 Joints whose motor effect is off are driven by the stiff ideal servo and keep the rotor's
 reflected inertia ``J N²`` as joint ``armature``: the inertia is a property of the robot, not
@@ -58,7 +59,7 @@ def _drive(root: ET.Element, joint: str, on: EffectSet, params: NaoTruth) -> Non
 
 
 def nao_mjcf(effects: EffectSet | str = "all", truth: NaoTruth | str | Path | None = None) -> str:
-    """NAO's MJCF text with the chosen effects applied.
+    """NAO's MJCF text with the chosen effects applied, and the truth's real torso mass.
 
     Args:
         effects: ``"all"``, ``"none"``, letters such as ``"M,G,F"``, or an EffectSet.
@@ -66,7 +67,7 @@ def nao_mjcf(effects: EffectSet | str = "all", truth: NaoTruth | str | Path | No
     """
     on = EffectSet.parse(effects)
     params = _resolve_truth(truth)
-    root = base_mjcf(1.0 / params.servo_rate_hz, params.floor_friction)
+    root = base_mjcf(1.0 / params.servo_rate_hz, params.floor_friction, params.torso_inertial())
     coupled = find_element(root, "joint", "RHipYawPitch")
     coupled.set("armature", f"{params.motors['LHipYawPitch'].armature_link:.10g}")
     for joint in NAO_DRIVEN_JOINTS:

@@ -14,15 +14,24 @@ and the drive's voltage clamp is the supply ``V_supply``. The simulated drive co
 back-EMF (:class:`~zmpkit.sim.effects.MotorParams`); ``friction.back_emf_damping: true`` adds it
 back as a rotor damping ``K²/R`` [N·m·s/rad] (a voltage-mode drive; the link sees ``N² K²/R``),
 which below the clamp is exact and at the clamp counts the back-EMF twice.
+
+CAD vs real mass (effect ``C``): the ``torso`` section holds the real torso link's mass [kg]
+and CoM [m, torso frame: x forward, y left, z up], which differ from the URDF's (the design
+the IK and the walking pattern use). Its inertia at the CoM is the URDF's scaled by the mass
+ratio (:meth:`NaoTruth.torso_inertial`). Unlike M, I, G, F, S it cannot be switched off: it is
+what the real robot weighs.
 """
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+from zmpkit.errors import InputFileError
+from zmpkit.robots.nao.geometry import TORSO, Inertial
 from zmpkit.sim.effects import (
     FlexJoint,
     GearParams,
@@ -53,6 +62,8 @@ class NaoTruth:
         floor_friction: sole–floor sliding friction coefficient [-].
         sensors: sensor errors (the F-T offset field is the right foot's).
         ft_offsets: foot side → F-T offset (Fx, Fy, Fz, Tx, Ty, Tz) [N, N·m].
+        torso_mass_kg: the real torso link's mass [kg] (URDF/CAD: 1.04956).
+        torso_com_m: its CoM in the torso frame (x forward, y left, z up) [m].
         source: the file it came from.
     """
 
@@ -65,7 +76,16 @@ class NaoTruth:
     floor_friction: float
     sensors: SensorParams
     ft_offsets: Mapping[str, tuple[float, ...]]
+    torso_mass_kg: float
+    torso_com_m: tuple[float, float, float]
     source: str = str(DEFAULT_TRUTH_PATH)
+
+    def torso_inertial(self) -> Inertial:
+        """The real torso link: mass [kg], CoM [m] and the URDF inertia scaled by the mass
+        ratio [kg·m²] (same shape, denser)."""
+        scale = self.torso_mass_kg / TORSO.mass
+        inertia = tuple(scale * i for i in TORSO.inertia)
+        return Inertial(self.torso_mass_kg, self.torso_com_m, inertia)  # type: ignore[arg-type]
 
 
 def _motor(ratio: float, doc: Mapping[str, Any], path: Path) -> MotorParams:
@@ -90,11 +110,46 @@ def _motor(ratio: float, doc: Mapping[str, Any], path: Path) -> MotorParams:
     )
 
 
+def _torso(doc: Mapping[str, Any], path: Path) -> tuple[float, tuple[float, float, float]]:
+    """The ``torso`` section: (mass [kg], CoM [m]), checked (module docstring)."""
+    torso = section(doc, "torso", path)
+    if not isinstance(torso, Mapping):
+        raise InputFileError(
+            path, f"torso: expected a mapping with mass_kg and com_m, got {torso!r}", column="torso"
+        )
+    expected = {"mass_kg": "the real torso mass [kg]", "com_m": "its CoM [x, y, z] [m]"}
+    for key, meaning in expected.items():
+        if key not in torso:
+            raise InputFileError(path, f"torso: missing '{key}' ({meaning})", column="torso")
+    mass = torso["mass_kg"]
+    if not _is_number(mass) or not math.isfinite(mass) or mass <= 0.0:
+        raise InputFileError(
+            path, f"torso.mass_kg must be a mass > 0 kg, got {mass!r}", column="torso"
+        )
+    com = torso["com_m"]
+    if (
+        not isinstance(com, list | tuple)
+        or len(com) != 3
+        or not all(_is_number(v) and math.isfinite(v) for v in com)
+    ):
+        raise InputFileError(
+            path,
+            f"torso.com_m must be 3 finite numbers [x, y, z] in the torso frame [m], got {com!r}",
+            column="torso",
+        )
+    return float(mass), (float(com[0]), float(com[1]), float(com[2]))
+
+
+def _is_number(value: object) -> bool:
+    return isinstance(value, int | float) and not isinstance(value, bool)
+
+
 def _parse(doc: Mapping[str, Any], path: Path) -> NaoTruth:
     joints = section(doc, "joints", path)
     inductance = InductanceParams(float(section(doc, "motor", path)["inductance"]))
     sensors = dict(section(doc, "sensors", path))
     offsets = {side: tuple(float(v) for v in vec) for side, vec in sensors.pop("ft_offset").items()}
+    torso_mass, torso_com = _torso(doc, path)
     return NaoTruth(
         servo_rate_hz=float(section(doc, "servo_rate_hz", path)),
         motors={name: _motor(ratio, doc, path) for name, ratio in joints.items()},
@@ -105,6 +160,8 @@ def _parse(doc: Mapping[str, Any], path: Path) -> NaoTruth:
         floor_friction=float(section(doc, "contact", path)["friction"]),
         sensors=SensorParams(ft_offset=offsets["right"], **sensors),
         ft_offsets=offsets,
+        torso_mass_kg=torso_mass,
+        torso_com_m=torso_com,
         source=str(path),
     )
 
