@@ -20,8 +20,10 @@ from zmpkit.io.yarp import (
     find_yarp_dumps,
     read_yarp_ft,
     read_yarp_joints,
+    read_yarp_robot,
 )
 from zmpkit.io.yarp_datalog import YarpDump, read_yarp_dump
+from zmpkit.io.yarp_imu import read_yarp_imu
 from zmpkit.io.zmp_csv import ZMP_CSV_COLUMNS, write_zmp_csv
 
 __all__ = [
@@ -56,7 +58,9 @@ __all__ = [
     "read_ros2_bag",
     "read_yarp_dump",
     "read_yarp_ft",
+    "read_yarp_imu",
     "read_yarp_joints",
+    "read_yarp_robot",
     "resample",
     "write_zmp_csv",
 ]

@@ -7,7 +7,7 @@ path                      read as
 ========================  ==========================================================
 folder with metadata.yaml ROS 2 bag (:func:`~zmpkit.io.rosbag.read_ros2_bag`)
 ``.db3`` / ``.mcap`` file ROS 2 bag storage file (also found by its magic bytes)
-folder with ``data.log``  YARP dumps (:func:`~zmpkit.io.yarp.read_yarp_ft`), also below it
+folder with ``data.log``  YARP dumps (:func:`~zmpkit.io.yarp.read_yarp_robot`), also below it
 ``*.log`` file            a single YARP ``data.log`` (legacy form included)
 ``.parquet`` / ``.pq``    Parquet (:func:`~zmpkit.io.ft_parquet.read_ft_log_parquet`)
 any other file            CSV (:func:`~zmpkit.io.ft_log.read_ft_log_csv`)
@@ -18,7 +18,7 @@ Then the units and frames (:class:`~zmpkit.io.log_units.LogUnits`) are applied.
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from pathlib import Path
 
 from zmpkit.errors import InputFileError, ParameterError
@@ -27,7 +27,7 @@ from zmpkit.io.ft_parquet import read_ft_log_parquet
 from zmpkit.io.log_units import LogUnits, read_log_units
 from zmpkit.io.robot_log import RobotLog
 from zmpkit.io.rosbag import WRENCH_STAMPED_TYPE, list_bag_topics, read_ros2_bag
-from zmpkit.io.yarp import read_yarp_ft
+from zmpkit.io.yarp import read_yarp_robot
 
 __all__ = ["SOURCE_KINDS", "detect_source_kind", "read_ft_source", "read_robot_source"]
 
@@ -70,8 +70,9 @@ def read_robot_source(
     *,
     right_topic: str | None = None,
     left_topic: str | None = None,
-    joint_topic: str | None = None,
+    joint_topic: str | Sequence[str] | None = None,
     imu_topic: str | None = None,
+    joint_names: Sequence[str] | None = None,
     column_map: Mapping[str, str] | str | Path | None = None,
     units: LogUnits | str | Path | None = None,
     time_source: str = "header",
@@ -79,16 +80,23 @@ def read_robot_source(
 ) -> RobotLog:
     """Read any supported log into a :class:`~zmpkit.io.robot_log.RobotLog`, units applied.
 
+    Each stream keeps its own sample times on one common origin (bags and YARP alike);
+    :func:`~zmpkit.io.resample.resample` puts them on one clock.
+
     Args:
         path: CSV, Parquet, ROS 2 bag (folder, ``.db3``, ``.mcap``) or YARP dumps.
         right_topic: ROS 2 topic or YARP port of the right foot's wrench.
         left_topic: ROS 2 topic or YARP port of the left foot's wrench.
-        joint_topic: ROS 2 JointState topic (bags only).
-        imu_topic: ROS 2 Imu topic (bags only).
+        joint_topic: ROS 2 JointState topic, or YARP controlboard ``state:o`` port(s) — a
+            sequence of ports for several limbs (:func:`~zmpkit.io.yarp.read_yarp_robot`).
+        imu_topic: ROS 2 Imu topic, or YARP inertial port (:mod:`zmpkit.io.yarp_imu`).
+        joint_names: YARP only (a dump has none): one name per joint value of the
+            ``joint_topic`` ports in order; None: ``PORT[i]``. Bags name their joints.
         column_map: ``{canonical: column}`` or a column-map YAML (CSV and Parquet only).
-        units: units and frames of the raw values, or a units YAML; None: already SI.
+        units: units and frames of the raw values, or a units YAML; None: already SI. YARP
+            ports stream joints in deg and gyroscopes in deg/s: say so in the units.
         time_source: "header" (sensor/sender stamps, default) or "receive" (bags and YARP).
-        max_gap_s: longest gap [s] interpolated across when the feet have separate clocks.
+        max_gap_s: longest gap [s] interpolated across when streams are joined on one clock.
 
     Raises:
         InputFileError: anything wrong with the file, naming file and line/topic/column.
@@ -97,19 +105,28 @@ def read_robot_source(
     path = Path(path)
     kind = detect_source_kind(path)
     _check_options(kind, right_topic, left_topic, joint_topic, imu_topic, column_map)
+    if joint_names is not None and kind != "yarp":
+        raise ParameterError(
+            f"joint_names applies to YARP dumps, not to {kind} logs "
+            "(a ROS 2 bag's JointState messages name their joints)"
+        )
     if kind in ("csv", "parquet"):
         columns = read_column_map(column_map) if isinstance(column_map, str | Path) else column_map
         reader = read_ft_log_csv if kind == "csv" else read_ft_log_parquet
         log = RobotLog(ft=reader(path, columns), source=str(path))
     elif kind == "yarp":
-        log = read_yarp_ft(
+        log = read_yarp_robot(
             path,
             right_port=right_topic,
             left_port=left_topic,
+            joint_ports=() if joint_topic is None else joint_topic,
+            joint_names=joint_names,
+            imu_port=imu_topic,
             time_source=time_source,
             max_gap_s=max_gap_s,
         )
     else:
+        assert joint_topic is None or isinstance(joint_topic, str)
         log = _read_bag(
             path, right_topic, left_topic, joint_topic, imu_topic, time_source, max_gap_s
         )
@@ -148,7 +165,7 @@ def _check_options(
     kind: str,
     right_topic: str | None,
     left_topic: str | None,
-    joint_topic: str | None,
+    joint_topic: str | Sequence[str] | None,
     imu_topic: str | None,
     column_map: object,
 ) -> None:
@@ -162,8 +179,11 @@ def _check_options(
             )
     elif column_map is not None:
         raise ParameterError(f"column_map applies to CSV and Parquet files, not to {kind} logs")
-    if kind == "yarp" and any(v is not None for v in extra.values()):
-        raise ParameterError("joint_topic and imu_topic apply to ROS 2 bags only")
+    if kind == "ros2" and joint_topic is not None and not isinstance(joint_topic, str):
+        raise ParameterError(
+            "a ROS 2 bag takes one JointState topic as joint_topic; several ports are "
+            "for YARP dumps"
+        )
 
 
 def _read_bag(

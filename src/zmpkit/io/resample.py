@@ -156,7 +156,8 @@ def _target_time(
     rate = positive("rate_hz", rate_hz, "Hz")  # type: ignore[arg-type]
     start, end = _common_span(log.streams(), log.source)
     n = int(np.floor((end - start) * rate + 1e-9)) + 1
-    return start + np.arange(n) / rate
+    # the 1e-9 slack keeps a last tick that lands on `end` up to rounding; clip it onto `end`
+    return np.minimum(start + np.arange(n) / rate, end)
 
 
 def _common_span(spans: dict[str, NDArray[np.float64]], source: str) -> tuple[float, float]:

@@ -1,6 +1,6 @@
-"""F-T logs (and joint encoders) from YARP ``yarpdatadumper`` dumps.
+"""F-T logs, joint encoders and IMU from YARP ``yarpdatadumper`` dumps.
 
-Two layouts are read by :func:`read_yarp_ft`:
+Two layouts of the feet are read by :func:`read_yarp_ft` and :func:`read_yarp_robot`:
 
 - **one dump per foot** (as TEO records its JR3 sensors: ``/jr3/ch0:o`` right foot,
   ``/jr3/ch1:o`` left foot): a folder holding the dump folders, each ``data.log`` line carrying
@@ -11,20 +11,38 @@ Two layouts are read by :func:`read_yarp_ft`:
 - **one dump for both feet**: a dump folder or a single ``data.log`` (also the legacy form)
   whose lines carry twelve values, the right wrench then the left.
 
-Stamps become seconds from the earliest first stamp (:attr:`RobotLog.time_origin_ns`); the two
-feet are joined by :func:`~zmpkit.io.resample.merge_feet`. Values are kept in the driver's
-units; apply :class:`~zmpkit.io.log_units.LogUnits` (e.g. JR3 moments in dN·m).
+:func:`read_yarp_robot` also reads, from a folder of per-port dumps:
+
+- **joints**: one or more controlboard ``state:o`` ports (TEO: ``/teo/leftLeg/state:o``,
+  ``/teo/rightLeg/state:o``), one value per joint. YARP dumps carry no joint names: give them
+  with ``joint_names``, in the order of the ports' values, else they are ``PORT[i]``
+  (``/teo/leftLeg/state:o[0]``, …). A controlboard streams positions in **degrees** (revolute
+  joints): set ``joint_angle_unit: deg`` in the units YAML. Several ports are joined on the
+  first port's clock, cut to the span all cover, the others interpolated linearly
+  (:func:`~zmpkit.io.resample.interpolate_stream`, same gap rule as the feet).
+- **IMU**: an inertial port, legacy 12-value or multipleanalogsensorsserver bottle
+  (:mod:`zmpkit.io.yarp_imu`); gyroscope in deg/s, so set ``imu_angular_velocity_unit: deg/s``.
+
+Stamps become seconds from the earliest first stamp of all the ports read
+(:attr:`RobotLog.time_origin_ns`). As in a ROS 2 bag, each stream keeps its own sample times
+on that common origin; :func:`~zmpkit.io.resample.resample` puts them on one clock (e.g.
+``resample(log, time=log.ft.time)`` for the F-T clock). The two feet are joined by
+:func:`~zmpkit.io.resample.merge_feet`. Values are kept in the driver's units; apply
+:class:`~zmpkit.io.log_units.LogUnits` (e.g. JR3 moments in dN·m, joints in deg).
 """
 
 from __future__ import annotations
 
 import re
+from collections.abc import Sequence
 from pathlib import Path
 
-from zmpkit.errors import InputFileError
+from zmpkit.errors import InputFileError, ParameterError
 from zmpkit.io.resample import merge_feet
-from zmpkit.io.robot_log import JointLog, RobotLog
+from zmpkit.io.robot_log import RobotLog
 from zmpkit.io.yarp_datalog import YarpDump, declared_port, read_yarp_dump
+from zmpkit.io.yarp_imu import imu_from_dump
+from zmpkit.io.yarp_joints import joint_log_from_dumps, port_list, read_yarp_joints
 
 __all__ = [
     "TEO_LEFT_FOOT_PORT",
@@ -32,6 +50,7 @@ __all__ = [
     "find_yarp_dumps",
     "read_yarp_ft",
     "read_yarp_joints",
+    "read_yarp_robot",
 ]
 
 TEO_RIGHT_FOOT_PORT = "/jr3/ch0:o"
@@ -39,7 +58,8 @@ TEO_RIGHT_FOOT_PORT = "/jr3/ch0:o"
 TEO_LEFT_FOOT_PORT = "/jr3/ch1:o"
 """TEO's left-ankle JR3 channel."""
 
-_MAX_DEPTH = 4
+# deepest data.log looked for, in path parts: icub/head/inertials/measures_o/data.log is 5
+_MAX_DEPTH = 8
 _SUFFIX = re.compile(r"_\d{5}$")
 
 
@@ -65,12 +85,66 @@ def read_yarp_ft(
         InputFileError: no dump for a port (the dumps present are listed), a wrong number of
             values per line, or any error of the ``data.log`` itself (file and line named).
     """
+    return read_yarp_robot(
+        path,
+        right_port=right_port,
+        left_port=left_port,
+        time_source=time_source,
+        max_gap_s=max_gap_s,
+    )
+
+
+def read_yarp_robot(
+    path: str | Path,
+    *,
+    right_port: str | None = None,
+    left_port: str | None = None,
+    joint_ports: Sequence[str] = (),
+    joint_names: Sequence[str] | None = None,
+    imu_port: str | None = None,
+    imu_sensor: int = 0,
+    time_source: str = "header",
+    max_gap_s: float | None = None,
+) -> RobotLog:
+    """Both feet's raw wrenches, and joints and IMU where asked, from YARP dumps.
+
+    Args:
+        path: a folder of per-port dumps; for the feet alone also one dump folder or file.
+        right_port: the right foot's port (default :data:`TEO_RIGHT_FOOT_PORT`).
+        left_port: the left foot's port (default :data:`TEO_LEFT_FOOT_PORT`).
+        joint_ports: controlboard ``state:o`` ports, joined in this order; () for none.
+        joint_names: one name per joint value of ``joint_ports`` in order; None: ``PORT[i]``.
+        imu_port: an inertial port (:mod:`zmpkit.io.yarp_imu`), or None.
+        imu_sensor: which sensor of a multipleanalogsensorsserver bottle (0 for the first).
+        time_source: "header" (sender stamp) or "receive", see
+            :func:`~zmpkit.io.yarp_datalog.read_yarp_dump`.
+        max_gap_s: longest gap [s] interpolated across (left foot, further joint ports).
+
+    Returns:
+        The log: raw values (module), times [s] from the earliest first stamp of all ports.
+
+    Raises:
+        ParameterError: joint names without joint ports, a repeated port or name, or joint or
+            IMU ports with a single dump.
+        InputFileError: no dump for a port (the dumps present are listed), a wrong number of
+            values per line, or any error of a ``data.log`` itself (file and line named).
+    """
     path = Path(path)
+    joint_ports = port_list(joint_ports)
+    if joint_names is not None and not joint_ports:
+        raise ParameterError("joint_names needs joint ports (joint_topic) to name")
     if path.is_file() or (path / "data.log").is_file():
+        if joint_ports or imu_port is not None:
+            raise ParameterError(
+                f"{path} is a single dump; joint and IMU ports need the folder that holds "
+                "one dump folder per port"
+            )
         dump = read_yarp_dump(path, time_source)
         _require_width(dump, 12, "the right wrench then the left, in a single dump")
         right, left = dump, dump
         right_values, left_values = dump.values[:, :6], dump.values[:, 6:]
+        joint_dumps: list[YarpDump] = []
+        imu_dump = None
     else:
         dumps = find_yarp_dumps(path)
         right = _dump_for(path, dumps, right_port or TEO_RIGHT_FOOT_PORT, time_source)
@@ -78,7 +152,10 @@ def read_yarp_ft(
         for dump in (right, left):
             _require_width(dump, 6, "F_x F_y F_z τ_x τ_y τ_z")
         right_values, left_values = right.values, left.values
-    origin = min(right.stamp[0], left.stamp[0])
+        joint_dumps = [_dump_for(path, dumps, port, time_source) for port in joint_ports]
+        imu_dump = None if imu_port is None else _dump_for(path, dumps, imu_port, time_source)
+    streams = [right, left, *joint_dumps] + ([imu_dump] if imu_dump is not None else [])
+    origin = min(float(d.stamp[0]) for d in streams)
     ft = merge_feet(
         right.stamp - origin,
         right_values,
@@ -87,30 +164,15 @@ def read_yarp_ft(
         source=str(path),
         max_gap_s=max_gap_s,
     )
-    return RobotLog(ft=ft, time_origin_ns=round(origin * 1e9), source=str(path))
-
-
-def read_yarp_joints(
-    path: str | Path, names: tuple[str, ...] | None = None, time_source: str = "header"
-) -> JointLog:
-    """Joint positions from an encoder port's dump (e.g. ``/teo/leftLeg/state:o``).
-
-    Times are the raw stamps [s] (YARP clock); angles are kept in the port's unit (TEO's
-    encoders report degrees: convert with :class:`~zmpkit.io.log_units.LogUnits`).
-
-    Args:
-        path: the dump folder or its ``data.log``.
-        names: joint names, one per value; default ``q0, q1, …``.
-        time_source: see :func:`~zmpkit.io.yarp_datalog.read_yarp_dump`.
-    """
-    dump = read_yarp_dump(path, time_source)
-    width = dump.values.shape[1]
-    names = names or tuple(f"q{i}" for i in range(width))
-    if len(names) != width:
-        raise InputFileError(
-            dump.source, f"{width} values per line, but {len(names)} joint names were given"
+    joints = None
+    if joint_dumps:
+        joints = joint_log_from_dumps(
+            path, joint_dumps, joint_ports, joint_names, origin, max_gap_s
         )
-    return JointLog(dump.stamp, tuple(names), dump.values, None, dump.source)
+    imu = None if imu_dump is None else imu_from_dump(imu_dump, origin, imu_sensor)
+    return RobotLog(
+        ft=ft, joints=joints, imu=imu, time_origin_ns=round(origin * 1e9), source=str(path)
+    )
 
 
 def find_yarp_dumps(path: str | Path) -> dict[Path, str]:

@@ -9,7 +9,8 @@ and ``info.log`` with ``Type: Bottle;``, ``Stamp: tx;`` / ``rx;`` / ``tx+rx;`` a
 stamps, the sender's then the receiver's. The legacy single-file form has no ``info.log``;
 its ``data.log`` starts with ``Type: Bottle;`` and holds ``Source: /port [connected]`` lines
 between the data, and one stamp per line. Nested bottles in parentheses are flattened in
-order; every value must be a finite number.
+order into the value columns, and their nesting is kept in :attr:`YarpDump.layout` (every
+line must nest the same way); every value must be a finite number.
 """
 
 from __future__ import annotations
@@ -27,6 +28,10 @@ from zmpkit.errors import InputFileError, ParameterError
 __all__ = ["YarpDump", "declared_port", "read_yarp_dump"]
 
 _TOKEN = re.compile(r"\(|\)|[^\s()]+")
+_ATOM = re.compile(r"[^\s()]+")
+
+Layout = tuple["int | Layout", ...]
+"""Nesting of a line's values: nested tuples whose leaves are value column indices."""
 _CONNECTED = re.compile(r"^(?:\[[^\]]*\]|Source:)\s*(\S+)\s+\[connected\]\s*$")
 _STAMP_KINDS = {"tx;": "tx", "rx;": "rx", "tx+rx;": "tx+rx"}
 
@@ -43,6 +48,9 @@ class YarpDump:
         port: the source port from ``info.log`` or a legacy ``Source:`` line, or "".
         stamp_kind: "tx", "rx" or "tx+rx" as ``info.log`` says; "" when it does not.
         source: the ``data.log`` file.
+        layout: the nesting of every line's values, e.g. ``((0, 1, 2), (3, 4, 5))`` for
+            ``(f_x f_y f_z) (τ_x τ_y τ_z)``; ``(0, 1, …, K−1)`` for flat lines.
+        first_line: the line number of the first data line (1-based), for messages.
     """
 
     stamp: NDArray[np.float64]
@@ -51,6 +59,8 @@ class YarpDump:
     port: str
     stamp_kind: str
     source: str
+    layout: Layout = ()
+    first_line: int = 1
 
 
 @dataclass(frozen=True)
@@ -70,7 +80,7 @@ def read_yarp_dump(path: str | Path, time_source: str = "header") -> YarpDump:
     Raises:
         InputFileError: missing file, not text, a line that is not ``<seq> <stamp> <values…>``,
             unbalanced parentheses, a non-numeric or non-finite value, lines of different
-            lengths, stamps not strictly increasing — naming the file and line.
+            lengths or nesting, stamps not strictly increasing — naming the file and line.
     """
     if time_source not in ("header", "receive"):
         raise ParameterError(f"time_source must be 'header' or 'receive', got {time_source!r}")
@@ -88,8 +98,9 @@ def read_yarp_dump(path: str | Path, time_source: str = "header") -> YarpDump:
         info = _Info(info.port, legacy.stamp_kind)
     n_stamps = 2 if info.stamp_kind == "tx+rx" else 1
     pick = 1 if n_stamps == 2 and time_source == "receive" else 0
-    seq, stamp, values = _parse_lines(data_path, lines, n_stamps, pick)
-    return YarpDump(stamp, seq, values, info.port, info.stamp_kind, str(data_path))
+    seq, stamp, values, first = _parse_lines(data_path, lines, n_stamps, pick)
+    layout = _layout(lines[first - 1], 1 + n_stamps)
+    return YarpDump(stamp, seq, values, info.port, info.stamp_kind, str(data_path), layout, first)
 
 
 def _read_lines(path: Path) -> list[str]:
@@ -149,11 +160,12 @@ def _is_meta(line: str) -> bool:
 
 def _parse_lines(
     path: Path, lines: list[str], n_stamps: int, pick: int
-) -> tuple[NDArray[np.int64], NDArray[np.float64], NDArray[np.float64]]:
+) -> tuple[NDArray[np.int64], NDArray[np.float64], NDArray[np.float64], int]:
     seqs: list[int] = []
     stamps: list[float] = []
     rows: list[list[float]] = []
     first_line = 0
+    first_shape = ""
     for no, line in enumerate(lines, start=1):
         if _is_meta(line):
             continue
@@ -165,6 +177,14 @@ def _parse_lines(
                 "expected the same number on every line (truncated file?)",
                 row=no,
             )
+        shape = _shape(line)
+        if rows and shape != first_shape:
+            raise InputFileError(
+                path,
+                f"the bottle nests as {shape or 'a flat list'!r}, but line {first_line} as "
+                f"{first_shape or 'a flat list'!r}; expected the same nesting on every line",
+                row=no,
+            )
         if stamps and line_stamps[pick] <= stamps[-1]:
             raise InputFileError(
                 path,
@@ -172,13 +192,46 @@ def _parse_lines(
                 f"{stamps[-1]:.6f} s",
                 row=no,
             )
-        first_line = first_line or no
+        if not rows:
+            first_line, first_shape = no, shape
         seqs.append(seq)
         stamps.append(line_stamps[pick])
         rows.append(values)
     if not rows:
         raise InputFileError(path, "no data lines; expected lines '<seq> <stamp> <values…>'")
-    return np.array(seqs, dtype=np.int64), np.array(stamps), np.array(rows, dtype=np.float64)
+    seq_array = np.array(seqs, dtype=np.int64)
+    return seq_array, np.array(stamps), np.array(rows, dtype=np.float64), first_line
+
+
+def _shape(line: str) -> str:
+    """The nesting of a line with every number replaced by ``n``; "" for a flat line."""
+    if "(" not in line and ")" not in line:
+        return ""
+    return "".join(_ATOM.sub("n", line).split())
+
+
+def _layout(line: str, n_prefix: int) -> Layout:
+    """The nesting of a (checked) line's values, leaves numbered from 0 in order.
+
+    The first ``n_prefix`` numbers (packet number and stamps) are not values.
+    """
+    stack: list[list[object]] = [[]]
+    k = 0
+    for token in _TOKEN.findall(line):
+        if token == "(":
+            stack.append([])
+        elif token == ")":
+            inner = stack.pop()
+            stack[-1].append(_freeze(inner))
+        else:
+            if k >= n_prefix:
+                stack[-1].append(k - n_prefix)
+            k += 1
+    return _freeze(stack[0])
+
+
+def _freeze(items: list[object]) -> Layout:
+    return tuple(items)  # type: ignore[arg-type]
 
 
 def _parse_line(
