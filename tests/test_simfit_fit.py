@@ -71,14 +71,15 @@ def test_resumed_fit_ends_as_an_uninterrupted_one(problem: FitProblem, tmp_path:
     assert costs == [(r.best_cost, r.median_cost, r.sigma) for r in whole.history]
 
 
-def test_local_pool_gives_the_serial_costs(problem: FitProblem) -> None:
-    candidates = [[0.7, 1200.0], [0.8, 1500.0], [0.6, 900.0]]
+@pytest.mark.parametrize("backend", ["local", "pool"])
+def test_local_backends_give_the_serial_costs(problem: FitProblem, backend: str) -> None:
+    candidates = [[0.7, 1200.0], [0.8, 1500.0], [0.6, 900.0], [0.36, 310.0]]
     serial = make_evaluator(problem, "serial").costs(candidates)
-    pool = make_evaluator(problem, "local", workers=2)
+    evaluator = make_evaluator(problem, backend, workers=2)
     try:
-        assert pool.costs(candidates) == serial
+        assert evaluator.costs(candidates) == serial
     finally:
-        pool.close()
+        evaluator.close()
 
 
 def test_pipeline_writes_a_loadable_truth_and_its_tables(walk_folder: Path, tmp_path: Path) -> None:

@@ -50,17 +50,19 @@ def identify_balance_command(
     "--effects",
     default="M,G",
     show_default=True,
-    help="Effects whose parameters are fitted: letters M, I, G, F, S, C (mass/CoM, TEO).",
+    help="Effects whose parameters are fitted: letters M, I, G, F, S, C (mass/CoM: TEO "
+    "payload, NAO torso).",
 )
 @click.option(
     "--out", "out_dir", type=click.Path(path_type=Path), required=True, help="Output folder."
 )
 @click.option(
     "--backend",
-    type=click.Choice(("local", "serial", "ray")),
+    type=click.Choice(("local", "pool", "serial", "ray", "warp")),
     default="local",
     show_default=True,
-    help="Where rollouts run: a local process pool, this process, or a Ray cluster.",
+    help="Where rollouts run: MuJoCo thread-pool batches here (local), a local process "
+    "pool, this process one by one, a Ray cluster, or MuJoCo Warp batches on a GPU.",
 )
 @click.option("--address", help="Ray cluster address (with --backend ray), e.g. HOST:6379.")
 @click.option(
@@ -69,7 +71,9 @@ def identify_balance_command(
     help="Continue the fit checkpointed in this folder.",
 )
 @click.option("--generations", type=int, help="CMA-ES generations (default 40; 30 quick).")
-@click.option("--workers", type=int, default=2, show_default=True, help="Local processes.")
+@click.option(
+    "--workers", type=int, default=2, show_default=True, help="Local threads or processes."
+)
 @click.option("--seed", type=int, default=1, show_default=True, help="Seed of the fit.")
 @click.option("--quick", is_flag=True, help="A small, fast fit (2-3 parameters).")
 @click.option(

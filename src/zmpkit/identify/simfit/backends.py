@@ -4,25 +4,45 @@ Every backend takes a list of candidate parameter vectors and returns, per candi
 :class:`~zmpkit.identify.simfit.cost.CostTerms` of every experiment; the work is split into
 one task per (candidate, experiment) pair.
 
-- ``"serial"``: this process (benchmarks, debugging).
-- ``"local"`` (default): a ``spawn`` process pool of ``workers`` processes; each worker gets
-  the problem once, ignores Ctrl-C (the parent handles it and shuts the pool down).
+- ``"local"`` (default): this machine, ``workers`` cores. Every experiment is open loop, so
+  a generation runs as MuJoCo thread-pool batches in this process
+  (:class:`~zmpkit.identify.simfit.batch_backend.BatchEvaluator`): all candidates of an
+  experiment in one batch, no Python per physics step.
+- ``"pool"``: a ``spawn`` process pool of ``workers`` processes, one rollout per task on the
+  serial path; each worker gets the problem once, ignores Ctrl-C (the parent handles it and
+  shuts the pool down).
+- ``"serial"``: this process, one rollout at a time (benchmarks, debugging).
+- ``"warp"``: the local batches on MuJoCo Warp, on its default device (a GPU where there is
+  one; ``pip install 'zmpkit[gpu]'``): float32 physics, models with the M effect on.
 - ``"ray"``: tasks on a Ray cluster (``pip install zmpkit[ray]``). Start the head node on
   one machine and let the others join it::
 
       ray start --head --port=6379              # on the head; prints its address
       ray start --address=HEAD_IP:6379          # on every worker machine
       zmpkit identify sim DATA --backend ray --address HEAD_IP:6379 ...
+      ray stop                                  # on every machine, when done
 
-  Every machine needs the same Python and zmpkit version installed. ``address="auto"``
-  joins a cluster started on this machine; ``address=None`` starts a local Ray instance.
-  The problem (experiments and base truth) is put once in the object store.
+  Every machine needs the same Python, Ray and zmpkit versions installed (workers import
+  zmpkit; ``ray start`` must run from that environment). Ray >= 2.59 may start the head with
+  token authentication (Ray 2.60's ``ray start --head`` did here once ``~/.ray/auth_token``
+  existed, which a local ``ray.init()`` creates); then every worker and the ``zmpkit``
+  driver need ``RAY_AUTH_MODE=token`` and the head's token (``ray get-auth-token``, as
+  ``RAY_AUTH_TOKEN`` or in ``~/.ray/auth_token``) in their environment, except a driver on
+  the head given ``--address auto``. ``address="auto"`` joins a cluster
+  started on this machine (an error if there is none); ``address=None`` joins such a cluster
+  too when one is running, and otherwise starts a private Ray instance for this process,
+  stopped again by :meth:`RayEvaluator.close`. An explicit ``HOST:PORT`` that nothing listens
+  on is an error within seconds (Ray itself would retry for minutes). The problem
+  (experiments and base truth) is put once in the object store; costs are identical to the
+  serial backend's for the same candidates.
 """
 
 from __future__ import annotations
 
+import logging
 import multiprocessing
 import signal
+import socket
 from collections.abc import Sequence
 from concurrent.futures import ProcessPoolExecutor
 from typing import Protocol
@@ -36,6 +56,7 @@ from zmpkit.identify.simfit.problem import FitProblem, evaluate
 __all__ = [
     "BACKENDS",
     "DEFAULT_WORKERS",
+    "RAY_CONNECT_TIMEOUT_S",
     "Evaluator",
     "LocalPoolEvaluator",
     "RayEvaluator",
@@ -43,10 +64,10 @@ __all__ = [
     "make_evaluator",
 ]
 
-BACKENDS: tuple[str, ...] = ("local", "serial", "ray")
+BACKENDS: tuple[str, ...] = ("local", "pool", "serial", "ray", "warp")
 """Valid backend names."""
 DEFAULT_WORKERS = 2
-"""Processes of the local pool."""
+"""Threads of the local batch, or processes of the pool."""
 
 Costs = list[list[CostTerms]]
 
@@ -136,29 +157,93 @@ def _ray_module():
     return ray
 
 
+RAY_CONNECT_TIMEOUT_S = 5.0
+"""How long [s] an explicit ``HOST:PORT`` address may take to accept a TCP connection."""
+
+
+def _check_ray_address(address: str) -> None:
+    """Fail fast when nothing listens at an explicit ``[ray://]HOST:PORT`` address.
+
+    Raises:
+        ParameterError: the address is ``HOST:PORT`` but the connection is refused or times out.
+    """
+    target = address.removeprefix("ray://")
+    host, sep, port = target.rpartition(":")
+    if not sep or not host or not port.isdigit():
+        return  # "auto", "local" and other forms are left to Ray
+    try:
+        with socket.create_connection((host.strip("[]"), int(port)), RAY_CONNECT_TIMEOUT_S):
+            pass
+    except OSError as exc:
+        raise ParameterError(
+            f"no Ray cluster at --address {address} ({exc}); start its head there with "
+            f"'ray start --head --port={port}', or omit --address for a local Ray instance"
+        ) from None
+
+
 class RayEvaluator:
-    """Tasks on a Ray cluster (module docstring for starting one)."""
+    """Tasks on a Ray cluster (module docstring for starting one).
+
+    Args:
+        problem: the fit problem, put once in the object store.
+        address: ``HOST:PORT`` of a running head, ``"auto"`` or None (see the module).
+
+    Raises:
+        ParameterError: Ray not installed, or no cluster at ``address``.
+    """
 
     def __init__(self, problem: FitProblem, address: str | None = None) -> None:
         ray = _ray_module()
         self.problem = problem
         self._ray = ray
+        self._owns_ray = False
         if not ray.is_initialized():
-            ray.init(address=address)
+            if address is not None:
+                _check_ray_address(address)
+            try:
+                ray.init(address=address, logging_level=logging.WARNING)
+            except (ConnectionError, ValueError, RuntimeError) as exc:
+                hint = ""
+                if isinstance(exc, ConnectionError) and address not in (None, "auto"):
+                    hint = (
+                        "; if the cluster uses token authentication (Ray >= 2.59 turns it on "
+                        "for clusters started on this machine), export RAY_AUTH_MODE=token "
+                        "and its token (ray get-auth-token) as RAY_AUTH_TOKEN, or use "
+                        "--address auto on the head"
+                    )
+                raise ParameterError(
+                    f"cannot join Ray at address {address!r}: {exc}{hint}"
+                ) from None
+            self._owns_ray = True
         self._problem_ref = ray.put(problem)
         self._task = ray.remote(evaluate)
 
     def costs(self, candidates: Sequence[Sequence[float]]) -> Costs:
-        """Cost terms per candidate and experiment."""
+        """Cost terms per candidate and experiment; on Ctrl-C the pending tasks are cancelled."""
+        if self._problem_ref is None:
+            raise ParameterError("this RayEvaluator is closed; make a new one")
         refs = [
             self._task.remote(self._problem_ref, np.asarray(candidates[c], float).tolist(), e)
             for c, e in _pairs(self.problem, candidates)
         ]
-        return _regroup(self._ray.get(refs), len(candidates))
+        try:
+            return _regroup(self._ray.get(refs), len(candidates))
+        except KeyboardInterrupt:
+            for ref in refs:
+                self._ray.cancel(ref)
+            raise
 
     def close(self) -> None:
-        """Leave the cluster running (it is the user's); drop the problem reference."""
+        """Drop the problem reference; disconnect from Ray if this evaluator connected.
+
+        A cluster started with ``ray start`` keeps running (it is the user's); a private
+        instance started by ``address=None`` stops. Ray initialised by the caller before this
+        evaluator was made is left as it is. Calling close twice is harmless.
+        """
         self._problem_ref = None
+        if self._owns_ray and self._ray.is_initialized():
+            self._ray.shutdown()
+        self._owns_ray = False
 
 
 def make_evaluator(
@@ -172,7 +257,15 @@ def make_evaluator(
     if backend == "serial":
         return SerialEvaluator(problem)
     if backend == "local":
+        from zmpkit.identify.simfit.batch_backend import BatchEvaluator
+
+        return BatchEvaluator(problem, workers)
+    if backend == "pool":
         return LocalPoolEvaluator(problem, workers)
+    if backend == "warp":
+        from zmpkit.identify.simfit.batch_backend import BatchEvaluator
+
+        return BatchEvaluator(problem, workers, warp_device="")
     if backend == "ray":
         return RayEvaluator(problem, address)
     raise ParameterError(f"backend must be one of {', '.join(BACKENDS)}; got {backend!r}")
