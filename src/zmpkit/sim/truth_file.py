@@ -17,7 +17,7 @@ import yaml
 from zmpkit.errors import InputFileError, ZmpkitError
 from zmpkit.sim.effects import FlexJoint
 
-__all__ = ["flex_joint", "read_truth_file", "section"]
+__all__ = ["flex_joint", "parse_truth_doc", "read_truth_file", "section"]
 
 T = TypeVar("T")
 
@@ -33,6 +33,15 @@ def read_truth_file(path: Path, parse: Callable[[Mapping[str, Any], Path], T]) -
         doc = yaml.safe_load(path.read_text(encoding="utf-8"))
     except (OSError, yaml.YAMLError) as exc:
         raise InputFileError(path, f"cannot read the truth file: {exc}") from None
+    return parse_truth_doc(doc, path, parse)
+
+
+def parse_truth_doc(doc: Any, path: Path, parse: Callable[[Mapping[str, Any], Path], T]) -> T:
+    """``parse(doc, path)`` of a truth document already in memory (``path`` names it).
+
+    Raises:
+        InputFileError: as :func:`read_truth_file`, naming ``path``.
+    """
     if not isinstance(doc, Mapping):
         raise InputFileError(path, "expected a mapping of sections at the top level")
     try:

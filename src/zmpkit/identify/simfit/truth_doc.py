@@ -16,7 +16,6 @@ from __future__ import annotations
 import copy
 import os
 import re
-import tempfile
 from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
@@ -151,13 +150,9 @@ def write_truth_doc(doc: Mapping[str, Any], path: str | Path, header: str = "") 
 
 
 def load_robot_truth(robot: str, doc: Mapping[str, Any]) -> Any:
-    """The robot's truth object (``NaoTruth`` or ``TeoTruth``) for a truth document.
-
-    The robots read truth files only, so the document passes through a temporary file.
-    """
+    """The robot's truth object (``NaoTruth`` or ``TeoTruth``) for a truth document."""
     if robot == "nao":
-        from zmpkit.robots.nao import load_truth
+        from zmpkit.robots.nao.truth import truth_from_doc
     else:
-        from zmpkit.robots.teo import load_truth
-    with tempfile.TemporaryDirectory(prefix="zmpkit-simfit-") as folder:
-        return load_truth(write_truth_doc(doc, Path(folder) / "truth.yaml"))
+        from zmpkit.robots.teo.truth import truth_from_doc
+    return truth_from_doc(doc, "<fit candidate truth>")

@@ -21,9 +21,9 @@ from zmpkit.sim.effects import (
     MotorParams,
     SensorParams,
 )
-from zmpkit.sim.truth_file import flex_joint, read_truth_file, section
+from zmpkit.sim.truth_file import flex_joint, parse_truth_doc, read_truth_file, section
 
-__all__ = ["DEFAULT_TRUTH_PATH", "TeoTruth", "load_truth"]
+__all__ = ["DEFAULT_TRUTH_PATH", "TeoTruth", "load_truth", "truth_from_doc"]
 
 DEFAULT_TRUTH_PATH = Path(__file__).with_name("data") / "truth.yaml"
 """The truth shipped with zmpkit."""
@@ -130,3 +130,12 @@ def load_truth(path: str | Path | None = None) -> TeoTruth:
     """
     file = Path(path) if path is not None else DEFAULT_TRUTH_PATH
     return read_truth_file(file, _parse)
+
+
+def truth_from_doc(doc: Mapping[str, Any], source: str | Path = "<truth document>") -> TeoTruth:
+    """The truth of a document already in memory (the layout of the truth file).
+
+    Raises:
+        InputFileError: naming ``source`` if a field is missing or invalid.
+    """
+    return parse_truth_doc(doc, Path(source), _parse)
