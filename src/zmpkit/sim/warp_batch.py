@@ -44,8 +44,9 @@ _INSTALL_HINT = "pip install 'zmpkit[gpu]'"  # the extra: mujoco-warp==4.0.0 (br
 _FULL = int(mujoco.mjtState.mjSTATE_FULLPHYSICS)
 _OPTION_BATCHABLE = ("timestep", "gravity", "magnetic")
 """``opt`` fields that MuJoCo Warp keeps per world and copies unchanged."""
-_UNREAD_BY_WARP = frozenset({"dof_M0"})
-"""Model fields mujoco_warp 4.0.0 never reads (derived by ``mj_setConst``); may differ."""
+_UNREAD_BY_WARP = frozenset({"dof_M0", "dof_length"})
+"""Model fields mujoco_warp 4.0.0 never reads (derived by ``mj_setConst``; ``dof_length``
+only by sleeping, which zmpkit's models leave off); may differ."""
 _SWITCH_FIELDS = (
     "tendon_stiffness",
     "tendon_stiffnesspoly",
