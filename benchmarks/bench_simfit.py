@@ -31,10 +31,9 @@ import time
 from pathlib import Path
 from typing import Any
 
-import mujoco
 import numpy as np
 
-from harness import base_parser, environment, print_table, write_json
+from harness import base_parser, print_table, write_run
 from zmpkit.identify.simfit.backends import LocalPoolEvaluator, SerialEvaluator
 from zmpkit.identify.simfit.batch_backend import BatchEvaluator
 from zmpkit.identify.simfit.experiments import read_experiments
@@ -145,11 +144,7 @@ def main(argv: list[str] | None = None) -> int:
     args = parser.parse_args(argv)
     result = measure(args.candidates, args.duration, args.workers, args.repeats)
     show(result, args.candidates, args.duration)
-    if args.json is not None:
-        info = {"mujoco": mujoco.__version__, **environment()}
-        write_json(
-            args.json, {"args": vars(args) | {"json": str(args.json)}, "env": info, **result}
-        )
+    write_run(args, result)
     return 0
 
 

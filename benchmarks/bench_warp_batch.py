@@ -31,7 +31,7 @@ import mujoco
 import numpy as np
 from mujoco import rollout
 
-from harness import base_parser, environment, print_table, write_json
+from harness import base_parser, print_table, write_run
 from zmpkit.identify.simfit.parameters import default_parameters
 from zmpkit.identify.simfit.truth_doc import (
     base_truth_path,
@@ -140,11 +140,7 @@ def main(argv: list[str] | None = None) -> int:
         return 0
     result = measure(args.device, args.nbatch, args.steps, args.record_every, args.repeats)
     show(result, args.nbatch, args.steps)
-    if args.json is not None:
-        info = {"mujoco": mujoco.__version__, **environment()}
-        write_json(
-            args.json, {"args": vars(args) | {"json": str(args.json)}, "env": info, **result}
-        )
+    write_run(args, result)
     return 0
 
 

@@ -18,7 +18,7 @@ from typing import Any, Literal
 import numpy as np
 import scipy
 
-__all__ = ["base_parser", "best_of", "environment", "print_table", "write_json"]
+__all__ = ["base_parser", "best_of", "environment", "print_table", "write_json", "write_run"]
 
 Justify = Literal["default", "left", "center", "right", "full"]
 
@@ -86,6 +86,18 @@ def print_table(
 def write_json(path: Path, results: dict[str, Any]) -> None:
     """Write ``results`` to ``path`` as indented JSON (UTF-8, trailing newline)."""
     path.write_text(json.dumps(results, indent=2) + "\n", encoding="utf-8")
+
+
+def write_run(args: argparse.Namespace, results: dict[str, Any]) -> None:
+    """If ``args.json`` is set, write the run there: its arguments, the environment (with
+    MuJoCo's version) and ``results``."""
+    if args.json is None:
+        return
+    import mujoco
+
+    info = {"mujoco": mujoco.__version__, **environment()}
+    run_args = vars(args) | {"json": str(args.json)}
+    write_json(args.json, {"args": run_args, "env": info, **results})
 
 
 def base_parser(description: str) -> argparse.ArgumentParser:
