@@ -19,6 +19,7 @@ from zmpkit.identify.simfit.cost import FAILED_COST, CostWeights, experiment_cos
 from zmpkit.identify.simfit.experiments import RecordedSignals, read_experiments
 from zmpkit.identify.simfit.outputs import write_fitted_truth
 from zmpkit.identify.simfit.parameters import FitParameter, default_parameters
+from zmpkit.identify.simfit.problem import FitProblem
 from zmpkit.identify.simfit.self_test import (
     RECOVERY_COLUMNS,
     perturbed_values,
@@ -133,6 +134,24 @@ def test_cost_is_zero_for_identical_signals_and_grows_with_the_miss() -> None:
     assert off.joint == pytest.approx(0.005 / (0.01 / np.sqrt(2)), rel=1e-6)
     assert off.spectrum == pytest.approx(0.005, rel=0.05)
     assert off.total(CostWeights()) > 0.0
+
+
+def test_a_constant_zmp_shift_costs_only_when_the_mean_is_kept() -> None:
+    rec = _signals(400)
+    shifted = _signals(400)
+    shifted.zmp_m[:] += [0.004, -0.003]  # a 5 mm shift, as a CoM or F-T moment offset gives
+    assert experiment_cost(rec, shifted).zmp == pytest.approx(0.0, abs=1e-12)
+    # scale: RMS of the recorded ZMP about its trend, 0.03 / sqrt(2) m (the y sine) less the
+    # little of 8 sine periods a straight line takes away (0.5 %)
+    kept = experiment_cost(rec, shifted, keep_zmp_mean=True).zmp
+    assert kept == pytest.approx(0.005 / (0.03 / np.sqrt(2)), rel=0.01)
+
+
+def test_the_zmp_mean_is_kept_when_offsets_or_mass_are_fitted() -> None:
+    doc: dict = {}
+    for effects, kept in (("M,G", False), ("S", True), ("C", True), ("M,C", True)):
+        problem = FitProblem("nao", "M,G,S", default_parameters("nao", effects), doc, ())
+        assert problem.keeps_zmp_mean is kept
 
 
 def test_a_fallen_rollout_costs_more_the_earlier_it_falls() -> None:

@@ -54,7 +54,7 @@ class BatchEvaluator:
         ]
         return [
             [
-                experiment_cost(experiment.signals, simulated[c])
+                experiment_cost(experiment.signals, simulated[c], problem.keeps_zmp_mean)
                 for experiment, simulated in zip(problem.experiments, per_experiment, strict=True)
             ]
             for c in range(len(candidates))

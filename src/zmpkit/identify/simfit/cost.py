@@ -12,7 +12,9 @@ as much as the signal varies:
   over every sample and joint [rad/rad];
 - ZMP error, against the recorded ZMP's variation about its linear trend (the walk's
   progress), over the samples where both ZMPs are defined, with the mean difference
-  :math:`\bar d` removed (an F-T offset the user zeroes differently shifts the whole ZMP):
+  :math:`\bar d` removed (an F-T offset the user zeroes differently shifts the whole ZMP)
+  unless the fit itself models what shifts it (``keep_zmp_mean``: F-T offsets or the
+  mass/CoM are fitted, and a CoM offset shows in nothing else as clearly):
 
   .. math:: e_p = \frac{\operatorname{RMS}\lVert p_{sim} - p_{rec} - \bar d\rVert}
                         {\operatorname{RMS}\lVert p_{rec} - \operatorname{trend}(p_{rec})\rVert};
@@ -114,19 +116,25 @@ def spectrum_in_band(signal: NDArray[np.float64], dt_s: float) -> tuple[NDArray,
     return spectrum.frequency_hz[band], spectrum.amplitude[band]
 
 
-def _zmp_error(rec: RecordedSignals, sim: RecordedSignals) -> float:
+def _zmp_error(rec: RecordedSignals, sim: RecordedSignals, keep_mean: bool) -> float:
     both = np.all(np.isfinite(rec.zmp_m), axis=1) & np.all(np.isfinite(sim.zmp_m), axis=1)
     if np.count_nonzero(both) < 3:
         return 0.0
     t, p = rec.time_s[both], rec.zmp_m[both]
     scale = np.hypot(_rms(_detrended(t, p[:, 0])), _rms(_detrended(t, p[:, 1])))
     d = sim.zmp_m[both] - p
-    miss = np.linalg.norm(d - d.mean(axis=0), axis=1)
+    miss = np.linalg.norm(d if keep_mean else d - d.mean(axis=0), axis=1)
     return _rms(miss) / max(scale, _MIN_SCALE)
 
 
-def experiment_cost(recorded: RecordedSignals, simulated: RecordedSignals) -> CostTerms:
-    """The normalised errors of ``simulated`` against ``recorded`` (same time grid)."""
+def experiment_cost(
+    recorded: RecordedSignals, simulated: RecordedSignals, keep_zmp_mean: bool = False
+) -> CostTerms:
+    """The normalised errors of ``simulated`` against ``recorded`` (same time grid).
+
+    Args:
+        keep_zmp_mean: charge the mean ZMP difference too (module docstring).
+    """
     n = recorded.time_s.size
     completed = min(simulated.time_s.size, n) / n
     if completed < 1.0:
@@ -137,4 +145,5 @@ def experiment_cost(recorded: RecordedSignals, simulated: RecordedSignals) -> Co
     _, a_rec = spectrum_in_band(recorded.trunk_tilt_rad, dt)
     _, a_sim = spectrum_in_band(simulated.trunk_tilt_rad, dt)
     spectrum = float(np.linalg.norm(a_sim - a_rec) / max(np.linalg.norm(a_rec), _MIN_SCALE))
-    return CostTerms(q_err / q_scale, _zmp_error(recorded, simulated), spectrum, 1.0, q_err)
+    zmp = _zmp_error(recorded, simulated, keep_zmp_mean)
+    return CostTerms(q_err / q_scale, zmp, spectrum, 1.0, q_err)

@@ -150,7 +150,7 @@ def write_identifiability_csv(path: Path, ident: Sequence[ParameterIdentifiabili
             i.cost_plus,
             100 * i.resolution,
             100 * i.cma_relative_std,
-            i.identifiable,
+            str(bool(i.identifiable)).lower(),  # as in recovery.csv
         ]
         for i in ident
     ]

@@ -41,6 +41,12 @@ class FitProblem:
     experiments: tuple[Experiment, ...]
     weights: CostWeights = field(default_factory=CostWeights)
 
+    @property
+    def keeps_zmp_mean(self) -> bool:
+        """Whether the cost charges the mean ZMP difference: F-T offsets (S) or the mass and
+        CoM (C) are fitted, so the simulator models what shifts the whole ZMP."""
+        return any(p.effect in ("S", "C") for p in self.parameters)
+
     def truth(self, values: Sequence[float]) -> object:
         """The robot's truth object with the parameters at ``values`` [units]."""
         return load_robot_truth(self.robot, truth_doc_with(self.base_doc, self.parameters, values))
@@ -59,4 +65,4 @@ def simulate(problem: FitProblem, values: Sequence[float], index: int) -> Record
 def evaluate(problem: FitProblem, values: Sequence[float], index: int) -> CostTerms:
     """Cost terms of experiment ``index`` with the parameters at ``values`` [units]."""
     simulated = simulate(problem, values, index)
-    return experiment_cost(problem.experiments[index].signals, simulated)
+    return experiment_cost(problem.experiments[index].signals, simulated, problem.keeps_zmp_mean)
