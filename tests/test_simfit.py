@@ -260,3 +260,19 @@ def test_identify_sim_command_bad_data_is_one_line_exit_2(tmp_path, capsys) -> N
     assert code == 2
     assert len(err.splitlines()) == 1
     assert "missing" in err
+
+
+def test_a_repeated_teo_self_test_recording_finds_its_datasets(tmp_path: Path) -> None:
+    """The hidden truth's temporary path is named after its content, so the step datasets'
+    settings match on a second run (a resumed fit records nothing twice)."""
+    from zmpkit.identify.simfit.self_test import SelfTestPlan, record_experiments
+
+    params = default_parameters("teo", "G", ("gear_stiffness",))
+    doc = load_truth_doc(base_truth_path("teo", None))
+    plan = SelfTestPlan((0.02,), (0.03,), hold_s=0.5, held_out_hold_s=0.5)
+    first = record_experiments("teo", plan, doc, params, np.array([45000.0]), "G", 1, tmp_path)
+    (trial,) = first[0][0].glob("trial_*.csv")
+    stamp = trial.stat().st_mtime_ns
+    again = record_experiments("teo", plan, doc, params, np.array([45000.0]), "G", 1, tmp_path)
+    assert again == first
+    assert trial.stat().st_mtime_ns == stamp  # resumed: the finished trial was kept

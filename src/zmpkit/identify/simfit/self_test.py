@@ -17,12 +17,15 @@ experiments are recorded the same way but never fitted.
 
 from __future__ import annotations
 
+import hashlib
 import math
+import shutil
 import tempfile
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
+import yaml
 from numpy.typing import NDArray
 
 from zmpkit.identify.simfit.parameters import FitParameter
@@ -131,16 +134,20 @@ def record_experiments(
 ) -> tuple[list[Path], list[Path]]:
     """Record the plan's fit and held-out experiments from the hidden truth into ``out``.
 
-    The truth file lives in a temporary folder only while recording.
+    The truth file lives in a temporary folder only while recording. The folder is named
+    after the truth's content, so a run resumed (or repeated with the same seed) names the
+    same truth in its datasets' settings and finds its recordings complete.
 
     Returns:
         (fit folders, held-out folders).
     """
     recorded = "S" if effects == "none" else f"{effects},S"
-    with tempfile.TemporaryDirectory(prefix="zmpkit-hidden-truth-") as hidden:
-        truth = write_truth_doc(
-            truth_doc_with(base_doc, parameters, truth_values), Path(hidden) / "truth.yaml"
-        )
+    doc = truth_doc_with(base_doc, parameters, truth_values)
+    digest = hashlib.sha256(yaml.safe_dump(doc, sort_keys=True).encode()).hexdigest()[:16]
+    hidden = Path(tempfile.gettempdir()) / f"zmpkit-hidden-truth-{digest}"
+    hidden.mkdir(exist_ok=True)
+    try:
+        truth = write_truth_doc(doc, hidden / "truth.yaml")
         if robot == "nao":
             fit = _walks(plan.fit, truth, recorded, seed, out / "fit")
             held = _walks(plan.held_out, truth, recorded, seed + 100, out / "held_out")
@@ -150,6 +157,8 @@ def record_experiments(
             plan.held_out, plan.held_out_hold_s, truth, recorded, seed + 100, out / "held_out_steps"
         )
         return [fit_dir], [held_dir]
+    finally:
+        shutil.rmtree(hidden, ignore_errors=True)
 
 
 @dataclass(frozen=True)
