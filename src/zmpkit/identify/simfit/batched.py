@@ -1,12 +1,10 @@
 """Many candidates of one experiment at once: open-loop rollouts on MuJoCo's thread pool.
 
-Both kinds of experiment are open loop. A walk plays its planned frames through the servo
-(no controller reads a sensor), a step trial plays its recorded setpoints; so the servo
-setpoints of every physics step are known before the rollout starts, and they are the same
-for every candidate (candidates differ in the model, not in the command). The rollouts of
-a whole CMA-ES generation then run in C on :class:`mujoco.batch.Batch` threads, a second of
-simulated time per call, with no Python per physics step; Python reads the recorded rows
-afterwards, as :mod:`~zmpkit.identify.simfit.rollout` reads the simulation step by step.
+Both kinds of experiment are open loop (:mod:`~zmpkit.identify.simfit.open_loop`), so the
+rollouts of a whole CMA-ES generation run in C on :class:`mujoco.batch.Batch` threads, a
+second of simulated time per call, with no Python per physics step; Python then reads the
+recorded rows (:mod:`~zmpkit.identify.simfit.batch_rows`) as
+:mod:`~zmpkit.identify.simfit.rollout` reads the simulation step by step.
 
 The results are those of the serial path (tested): each candidate's
 :class:`~zmpkit.sim.world.Simulation` is built and posed as there, the batch continues from
@@ -27,58 +25,31 @@ not in the serial path) is re-run on the serial path.
 
 from __future__ import annotations
 
-import copy
 from collections.abc import Sequence
-from dataclasses import dataclass
 
 import mujoco
 import mujoco.batch
 import numpy as np
 from numpy.typing import NDArray
 
-from zmpkit.identify.simfit.experiments import (
-    Experiment,
-    RecordedSignals,
-    StepExperiment,
-    WalkExperiment,
+from zmpkit.identify.simfit.batch_rows import BatchRows
+from zmpkit.identify.simfit.experiments import Experiment, RecordedSignals
+from zmpkit.identify.simfit.open_loop import (
+    OpenLoopSchedule,
+    open_loop_schedule,
+    posed_simulation,
 )
-from zmpkit.identify.simfit.rollout import (
-    empty_signals,
-    setpoint_table,
-    simulate_experiment,
-    step_signals,
-)
+from zmpkit.identify.simfit.rollout import simulate_experiment
 from zmpkit.sim.sensing import sample_series
 from zmpkit.sim.world import DIVERGED_SPEED_RAD_S, Simulation
 
-__all__ = ["CHUNK_S", "OpenLoopSchedule", "simulate_batch"]
+__all__ = ["CHUNK_S", "simulate_batch"]
 
 CHUNK_S = 1.0
 """Simulated time per batch call [s]: fallen and diverged candidates drop out between calls."""
 _TIME = mujoco.mjtState.mjSTATE_TIME
 _INTEGRATION = mujoco.mjtState.mjSTATE_INTEGRATION
 _BADQACC = int(mujoco.mjtWarning.mjWARN_BADQACC)
-
-
-@dataclass(frozen=True)
-class OpenLoopSchedule:
-    """An experiment as open-loop input, the same for every candidate.
-
-    Step counts are the simulation's own (``Simulation._steps``: 0 when built).
-
-    Attributes:
-        setpoints_rad: servo setpoints of the steps after ``start_step``, in the
-            simulation's joint order [rad], shape (nstep, J).
-        start_step: the step of the posed simulation the batch continues from [-].
-        record_steps: the steps after which a signal row is read, increasing, shape (R,);
-            those at ``start_step`` are read from the posed simulation.
-        q_cmd_rad: the commanded angles of each row, the experiment's joints [rad], (R, Je).
-    """
-
-    setpoints_rad: NDArray[np.float64]
-    start_step: int
-    record_steps: NDArray[np.int64]
-    q_cmd_rad: NDArray[np.float64]
 
 
 def simulate_batch(
@@ -106,11 +77,11 @@ def simulate_batch(
     """
     if not truths:
         return []
-    sims = [_posed(experiment, truth, effects) for truth in truths]
-    schedule = _schedule(experiment, sims[0])
+    sims = [posed_simulation(experiment, truth, effects) for truth in truths]
+    schedule = open_loop_schedule(experiment, sims[0])
     out: list[RecordedSignals | None] = [None] * len(sims)
     for group in _layout_groups(sims):
-        rows = _Rows(experiment, [sims[i] for i in group], schedule)
+        rows = BatchRows(experiment, [sims[i] for i in group], schedule)
         if warp_device is None:
             _run(rows, [sims[i] for i in group], schedule, nthread)
         else:
@@ -123,95 +94,6 @@ def simulate_batch(
     return [s for s in out if s is not None]
 
 
-def _posed(experiment: Experiment, truth: object, effects: str) -> Simulation:
-    """A candidate's simulation where the serial path starts its loop."""
-    if isinstance(experiment, WalkExperiment):
-        from zmpkit.identify.simfit.walk_plan import walk_trajectory
-        from zmpkit.pipelines.walk_sim import start_pose
-        from zmpkit.robots.nao import make_nao
-
-        sim = make_nao(effects, truth, seed=0)  # type: ignore[arg-type]
-        start_pose(sim, walk_trajectory(*_walk_key(experiment)))
-        return sim
-    from zmpkit.robots.teo import make_teo
-
-    return make_teo(effects, truth, seed=0)  # type: ignore[arg-type]
-
-
-def _walk_key(experiment: WalkExperiment) -> tuple[float, float, float, float]:
-    return (
-        experiment.speed_mps,
-        experiment.step_duration_s,
-        experiment.duration_s,
-        experiment.com_height_m,
-    )
-
-
-def _schedule(experiment: Experiment, sim: Simulation) -> OpenLoopSchedule:
-    if isinstance(experiment, WalkExperiment):
-        return _walk_schedule(experiment, sim)
-    return _step_schedule(experiment, sim)
-
-
-_WALK_SCHEDULES: dict[tuple, OpenLoopSchedule] = {}
-"""Walk schedules of this process, by plan, joints, servo and timestep (a few MB each)."""
-_MAX_WALK_SCHEDULES = 16
-
-
-def _walk_schedule(experiment: WalkExperiment, sim: Simulation) -> OpenLoopSchedule:
-    """The frames of :func:`~zmpkit.pipelines.walk_sim.simulate_walk`, through the servo.
-
-    The same for every candidate and generation, so computed once (Python per step).
-    """
-    key = (
-        _walk_key(experiment),
-        experiment.signals.joint_names,
-        sim.joint_names,
-        sim.robot.servo_limits,
-        sim.dt,
-    )
-    if key not in _WALK_SCHEDULES:
-        if len(_WALK_SCHEDULES) >= _MAX_WALK_SCHEDULES:
-            _WALK_SCHEDULES.clear()
-        _WALK_SCHEDULES[key] = _plan_walk_schedule(experiment, sim)
-    return _WALK_SCHEDULES[key]
-
-
-def _plan_walk_schedule(experiment: WalkExperiment, sim: Simulation) -> OpenLoopSchedule:
-    from zmpkit.identify.simfit.walk_plan import walk_trajectory
-
-    trajectory = walk_trajectory(*_walk_key(experiment))
-    columns = [trajectory.joint_names.index(j) for j in sim.joint_names]
-    frames = trajectory.q_rad[:, columns]
-    substeps = max(1, round(float(trajectory.time_s[1] - trajectory.time_s[0]) / sim.dt))
-    servo = copy.deepcopy(sim.servo)
-    setpoints = np.empty(((len(frames) - 1) * substeps, len(columns)))
-    row = 0
-    for k in range(1, len(frames)):
-        step = (frames[k] - frames[k - 1]) / substeps
-        for i in range(1, substeps + 1):
-            servo.set_target((frames[k - 1] + i * step).tolist())
-            setpoints[row] = servo.tick()
-            row += 1
-    keep = [sim.joint_names.index(j) for j in experiment.signals.joint_names]
-    start = 1  # start_pose took one step
-    return OpenLoopSchedule(
-        setpoints, start, start + substeps * np.arange(len(frames)), frames[:, keep]
-    )
-
-
-def _step_schedule(experiment: StepExperiment, sim: Simulation) -> OpenLoopSchedule:
-    """The recorded setpoints, one per servo tick, sampled at the recorded times."""
-    from zmpkit.errors import SimulationDivergedError
-
-    signals = experiment.signals
-    if tuple(sim.joint_names) != tuple(signals.joint_names):
-        raise SimulationDivergedError(0.0, "the joint list", "recorded joints differ from TEO's")
-    ticks = np.round(signals.time_s / sim.dt).astype(np.int64)
-    table = setpoint_table(signals, int(ticks[-1]), sim.dt)
-    return OpenLoopSchedule(table, 0, ticks, signals.q_cmd_rad)
-
-
 def _layout_groups(sims: Sequence[Simulation]) -> list[list[int]]:
     """Candidates whose models give MjData the same layout (one batch each)."""
     groups: dict[tuple[int, ...], list[int]] = {}
@@ -222,141 +104,9 @@ def _layout_groups(sims: Sequence[Simulation]) -> list[list[int]]:
     return list(groups.values())
 
 
-class _Rows:
-    """What each candidate records, filled chunk by chunk: a list of row blocks each."""
-
-    def __init__(
-        self, experiment: Experiment, sims: Sequence[Simulation], schedule: OpenLoopSchedule
-    ) -> None:
-        self.experiment, self.sims, self.schedule = experiment, sims, schedule
-        self.walk = isinstance(experiment, WalkExperiment)
-        sim = sims[0]
-        self.feet = tuple(f.foot for f in sim.robot.feet)
-        self.ft_sites = [sim.model.site(f.site).id for f in sim.robot.feet]
-        self.quat = sim.sensor_slice(sim.robot.imu.orientation)
-        self.sensors = [s.robot.effects.sensors for s in sims]
-        n = len(sims)
-        self.done = [False] * n
-        self.rerun = [False] * n
-        self.diverged = [False] * n
-        self.blocks: list[list[dict[str, NDArray[np.float64]]]] = [[] for _ in range(n)]
-        self.ft_now = [np.array([s.ft_channel(f).output for f in self.feet]) for s in sims]
-
-    def read_posed(self, i: int) -> None:
-        """The row of the posed state (a walk's frame 0; the serial path checks no fall)."""
-        data = self.sims[i].data
-        block = {
-            "qpos": data.qpos[None].copy(),
-            "sensordata": data.sensordata[None].copy(),
-            "time": np.array([data.time]),
-            "site_xpos": data.site_xpos[None, self.ft_sites].copy(),
-            "site_xmat": data.site_xmat[None, self.ft_sites].copy(),
-        }
-        block["ft"] = self._ft(i, block["sensordata"], self.ft_now[i][None])
-        self.blocks[i].append(block)
-
-    def _ft(
-        self, i: int, sensordata: NDArray[np.float64], sampled: NDArray[np.float64]
-    ) -> NDArray[np.float64]:
-        """F-T readings (rows, feet, 6): the last samples (S on) or the true wrench."""
-        if self.sensors[i]:
-            return sampled
-        sim = self.sims[i]
-        return np.stack([sim.ft_true_of(f, sensordata) for f in self.feet], axis=1)
-
-    def read_chunk(
-        self,
-        i: int,
-        rows: dict[str, NDArray[np.float64]],
-        steps: NDArray[np.int64],
-        ft_rows: NDArray[np.int64],
-        sampled: NDArray[np.float64],
-        limit: int,
-    ) -> None:
-        """Keep candidate ``i``'s rows among a chunk's first ``limit`` steps.
-
-        Args:
-            rows: the chunk's records of this candidate, one row per step.
-            steps: the step each row ends.
-            ft_rows: the rows that are F-T sample steps.
-            sampled: the F-T readings of those samples, (len(ft_rows), feet, 6).
-            limit: rows from here on are past a divergence.
-        """
-        wanted = np.flatnonzero(np.isin(steps[:limit], self.schedule.record_steps))
-        if self.walk:
-            fall = _first_fall(rows["qpos"][wanted], rows["sensordata"][wanted, self.quat])
-            if fall is not None:
-                wanted = wanted[: fall + 1]
-                self.done[i] = True
-        last = np.searchsorted(ft_rows, wanted, side="right") - 1
-        held = np.concatenate([self.ft_now[i][None], sampled])[last + 1]
-        block = {
-            "qpos": rows["qpos"][wanted],
-            "sensordata": rows["sensordata"][wanted],
-            "time": rows["time"][wanted, 0],
-            "site_xpos": rows["site_xpos"][wanted][:, self.ft_sites],
-            "site_xmat": rows["site_xmat"][wanted][:, self.ft_sites],
-        }
-        block["ft"] = self._ft(i, block["sensordata"], held)
-        self.blocks[i].append(block)
-        taken = np.searchsorted(ft_rows, limit) - 1
-        if taken >= 0:
-            self.ft_now[i] = sampled[taken]
-
-    def signals(self, i: int) -> RecordedSignals:
-        """The candidate's recorded signals."""
-        signals, blocks = self.experiment.signals, self.blocks[i]
-        if not blocks or (self.walk and self.diverged[i]):
-            return empty_signals(signals)
-        rows = {k: np.concatenate([b[k] for b in blocks]) for k in blocks[0]}
-        n = len(rows["time"])
-        if n == 0:
-            return empty_signals(signals)
-        sim = self.sims[i]
-        encoders = sim.encoders_of(rows["qpos"])
-        quats = rows["sensordata"][:, self.quat]
-        if not self.walk:
-            right, left = (rows["ft"][:, self.feet.index(f)] for f in ("right", "left"))
-            data = np.concatenate([right, left, encoders, quats], axis=1)
-            return step_signals(self.experiment, data, n)  # type: ignore[arg-type]
-        from zmpkit.analysis.walk_metrics import measured_zmp
-        from zmpkit.identify.simfit.experiments import tilt_from_quaternions
-        from zmpkit.pipelines.walk_sim import wrench_in_world
-
-        force, moment = wrench_in_world(rows["site_xmat"], rows["ft"])
-        keep = [sim.joint_names.index(j) for j in signals.joint_names]
-        return RecordedSignals(
-            rows["time"],
-            signals.joint_names,
-            self.schedule.q_cmd_rad[:n],
-            encoders[:, keep],
-            measured_zmp(force, moment, rows["site_xpos"]),
-            tilt_from_quaternions(quats, "sagittal"),
-        )
-
-
-def _first_fall(qpos: NDArray[np.float64], quat: NDArray[np.float64]) -> int | None:
-    """The first row where the serial path's fall rule fires, or None.
-
-    Screened with numpy, decided with the serial path's own scalar rule (so a tilt within
-    rounding of the limit is judged exactly as there).
-    """
-    from zmpkit.pipelines.walk_sim import FALL_TILT_RAD, FALL_TORSO_HEIGHT_M, quaternion_pitch_roll
-
-    w, x, y, z = quat.T
-    pitch = np.arcsin(np.clip(2.0 * (w * y - z * x), -1.0, 1.0))
-    roll = np.arctan2(2.0 * (w * x + y * z), 1.0 - 2.0 * (x * x + y * y))
-    margin = 1e-9
-    near = np.maximum(np.abs(pitch), np.abs(roll)) > FALL_TILT_RAD - margin
-    near |= qpos[:, 2] < FALL_TORSO_HEIGHT_M + margin
-    for r in np.flatnonzero(near):
-        p, q = quaternion_pitch_roll(quat[r])
-        if max(abs(p), abs(q)) > FALL_TILT_RAD or float(qpos[r, 2]) < FALL_TORSO_HEIGHT_M:
-            return int(r)
-    return None
-
-
-def _run(rows: _Rows, sims: Sequence[Simulation], schedule: OpenLoopSchedule, nthread: int) -> None:
+def _run(
+    rows: BatchRows, sims: Sequence[Simulation], schedule: OpenLoopSchedule, nthread: int
+) -> None:
     """Roll every candidate out chunk by chunk, filling ``rows``."""
     n = len(sims)
     model0 = sims[0].model
@@ -400,7 +150,7 @@ def _run(rows: _Rows, sims: Sequence[Simulation], schedule: OpenLoopSchedule, nt
 
 
 def _read_candidates(
-    rows: _Rows,
+    rows: BatchRows,
     alive: list[int],
     out: dict,
     steps: NDArray[np.int64],
@@ -438,7 +188,7 @@ def _read_candidates(
 
 
 def _run_warp(
-    rows: _Rows, sims: Sequence[Simulation], schedule: OpenLoopSchedule, device: str
+    rows: BatchRows, sims: Sequence[Simulation], schedule: OpenLoopSchedule, device: str
 ) -> None:
     """Roll every candidate out on MuJoCo Warp at once, filling ``rows``."""
     from zmpkit.errors import ParameterError
@@ -494,7 +244,7 @@ def _run_warp(
 
 
 def _ft_samples(
-    rows: _Rows, sims: Sequence[Simulation], alive: list[int], wrenches: NDArray[np.float64]
+    rows: BatchRows, sims: Sequence[Simulation], alive: list[int], wrenches: NDArray[np.float64]
 ) -> NDArray[np.float64]:
     """The F-T readings at the chunk's sample steps, (alive, samples, feet, 6).
 

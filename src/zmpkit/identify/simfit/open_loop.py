@@ -1,0 +1,133 @@
+"""An experiment as open-loop input: what every candidate's servos get, step by step.
+
+Both kinds of experiment are open loop. A walk plays its planned frames through the servo
+(no controller reads a sensor), a step trial plays its recorded setpoints; so the servo
+setpoints of every physics step are known before the rollout starts, and they are the same
+for every candidate (candidates differ in the model, not in the command). A candidate's
+rollout starts from its :class:`~zmpkit.sim.world.Simulation` built and posed exactly as the
+serial path (:mod:`~zmpkit.identify.simfit.rollout`) starts its loop.
+"""
+
+from __future__ import annotations
+
+import copy
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+
+from zmpkit.identify.simfit.experiments import Experiment, StepExperiment, WalkExperiment
+from zmpkit.identify.simfit.rollout import setpoint_table
+from zmpkit.sim.world import Simulation
+
+__all__ = ["OpenLoopSchedule", "open_loop_schedule", "posed_simulation"]
+
+
+@dataclass(frozen=True)
+class OpenLoopSchedule:
+    """An experiment as open-loop input, the same for every candidate.
+
+    Step counts are the simulation's own (``Simulation._steps``: 0 when built).
+
+    Attributes:
+        setpoints_rad: servo setpoints of the steps after ``start_step``, in the
+            simulation's joint order [rad], shape (nstep, J).
+        start_step: the step of the posed simulation the batch continues from [-].
+        record_steps: the steps after which a signal row is read, increasing, shape (R,);
+            those at ``start_step`` are read from the posed simulation.
+        q_cmd_rad: the commanded angles of each row, the experiment's joints [rad], (R, Je).
+    """
+
+    setpoints_rad: NDArray[np.float64]
+    start_step: int
+    record_steps: NDArray[np.int64]
+    q_cmd_rad: NDArray[np.float64]
+
+
+def posed_simulation(experiment: Experiment, truth: object, effects: str) -> Simulation:
+    """A candidate's simulation where the serial path starts its loop."""
+    if isinstance(experiment, WalkExperiment):
+        from zmpkit.identify.simfit.walk_plan import walk_trajectory
+        from zmpkit.pipelines.walk_sim import start_pose
+        from zmpkit.robots.nao import make_nao
+
+        sim = make_nao(effects, truth, seed=0)  # type: ignore[arg-type]
+        start_pose(sim, walk_trajectory(*_walk_key(experiment)))
+        return sim
+    from zmpkit.robots.teo import make_teo
+
+    return make_teo(effects, truth, seed=0)  # type: ignore[arg-type]
+
+
+def _walk_key(experiment: WalkExperiment) -> tuple[float, float, float, float]:
+    return (
+        experiment.speed_mps,
+        experiment.step_duration_s,
+        experiment.duration_s,
+        experiment.com_height_m,
+    )
+
+
+def open_loop_schedule(experiment: Experiment, sim: Simulation) -> OpenLoopSchedule:
+    if isinstance(experiment, WalkExperiment):
+        return _walk_schedule(experiment, sim)
+    return _step_schedule(experiment, sim)
+
+
+_WALK_SCHEDULES: dict[tuple, OpenLoopSchedule] = {}
+"""Walk schedules of this process, by plan, joints, servo and timestep (a few MB each)."""
+_MAX_WALK_SCHEDULES = 16
+
+
+def _walk_schedule(experiment: WalkExperiment, sim: Simulation) -> OpenLoopSchedule:
+    """The frames of :func:`~zmpkit.pipelines.walk_sim.simulate_walk`, through the servo.
+
+    The same for every candidate and generation, so computed once (Python per step).
+    """
+    key = (
+        _walk_key(experiment),
+        experiment.signals.joint_names,
+        sim.joint_names,
+        sim.robot.servo_limits,
+        sim.dt,
+    )
+    if key not in _WALK_SCHEDULES:
+        if len(_WALK_SCHEDULES) >= _MAX_WALK_SCHEDULES:
+            _WALK_SCHEDULES.clear()
+        _WALK_SCHEDULES[key] = _plan_walk_schedule(experiment, sim)
+    return _WALK_SCHEDULES[key]
+
+
+def _plan_walk_schedule(experiment: WalkExperiment, sim: Simulation) -> OpenLoopSchedule:
+    from zmpkit.identify.simfit.walk_plan import walk_trajectory
+
+    trajectory = walk_trajectory(*_walk_key(experiment))
+    columns = [trajectory.joint_names.index(j) for j in sim.joint_names]
+    frames = trajectory.q_rad[:, columns]
+    substeps = max(1, round(float(trajectory.time_s[1] - trajectory.time_s[0]) / sim.dt))
+    servo = copy.deepcopy(sim.servo)
+    setpoints = np.empty(((len(frames) - 1) * substeps, len(columns)))
+    row = 0
+    for k in range(1, len(frames)):
+        step = (frames[k] - frames[k - 1]) / substeps
+        for i in range(1, substeps + 1):
+            servo.set_target((frames[k - 1] + i * step).tolist())
+            setpoints[row] = servo.tick()
+            row += 1
+    keep = [sim.joint_names.index(j) for j in experiment.signals.joint_names]
+    start = 1  # start_pose took one step
+    return OpenLoopSchedule(
+        setpoints, start, start + substeps * np.arange(len(frames)), frames[:, keep]
+    )
+
+
+def _step_schedule(experiment: StepExperiment, sim: Simulation) -> OpenLoopSchedule:
+    """The recorded setpoints, one per servo tick, sampled at the recorded times."""
+    from zmpkit.errors import SimulationDivergedError
+
+    signals = experiment.signals
+    if tuple(sim.joint_names) != tuple(signals.joint_names):
+        raise SimulationDivergedError(0.0, "the joint list", "recorded joints differ from TEO's")
+    ticks = np.round(signals.time_s / sim.dt).astype(np.int64)
+    table = setpoint_table(signals, int(ticks[-1]), sim.dt)
+    return OpenLoopSchedule(table, 0, ticks, signals.q_cmd_rad)
