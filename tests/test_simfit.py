@@ -195,6 +195,14 @@ def test_ray_backend_without_ray_names_the_extra(monkeypatch: pytest.MonkeyPatch
         make_evaluator(None, "ray", address="auto")  # type: ignore[arg-type]
 
 
+def test_warp_backend_without_mujoco_warp_names_the_extra(monkeypatch: pytest.MonkeyPatch) -> None:
+    from zmpkit.identify.simfit.backends import make_evaluator
+
+    monkeypatch.setitem(sys.modules, "mujoco_warp", None)  # as if not installed
+    with pytest.raises(ParameterError, match=r"pip install 'zmpkit\[gpu\]'"):
+        make_evaluator(None, "warp")  # type: ignore[arg-type]
+
+
 def test_data_folder_errors_name_the_file(tmp_path: Path) -> None:
     with pytest.raises(InputFileError, match="expected an experiment folder"):
         read_experiments([tmp_path / "missing"], "nao")

@@ -265,6 +265,13 @@ def make_evaluator(
     if backend == "warp":
         from zmpkit.identify.simfit.batch_backend import BatchEvaluator
 
+        try:
+            import mujoco_warp  # noqa: F401
+        except ImportError:
+            raise ParameterError(
+                "backend 'warp' needs MuJoCo Warp, which is not installed: "
+                "pip install 'zmpkit[gpu]' (or use backend 'local', MuJoCo's CPU threads)"
+            ) from None
         return BatchEvaluator(problem, workers, warp_device="")
     if backend == "ray":
         return RayEvaluator(problem, address)
