@@ -120,7 +120,7 @@ def test_unsupported_model_names_feature_and_cpu_backend(nao) -> None:
     ideal = make_nao("G", None, seed=0)  # without M the joints are driven by `pid` servos
     state = np.empty(mujoco.mj_stateSize(ideal.model, FULL))
     mujoco.mj_getState(ideal.model, ideal.data, state, FULL)
-    with pytest.raises(ParameterError, match=r"mjDYN_PID.*CPU backend"):
+    with pytest.raises(ParameterError, match=r"mjDYN_PID.*on the CPU \(the fit's backend 'local'"):
         rollout_warp([ideal.model], state, control[:, : ideal.model.nu], device="cpu")
 
 

@@ -172,7 +172,7 @@ def _check_supported(mjw: Any, model: mujoco.MjModel) -> None:
         if missing:
             raise ParameterError(
                 f"MuJoCo Warp does not support {field} {missing}; "
-                "run this model on the CPU backend (mujoco.rollout)"
+                "run this model on the CPU (the fit's backend 'local', or mujoco.rollout)"
             )
 
 
