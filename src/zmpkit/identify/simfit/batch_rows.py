@@ -36,6 +36,9 @@ class BatchRows:
         self.diverged = [False] * n
         self.blocks: list[list[dict[str, NDArray[np.float64]]]] = [[] for _ in range(n)]
         self.ft_now = [np.array([s.ft_channel(f).output for f in self.feet]) for s in sims]
+        if schedule.record_steps[0] == schedule.start_step:
+            for i in range(n):
+                self.read_posed(i)
 
     def read_posed(self, i: int) -> None:
         """The row of the posed state (a walk's frame 0; the serial path checks no fall)."""

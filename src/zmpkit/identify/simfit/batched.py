@@ -50,6 +50,10 @@ CHUNK_S = 1.0
 _TIME = mujoco.mjtState.mjSTATE_TIME
 _INTEGRATION = mujoco.mjtState.mjSTATE_INTEGRATION
 _BADQACC = int(mujoco.mjtWarning.mjWARN_BADQACC)
+_LAYOUT_SIZES = (
+    "nq", "nv", "na", "nu", "nbody", "njnt", "ngeom", "nsite", "ntendon", "neq",
+    "nsensordata", "nwrap", "nmocap",
+)  # fmt: skip
 
 
 def simulate_batch(
@@ -98,9 +102,8 @@ def _layout_groups(sims: Sequence[Simulation]) -> list[list[int]]:
     """Candidates whose models give MjData the same layout (one batch each)."""
     groups: dict[tuple[int, ...], list[int]] = {}
     for i, sim in enumerate(sims):
-        m = sim.model
-        key = (m.nq, m.nv, m.na, m.nu, m.nbody, m.njnt, m.ngeom, m.nsite, m.ntendon, m.neq)
-        groups.setdefault((*key, m.nsensordata, m.nwrap, m.nmocap), []).append(i)
+        key = tuple(getattr(sim.model, size) for size in _LAYOUT_SIZES)
+        groups.setdefault(key, []).append(i)
     return list(groups.values())
 
 
@@ -111,9 +114,6 @@ def _run(
     n = len(sims)
     model0 = sims[0].model
     start = schedule.start_step
-    for i in range(n):
-        if schedule.record_steps[0] == start:
-            rows.read_posed(i)
     batch = mujoco.batch.Batch(model0, n, nthread=nthread)
     if n > 1:
         batch.set_models([s.model for s in sims])
@@ -136,15 +136,7 @@ def _run(
         out["time"] = out.pop(_TIME)
         steps = start + np.arange(c0 + 1, c1 + 1)  # the step each recorded row ends
         ft_rows = np.flatnonzero(steps % ft_every == 0)
-        wrenches = np.stack(
-            [
-                np.stack(
-                    [sims[i].ft_true_of(f, out["sensordata"][a, ft_rows]) for f in rows.feet], 1
-                )
-                for a, i in enumerate(alive)
-            ]
-        )
-        measured = _ft_samples(rows, sims, alive, wrenches)
+        measured = _ft_samples(rows, sims, alive, out["sensordata"][:, ft_rows])
         warned = batch.warning[alive, :, 1] != before
         _read_candidates(rows, alive, out, steps, ft_rows, measured, warned, t0, dt)
 
@@ -196,9 +188,6 @@ def _run_warp(
 
     n, model0 = len(sims), sims[0].model
     start = schedule.start_step
-    for i in range(n):
-        if schedule.record_steps[0] == start:
-            rows.read_posed(i)
     controls = sims[0].controls_of(schedule.setpoints_rad)
     if any(not np.array_equal(s.controls_of(schedule.setpoints_rad), controls) for s in sims):
         raise ParameterError("the Warp backend needs the same actuator gears in every candidate")
@@ -228,14 +217,8 @@ def _run_warp(
             data.qpos[:] = before[r]
             mujoco.mj_kinematics(sim.model, data)
             out["site_xpos"][i, r], out["site_xmat"][i, r] = data.site_xpos, data.site_xmat
-    wrenches = np.stack(
-        [
-            np.stack([s.ft_true_of(f, result.sensordata[i, ft_rows]) for f in rows.feet], 1)
-            for i, s in enumerate(sims)
-        ]
-    )
     alive = list(range(n))
-    measured = _ft_samples(rows, sims, alive, wrenches)
+    measured = _ft_samples(rows, sims, alive, result.sensordata[:, ft_rows])
     warned = np.zeros((n, int(mujoco.mjtWarning.mjNWARNING)), dtype=bool)
     t0 = initial[:, 0]
     _read_candidates(
@@ -244,13 +227,19 @@ def _run_warp(
 
 
 def _ft_samples(
-    rows: BatchRows, sims: Sequence[Simulation], alive: list[int], wrenches: NDArray[np.float64]
+    rows: BatchRows, sims: Sequence[Simulation], alive: list[int], sensordata: NDArray[np.float64]
 ) -> NDArray[np.float64]:
     """The F-T readings at the chunk's sample steps, (alive, samples, feet, 6).
 
     Args:
-        wrenches: the true wrenches there, same shape.
+        sensordata: MuJoCo's sensor rows at those steps, (alive, samples, nsensordata).
     """
+    wrenches = np.stack(
+        [
+            np.stack([sims[i].ft_true_of(f, sensordata[a]) for f in rows.feet], axis=1)
+            for a, i in enumerate(alive)
+        ]
+    )
     noisy = [a for a, i in enumerate(alive) if rows.sensors[i]]
     if not noisy:
         return wrenches
