@@ -12,9 +12,9 @@ parameter vectors (PID gain scale, gear stiffness) evaluated on it, i.e. ``N`` w
 tendon gears):
 
 1. ``serial`` (the baseline): every rollout in this process, Python per physics step;
-2. ``pool``: :class:`~zmpkit.identify.simfit.backends.LocalPoolEvaluator` with
+2. ``pool``: :class:`~zmpkit.simfit.backends.LocalPoolEvaluator` with
    ``--workers`` processes (started before timing; their start-up is reported apart);
-3. ``local batch``: :class:`~zmpkit.identify.simfit.batch_backend.BatchEvaluator`, the
+3. ``local batch``: :class:`~zmpkit.simfit.batch_backend.BatchEvaluator`, the
    default backend: all candidates in one MuJoCo thread-pool batch on ``--workers`` threads.
 
 Each row also gives the process's CPU time per simulated physics step (the pool's workers
@@ -34,21 +34,22 @@ from typing import Any
 import numpy as np
 
 from harness import base_parser, print_table, write_run
-from zmpkit.identify.simfit.backends import LocalPoolEvaluator, SerialEvaluator
-from zmpkit.identify.simfit.batch_backend import BatchEvaluator
-from zmpkit.identify.simfit.experiments import read_experiments
-from zmpkit.identify.simfit.parameters import default_parameters
-from zmpkit.identify.simfit.problem import FitProblem
-from zmpkit.identify.simfit.truth_doc import base_truth_path, load_truth_doc
-from zmpkit.pipelines.walk import WalkConfig, run_walk
+from zmpkit.experiments.walk_config import WalkConfig
+from zmpkit.pipelines.walk import run_walk, write_walk
 from zmpkit.robots.nao import make_nao
+from zmpkit.simfit.backends import LocalPoolEvaluator, SerialEvaluator
+from zmpkit.simfit.batch_backend import BatchEvaluator
+from zmpkit.simfit.experiments import read_experiments
+from zmpkit.simfit.parameters import default_parameters
+from zmpkit.simfit.problem import FitProblem
+from zmpkit.simfit.truth_doc import base_truth_path, load_truth_doc
 
 __all__ = ["main"]
 
 
 def make_problem(folder: Path, duration_s: float) -> FitProblem:
     """Record one walk into ``folder`` and wrap it as a 2-parameter NAO fit problem."""
-    run_walk(WalkConfig(duration_s=duration_s, effects="M,G,S", figures=False), folder)
+    write_walk(run_walk(WalkConfig(duration_s=duration_s, effects="M,G,S", figures=False)), folder)
     params = default_parameters("nao", "M,G", ("pid_gain_scale", "gear_stiffness"))
     doc = load_truth_doc(base_truth_path("nao", None))
     return FitProblem("nao", "M,G,S", params, doc, tuple(read_experiments([folder], "nao")))

@@ -13,8 +13,8 @@ import time
 from typing import Any
 
 from harness import base_parser, environment, print_table, write_json
-from zmpkit.pipelines.walk import WalkConfig
-from zmpkit.pipelines.walk_sim import simulate_walk
+from zmpkit.experiments.walk_config import WalkConfig
+from zmpkit.experiments.walk_trial import simulate_walk
 from zmpkit.robots.nao import make_nao, nao_ik_model
 from zmpkit.walking import generate_pattern
 from zmpkit.walking.ik import solve_walking_ik

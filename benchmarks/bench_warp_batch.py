@@ -32,14 +32,14 @@ import numpy as np
 from mujoco import rollout
 
 from harness import base_parser, print_table, write_run
-from zmpkit.identify.simfit.parameters import default_parameters
-from zmpkit.identify.simfit.truth_doc import (
+from zmpkit.robots.nao import make_nao
+from zmpkit.simfit.parameters import default_parameters
+from zmpkit.simfit.truth_doc import (
     base_truth_path,
     load_robot_truth,
     load_truth_doc,
     truth_doc_with,
 )
-from zmpkit.robots.nao import make_nao
 
 __all__ = ["main"]
 

@@ -9,7 +9,8 @@ import sys
 from pathlib import Path
 
 from zmpkit.analysis.walk_plots import plot_effect_comparison
-from zmpkit.pipelines.walk import WalkConfig, run_walk
+from zmpkit.experiments.walk_config import WalkConfig
+from zmpkit.pipelines.walk import run_walk, write_walk
 
 EFFECT_SETS = ("none", "M", "M,I", "G", "F", "I,G,F", "M,G", "M,F", "M,G,F", "all")
 
@@ -18,7 +19,7 @@ def main(out: Path) -> None:
     runs = {}
     for effects in EFFECT_SETS:
         config = WalkConfig(effects=effects, figures=effects in ("none", "all"))
-        result = run_walk(config, out / effects.replace(",", ""))
+        result = write_walk(run_walk(config), out / effects.replace(",", ""))
         s = result.summary
         runs[effects] = (result.record.time_s, result.record.trunk_pitch_rad)
         print(

@@ -6,9 +6,9 @@ from pathlib import Path
 
 import numpy as np
 
-from zmpkit.identify.simfit.parameters import FitParameter, default_parameters
-from zmpkit.identify.simfit.self_test import SelfTestPlan, perturbed_values, record_experiments
-from zmpkit.identify.simfit.truth_doc import base_truth_path, load_truth_doc
+from zmpkit.simfit.parameters import FitParameter, default_parameters
+from zmpkit.simfit.self_test import SelfTestPlan, perturbed_values, record_experiments
+from zmpkit.simfit.truth_doc import base_truth_path, load_truth_doc
 
 SEED = 5
 WALK = (0.2, 1.5)

@@ -8,9 +8,9 @@ from pathlib import Path
 
 import pytest
 
+from zmpkit.analysis.table1 import TABLE1_COLUMNS
 from zmpkit.cli import main
 from zmpkit.identify import BalanceParams
-from zmpkit.io.table1 import TABLE1_COLUMNS
 from zmpkit.pipelines.balance import BalanceConfig, run_balance
 from zmpkit.pipelines.balance_report import write_balance_outputs
 

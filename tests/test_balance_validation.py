@@ -10,8 +10,8 @@ import numpy as np
 import pytest
 
 from zmpkit.analysis.balance_validation import evaluate_trial, percent_error
-from zmpkit.identify import StepTrial
-from zmpkit.io.table1 import TABLE1_COLUMNS, Table1Row, table1_markdown, write_table1_csv
+from zmpkit.analysis.table1 import TABLE1_COLUMNS, Table1Row, table1_markdown, write_table1_csv
+from zmpkit.signals import StepTrial
 
 ZETA, OMEGA_N = 0.3, 6.0  # [-], [rad/s]
 

@@ -8,7 +8,7 @@ import pytest
 from zmpkit.compensate.algorithm1 import compensate_abstraction
 from zmpkit.compensate.algorithm2 import Algorithm2Parameters, OnlineZmpCompensator
 from zmpkit.errors import ParameterError
-from zmpkit.pipelines.walk_sim import simulate_walk
+from zmpkit.experiments.walk_trial import simulate_walk
 from zmpkit.robots.nao import NAO_LEG_JOINTS, make_nao, nao_ik_model
 from zmpkit.walking import PatternConfig, generate_pattern
 from zmpkit.walking.ik import IkSettings, solve_walking_ik

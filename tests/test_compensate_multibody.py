@@ -8,11 +8,10 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from zmpkit.analysis.walk_metrics import measured_zmp
 from zmpkit.compensate.evaluate import simulate_with_offset
 from zmpkit.compensate.multibody_zmp import InverseDynamicsZmp, finite_differences
 from zmpkit.errors import ModelError, ParameterError
-from zmpkit.pipelines.walk import WalkConfig
+from zmpkit.experiments.walk_config import WalkConfig
 from zmpkit.robots.nao import make_nao, nao_ik_model
 
 # Measured on the 3 s ideal walk (effects none, 10 ms frames): RMS 11.3 mm (x), 5.7 mm (y)
@@ -76,7 +75,7 @@ def test_matches_the_contact_force_zmp_on_an_ideal_walk() -> None:
     assert record is not None
     assert not record.fell
     zmp = InverseDynamicsZmp(make_nao("none").model).from_qpos(record.qpos, 0.01).zmp_in_world
-    contact = measured_zmp(record.force_in_world, record.moment_in_world, record.sensor_in_world)
+    contact = record.zmp_in_world()
     lo, hi = outcome.summary.window_s
     steady = (record.time_s >= lo) & (record.time_s <= hi)
     rms = np.sqrt(np.nanmean((zmp[steady] - contact[steady]) ** 2, axis=0))

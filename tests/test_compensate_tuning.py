@@ -11,14 +11,11 @@ import pytest
 from zmpkit.compensate.algorithm1 import compensate_abstraction
 from zmpkit.compensate.evaluations import WalkSpec, evaluate_all
 from zmpkit.compensate.methods import CompensatedWalk
+from zmpkit.compensate.summary import EXTRA_SUMMARY_KEYS, SUMMARY_KEYS, summary_of
 from zmpkit.compensate.tuning import objective, prior_from_offset, tune_offset
 from zmpkit.errors import ParameterError
 from zmpkit.pipelines.walk_compensate import CompensateConfig, CompensateResult, run_walk_compensate
-from zmpkit.pipelines.walk_compensate_report import (
-    EXTRA_SUMMARY_KEYS,
-    SUMMARY_KEYS,
-    write_outputs,
-)
+from zmpkit.pipelines.walk_compensate_report import write_walk_compensate
 from zmpkit.robots.nao import nao_ik_model
 from zmpkit.walking import generate_pattern
 
@@ -54,11 +51,9 @@ def test_summary_json_has_exactly_the_contract_keys(tmp_path, method) -> None:
     rms = (0.01, 0.001) if method == "alg1" else ()
     label = "alg1" if method == "alg1" else "half-sine"
     baseline, compensated = (_walk(0.04, 0.03),), (_walk(0.02, 0.015, rms),)
-    from zmpkit.pipelines.walk_compensate_report import summary_of
-
     summary = summary_of(method, baseline, compensated)
     result = CompensateResult(config, summary, label, baseline, {label: compensated})
-    files = write_outputs(tmp_path, result)
+    files = write_walk_compensate(result, tmp_path).files
     written = json.loads(files["summary"].read_text())
     expected = set(SUMMARY_KEYS) | set(EXTRA_SUMMARY_KEYS)
     expected |= {"iteration_rms_m"} if method == "alg1" else set()
@@ -78,6 +73,7 @@ def test_bad_method_is_named() -> None:
 @pytest.mark.slow
 def test_quick_alg1_run_writes_its_summary(tmp_path) -> None:
     result = run_walk_compensate(CompensateConfig(method="alg1", quick=True), tmp_path)
+    write_walk_compensate(result, tmp_path)
     summary = json.loads((tmp_path / "summary.json").read_text())
     assert len(summary["iteration_rms_m"]) == 10
     assert summary["iteration_rms_m"][-1] < 0.1 * summary["iteration_rms_m"][0]

@@ -16,14 +16,12 @@ from zmpkit.identify import (
     BalanceParams,
     ErrorModel,
     PlaneParams,
-    StepTrial,
-    effective_sample_size,
     fit_error_model,
     fit_transient,
     identify_balance,
     second_order_step,
-    steady_state,
 )
+from zmpkit.signals import StepTrial, effective_sample_size, steady_state
 
 PAPER_A = ErrorModel("quadratic", (0.834, 1.024, -0.0004))  # paper A eq. 13
 TEO_MASS_KG, TEO_LENGTH_M = 62.6, 0.893  # paper A §4.1

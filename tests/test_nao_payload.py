@@ -17,15 +17,6 @@ import numpy as np
 import pytest
 
 from zmpkit.errors import InputFileError
-from zmpkit.identify.simfit.outputs import write_fitted_truth
-from zmpkit.identify.simfit.parameters import default_parameters
-from zmpkit.identify.simfit.truth_doc import (
-    base_truth_path,
-    get_path,
-    load_truth_doc,
-    truth_doc_with,
-    write_truth_doc,
-)
 from zmpkit.robots.nao import (
     DEFAULT_TRUTH_PATH,
     NAO_DRIVEN_JOINTS,
@@ -36,6 +27,15 @@ from zmpkit.robots.nao import (
 )
 from zmpkit.robots.nao.geometry import TORSO
 from zmpkit.robots.nao.model import SOLE_PLATE_M
+from zmpkit.simfit.outputs import write_fitted_truth
+from zmpkit.simfit.parameters import default_parameters
+from zmpkit.simfit.truth_doc import (
+    base_truth_path,
+    get_path,
+    load_truth_doc,
+    truth_doc_with,
+    write_truth_doc,
+)
 
 GRAVITY = 9.81
 """MuJoCo's default |g| [m/s²]."""

@@ -13,27 +13,27 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 from zmpkit.errors import InputFileError, ParameterError
-from zmpkit.identify.simfit import parameters as catalogue
-from zmpkit.identify.simfit.checkpoint import check_fingerprint, load_checkpoint
-from zmpkit.identify.simfit.cost import FAILED_COST, CostWeights, experiment_cost
-from zmpkit.identify.simfit.experiments import RecordedSignals, read_experiments
-from zmpkit.identify.simfit.outputs import write_fitted_truth
-from zmpkit.identify.simfit.parameters import FitParameter, default_parameters
-from zmpkit.identify.simfit.problem import FitProblem
-from zmpkit.identify.simfit.self_test import (
+from zmpkit.pipelines.identify_sim import IdentifySimConfig
+from zmpkit.simfit import parameters as catalogue
+from zmpkit.simfit.checkpoint import check_fingerprint, load_checkpoint
+from zmpkit.simfit.cost import FAILED_COST, CostWeights, experiment_cost
+from zmpkit.simfit.experiments import RecordedSignals, read_experiments
+from zmpkit.simfit.outputs import write_fitted_truth
+from zmpkit.simfit.parameters import FitParameter, default_parameters
+from zmpkit.simfit.problem import FitProblem
+from zmpkit.simfit.self_test import (
     RECOVERY_COLUMNS,
     perturbed_values,
     recovery_rows,
     write_recovery_csv,
 )
-from zmpkit.identify.simfit.truth_doc import (
+from zmpkit.simfit.truth_doc import (
     base_truth_path,
     get_path,
     load_truth_doc,
     set_path,
     truth_doc_with,
 )
-from zmpkit.pipelines.identify_sim import IdentifySimConfig
 
 
 @given(u=st.floats(0.0, 1.0), log=st.booleans())
@@ -188,7 +188,7 @@ def test_quick_nao_fits_pid_gain_scale_and_gear_stiffness() -> None:
 
 
 def test_ray_backend_without_ray_names_the_extra(monkeypatch: pytest.MonkeyPatch) -> None:
-    from zmpkit.identify.simfit.backends import make_evaluator
+    from zmpkit.simfit.backends import make_evaluator
 
     monkeypatch.setitem(sys.modules, "ray", None)  # as if not installed: import raises
     with pytest.raises(ParameterError, match=r"pip install zmpkit\[ray\]"):
@@ -196,7 +196,7 @@ def test_ray_backend_without_ray_names_the_extra(monkeypatch: pytest.MonkeyPatch
 
 
 def test_warp_backend_without_mujoco_warp_names_the_extra(monkeypatch: pytest.MonkeyPatch) -> None:
-    from zmpkit.identify.simfit.backends import make_evaluator
+    from zmpkit.simfit.backends import make_evaluator
 
     monkeypatch.setitem(sys.modules, "mujoco_warp", None)  # as if not installed
     with pytest.raises(ParameterError, match=r"pip install 'zmpkit\[gpu\]'"):
@@ -273,7 +273,7 @@ def test_identify_sim_command_bad_data_is_one_line_exit_2(tmp_path, capsys) -> N
 def test_a_repeated_teo_self_test_recording_finds_its_datasets(tmp_path: Path) -> None:
     """The hidden truth's temporary path is named after its content, so the step datasets'
     settings match on a second run (a resumed fit records nothing twice)."""
-    from zmpkit.identify.simfit.self_test import SelfTestPlan, record_experiments
+    from zmpkit.simfit.self_test import SelfTestPlan, record_experiments
 
     params = default_parameters("teo", "G", ("gear_stiffness",))
     doc = load_truth_doc(base_truth_path("teo", None))

@@ -11,22 +11,22 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from simfit_data import record_walk, small_case
-from zmpkit.identify.simfit.batched import simulate_batch
-from zmpkit.identify.simfit.experiments import (
+from zmpkit.sim.sensing import sample_series
+from zmpkit.simfit.batched import simulate_batch
+from zmpkit.simfit.experiments import (
     RecordedSignals,
     StepExperiment,
     WalkExperiment,
     read_experiments,
 )
-from zmpkit.identify.simfit.parameters import default_parameters
-from zmpkit.identify.simfit.rollout import simulate_experiment
-from zmpkit.identify.simfit.truth_doc import (
+from zmpkit.simfit.parameters import default_parameters
+from zmpkit.simfit.rollout import simulate_experiment
+from zmpkit.simfit.truth_doc import (
     base_truth_path,
     load_robot_truth,
     load_truth_doc,
     truth_doc_with,
 )
-from zmpkit.sim.sensing import sample_series
 
 _FIELDS = ("time_s", "q_cmd_rad", "q_meas_rad", "zmp_m", "trunk_tilt_rad")
 

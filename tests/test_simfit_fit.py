@@ -10,10 +10,10 @@ import numpy as np
 import pytest
 
 from simfit_data import record_walk, small_case
-from zmpkit.identify.simfit.backends import make_evaluator
-from zmpkit.identify.simfit.experiments import read_experiments
-from zmpkit.identify.simfit.optimizer import CmaOptions, FitInterruptedError, FitProgress, run_cma
-from zmpkit.identify.simfit.problem import FitProblem
+from zmpkit.simfit.backends import make_evaluator
+from zmpkit.simfit.experiments import read_experiments
+from zmpkit.simfit.optimizer import CmaOptions, FitInterruptedError, FitProgress, run_cma
+from zmpkit.simfit.problem import FitProblem
 
 
 @pytest.fixture(scope="module")

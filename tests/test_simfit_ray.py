@@ -14,9 +14,9 @@ ray = pytest.importorskip("ray")
 
 from simfit_data import record_walk, small_case  # noqa: E402
 from zmpkit.errors import ParameterError  # noqa: E402
-from zmpkit.identify.simfit.backends import RayEvaluator, make_evaluator  # noqa: E402
-from zmpkit.identify.simfit.experiments import read_experiments  # noqa: E402
-from zmpkit.identify.simfit.problem import FitProblem  # noqa: E402
+from zmpkit.simfit.backends import RayEvaluator, make_evaluator  # noqa: E402
+from zmpkit.simfit.experiments import read_experiments  # noqa: E402
+from zmpkit.simfit.problem import FitProblem  # noqa: E402
 
 CANDIDATES = [[0.7, 1200.0], [0.8, 1500.0], [0.36, 310.0]]
 """pid_gain_scale [-], gear_stiffness [N·m/rad] of the small case."""

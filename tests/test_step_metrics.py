@@ -1,4 +1,4 @@
-"""Tests of zmpkit.analysis.step_metrics against closed forms and control.step_info."""
+"""Tests of zmpkit.signals.step_metrics against closed forms and control.step_info."""
 
 from __future__ import annotations
 
@@ -10,8 +10,8 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from zmpkit.analysis.step_metrics import StepMetrics, step_metrics
 from zmpkit.errors import ParameterError
+from zmpkit.signals.step_metrics import StepMetrics, step_metrics
 
 SAMPLES = 6001
 

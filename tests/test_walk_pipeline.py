@@ -9,10 +9,13 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from zmpkit.analysis.walk_metrics import amplitude_spectrum, foot_slip, measured_zmp
 from zmpkit.errors import ParameterError
-from zmpkit.pipelines.walk import WalkConfig, run_walk
-from zmpkit.pipelines.walk_report import SERIES_COLUMNS
+from zmpkit.experiments.walk_config import WalkConfig
+from zmpkit.experiments.walk_dataset import SERIES_COLUMNS
+from zmpkit.pipelines.walk import run_walk, write_walk
+from zmpkit.sensors.zmp import zmp_in_world
+from zmpkit.signals.contact_phases import foot_slip
+from zmpkit.signals.spectra import amplitude_spectrum
 
 CONTRACT = {
     "fell": bool,
@@ -30,8 +33,9 @@ CONTRACT = {
 def rigid_walk(tmp_path_factory):
     out = tmp_path_factory.mktemp("walk")
     calls = []
-    result = run_walk(
-        WalkConfig(duration_s=3.0, effects="none"), out, lambda t, T: calls.append((t, T))
+    result = write_walk(
+        run_walk(WalkConfig(duration_s=3.0, effects="none"), lambda t, T: calls.append((t, T))),
+        out,
     )
     return out, result, calls
 
@@ -89,8 +93,8 @@ def test_measured_zmp_of_a_point_load() -> None:
     moment = np.cross(load - sensor[0, 0], force)
     forces = np.array([[force, [0.0, 0.0, 0.0]]])
     moments = np.array([[moment, [0.0, 0.0, 0.0]]])
-    assert measured_zmp(forces, moments, sensor)[0] == pytest.approx([0.03, -0.01])
-    assert np.all(np.isnan(measured_zmp(forces * 0, moments * 0, sensor)))
+    assert zmp_in_world(forces, moments, sensor)[0] == pytest.approx([0.03, -0.01])
+    assert np.all(np.isnan(zmp_in_world(forces * 0, moments * 0, sensor)))
 
 
 def test_foot_slip_measures_displacement_in_stance() -> None:

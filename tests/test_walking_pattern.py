@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 
 from zmpkit.errors import ParameterError
+from zmpkit.robots.nao import NAO_WALKING_COM_HEIGHT_M
 from zmpkit.walking import (
-    NAO_WALKING_COM_HEIGHT_M,
     PatternConfig,
     PreviewController,
     WalkCommand,

@@ -201,9 +201,9 @@ def test_warp_backend_costs_follow_the_cpu_batch(tmp_path) -> None:
     falling candidate falls at the same frame; the tolerance is 1 % of the total.
     """
     from simfit_data import record_walk, small_case
-    from zmpkit.identify.simfit.backends import make_evaluator
-    from zmpkit.identify.simfit.experiments import read_experiments
-    from zmpkit.identify.simfit.problem import FitProblem
+    from zmpkit.simfit.backends import make_evaluator
+    from zmpkit.simfit.experiments import read_experiments
+    from zmpkit.simfit.problem import FitProblem
 
     params, doc, truth = small_case()
     experiments = tuple(read_experiments([record_walk(tmp_path)], "nao"))

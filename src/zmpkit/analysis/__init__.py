@@ -1,5 +1,1 @@
-"""zmpkit.analysis: metrics of responses (plotting modules live beside, imported on demand)."""
-
-from zmpkit.analysis.step_metrics import StepMetrics, step_metrics
-
-__all__ = ["StepMetrics", "step_metrics"]
+"""zmpkit.analysis: figures, tables and reports; the numerics they show live in the layers below."""

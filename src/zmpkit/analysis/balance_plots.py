@@ -8,8 +8,8 @@ from pathlib import Path
 import numpy as np
 
 from zmpkit.analysis.figure import new_figure, save_figure
+from zmpkit.analysis.table1 import Table1Row
 from zmpkit.identify import ErrorModelFit
-from zmpkit.io.table1 import Table1Row
 
 __all__ = ["plot_error_fit", "plot_step_responses_by_target", "plot_zmp_ref_vs_measured"]
 

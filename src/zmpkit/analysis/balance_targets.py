@@ -13,7 +13,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from zmpkit.io.table1 import Table1Row
+from zmpkit.analysis.table1 import Table1Row
 
 __all__ = ["BalanceTargets", "balance_targets"]
 

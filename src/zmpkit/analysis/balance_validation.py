@@ -14,8 +14,8 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from zmpkit.analysis.step_metrics import step_metrics
-from zmpkit.identify import SteadyState, StepTrial, steady_state
+from zmpkit.signals import SteadyState, StepTrial, steady_state
+from zmpkit.signals.step_metrics import step_metrics
 
 __all__ = ["SETTLING_BAND", "ControllerOutcome", "evaluate_trial", "percent_error"]
 

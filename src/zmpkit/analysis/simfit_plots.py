@@ -1,6 +1,6 @@
 """Figures of a simulator fit: per-signal fit of each experiment, and the cost history.
 
-Only drawing: the signals come in as arrays (:class:`~zmpkit.identify.simfit.experiments.
+Only drawing: the signals come in as arrays (:class:`~zmpkit.simfit.experiments.
 RecordedSignals`), nothing is computed here beyond the spectrum shown.
 """
 
@@ -12,9 +12,9 @@ from pathlib import Path
 import numpy as np
 
 from zmpkit.analysis.figure import new_figure, save_figure
-from zmpkit.analysis.walk_metrics import amplitude_spectrum
-from zmpkit.identify.simfit.checkpoint import GenerationRecord
-from zmpkit.identify.simfit.experiments import RecordedSignals
+from zmpkit.signals.spectra import amplitude_spectrum
+from zmpkit.simfit.checkpoint import GenerationRecord
+from zmpkit.simfit.experiments import RecordedSignals
 
 __all__ = ["plot_cost_history", "plot_signal_fit"]
 

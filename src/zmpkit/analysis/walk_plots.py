@@ -14,7 +14,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from zmpkit.analysis.figure import new_figure, save_figure
-from zmpkit.analysis.walk_metrics import Spectrum
+from zmpkit.signals.spectra import Spectrum
 
 __all__ = [
     "plot_effect_comparison",

@@ -7,6 +7,10 @@ from pathlib import Path
 import click
 
 from zmpkit.cli.app import ROBOT_CHOICES, cli
+from zmpkit.cli.progress import SweepProgress
+from zmpkit.control import PAPER_A_TIME_SCALE
+from zmpkit.pipelines.balance import BalanceConfig, run_balance
+from zmpkit.pipelines.balance_report import write_balance_outputs
 
 __all__ = ["balance_command"]
 
@@ -61,8 +65,6 @@ def balance_command(
     dlipm_pace: str,
 ) -> None:
     """Paper A end to end: LIPM steps, DLIPM identification, scheduled controller, Table 1."""
-    from zmpkit.pipelines.balance import BalanceConfig
-    from zmpkit.pipelines.balance_run import balance_with_progress
 
     changes = {
         "robot": robot,
@@ -74,9 +76,9 @@ def balance_command(
     if planes:
         changes["planes"] = planes
     if dlipm_pace == "paper":
-        from zmpkit.control import PAPER_A_TIME_SCALE
-
         changes.update(time_scale=PAPER_A_TIME_SCALE, servo_paced=False)
     config = BalanceConfig.quick(**changes) if quick else BalanceConfig(**changes)
-    artifacts = balance_with_progress(config, out_dir, echo=click.echo)
+    with SweepProgress() as progress:
+        result = run_balance(config, out_dir, progress=progress, echo=click.echo)
+    artifacts = write_balance_outputs(result, out_dir)
     click.echo(f"report: {artifacts.report}")

@@ -7,6 +7,8 @@ from pathlib import Path
 import click
 
 from zmpkit.cli.app import cli
+from zmpkit.cli.progress import RichDisplays
+from zmpkit.pipelines.demo import run_demo
 
 __all__ = ["demo_command"]
 
@@ -17,7 +19,6 @@ __all__ = ["demo_command"]
 )
 def demo_command(out_dir: Path) -> None:
     """Run the main job on the built-in virtual robot and write a report to --out."""
-    from zmpkit.pipelines.demo import run_demo
 
-    result = run_demo(out_dir, echo=click.echo)
+    result = run_demo(out_dir, echo=click.echo, displays=RichDisplays())
     click.echo(f"report: {result.report_path}")

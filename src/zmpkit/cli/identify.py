@@ -7,6 +7,10 @@ from pathlib import Path
 import click
 
 from zmpkit.cli.app import cli
+from zmpkit.cli.progress import GenerationProgress
+from zmpkit.pipelines.identify_balance import run_identify_balance
+from zmpkit.pipelines.identify_sim import IdentifySimConfig, run_identify_sim
+from zmpkit.simfit.optimizer import FitInterruptedError
 
 __all__ = ["identify_balance_command", "identify_group", "identify_sim_command"]
 
@@ -35,7 +39,6 @@ def identify_balance_command(
     DATASET is a step dataset folder (zmpkit sim push) or a step manifest .yaml listing a
     robot's logs (CSV, Parquet, ROS 2 bag, YARP dump) with each step's target and time.
     """
-    from zmpkit.pipelines.identify_balance import run_identify_balance
 
     result = run_identify_balance(dataset, out_dir, mass_kg=mass, length_m=length)
     plane = next(iter(result.identification.planes.values()))
@@ -103,9 +106,6 @@ def identify_sim_command(
     held_out: tuple[Path, ...],
 ) -> None:
     """Fit the simulator's effect parameters to recorded DATA (walk folders, step datasets)."""
-    from zmpkit.identify.simfit.optimizer import FitInterruptedError
-    from zmpkit.pipelines.identify_sim import IdentifySimConfig, run_identify_sim
-    from zmpkit.pipelines.progress import GenerationProgress
 
     config = IdentifySimConfig(
         data=tuple(str(d) for d in data),

@@ -7,6 +7,8 @@ from pathlib import Path
 import click
 
 from zmpkit.cli.app import cli
+from zmpkit.cli.progress import TrialProgressBar
+from zmpkit.pipelines.sim_push import run_sim_push, sim_push_config
 
 __all__ = ["sim_group", "sim_push_command"]
 
@@ -63,7 +65,6 @@ def sim_push_command(
     workers: int,
 ) -> None:
     """ZMP step / push sweep (paper A Fig. 14): dataset, steady_state.csv and steps.png."""
-    from zmpkit.pipelines.sim_push import run_sim_push, sim_push_config
 
     config = sim_push_config(
         robot=robot,
@@ -76,7 +77,6 @@ def sim_push_command(
         push_duration=push_duration,
         hold=hold,
     )
-    from zmpkit.pipelines.progress import TrialProgressBar
 
     with TrialProgressBar(len(config.targets_m)) as progress:
         result = run_sim_push(config, out_dir, workers=workers, progress=progress)

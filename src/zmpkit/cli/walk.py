@@ -7,6 +7,11 @@ from pathlib import Path
 import click
 
 from zmpkit.cli.app import cli, format_or_undefined
+from zmpkit.cli.progress import SimTimeProgress, StageProgress
+from zmpkit.experiments.walk_config import WalkConfig
+from zmpkit.pipelines.walk import run_walk, write_walk
+from zmpkit.pipelines.walk_compensate import CompensateConfig, run_walk_compensate
+from zmpkit.pipelines.walk_compensate_report import write_walk_compensate
 
 __all__ = ["walk_compensate_command", "walk_group"]
 
@@ -53,8 +58,6 @@ def walk_group(
         return
     if out_dir is None:
         raise click.UsageError("walking needs --out DIR")
-    from zmpkit.pipelines.progress import SimTimeProgress
-    from zmpkit.pipelines.walk import WalkConfig, run_walk
 
     config = WalkConfig(
         robot=robot,
@@ -66,7 +69,8 @@ def walk_group(
         truth=None if truth is None else str(truth),
     )
     with SimTimeProgress(f"walk ({config.effects or 'none'})") as progress:
-        result = run_walk(config, out_dir, progress=progress)
+        result = run_walk(config, progress=progress)
+    write_walk(result, out_dir)
     s = result.summary
     speed = format_or_undefined(s.mean_speed_mps, ".4f")
     peak_hz = format_or_undefined(s.trunk_pitch_peak_hz, ".2f")
@@ -107,8 +111,6 @@ def walk_compensate_command(
     out_dir: Path,
 ) -> None:
     """Compensate the walk's model abstractions; validate on walks not used for tuning."""
-    from zmpkit.pipelines.progress import StageProgress
-    from zmpkit.pipelines.walk_compensate import CompensateConfig, run_walk_compensate
 
     config = CompensateConfig(
         method=method,
@@ -121,14 +123,15 @@ def walk_compensate_command(
     )
     with StageProgress() as progress:
         result = run_walk_compensate(config, out_dir, progress=progress)
+    write_walk_compensate(result, out_dir)
     s = result.summary
-    if s["peak_reduction_pct"] is None:
-        click.echo(f"{s['method']}: no validation walk where both versions stood to compare")
+    if s.peak_reduction_pct is None or s.std_reduction_pct is None:
+        click.echo(f"{s.method}: no validation walk where both versions stood to compare")
     else:
         click.echo(
-            f"{s['method']}: step-frequency peak {s['peak_reduction_pct']:.1f} % lower, "
-            f"oscillation std {s['std_reduction_pct']:.1f} % lower on "
-            f"{s['walks_compared']} validation walks; compensated falls: "
-            f"{s['compensated_falls']}"
+            f"{s.method}: step-frequency peak {s.peak_reduction_pct:.1f} % lower, "
+            f"oscillation std {s.std_reduction_pct:.1f} % lower on "
+            f"{s.walks_compared} validation walks; compensated falls: "
+            f"{s.compensated_falls}"
         )
     click.echo(f"summary: {Path(out_dir) / 'summary.json'}")

@@ -7,6 +7,10 @@ from pathlib import Path
 import click
 
 from zmpkit.cli.app import ROBOT_CHOICES, cli
+from zmpkit.io import feet_from_mapping
+from zmpkit.pipelines.zmp_log import run_zmp_log
+from zmpkit.robots.teo import teo_feet_mounts
+from zmpkit.sensors import CONTACT_FORCE_THRESHOLD_N
 
 __all__ = ["zmp_command"]
 
@@ -68,8 +72,6 @@ def zmp_command(
 ) -> None:
     """ZMP of a recorded force-torque LOG: CSV, Parquet, ROS 2 bag (folder, .db3, .mcap) or
     YARP dump folder; writes zmp.csv and zmp.png."""
-    from zmpkit.pipelines.zmp_log import run_zmp_log
-    from zmpkit.sensors import CONTACT_FORCE_THRESHOLD_N
 
     if (feet_path is None) == (robot is None):
         raise click.UsageError("give exactly one of --feet FEET.yaml or --robot ROBOT")
@@ -95,10 +97,7 @@ def zmp_command(
 
 
 def _robot_feet(robot: str):
-    from zmpkit.io import feet_from_mapping
 
     if robot == "teo":
-        from zmpkit.robots.teo import teo_feet_mounts
-
         return feet_from_mapping(teo_feet_mounts(), source="built-in robot 'teo'")
     raise click.UsageError(f"unknown robot {robot!r}; valid: {', '.join(ROBOT_CHOICES)}")

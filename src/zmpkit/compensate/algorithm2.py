@@ -31,9 +31,8 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from zmpkit.analysis.walk_metrics import measured_zmp
 from zmpkit.errors import ParameterError
-from zmpkit.pipelines.walk_sim import FrameReading
+from zmpkit.experiments.walk_trial import FrameReading
 from zmpkit.walking.ik import IkSettings, WalkingIk
 from zmpkit.walking.pattern import WalkingPattern
 from zmpkit.walking.preview import PreviewController
@@ -73,7 +72,7 @@ class _OnlineTargets:
 
 
 class OnlineZmpCompensator:
-    """Algorithm 2 as a ``frame_hook`` of :func:`~zmpkit.pipelines.walk_sim.simulate_walk`.
+    """Algorithm 2 as a ``frame_hook`` of :func:`~zmpkit.experiments.walk_trial.simulate_walk`.
 
     Args:
         pattern: the planned (uncompensated) walk; its linear reference is p_r.
@@ -135,10 +134,7 @@ class OnlineZmpCompensator:
 
     def __call__(self, frame: int, reading: FrameReading) -> NDArray[np.float64]:
         """Joint targets of ``frame`` [rad] from the reading of ``frame - 1``."""
-        zmp = measured_zmp(
-            reading.force_in_world[None], reading.moment_in_world[None],
-            reading.sensor_in_world[None],
-        )[0]  # fmt: skip
+        zmp = reading.zmp_in_world()
         self.update(reading.frame, zmp)
         window = self.reference_window(frame - 1)
         self.target[frame - 1] = window[0]

@@ -1,6 +1,6 @@
 """Simulate one walk with a corrected ZMP reference and measure its trunk oscillation.
 
-The walk is ``zmpkit walk``'s: the pattern of :class:`~zmpkit.pipelines.walk.WalkConfig`
+The walk is ``zmpkit walk``'s: the pattern of :class:`~zmpkit.experiments.walk_config.WalkConfig`
 with ``zmp_offset`` added to its linear reference, the whole-body IK on the design model,
 and the virtual NAO with the configured effects. The oscillation metrics are those of
 ``summary.json`` over the steady walk: the trunk-pitch spectrum's amplitude at the step
@@ -15,9 +15,9 @@ import numpy as np
 from numpy.typing import NDArray
 
 from zmpkit.errors import SimulationDivergedError
-from zmpkit.pipelines.walk import WalkConfig
-from zmpkit.pipelines.walk_sim import WalkRecord, simulate_walk
-from zmpkit.pipelines.walk_summary import WalkSummary, summarise_walk
+from zmpkit.experiments.walk_config import WalkConfig
+from zmpkit.experiments.walk_summary import WalkSummary, summarise_walk
+from zmpkit.experiments.walk_trial import WalkRecord, simulate_walk
 from zmpkit.robots.nao import make_nao, nao_ik_model
 from zmpkit.walking import generate_pattern
 from zmpkit.walking.ik import JointTrajectory, solve_walking_ik

@@ -18,7 +18,7 @@ from pathlib import Path
 
 from zmpkit.compensate.evaluate import simulate_with_offset
 from zmpkit.compensate.offsets import OffsetParameters, offset_in_world
-from zmpkit.pipelines.walk import WalkConfig
+from zmpkit.experiments.walk_config import WalkConfig
 from zmpkit.walking import generate_pattern
 
 __all__ = ["DEFAULT_WORKERS", "Evaluation", "WalkSpec", "evaluate_all"]

@@ -12,15 +12,14 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from zmpkit.analysis.walk_metrics import measured_zmp
 from zmpkit.compensate.algorithm1 import DEFAULT_ITERATIONS, compensate_abstraction
 from zmpkit.compensate.algorithm2 import Algorithm2Parameters, OnlineZmpCompensator
 from zmpkit.compensate.evaluate import oscillation_of, simulate_with_offset
 from zmpkit.compensate.evaluations import WalkSpec
 from zmpkit.compensate.offsets import OffsetParameters, offset_in_world
 from zmpkit.errors import SimulationDivergedError
-from zmpkit.pipelines.walk_sim import WalkRecord, simulate_walk
-from zmpkit.pipelines.walk_summary import summarise_walk
+from zmpkit.experiments.walk_summary import summarise_walk
+from zmpkit.experiments.walk_trial import WalkRecord, simulate_walk
 from zmpkit.robots.nao import NAO_LEG_JOINTS, make_nao, nao_ik_model
 from zmpkit.walking import generate_pattern
 from zmpkit.walking.ik import IkSettings, solve_walking_ik
@@ -68,7 +67,7 @@ def _result(walk, pattern: WalkingPattern, record: WalkRecord | None, summary, t
         empty = np.zeros(0)
         return CompensatedWalk(walk, peak, std, True, empty, empty, (0.0, 0.0), desired, target,
                                np.zeros((0, 2)), tuple(rms))  # fmt: skip
-    zmp = measured_zmp(record.force_in_world, record.moment_in_world, record.sensor_in_world)
+    zmp = record.zmp_in_world()
     n = record.time_s.size
     return CompensatedWalk(
         walk, peak, std, fell, record.time_s, record.trunk_pitch_rad, summary.window_s,

@@ -23,7 +23,7 @@ from zmpkit.experiments.dataset import (
     StepDataset,
     read_step_dataset,
 )
-from zmpkit.experiments.lean import PLANES, LeanModel, design_lean_model, lean_angle
+from zmpkit.experiments.lean import LeanModel, design_lean_model, lean_angle
 from zmpkit.experiments.response import (
     STEADY_STATE_COLUMNS,
     STEADY_WINDOW_S,
@@ -47,7 +47,6 @@ __all__ = [
     "DEFAULT_TARGETS_M",
     "DEFAULT_WORKERS",
     "META_FILE",
-    "PLANES",
     "PUSH_POINTS",
     "ROBOTS",
     "STEADY_STATE_COLUMNS",

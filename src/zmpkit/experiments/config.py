@@ -15,7 +15,7 @@ from typing import Any
 
 from zmpkit._validate import finite, positive
 from zmpkit.errors import ParameterError
-from zmpkit.experiments.lean import PLANES
+from zmpkit.signals import PLANES
 from zmpkit.sim.effect_set import EffectSet
 
 __all__ = [

@@ -31,10 +31,10 @@ from typing import Any
 import numpy as np
 
 from zmpkit.errors import InputFileError
-from zmpkit.experiments.lean import PLANES
 from zmpkit.experiments.trial import StepTrialRecord
 from zmpkit.io import FT_LOG_COLUMNS, feet_from_mapping
 from zmpkit.sensors import SensorMount
+from zmpkit.signals import PLANES
 
 __all__ = [
     "DATASET_FORMAT",

@@ -41,12 +41,11 @@ from numpy.typing import NDArray
 from scipy.optimize import brentq
 
 from zmpkit.errors import ParameterError
+from zmpkit.robots.teo import make_teo
+from zmpkit.signals.steady_state import PLANES
 from zmpkit.sim.world import Simulation
 
-__all__ = ["PLANES", "LeanModel", "design_lean_model", "lean_angle", "lean_angle_joints"]
-
-PLANES = ("sagittal", "frontal")
-"""Valid planes: sagittal (x–z, ZMP x) and frontal (y–z, ZMP y)."""
+__all__ = ["LeanModel", "design_lean_model", "lean_angle", "lean_angle_joints"]
 
 SIDES = ("right", "left")
 _PIVOT = {"sagittal": "ankle_frontal", "frontal": "ankle_sagittal"}
@@ -226,7 +225,6 @@ def design_lean_model(robot: str, plane: str) -> LeanModel:
         raise ParameterError(f"plane must be one of {', '.join(PLANES)}; got {plane!r}")
     if robot != "teo":
         raise ParameterError(f"unknown robot {robot!r}; valid: teo")
-    from zmpkit.robots.teo import make_teo
 
     sim = make_teo("none")
     m, d = sim.model, sim.data

@@ -11,7 +11,7 @@ Per trial, from the dataset alone (sensors + design knowledge in ``meta.json``):
   ``meta["lean_angle_joints"]``;
 - steady state: the mean measured ZMP over the last :data:`STEADY_WINDOW_S` of the trial (the
   settled tail of the hold); ``error_pct`` :math:`= 100 (x_{ss} - x_{ref}) / x_{ref}`, none at
-  :math:`x_{ref} = 0`; ``overshoot_pct`` from :func:`zmpkit.analysis.step_metrics` with
+  :math:`x_{ref} = 0`; ``overshoot_pct`` from :func:`zmpkit.signals.step_metrics` with
   :math:`y_0 = 0` and :math:`y_\infty = x_{ss}`, none at :math:`x_{ref} = 0`.
 
 A trial whose ZMP is undefined (no foot in contact) anywhere in the steady window has no
@@ -30,7 +30,6 @@ from pathlib import Path
 import numpy as np
 from numpy.typing import NDArray
 
-from zmpkit.analysis import step_metrics
 from zmpkit.experiments.dataset import StepDataset
 from zmpkit.experiments.trial import StepTrialRecord
 from zmpkit.sensors import (
@@ -39,6 +38,7 @@ from zmpkit.sensors import (
     zmp_offset_from_standing_window,
     zmp_series,
 )
+from zmpkit.signals.step_metrics import step_metrics
 
 __all__ = [
     "STEADY_STATE_COLUMNS",

@@ -30,6 +30,7 @@ from zmpkit.experiments.dataset import (
 )
 from zmpkit.experiments.lean import design_lean_model, lean_angle, lean_angle_joints
 from zmpkit.experiments.trial import LeanController, StepTrialRecord, run_step_trial
+from zmpkit.robots.teo import TEO_DRIVEN_JOINTS, teo_feet_mounts, teo_robot
 
 __all__ = ["DEFAULT_WORKERS", "ProgressCallback", "check_sweep", "new_meta", "run_step_sweep"]
 
@@ -50,7 +51,6 @@ def new_meta(
     ``controller`` (the lean controller's factory, if any) is recorded by its ``settings()``
     when it has one, else by its repr, under the key ``"controller"`` (None: LIPM step).
     """
-    from zmpkit.robots.teo import TEO_DRIVEN_JOINTS, teo_feet_mounts
 
     joints = tuple(TEO_DRIVEN_JOINTS)
     return {
@@ -119,7 +119,6 @@ def _resume(folder: Path, meta: dict[str, Any]) -> list[dict[str, Any]]:
 
 def check_sweep(config: StepExperimentConfig) -> None:
     """Fail before any work on a target out of reach or an unreadable truth file."""
-    from zmpkit.robots.teo import teo_robot
 
     length = design_lean_model(config.robot, config.plane).lean_length_m
     for target in config.targets_m:

@@ -25,7 +25,9 @@ import numpy as np
 from numpy.typing import NDArray
 
 from zmpkit.experiments.config import PushConfig, StepExperimentConfig
-from zmpkit.experiments.lean import PLANES, LeanModel, design_lean_model, lean_angle
+from zmpkit.experiments.lean import LeanModel, design_lean_model, lean_angle
+from zmpkit.robots.teo import make_teo
+from zmpkit.signals import PLANES
 from zmpkit.sim.servo import ServoLimits, TrajectoryLimiter
 from zmpkit.sim.world import Simulation
 
@@ -179,7 +181,6 @@ def run_step_trial(
         ParameterError: if the target is out of reach of the lean.
         SimulationDivergedError: if the simulation diverges (says when and where).
     """
-    from zmpkit.robots.teo import make_teo
 
     lean = design_lean_model(config.robot, config.plane)
     angle = lean_angle(target_m, lean.lean_length_m)

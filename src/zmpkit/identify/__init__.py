@@ -1,9 +1,8 @@
 """zmpkit.identify: the robot's deviation from the LIPM, identified from ZMP step trials.
 
-Paper A §4.3–4.4, on arrays (no simulator needed):
+Paper A §4.3–4.4, on arrays (no simulator needed), from the step trials and settled windows
+of :mod:`zmpkit.signals`:
 
-- :mod:`~zmpkit.identify.steady_state`: :class:`StepTrial`, the settled window and value of a
-  step (:func:`steady_state`);
 - :mod:`~zmpkit.identify.error_model`: :class:`ErrorModel`, x_FT = f(x_cmd) (eq. 13 and its
   alternatives) and its inverse;
 - :mod:`~zmpkit.identify.error_fit`: :func:`fit_error_model`, least squares with confidence
@@ -37,13 +36,6 @@ from zmpkit.identify.params import (
     PlaneParams,
     identify_balance,
 )
-from zmpkit.identify.steady_state import (
-    PLANES,
-    SteadyState,
-    StepTrial,
-    effective_sample_size,
-    steady_state,
-)
 from zmpkit.identify.transient import (
     PARAMETER_NAMES,
     SecondOrderStep,
@@ -59,7 +51,6 @@ __all__ = [
     "MODEL_KINDS",
     "PARAMETER_NAMES",
     "PARSIMONY_MARGIN",
-    "PLANES",
     "TERMS",
     "BalanceIdentification",
     "BalanceParams",
@@ -69,14 +60,10 @@ __all__ = [
     "PlaneIdentification",
     "PlaneParams",
     "SecondOrderStep",
-    "SteadyState",
-    "StepTrial",
     "TransientFit",
     "design_matrix",
-    "effective_sample_size",
     "fit_error_model",
     "fit_transient",
     "identify_balance",
     "second_order_step",
-    "steady_state",
 ]

@@ -30,10 +30,10 @@ from zmpkit._validate import positive
 from zmpkit.errors import InputFileError, ModelError, ParameterError
 from zmpkit.identify.error_fit import PARSIMONY_MARGIN, ErrorModelFit, fit_error_model
 from zmpkit.identify.error_model import EQUATIONS, MODEL_KINDS, TERMS, ErrorModel
-from zmpkit.identify.steady_state import PLANES, SteadyState, StepTrial, steady_state
 from zmpkit.identify.transient import TransientFit, fit_transient
 from zmpkit.io.yaml_file import read_yaml_mapping, require_number
 from zmpkit.models.pendulum import STANDARD_GRAVITY_MPS2
+from zmpkit.signals.steady_state import PLANES, SteadyState, StepTrial, steady_state
 
 __all__ = [
     "BalanceIdentification",

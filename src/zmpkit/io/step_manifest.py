@@ -15,7 +15,7 @@ A robot's logs hold wrenches, not what the experimenter commanded, so a manifest
 
 ``log`` is anything :func:`~zmpkit.io.read_ft_source` reads (CSV, Parquet, a ROS 2 bag, a YARP
 dump folder); paths are relative to the manifest. Each trial becomes a
-:class:`~zmpkit.identify.StepTrial` whose measured ZMP is that of both feet in the world frame
+:class:`~zmpkit.signals.StepTrial` whose measured ZMP is that of both feet in the world frame
 (``zmpkit.sensors``), minus its mean over the start-up window, in the manifest's plane.
 """
 
@@ -27,7 +27,6 @@ from pathlib import Path
 from typing import Any
 
 from zmpkit.errors import InputFileError
-from zmpkit.identify import PLANES, StepTrial
 from zmpkit.io.feet import feet_from_mapping, read_feet_yaml
 from zmpkit.io.ft_source import read_ft_source
 from zmpkit.io.yaml_file import read_yaml_mapping, require_number
@@ -37,6 +36,7 @@ from zmpkit.sensors import (
     zmp_offset_from_standing_window,
     zmp_series,
 )
+from zmpkit.signals import PLANES, StepTrial
 
 __all__ = ["StepManifest", "read_step_manifest"]
 

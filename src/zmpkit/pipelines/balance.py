@@ -23,6 +23,7 @@ from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 from zmpkit.analysis.balance_validation import evaluate_trial
+from zmpkit.analysis.table1 import Table1Row
 from zmpkit.errors import ParameterError
 from zmpkit.experiments import (
     StepDataset,
@@ -32,17 +33,11 @@ from zmpkit.experiments import (
     run_step_sweep,
     trial_response,
 )
-from zmpkit.identify import (
-    BalanceIdentification,
-    BalanceParams,
-    ErrorModel,
-    StepTrial,
-    identify_balance,
-)
-from zmpkit.io.table1 import Table1Row
+from zmpkit.identify import BalanceIdentification, BalanceParams, ErrorModel, identify_balance
 from zmpkit.pipelines.balance_controllers import LeanControllerFactory
 from zmpkit.robots.teo import TEO_BALANCE_MASS_KG, TEO_SERVO_LIMITS, teo_feet_mounts
 from zmpkit.robots.teo.geometry import ANKLE_TO_TOE_M, HEEL_TO_ANKLE_M, SOLE_WIDTH_M
+from zmpkit.signals import StepTrial
 
 __all__ = [
     "FULL_TARGETS_M",
@@ -136,7 +131,7 @@ class BalanceResult:
 
 
 def dataset_trials(dataset: StepDataset) -> list[StepTrial]:
-    """A dataset's trials as :class:`~zmpkit.identify.StepTrial` (time from the step) [s, m]."""
+    """A dataset's trials as :class:`~zmpkit.signals.StepTrial` (time from the step) [s, m]."""
     trials = []
     for k, record in enumerate(dataset.trials):
         response = trial_response(dataset, k)

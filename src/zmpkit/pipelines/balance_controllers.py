@@ -13,6 +13,7 @@ from typing import Any
 from zmpkit.control import DlipmController, GainSchedule, LinearCorrectionController
 from zmpkit.experiments import CONTROL_PERIOD_S, LeanController
 from zmpkit.identify import ErrorModel
+from zmpkit.models.pendulum import STANDARD_GRAVITY_MPS2
 
 __all__ = ["CONTROLLER_KINDS", "LeanControllerFactory"]
 
@@ -49,7 +50,7 @@ class LeanControllerFactory:
     rate_limit_rad_s: float
     support_polygon: tuple[float, float]
     max_acceleration_rad_s2: float | None = None
-    g: float = 9.81
+    g: float = STANDARD_GRAVITY_MPS2
 
     def __call__(self) -> LeanController:
         """A new controller at rest on target 0."""

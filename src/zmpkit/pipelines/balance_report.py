@@ -16,9 +16,9 @@ from zmpkit.analysis.balance_plots import (
 )
 from zmpkit.analysis.balance_targets import BalanceTargets, balance_targets
 from zmpkit.analysis.step_plot import Curve, plot_step_responses
+from zmpkit.analysis.table1 import table1_markdown, write_table1_csv
 from zmpkit.experiments import CONTROL_PERIOD_S
 from zmpkit.identify import TERMS
-from zmpkit.io.table1 import table1_markdown, write_table1_csv
 from zmpkit.pipelines.balance import BalanceResult, PlaneResult
 
 __all__ = ["BalanceArtifacts", "write_balance_outputs"]

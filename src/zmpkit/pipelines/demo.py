@@ -25,17 +25,22 @@ from typing import Any
 import numpy as np
 import yaml
 
-from zmpkit.analysis.step_metrics import StepMetrics, step_metrics
 from zmpkit.analysis.step_plot import Curve, plot_step_responses
+from zmpkit.experiments.walk_config import WalkConfig
 from zmpkit.models import Dlipm, paper_units_omega_n
-from zmpkit.pipelines.balance_report import BalanceArtifacts
+from zmpkit.pipelines.balance import BalanceConfig, run_balance
+from zmpkit.pipelines.balance_report import BalanceArtifacts, write_balance_outputs
 from zmpkit.pipelines.demo_report import LABELS, format_optional, write_report
+from zmpkit.pipelines.progress import SILENT, Displays
+from zmpkit.pipelines.walk import run_walk, write_walk
+from zmpkit.pipelines.walk_compensate import CompensateConfig, run_walk_compensate
+from zmpkit.pipelines.walk_compensate_report import write_walk_compensate
+from zmpkit.robots.teo import TEO_BALANCE_MASS_KG, TEO_COM_HEIGHT_M
+from zmpkit.signals.step_metrics import StepMetrics, step_metrics
 
 __all__ = ["DEMO_STEP_M", "DemoConfig", "DemoResult", "run_demo"]
 
 DEMO_STEP_M = 0.09  # the 9 cm ZMP disturbance of paper A, Fig. 18 [m]
-TEO_MASS_KG = 62.6  # paper A §4.1 balance model
-TEO_COM_HEIGHT_M = 0.893
 PAPER_ZETA = 0.8
 
 
@@ -43,7 +48,7 @@ PAPER_ZETA = 0.8
 class DemoConfig:
     """Demo settings: pendulum of mass [kg] and length [m], ZMP step [m], duration [s]."""
 
-    mass_kg: float = TEO_MASS_KG
+    mass_kg: float = TEO_BALANCE_MASS_KG
     length_m: float = TEO_COM_HEIGHT_M
     zmp_step_m: float = DEMO_STEP_M
     zeta: float = PAPER_ZETA
@@ -68,6 +73,7 @@ def run_demo(
     out_dir: str | Path,
     config: DemoConfig | None = None,
     echo: Callable[[str], None] = print,
+    displays: Displays = SILENT,
 ) -> DemoResult:
     """Run the demo and write its artefacts into ``out_dir`` (created if missing)."""
     config = config or DemoConfig()
@@ -91,9 +97,9 @@ def run_demo(
     figures = _figures(out, t, theta, lipm_static, config)
     _write_metrics_csv(out / "step_metrics.csv", models, metrics)
     _write_params_yaml(out / "dlipm.yaml", models)
-    balance_report = _run_balance(out, echo) if config.balance else None
-    walks = _run_walks(out, echo) if config.walking else {}
-    compensation = _run_compensation(out, echo) if config.compensation else None
+    balance_report = _run_balance(out, echo, displays) if config.balance else None
+    walks = _run_walks(out, echo, displays) if config.walking else {}
+    compensation = _run_compensation(out, echo, displays) if config.compensation else None
     report = write_report(
         out, config, models, metrics, figures, balance_report, walks, compensation
     )
@@ -101,37 +107,36 @@ def run_demo(
     return DemoResult(out, report, figures, metrics)
 
 
-def _run_compensation(out: Path, echo: Callable[[str], None]) -> dict[str, Any]:
-    from zmpkit.pipelines.progress import StageProgress
-    from zmpkit.pipelines.walk_compensate import CompensateConfig, run_walk_compensate
+def _run_compensation(out: Path, echo: Callable[[str], None], displays: Displays) -> dict[str, Any]:
 
     echo("virtual NAO: zmpkit walk compensate --method auto --quick")
-    with StageProgress() as progress:
+    with displays.stages() as progress:
         result = run_walk_compensate(
             CompensateConfig(method="auto", quick=True), out / "compensate", progress
         )
-    return {"chosen": result.chosen, **result.summary}
+    write_walk_compensate(result, out / "compensate")
+    return {"chosen": result.chosen, **result.summary.as_dict()}
 
 
-def _run_walks(out: Path, echo: Callable[[str], None]) -> dict[str, Any]:
-    from zmpkit.pipelines.progress import SimTimeProgress
-    from zmpkit.pipelines.walk import WalkConfig, run_walk
+def _run_walks(out: Path, echo: Callable[[str], None], displays: Displays) -> dict[str, Any]:
 
     walks = {}
     for effects in ("none", "all"):
         echo(f"virtual NAO: zmpkit walk --effects {effects} (10 s at 0.2 m/s)")
-        with SimTimeProgress(f"walk, effects {effects}") as progress:
-            result = run_walk(WalkConfig(effects=effects), out / f"walk_{effects}", progress)
+        with displays.simulation(f"walk, effects {effects}") as progress:
+            result = write_walk(
+                run_walk(WalkConfig(effects=effects), progress), out / f"walk_{effects}"
+            )
         walks[effects] = result.summary
     return walks
 
 
-def _run_balance(out: Path, echo: Callable[[str], None]) -> BalanceArtifacts:
-    from zmpkit.pipelines.balance import BalanceConfig
-    from zmpkit.pipelines.balance_run import balance_with_progress
+def _run_balance(out: Path, echo: Callable[[str], None], displays: Displays) -> BalanceArtifacts:
 
     echo("virtual TEO: zmpkit balance --quick (LIPM steps, DLIPM identification, Table 1)")
-    return balance_with_progress(BalanceConfig.quick(), out / "balance", echo=echo)
+    with displays.sweeps() as progress:
+        result = run_balance(BalanceConfig.quick(), out / "balance", progress=progress, echo=echo)
+    return write_balance_outputs(result, out / "balance")
 
 
 def _demo_models(config: DemoConfig) -> dict[str, Dlipm]:

@@ -16,13 +16,15 @@ from pathlib import Path
 from zmpkit.analysis.balance_plots import plot_error_fit
 from zmpkit.errors import InputFileError
 from zmpkit.experiments import read_step_dataset
-from zmpkit.identify import BalanceIdentification, StepTrial, identify_balance
+from zmpkit.identify import BalanceIdentification, identify_balance
 from zmpkit.io.step_manifest import read_step_manifest
 from zmpkit.pipelines.balance import dataset_trials
+from zmpkit.robots.teo import TEO_BALANCE_MASS_KG
+from zmpkit.signals import StepTrial
 
 __all__ = ["IdentifyBalanceResult", "run_identify_balance"]
 
-_DESIGN_MASS_KG = {"teo": 62.6}  # paper A §4.1
+_DESIGN_MASS_KG = {"teo": TEO_BALANCE_MASS_KG}  # paper A §4.1
 
 
 @dataclass(frozen=True, eq=False)

@@ -2,7 +2,7 @@
 
 Paper B §II: "The simulation is optimized by Evolutionary Algorithms to fit a physical
 robot." The fitted parameters of the chosen effects (M, I, G, F, S, and C for mass/CoM)
-are found by CMA-ES (:mod:`zmpkit.identify.simfit`) from recorded experiments — NAO walk
+are found by CMA-ES (:mod:`zmpkit.simfit`) from recorded experiments — NAO walk
 folders or TEO step datasets, using only the commanded angles, encoders, F-T ZMP and IMU
 — with rollouts in MuJoCo thread-pool batches (default), on a process pool or a Ray cluster,
 checkpointed every generation.
@@ -21,19 +21,20 @@ from pathlib import Path
 import numpy as np
 
 from zmpkit.errors import ParameterError
-from zmpkit.identify.simfit.backends import BACKENDS, DEFAULT_WORKERS, make_evaluator
-from zmpkit.identify.simfit.cost import CostWeights
-from zmpkit.identify.simfit.experiments import Experiment, read_experiments
-from zmpkit.identify.simfit.identifiability import ParameterIdentifiability, identifiability
-from zmpkit.identify.simfit.optimizer import CmaOptions, CmaResult, ProgressCallback, run_cma
-from zmpkit.identify.simfit.parameters import (
+from zmpkit.pipelines.identify_sim_report import reproduction_checks, write_fit_files
+from zmpkit.simfit.backends import BACKENDS, DEFAULT_WORKERS, make_evaluator
+from zmpkit.simfit.cost import CostWeights
+from zmpkit.simfit.experiments import Experiment, read_experiments
+from zmpkit.simfit.identifiability import ParameterIdentifiability, identifiability
+from zmpkit.simfit.optimizer import CmaOptions, CmaResult, ProgressCallback, run_cma
+from zmpkit.simfit.parameters import (
     ROBOTS,
     FitParameter,
     default_parameters,
     parse_fit_effects,
 )
-from zmpkit.identify.simfit.problem import FitProblem
-from zmpkit.identify.simfit.self_test import (
+from zmpkit.simfit.problem import FitProblem
+from zmpkit.simfit.self_test import (
     RecoveryRow,
     perturbed_values,
     record_experiments,
@@ -41,9 +42,8 @@ from zmpkit.identify.simfit.self_test import (
     self_test_plan,
     write_recovery_csv,
 )
-from zmpkit.identify.simfit.truth_doc import base_truth_path, load_truth_doc
-from zmpkit.identify.simfit.validation import ReproductionCheck
-from zmpkit.pipelines.identify_sim_report import reproduction_checks, write_fit_files
+from zmpkit.simfit.truth_doc import base_truth_path, load_truth_doc
+from zmpkit.simfit.validation import ReproductionCheck
 
 __all__ = [
     "QUICK_PARAMETERS",
@@ -245,7 +245,7 @@ def run_identify_sim(
         config: the fit.
         out_dir: output folder (created if missing); the checkpoint is written there.
         progress: called after every generation with a
-            :class:`~zmpkit.identify.simfit.optimizer.FitProgress`.
+            :class:`~zmpkit.simfit.optimizer.FitProgress`.
 
     Raises:
         InputFileError: on an unreadable experiment folder, base truth or checkpoint.

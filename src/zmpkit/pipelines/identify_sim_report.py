@@ -1,9 +1,9 @@
 """The result files of ``zmpkit identify sim``: fit tables and per-experiment fit figures.
 
 :func:`reproduction_checks` replays every experiment with the fitted values and compares
-its trunk oscillation and joint angles (:mod:`zmpkit.identify.simfit.validation`), drawing
+its trunk oscillation and joint angles (:mod:`zmpkit.simfit.validation`), drawing
 its per-signal fit figure (:mod:`zmpkit.analysis.simfit_plots`); :func:`write_fit_files`
-writes the files of :mod:`zmpkit.identify.simfit.outputs`.
+writes the files of :mod:`zmpkit.simfit.outputs`.
 """
 
 from __future__ import annotations
@@ -12,12 +12,13 @@ from pathlib import Path
 
 import numpy as np
 
-from zmpkit.identify.simfit import outputs
-from zmpkit.identify.simfit.experiments import Experiment
-from zmpkit.identify.simfit.identifiability import ParameterIdentifiability
-from zmpkit.identify.simfit.optimizer import CmaResult
-from zmpkit.identify.simfit.problem import FitProblem, simulate
-from zmpkit.identify.simfit.validation import ReproductionCheck, reproduction_check
+from zmpkit.analysis.simfit_plots import plot_cost_history, plot_signal_fit
+from zmpkit.simfit import outputs
+from zmpkit.simfit.experiments import Experiment
+from zmpkit.simfit.identifiability import ParameterIdentifiability
+from zmpkit.simfit.optimizer import CmaResult
+from zmpkit.simfit.problem import FitProblem, simulate
+from zmpkit.simfit.validation import ReproductionCheck, reproduction_check
 
 __all__ = ["reproduction_checks", "write_fit_files"]
 
@@ -39,8 +40,6 @@ def reproduction_checks(
         simulated = simulate(held, values, i)
         checks.append(reproduction_check(experiment.name, experiment.signals, simulated))
         if out is not None:
-            from zmpkit.analysis.simfit_plots import plot_signal_fit
-
             label = experiment.name.replace("/", "_")
             files[f"fit_{label}"] = plot_signal_fit(
                 experiment.signals, simulated, out / f"fit_{label}.png", experiment.name
@@ -80,8 +79,6 @@ def write_fit_files(
         "checkpoint": cma_result.checkpoint,
     }
     if figures and cma_result.history:
-        from zmpkit.analysis.simfit_plots import plot_cost_history
-
         files["cost_plot"] = plot_cost_history(
             cma_result.history,
             out / "cost_history.png",

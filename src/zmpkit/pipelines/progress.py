@@ -1,134 +1,72 @@
-"""Rich progress displays on stderr, each usable as a pipeline's progress callback.
+"""How a pipeline reports progress: the callbacks it takes, and displays that show nothing.
 
-Every display is a context manager (``with ... as progress:``) and the instance itself is
-the callback the pipeline takes; they differ only in what the callback receives.
+Pipelines only call these; what shows them (rich bars on a terminal) belongs to the CLI
+(:mod:`zmpkit.cli.progress`). A composed run such as the demo takes a :class:`Displays`,
+which opens one display per stage.
 """
 
 from __future__ import annotations
 
-from typing import Any
-
-from rich.console import Console
-from rich.progress import BarColumn, MofNCompleteColumn, Progress, TaskID, TimeElapsedColumn
+from collections.abc import Callable
+from contextlib import AbstractContextManager, nullcontext
+from typing import Protocol
 
 __all__ = [
-    "GenerationProgress",
-    "SimTimeProgress",
-    "StageProgress",
-    "SweepProgress",
-    "TrialProgressBar",
+    "SILENT",
+    "Displays",
+    "SimTimeCallback",
+    "StageCallback",
+    "SweepCallback",
+    "SweepFactory",
 ]
 
-_COUNT = MofNCompleteColumn
+SweepCallback = Callable[[int, int, float], None]
+"""``progress(finished, total, target_m)`` of one sweep of trials."""
+SweepFactory = Callable[[str, int], SweepCallback]
+"""``progress(label, total)``: a new sweep's callback."""
+SimTimeCallback = Callable[[float, float], None]
+"""``progress(simulated_s, total_s)`` of one simulation [s]."""
+StageCallback = Callable[[str, int, int], None]
+"""``progress(stage, finished, total)`` of a run in named stages."""
 
 
-class _Display:
-    """A rich display with a description, a bar, ``middle`` columns and the elapsed time."""
+class Displays(Protocol):
+    """Opens a progress display per stage of a composed run; each yields its callback."""
 
-    def __init__(self, *middle: Any) -> None:
-        self._bar = Progress(
-            "[progress.description]{task.description}",
-            BarColumn(),
-            *middle,
-            TimeElapsedColumn(),
-            console=Console(stderr=True),
-        )
+    def sweeps(self) -> AbstractContextManager[SweepFactory]:
+        """A display for trial sweeps."""
+        ...
 
-    def __enter__(self) -> Any:
-        self._bar.start()
-        return self
+    def simulation(self, label: str) -> AbstractContextManager[SimTimeCallback]:
+        """A display for one simulation named ``label``."""
+        ...
 
-    def __exit__(self, *exc: object) -> None:
-        self._bar.stop()
+    def stages(self) -> AbstractContextManager[StageCallback]:
+        """A display for a run in named stages."""
+        ...
 
 
-class TrialProgressBar(_Display):
-    """One sweep's bar; the instance is a ``progress(finished, total, target_m)``.
-
-    Args:
-        total: number of trials.
-    """
-
-    def __init__(self, total: int) -> None:
-        super().__init__(_COUNT())
-        self._task = self._bar.add_task("trials", total=total)
-
-    def __call__(self, finished: int, total: int, target_m: float) -> None:
-        """Show ``finished`` of ``total`` trials; ``target_m`` is the last one's target [m]."""
-        self._bar.update(
-            self._task, completed=finished, total=total, description=f"target {target_m:g} m"
-        )
+def _ignore(*_: object) -> None:
+    """A callback that shows nothing."""
 
 
-class SweepProgress(_Display):
-    """A bar per sweep; the instance is a ``progress(label, total)`` factory returning that
-    sweep's ``progress(finished, total, target_m)`` callback."""
-
-    def __init__(self) -> None:
-        super().__init__(_COUNT())
-
-    def __call__(self, label: str, total: int):
-        """A new bar named ``label`` for ``total`` trials, and its callback."""
-        task = self._bar.add_task(label, total=total)
-
-        def update(finished: int, total: int, target_m: float) -> None:
-            self._bar.update(task, completed=finished, total=total)
-
-        return update
+def _silent_sweep(label: str, total: int) -> SweepCallback:
+    """A sweep callback that shows nothing."""
+    return _ignore
 
 
-class SimTimeProgress(_Display):
-    """A bar of simulated seconds; the instance is a ``progress(simulated_s, total_s)``."""
+class _Silent:
+    """Displays that show nothing (the default of a pipeline called from Python)."""
 
-    def __init__(self, label: str) -> None:
-        super().__init__("{task.completed:.1f}/{task.total:.1f} s simulated")
-        self._task = self._bar.add_task(label, total=0.0)
+    def sweeps(self) -> AbstractContextManager[SweepFactory]:
+        return nullcontext(_silent_sweep)
 
-    def __call__(self, simulated_s: float, total_s: float) -> None:
-        """Show ``simulated_s`` of ``total_s`` simulated seconds."""
-        self._bar.update(self._task, completed=simulated_s, total=total_s)
+    def simulation(self, label: str) -> AbstractContextManager[SimTimeCallback]:
+        return nullcontext(_ignore)
 
-
-class StageProgress(_Display):
-    """One bar per named stage; the instance is a ``progress(stage, finished, total)``."""
-
-    def __init__(self) -> None:
-        super().__init__(_COUNT())
-        self._tasks: dict[str, TaskID] = {}
-
-    def __call__(self, stage: str, finished: int, total: int) -> None:
-        """Show ``finished`` of ``total`` steps of ``stage`` (a new bar for a new stage)."""
-        if stage not in self._tasks:
-            self._tasks[stage] = self._bar.add_task(stage, total=total)
-        self._bar.update(self._tasks[stage], completed=finished, total=total)
+    def stages(self) -> AbstractContextManager[StageCallback]:
+        return nullcontext(_ignore)
 
 
-class GenerationProgress(_Display):
-    """A bar of CMA-ES generations with the best cost and ETA; the instance is the fit's
-    ``progress(FitProgress)`` callback. It appears with the first finished generation, so
-    an input error before the fit starts prints alone."""
-
-    def __init__(self, label: str = "fit") -> None:
-        super().__init__(_COUNT(), "best cost {task.fields[best]}", "ETA {task.fields[eta]}")
-        self._task = self._bar.add_task(label, total=None, best="–", eta="–")
-        self._started = False
-
-    def __enter__(self) -> GenerationProgress:
-        return self
-
-    def __exit__(self, *exc: object) -> None:
-        if self._started:
-            self._bar.stop()
-
-    def __call__(self, progress: Any) -> None:
-        """Show one finished generation (a ``FitProgress``)."""
-        if not self._started:
-            self._bar.start()
-            self._started = True
-        self._bar.update(
-            self._task,
-            completed=progress.generation,
-            total=progress.generations,
-            best=f"{progress.best_cost:.4g}",
-            eta=f"{progress.eta_s:.0f} s",
-        )
+SILENT: Displays = _Silent()
+"""Displays that show nothing."""

@@ -15,7 +15,6 @@ from zmpkit.analysis.zmp_steps_plot import ZmpStepCurve, plot_zmp_steps
 from zmpkit.errors import ParameterError
 from zmpkit.experiments import (
     DEFAULT_WORKERS,
-    PLANES,
     ROBOTS,
     PushConfig,
     StepDataset,
@@ -27,6 +26,7 @@ from zmpkit.experiments import (
     write_steady_state_csv,
 )
 from zmpkit.experiments.sweep import ProgressCallback, check_sweep
+from zmpkit.signals import PLANES
 from zmpkit.sim.effect_set import EFFECT_LETTERS, EffectSet
 
 __all__ = [

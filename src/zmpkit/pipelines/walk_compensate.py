@@ -34,9 +34,9 @@ from zmpkit.compensate.methods import (
     walk_with_offset,
 )
 from zmpkit.compensate.offsets import OFFSET_SHAPES, OffsetParameters
+from zmpkit.compensate.summary import CompensationSummary, summary_of
 from zmpkit.compensate.tuning import TuningResult, prior_from_offset, tune_offset
 from zmpkit.errors import ParameterError
-from zmpkit.pipelines.walk_compensate_report import summary_of, write_outputs
 from zmpkit.robots.nao import nao_ik_model
 from zmpkit.sim.effect_set import EffectSet
 from zmpkit.walking import generate_pattern
@@ -151,16 +151,17 @@ class CompensateResult:
 
     Attributes:
         config: what was asked.
-        summary: the contents of ``summary.json``.
+        summary: what ``summary.json`` holds.
         chosen: the method or shape whose numbers the summary reports.
         baseline: the validation walks without compensation.
         compensated: method or shape -> its validation walks.
         tuning: shape -> tuning result (offset methods only).
-        files: every file written, by role.
+        files: every file written, by role (empty until
+            :func:`~zmpkit.pipelines.walk_compensate_report.write_walk_compensate`).
     """
 
     config: CompensateConfig
-    summary: dict[str, object]
+    summary: CompensationSummary
     chosen: str
     baseline: tuple[CompensatedWalk, ...]
     compensated: dict[str, tuple[CompensatedWalk, ...]]
@@ -208,15 +209,19 @@ def _validation_jobs(config: CompensateConfig, offsets: dict[str, OffsetParamete
 def run_walk_compensate(
     config: CompensateConfig, out_dir: str | Path, progress: CompensateProgress | None = None
 ) -> CompensateResult:
-    """Compensate the virtual NAO's walk with ``config.method``; write results to ``out_dir``.
+    """Compensate the virtual NAO's walk with ``config.method``.
+
+    Tuning walks are cached under ``out_dir/cache`` (or ``config.cache_dir``) as they finish,
+    so a rerun resumes; the results are written by
+    :func:`~zmpkit.pipelines.walk_compensate_report.write_walk_compensate`.
 
     Args:
         config: the run.
-        out_dir: output folder (created if missing).
+        out_dir: output folder of the run (created if missing).
         progress: called with (stage, finished, total) as stages finish.
 
     Returns:
-        The summary, the validation walks and the files written.
+        The summary, the validation walks and the tuning.
     """
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
@@ -235,6 +240,4 @@ def run_walk_compensate(
     compensated = {label: tuple(walks[n * (i + 1) : n * (i + 2)]) for i, label in enumerate(labels)}
     chosen = min(tuning, key=lambda s: tuning[s].best_objective) if tuning else labels[0]
     summary = summary_of(config.method, baseline, compensated[chosen])
-    result = CompensateResult(config, summary, chosen, baseline, compensated, tuning)
-    files = write_outputs(out, result)
-    return CompensateResult(config, summary, chosen, baseline, compensated, tuning, files)
+    return CompensateResult(config, summary, chosen, baseline, compensated, tuning)

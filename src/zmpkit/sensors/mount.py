@@ -30,6 +30,7 @@ __all__ = [
     "ROTATION_ZERO_SNAP",
     "SensorMount",
     "rpy_to_matrix",
+    "wrench_in_world",
 ]
 
 ROTATION_TOLERANCE = 1e-6
@@ -157,3 +158,20 @@ class SensorMount:
             f"SensorMount(position={self.position.tolist()}, rotation={self.rotation.tolist()}, "
             f"sole_height={self.sole_height}, name={self.name!r})"
         )
+
+
+def wrench_in_world(
+    sensor_xmat: NDArray[np.float64], wrench: NDArray[np.float64]
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Force [N] and moment [N·m] of sensor-frame wrenches in the world frame.
+
+    ``F = R F_s``, ``τ_o = R τ_s``: the moment stays about the sensor origin ``o``.
+
+    Args:
+        sensor_xmat: the sensor frames' sensor→world rotations ``R``, row-major (as MuJoCo's
+            ``site_xmat``), shape (..., 9).
+        wrench: (F_x, F_y, F_z, τ_x, τ_y, τ_z) in the sensor frame [N, N·m], shape (..., 6).
+    """
+    rotation = np.reshape(sensor_xmat, (*np.shape(sensor_xmat)[:-1], 3, 3))
+    force = np.einsum("...ij,...j->...i", rotation, wrench[..., :3])
+    return force, np.einsum("...ij,...j->...i", rotation, wrench[..., 3:])

@@ -28,7 +28,8 @@ mean), and in general any number of feet:
 
 .. math:: p = \frac{\sum_i p_i F_{z,i}}{\sum_i F_{z,i}} \quad \text{over the feet in contact.}
 
-A foot is in contact when its world ``F_z >= CONTACT_FORCE_THRESHOLD_N`` (overridable). A foot
+A foot is in contact when its world ``F_z >= CONTACT_FORCE_THRESHOLD_N`` (overridable: a robot
+gives its own, e.g. a lighter robot a lower one). A foot
 out of contact contributes nothing; with no foot in contact the ZMP is undefined: it is NaN in
 ``zmp`` and ``False`` in the ``defined`` mask, which always travels with it. Feet on planes of
 different heights are combined as eq. (6) does, as the F_z-weighted mean of their (x, y).
@@ -58,6 +59,7 @@ __all__ = [
     "combined_zmp",
     "foot_zmp",
     "moment_coefficients",
+    "zmp_in_world",
     "zmp_series",
 ]
 
@@ -315,3 +317,42 @@ def zmp_series(
     both = _combine(wrenches, [right, left], threshold_n)
     contact, fz = both.contact, both.fz
     return ZmpSeries(time_s, both.zmp, both.defined, contact[0], contact[1], fz[0], fz[1])
+
+
+def zmp_in_world(
+    force_in_world: NDArray[np.float64],
+    moment_in_world: NDArray[np.float64],
+    sensor_in_world: NDArray[np.float64],
+    contact_threshold_n: float = CONTACT_FORCE_THRESHOLD_N,
+) -> NDArray[np.float64]:
+    r"""ZMP on the floor z = 0 of feet that move, from wrenches already in the world frame [m].
+
+    The walking form of the same equations (module docstring), with each sensor origin ``o``
+    given per sample (the feet move) and ``h = o_z``:
+
+    .. math:: p_x = \frac{\sum_i o_{x,i} F_{z,i} - (τ_{y,i} + o_{z,i} F_{x,i})}{\sum_i F_{z,i}},
+        \quad p_y = \frac{\sum_i o_{y,i} F_{z,i} + (τ_{x,i} - o_{z,i} F_{y,i})}{\sum_i F_{z,i}}
+
+    over the feet in contact (``F_z >= contact_threshold_n``).
+
+    Args:
+        force_in_world: force of each foot [N], shape (N, F, 3).
+        moment_in_world: moment about each sensor origin [N·m], shape (N, F, 3).
+        sensor_in_world: sensor origins [m], shape (N, F, 3).
+        contact_threshold_n: minimum world F_z for contact [N], > 0.
+
+    Returns:
+        The ZMP [m], shape (N, 2); NaN where no foot is in contact.
+    """
+    threshold_n = positive("contact_threshold_n", contact_threshold_n, "N")
+    fx, fy, fz = (force_in_world[..., i] for i in range(3))
+    tx, ty = moment_in_world[..., 0], moment_in_world[..., 1]
+    ox, oy, oz = (sensor_in_world[..., i] for i in range(3))
+    weight = np.where(fz >= threshold_n, fz, 0.0)
+    total = weight.sum(axis=1)
+    num_x = np.sum(np.where(weight > 0, ox * fz - (ty + oz * fx), 0.0), axis=1)
+    num_y = np.sum(np.where(weight > 0, oy * fz + (tx - oz * fy), 0.0), axis=1)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        zmp = np.column_stack([num_x / total, num_y / total])
+    zmp[total <= 0.0] = np.nan
+    return zmp

@@ -11,6 +11,7 @@ from __future__ import annotations
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 
+from zmpkit.sensors.zmp import CONTACT_FORCE_THRESHOLD_N
 from zmpkit.sim.effect_set import EffectSet
 from zmpkit.sim.effects import SensorParams
 from zmpkit.sim.servo import ServoLimits
@@ -68,6 +69,8 @@ class RobotDescription:
         sensor_params: sensor errors (used when ``effects.sensors``).
         ft_offsets: foot → F-T offset (Fx, Fy, Fz, Tx, Ty, Tz); defaults to
             ``sensor_params.ft_offset`` for feet not listed.
+        contact_force_threshold_n: a foot touches the floor while its world-frame vertical
+            force is at least this [N] (the ZMP's contact rule, :mod:`zmpkit.sensors.zmp`).
     """
 
     name: str
@@ -79,6 +82,7 @@ class RobotDescription:
     imu: ImuSensors = field(default_factory=ImuSensors)
     sensor_params: SensorParams = field(default_factory=SensorParams)
     ft_offsets: Mapping[str, tuple[float, ...]] = field(default_factory=dict)
+    contact_force_threshold_n: float = CONTACT_FORCE_THRESHOLD_N
 
     def ft_offset(self, foot: str) -> tuple[float, ...]:
         """The F-T offset of one foot's sensor [N, N·m]."""

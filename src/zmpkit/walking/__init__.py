@@ -20,14 +20,12 @@ from zmpkit.walking.footsteps import (
 )
 from zmpkit.walking.pattern import (
     NAO_CONTROL_PERIOD_S,
-    NAO_WALKING_COM_HEIGHT_M,
     PatternConfig,
     WalkingPattern,
     generate_pattern,
     pattern_sample_times,
 )
 from zmpkit.walking.preview import (
-    GRAVITY_MPS2,
     CoMTrajectory,
     PreviewController,
     PreviewGains,
@@ -47,9 +45,7 @@ from zmpkit.walking.zmp_reference import ZmpReference, linear_zmp_reference, sam
 
 __all__ = [
     "DEFAULT_STEP_HEIGHT_M",
-    "GRAVITY_MPS2",
     "NAO_CONTROL_PERIOD_S",
-    "NAO_WALKING_COM_HEIGHT_M",
     "CoMTrajectory",
     "FeetTrajectories",
     "FootShape",

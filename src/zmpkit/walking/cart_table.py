@@ -27,17 +27,15 @@ from numpy.typing import NDArray
 
 from zmpkit import _validate
 from zmpkit.errors import ParameterError
+from zmpkit.models.pendulum import STANDARD_GRAVITY_MPS2
+from zmpkit.robots.nao.model import NAO_WALKING_COM_HEIGHT_M
 
 __all__ = [
-    "GRAVITY_MPS2",
     "PreviewGains",
     "PreviewParameters",
     "cart_table_matrices",
     "compute_preview_gains",
 ]
-
-#: Standard gravity [m/s^2].
-GRAVITY_MPS2 = 9.81
 
 
 @dataclass(frozen=True)
@@ -54,11 +52,11 @@ class PreviewParameters:
     """
 
     sampling_period_s: float = 0.01
-    com_height_m: float = 0.26
+    com_height_m: float = NAO_WALKING_COM_HEIGHT_M
     horizon_s: float = 1.6
     error_weight: float = 1.0
     jerk_weight: float = 1e-6
-    gravity_mps2: float = GRAVITY_MPS2
+    gravity_mps2: float = STANDARD_GRAVITY_MPS2
 
     def __post_init__(self) -> None:
         _validate.positive("PreviewParameters.sampling_period_s", self.sampling_period_s, "s")
@@ -80,7 +78,7 @@ class PreviewParameters:
 
 
 def cart_table_matrices(
-    sampling_period_s: float, com_height_m: float, gravity_mps2: float = GRAVITY_MPS2
+    sampling_period_s: float, com_height_m: float, gravity_mps2: float = STANDARD_GRAVITY_MPS2
 ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
     """Exact discrete cart-table matrices A (3, 3), B (3,), C (3,) for a jerk held over T."""
     T = sampling_period_s

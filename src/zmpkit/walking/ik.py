@@ -26,6 +26,7 @@ from numpy.typing import NDArray
 
 from zmpkit import _validate
 from zmpkit.errors import ModelError
+from zmpkit.robots.nao import NAO_LEG_JOINTS
 from zmpkit.walking.pattern import WalkingPattern
 
 __all__ = ["IkSettings", "JointTrajectory", "WalkingIk", "solve_walking_ik"]
@@ -214,8 +215,6 @@ def solve_walking_ik(
         The joint trajectory with the CoM, feet and torso errors left at each sample.
     """
     if settings is None:
-        from zmpkit.robots.nao import NAO_LEG_JOINTS  # the default robot
-
         settings = IkSettings(joint_names=NAO_LEG_JOINTS)
     ik = WalkingIk(model, settings)
     n = pattern.time_s.size

@@ -16,6 +16,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from zmpkit import _validate
 from zmpkit.errors import ParameterError
+from zmpkit.robots.nao.model import NAO_WALKING_COM_HEIGHT_M
 from zmpkit.walking.footsteps import (
     FootstepPlan,
     GaitParameters,
@@ -36,7 +37,6 @@ from zmpkit.walking.zmp_reference import ZmpReference, linear_zmp_reference, sam
 
 __all__ = [
     "NAO_CONTROL_PERIOD_S",
-    "NAO_WALKING_COM_HEIGHT_M",
     "PatternConfig",
     "WalkingPattern",
     "generate_pattern",
@@ -45,8 +45,6 @@ __all__ = [
 
 #: NAO motion frame (DCM cycle) [s] (paper B footnote 5).
 NAO_CONTROL_PERIOD_S = 0.01
-#: LIPM CoM height of the Dortmund ZMP/IP walk on NAO [m] (nao-parameters.md §1).
-NAO_WALKING_COM_HEIGHT_M = 0.26
 #: Default preview horizon [s].
 DEFAULT_PREVIEW_HORIZON_S = 1.6
 

@@ -30,7 +30,6 @@ from numpy.typing import NDArray
 from zmpkit import _validate
 from zmpkit.errors import ParameterError
 from zmpkit.walking.cart_table import (
-    GRAVITY_MPS2,
     PreviewGains,
     PreviewParameters,
     cart_table_matrices,
@@ -38,7 +37,6 @@ from zmpkit.walking.cart_table import (
 )
 
 __all__ = [
-    "GRAVITY_MPS2",
     "CoMTrajectory",
     "PreviewController",
     "PreviewGains",

@@ -10,6 +10,7 @@ from zmpkit.robots.nao.model import (
     NAO_LEG_JOINTS,
     NAO_MASS_KG,
     NAO_SIDES,
+    NAO_WALK_COM_HEIGHT_M,
     NAO_WALKING_COM_HEIGHT_M,
     nao_feet_mounts,
 )
@@ -31,6 +32,7 @@ __all__ = [
     "NAO_SERVO_LIMITS",
     "NAO_SIDES",
     "NAO_WALKING_COM_HEIGHT_M",
+    "NAO_WALK_COM_HEIGHT_M",
     "NaoTruth",
     "load_truth",
     "make_nao",

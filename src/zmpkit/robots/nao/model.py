@@ -33,6 +33,7 @@ __all__ = [
     "NAO_MASS_KG",
     "NAO_SIDES",
     "NAO_WALKING_COM_HEIGHT_M",
+    "NAO_WALK_COM_HEIGHT_M",
     "SOLE_PLATE_M",
     "SOLE_PLATE_MASS_KG",
     "ZERO_POSE_TORSO_HEIGHT_M",
@@ -46,6 +47,9 @@ NAO_MASS_KG = 5.305
 """Total mass of the 25 massive URDF links [kg] (parameters file §1)."""
 NAO_WALKING_COM_HEIGHT_M = 0.26
 """CoM height of the 3D-LIPM walk (Dortmund ZMP/IP controller) [m] (§1)."""
+NAO_WALK_COM_HEIGHT_M = 0.25
+"""CoM height of zmpkit's walk [m]. NAO's crouch CoM is 0.26 m (nao-parameters.md §1), but 0.1 m
+steps at 0.26 m stretch the trailing leg to its full length; 0.25 m keeps the knee bent."""
 SOLE_PLATE_M = 0.005
 """Thickness of the sole plate below the F-T sensor = sensor height above the sole [m]."""
 SOLE_PLATE_MASS_KG = 0.015

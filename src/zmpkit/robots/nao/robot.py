@@ -31,11 +31,22 @@ from zmpkit.sim.effect_set import EffectSet
 from zmpkit.sim.servo import ServoLimits
 from zmpkit.sim.world import Simulation
 
-__all__ = ["NAO_SERVO_LIMITS", "make_nao", "nao_ik_mjcf", "nao_ik_model", "nao_mjcf", "nao_robot"]
+__all__ = [
+    "NAO_CONTACT_FORCE_THRESHOLD_N",
+    "NAO_SERVO_LIMITS",
+    "make_nao",
+    "nao_ik_mjcf",
+    "nao_ik_model",
+    "nao_mjcf",
+    "nao_robot",
+]
 
 NAO_SERVO_LIMITS = ServoLimits(max_velocity=15.0, max_acceleration=5000.0, synchronized=False)
 """Setpoint limits of NAO's leg drives: the URDF velocity limit 6.40 rad/s; the acceleration
 limit (ASSUMED) only smooths the 1 ms setpoint ramps the DCM interpolates."""
+NAO_CONTACT_FORCE_THRESHOLD_N = 5.0
+"""A NAO foot touches the floor while its vertical force is at least this [N]: about 10 % of
+the robot's weight (5.2 kg), where TEO's 10 N would miss a lightly loaded foot."""
 IK_TIMESTEP_S = 0.01
 """Timestep of the kinematic model [s] (unused by the IK, NAO's 10 ms motion frame)."""
 
@@ -107,6 +118,7 @@ def nao_robot(
         servo_limits=NAO_SERVO_LIMITS,
         sensor_params=params.sensors,
         ft_offsets=params.ft_offsets,
+        contact_force_threshold_n=NAO_CONTACT_FORCE_THRESHOLD_N,
     )
 
 

@@ -1,10 +1,10 @@
 """Many candidates of one experiment at once: open-loop rollouts on MuJoCo's thread pool.
 
-Both kinds of experiment are open loop (:mod:`~zmpkit.identify.simfit.open_loop`), so the
+Both kinds of experiment are open loop (:mod:`~zmpkit.simfit.open_loop`), so the
 rollouts of a whole CMA-ES generation run in C on :class:`mujoco.batch.Batch` threads, a
 second of simulated time per call, with no Python per physics step; Python then reads the
-recorded rows (:mod:`~zmpkit.identify.simfit.batch_rows`) as
-:mod:`~zmpkit.identify.simfit.rollout` reads the simulation step by step.
+recorded rows (:mod:`~zmpkit.simfit.batch_rows`) as
+:mod:`~zmpkit.simfit.rollout` reads the simulation step by step.
 
 The results are those of the serial path (tested): each candidate's
 :class:`~zmpkit.sim.world.Simulation` is built and posed as there, the batch continues from
@@ -17,7 +17,7 @@ the same step:
   :data:`~zmpkit.sim.world.DIVERGED_SPEED_RAD_S` at an F-T sample; a walk then has no
   signals, a step trial keeps the samples before it;
 - a walk's fall: trunk tilt or torso height past the limits of
-  :mod:`~zmpkit.pipelines.walk_sim`; its record ends at that frame.
+  :mod:`~zmpkit.experiments.walk_trial`; its record ends at that frame.
 
 A candidate whose simulation raises another MuJoCo warning (which stops it in the batch but
 not in the serial path) is re-run on the serial path.
@@ -32,16 +32,17 @@ import mujoco.batch
 import numpy as np
 from numpy.typing import NDArray
 
-from zmpkit.identify.simfit.batch_rows import BatchRows
-from zmpkit.identify.simfit.experiments import Experiment, RecordedSignals
-from zmpkit.identify.simfit.open_loop import (
+from zmpkit.errors import ParameterError
+from zmpkit.sim.sensing import sample_series
+from zmpkit.sim.world import DIVERGED_SPEED_RAD_S, Simulation
+from zmpkit.simfit.batch_rows import BatchRows
+from zmpkit.simfit.experiments import Experiment, RecordedSignals
+from zmpkit.simfit.open_loop import (
     OpenLoopSchedule,
     open_loop_schedule,
     posed_simulation,
 )
-from zmpkit.identify.simfit.rollout import simulate_experiment
-from zmpkit.sim.sensing import sample_series
-from zmpkit.sim.world import DIVERGED_SPEED_RAD_S, Simulation
+from zmpkit.simfit.rollout import simulate_experiment
 
 __all__ = ["CHUNK_S", "simulate_batch"]
 
@@ -76,7 +77,7 @@ def simulate_batch(
             supports (the M effect on).
 
     Returns:
-        Per candidate, what :func:`~zmpkit.identify.simfit.rollout.simulate_experiment`
+        Per candidate, what :func:`~zmpkit.simfit.rollout.simulate_experiment`
         returns for it (with ``warp_device``, its float32 approximation).
     """
     if not truths:
@@ -183,7 +184,6 @@ def _run_warp(
     rows: BatchRows, sims: Sequence[Simulation], schedule: OpenLoopSchedule, device: str
 ) -> None:
     """Roll every candidate out on MuJoCo Warp at once, filling ``rows``."""
-    from zmpkit.errors import ParameterError
     from zmpkit.sim.warp_batch import rollout_warp
 
     n, model0 = len(sims), sims[0].model

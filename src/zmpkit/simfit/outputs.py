@@ -18,11 +18,11 @@ from pathlib import Path
 import numpy as np
 import yaml
 
-from zmpkit.identify.simfit.checkpoint import GenerationRecord
-from zmpkit.identify.simfit.identifiability import ParameterIdentifiability
-from zmpkit.identify.simfit.parameters import FitParameter
-from zmpkit.identify.simfit.truth_doc import truth_doc_with, write_truth_doc
-from zmpkit.identify.simfit.validation import ReproductionCheck
+from zmpkit.simfit.checkpoint import GenerationRecord
+from zmpkit.simfit.identifiability import ParameterIdentifiability
+from zmpkit.simfit.parameters import FitParameter
+from zmpkit.simfit.truth_doc import truth_doc_with, write_truth_doc
+from zmpkit.simfit.validation import ReproductionCheck
 
 __all__ = [
     "FITTED_PARAMETERS_FILE",

@@ -1,7 +1,7 @@
 """Replay a recorded experiment on the simulator and record the same signals.
 
-- A walk: the re-planned commanded trajectory (:mod:`~zmpkit.identify.simfit.walk_plan`)
-  is played by :func:`~zmpkit.pipelines.walk_sim.simulate_walk`, exactly as ``zmpkit walk``
+- A walk: the re-planned commanded trajectory (:mod:`~zmpkit.simfit.walk_plan`)
+  is played by :func:`~zmpkit.experiments.walk_trial.simulate_walk`, exactly as ``zmpkit walk``
   does, and the pitch joints, the F-T ZMP and the IMU pitch are kept.
 - A step trial: the robot stands ``settle_s`` and then its servos get the recorded
   commanded setpoints, linearly interpolated to every servo tick (the drive streams them at
@@ -16,12 +16,13 @@ import numpy as np
 from numpy.typing import NDArray
 
 from zmpkit.errors import SimulationDivergedError
-from zmpkit.identify.simfit.experiments import (
-    Experiment,
-    RecordedSignals,
-    StepExperiment,
-    WalkExperiment,
-)
+from zmpkit.experiments.walk_trial import simulate_walk
+from zmpkit.robots.nao import make_nao
+from zmpkit.robots.teo import make_teo
+from zmpkit.sensors import zmp_series
+from zmpkit.sensors.imu import tilt_from_quaternions
+from zmpkit.simfit.experiments import Experiment, RecordedSignals, StepExperiment, WalkExperiment
+from zmpkit.simfit.walk_plan import walk_trajectory
 
 __all__ = ["empty_signals", "setpoint_table", "simulate_experiment", "step_signals"]
 
@@ -43,10 +44,6 @@ def simulate_experiment(experiment: Experiment, truth: object, effects: str) -> 
 
 
 def _walk(experiment: WalkExperiment, truth: object, effects: str) -> RecordedSignals:
-    from zmpkit.analysis.walk_metrics import measured_zmp
-    from zmpkit.identify.simfit.walk_plan import walk_trajectory
-    from zmpkit.pipelines.walk_sim import simulate_walk
-    from zmpkit.robots.nao import make_nao
 
     trajectory = walk_trajectory(
         experiment.speed_mps,
@@ -60,7 +57,7 @@ def _walk(experiment: WalkExperiment, truth: object, effects: str) -> RecordedSi
         return empty_signals(experiment.signals)
     names = experiment.signals.joint_names
     columns = [record.joint(j) for j in names]
-    zmp = measured_zmp(record.force_in_world, record.moment_in_world, record.sensor_in_world)
+    zmp = record.zmp_in_world()
     return RecordedSignals(
         record.time_s,
         names,
@@ -88,7 +85,6 @@ def setpoint_table(signals: RecordedSignals, n_ticks: int, dt: float) -> NDArray
 
 
 def _step(experiment: StepExperiment, truth: object, effects: str) -> RecordedSignals:
-    from zmpkit.robots.teo import make_teo
 
     signals = experiment.signals
     sim = make_teo(effects, truth, seed=0)  # type: ignore[arg-type]
@@ -118,8 +114,6 @@ def _sample(sim: object) -> NDArray[np.float64]:
 
 def step_signals(experiment: StepExperiment, data: NDArray[np.float64], n: int) -> RecordedSignals:
     """A step trial's signals from ``n`` sample rows ``[F-T right, F-T left, encoders, quat]``."""
-    from zmpkit.identify.simfit.experiments import tilt_from_quaternions
-    from zmpkit.sensors import zmp_series
 
     signals = experiment.signals
     if n < 2:

@@ -15,14 +15,9 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from zmpkit.analysis.walk_metrics import (
-    CONTACT_FORCE_N,
-    amplitude_spectrum,
-    double_support_distance,
-    fitted_speed,
-    foot_slip,
-)
-from zmpkit.pipelines.walk_sim import WalkRecord
+from zmpkit.experiments.walk_trial import WalkRecord
+from zmpkit.signals.contact_phases import double_support_distance, fitted_speed, foot_slip
+from zmpkit.signals.spectra import amplitude_spectrum
 from zmpkit.walking.ik import JointTrajectory
 from zmpkit.walking.pattern import WalkingPattern
 
@@ -122,7 +117,7 @@ def _feet(
     mask: NDArray[np.bool_],
     planned_mask: NDArray[np.bool_],
 ) -> dict[str, float | None]:
-    contact = record.force_in_world[..., 2] >= CONTACT_FORCE_N
+    contact = record.in_contact()
     distance = double_support_distance(record.sole_in_world[..., 0], contact)
     slip = foot_slip(record.sole_in_world, contact, mask)
     return {

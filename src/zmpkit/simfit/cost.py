@@ -20,7 +20,7 @@ as much as the signal varies:
                         {\operatorname{RMS}\lVert p_{rec} - \operatorname{trend}(p_{rec})\rVert};
 
 - trunk-oscillation spectrum distance: amplitude spectra of the IMU trunk tilt
-  (:func:`~zmpkit.analysis.walk_metrics.amplitude_spectrum`) compared in
+  (:func:`~zmpkit.signals.spectra.amplitude_spectrum`) compared in
   :data:`SPECTRUM_BAND_HZ`:
 
   .. math:: e_s = \lVert A_{sim} - A_{rec} \rVert_2 / \lVert A_{rec} \rVert_2.
@@ -37,8 +37,8 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from zmpkit.analysis.walk_metrics import amplitude_spectrum
-from zmpkit.identify.simfit.experiments import RecordedSignals
+from zmpkit.signals.spectra import amplitude_spectrum
+from zmpkit.simfit.experiments import RecordedSignals
 
 __all__ = [
     "FAILED_COST",

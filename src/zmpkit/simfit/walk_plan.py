@@ -15,7 +15,9 @@ from pathlib import Path
 import numpy as np
 
 from zmpkit.errors import InputFileError
-from zmpkit.walking.ik import JointTrajectory
+from zmpkit.robots.nao import NAO_WALK_COM_HEIGHT_M, nao_ik_model
+from zmpkit.walking import GaitParameters, PatternConfig, WalkCommand, generate_pattern
+from zmpkit.walking.ik import JointTrajectory, solve_walking_ik
 
 __all__ = ["COMMAND_TOLERANCE_RAD", "match_walk_plan", "walk_trajectory"]
 
@@ -29,9 +31,6 @@ def walk_trajectory(
     speed_mps: float, step_duration_s: float, duration_s: float, com_height_m: float
 ) -> JointTrajectory:
     """Pattern + IK of a NAO walk (cached) [rad per joint per 10 ms frame]."""
-    from zmpkit.robots.nao import nao_ik_model
-    from zmpkit.walking import GaitParameters, PatternConfig, WalkCommand, generate_pattern
-    from zmpkit.walking.ik import solve_walking_ik
 
     config = PatternConfig(
         command=WalkCommand(v_x=speed_mps),
@@ -43,7 +42,6 @@ def walk_trajectory(
 
 
 def _pattern_end(speed_mps: float, step_duration_s: float, duration_s: float) -> float:
-    from zmpkit.walking import GaitParameters, PatternConfig, WalkCommand, generate_pattern
 
     config = PatternConfig(
         command=WalkCommand(v_x=speed_mps),
@@ -61,7 +59,6 @@ def match_walk_plan(
     Raises:
         InputFileError: naming ``path`` if no plan reproduces the commanded angles.
     """
-    from zmpkit.pipelines.walk import NAO_WALK_COM_HEIGHT_M
 
     overhead = _pattern_end(speed_mps, step_duration_s, _PROBE_DURATION_S) - _PROBE_DURATION_S
     t_last = float(signals.time_s[-1])  # type: ignore[attr-defined]

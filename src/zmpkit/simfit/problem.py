@@ -12,11 +12,11 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from zmpkit.identify.simfit.cost import CostTerms, CostWeights, experiment_cost
-from zmpkit.identify.simfit.experiments import Experiment, RecordedSignals
-from zmpkit.identify.simfit.parameters import FitParameter
-from zmpkit.identify.simfit.rollout import simulate_experiment
-from zmpkit.identify.simfit.truth_doc import load_robot_truth, truth_doc_with
+from zmpkit.simfit.cost import CostTerms, CostWeights, experiment_cost
+from zmpkit.simfit.experiments import Experiment, RecordedSignals
+from zmpkit.simfit.parameters import FitParameter
+from zmpkit.simfit.rollout import simulate_experiment
+from zmpkit.simfit.truth_doc import load_robot_truth, truth_doc_with
 
 __all__ = ["FitProblem", "evaluate", "simulate"]
 

@@ -1,6 +1,6 @@
 """The default backend on one machine: a generation's rollouts as MuJoCo thread-pool batches.
 
-Every experiment the fit takes is open loop (:mod:`~zmpkit.identify.simfit.batched`), so a
+Every experiment the fit takes is open loop (:mod:`~zmpkit.simfit.batched`), so a
 generation runs as one :class:`mujoco.batch.Batch` per experiment, all candidates at once on
 ``threads`` threads of this process: no worker processes to start or feed, no Python per
 physics step. The costs are those of the serial backend, bit for bit (tested).
@@ -18,9 +18,9 @@ from collections.abc import Sequence
 import numpy as np
 
 from zmpkit.errors import ParameterError
-from zmpkit.identify.simfit.batched import simulate_batch
-from zmpkit.identify.simfit.cost import CostTerms, experiment_cost
-from zmpkit.identify.simfit.problem import FitProblem
+from zmpkit.simfit.batched import simulate_batch
+from zmpkit.simfit.cost import CostTerms, experiment_cost
+from zmpkit.simfit.problem import FitProblem
 
 __all__ = ["BatchEvaluator"]
 

@@ -5,7 +5,7 @@ Both kinds of experiment are open loop. A walk plays its planned frames through 
 setpoints of every physics step are known before the rollout starts, and they are the same
 for every candidate (candidates differ in the model, not in the command). A candidate's
 rollout starts from its :class:`~zmpkit.sim.world.Simulation` built and posed exactly as the
-serial path (:mod:`~zmpkit.identify.simfit.rollout`) starts its loop.
+serial path (:mod:`~zmpkit.simfit.rollout`) starts its loop.
 """
 
 from __future__ import annotations
@@ -16,9 +16,14 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from zmpkit.identify.simfit.experiments import Experiment, StepExperiment, WalkExperiment
-from zmpkit.identify.simfit.rollout import setpoint_table
+from zmpkit.errors import SimulationDivergedError
+from zmpkit.experiments.walk_trial import start_pose
+from zmpkit.robots.nao import make_nao
+from zmpkit.robots.teo import make_teo
 from zmpkit.sim.world import Simulation
+from zmpkit.simfit.experiments import Experiment, StepExperiment, WalkExperiment
+from zmpkit.simfit.rollout import setpoint_table
+from zmpkit.simfit.walk_plan import walk_trajectory
 
 __all__ = ["OpenLoopSchedule", "open_loop_schedule", "posed_simulation"]
 
@@ -47,14 +52,9 @@ class OpenLoopSchedule:
 def posed_simulation(experiment: Experiment, truth: object, effects: str) -> Simulation:
     """A candidate's simulation where the serial path starts its loop."""
     if isinstance(experiment, WalkExperiment):
-        from zmpkit.identify.simfit.walk_plan import walk_trajectory
-        from zmpkit.pipelines.walk_sim import start_pose
-        from zmpkit.robots.nao import make_nao
-
         sim = make_nao(effects, truth, seed=0)  # type: ignore[arg-type]
         start_pose(sim, walk_trajectory(*_walk_key(experiment)))
         return sim
-    from zmpkit.robots.teo import make_teo
 
     return make_teo(effects, truth, seed=0)  # type: ignore[arg-type]
 
@@ -80,7 +80,7 @@ _MAX_WALK_SCHEDULES = 16
 
 
 def _walk_schedule(experiment: WalkExperiment, sim: Simulation) -> OpenLoopSchedule:
-    """The frames of :func:`~zmpkit.pipelines.walk_sim.simulate_walk`, through the servo.
+    """The frames of :func:`~zmpkit.experiments.walk_trial.simulate_walk`, through the servo.
 
     The same for every candidate and generation, so computed once (Python per step).
     """
@@ -99,7 +99,6 @@ def _walk_schedule(experiment: WalkExperiment, sim: Simulation) -> OpenLoopSched
 
 
 def _plan_walk_schedule(experiment: WalkExperiment, sim: Simulation) -> OpenLoopSchedule:
-    from zmpkit.identify.simfit.walk_plan import walk_trajectory
 
     trajectory = walk_trajectory(*_walk_key(experiment))
     columns = [trajectory.joint_names.index(j) for j in sim.joint_names]
@@ -123,7 +122,6 @@ def _plan_walk_schedule(experiment: WalkExperiment, sim: Simulation) -> OpenLoop
 
 def _step_schedule(experiment: StepExperiment, sim: Simulation) -> OpenLoopSchedule:
     """The recorded setpoints, one per servo tick, sampled at the recorded times."""
-    from zmpkit.errors import SimulationDivergedError
 
     signals = experiment.signals
     if tuple(sim.joint_names) != tuple(signals.joint_names):

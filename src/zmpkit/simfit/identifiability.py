@@ -33,8 +33,8 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from zmpkit.identify.simfit.backends import Evaluator
-from zmpkit.identify.simfit.problem import FitProblem
+from zmpkit.simfit.backends import Evaluator
+from zmpkit.simfit.problem import FitProblem
 
 __all__ = [
     "IDENTIFIABLE_WITHIN",

@@ -6,7 +6,7 @@
    inside the bounds. These values are the hidden truth.
 2. :func:`record_experiments`: the virtual robot with that truth and the sensor effects on
    (S: encoder quantisation, F-T offsets, noise) runs the plan's experiments through the
-   ordinary pipelines — NAO walks with :func:`~zmpkit.pipelines.walk.run_walk`, TEO step
+   ordinary pipelines — NAO walks with :func:`~zmpkit.experiments.walk.run_walk_trial`, TEO step
    sweeps with :func:`~zmpkit.experiments.run_step_sweep` — into folders. The fit then
    reads those folders like any recorded data and never sees the truth.
 3. :func:`recovery_rows` compares truth and fit per parameter (``recovery.csv``).
@@ -28,8 +28,12 @@ import numpy as np
 import yaml
 from numpy.typing import NDArray
 
-from zmpkit.identify.simfit.parameters import FitParameter
-from zmpkit.identify.simfit.truth_doc import truth_doc_with, write_truth_doc
+from zmpkit.experiments import StepExperimentConfig, run_step_sweep
+from zmpkit.experiments.walk import run_walk_trial
+from zmpkit.experiments.walk_config import WalkConfig
+from zmpkit.experiments.walk_dataset import SERIES_FILE, SUMMARY_FILE, write_series, write_summary
+from zmpkit.simfit.parameters import FitParameter
+from zmpkit.simfit.truth_doc import truth_doc_with, write_truth_doc
 
 __all__ = [
     "RECOVERY_COLUMNS",
@@ -90,7 +94,6 @@ def perturbed_values(parameters: tuple[FitParameter, ...], seed: int) -> NDArray
 
 
 def _walks(specs: tuple, truth: Path, effects: str, seed: int, out: Path) -> list[Path]:
-    from zmpkit.pipelines.walk import WalkConfig, run_walk
 
     folders = []
     for k, (speed, duration) in enumerate(specs):
@@ -103,13 +106,15 @@ def _walks(specs: tuple, truth: Path, effects: str, seed: int, out: Path) -> lis
             truth=str(truth),
             figures=False,
         )
-        run_walk(config, folder)
+        trial = run_walk_trial(config)
+        folder.mkdir(parents=True, exist_ok=True)
+        write_summary(folder / SUMMARY_FILE, trial.summary)
+        write_series(folder / SERIES_FILE, trial.pattern, trial.record)
         folders.append(folder)
     return folders
 
 
 def _steps(targets: tuple, hold_s: float, truth: Path, effects: str, seed: int, out: Path) -> Path:
-    from zmpkit.experiments import StepExperimentConfig, run_step_sweep
 
     config = StepExperimentConfig(
         targets_m=tuple(targets),

@@ -5,7 +5,7 @@ joint angles, the joint encoders, the ZMP from the ankle F-T sensors and the tru
 from the IMU. Two kinds of experiment:
 
 - :class:`WalkExperiment` — a NAO walk folder written by ``zmpkit walk``
-  (:func:`~zmpkit.pipelines.walk.run_walk`): ``summary.json`` and ``timeseries.csv``. The
+  (:mod:`zmpkit.experiments.walk_dataset`): ``summary.json`` and ``timeseries.csv``. The
   CSV holds the commanded angles of the six pitch joints only; the whole commanded
   trajectory is re-planned from the walk's command (speed, step duration, duration, CoM
   height), which a user knows because they commanded it, and checked against the recorded
@@ -29,21 +29,20 @@ import numpy as np
 from numpy.typing import NDArray
 
 from zmpkit.errors import InputFileError, ZmpkitError
+from zmpkit.experiments import read_step_dataset
+from zmpkit.experiments.walk_dataset import PITCH_JOINTS, SERIES_FILE, SUMMARY_FILE, read_series
+from zmpkit.sensors import zmp_series
+from zmpkit.sensors.imu import tilt_from_quaternions
+from zmpkit.simfit.walk_plan import match_walk_plan
 
 __all__ = [
-    "WALK_SERIES_FILE",
-    "WALK_SUMMARY_FILE",
     "Experiment",
     "RecordedSignals",
     "StepExperiment",
     "WalkExperiment",
     "read_experiments",
     "read_walk_folder",
-    "tilt_from_quaternions",
 ]
-
-WALK_SUMMARY_FILE = "summary.json"
-WALK_SERIES_FILE = "timeseries.csv"
 
 
 @dataclass(frozen=True, eq=False)
@@ -120,7 +119,7 @@ Experiment = WalkExperiment | StepExperiment
 
 
 def _read_summary(folder: Path) -> dict:
-    path = folder / WALK_SUMMARY_FILE
+    path = folder / SUMMARY_FILE
     try:
         summary = json.loads(path.read_text(encoding="utf-8"))
     except (OSError, json.JSONDecodeError) as exc:
@@ -135,34 +134,7 @@ def _read_summary(folder: Path) -> dict:
     return summary
 
 
-def _read_series(path: Path) -> tuple[list[str], NDArray[np.float64]]:
-    from zmpkit.pipelines.walk_report import SERIES_COLUMNS
-
-    try:
-        lines = path.read_text(encoding="utf-8").splitlines()
-    except OSError as exc:
-        raise InputFileError(path, f"cannot read the walk time series: {exc}") from None
-    header = lines[0].split(",") if lines else []
-    missing = [c for c in SERIES_COLUMNS if c not in header]
-    if missing:
-        raise InputFileError(path, f"missing columns {missing[:4]}; expected {SERIES_COLUMNS}")
-    rows = []
-    for number, line in enumerate(lines[1:], start=2):
-        cells = line.split(",")
-        if len(cells) != len(header):
-            raise InputFileError(path, f"{len(cells)} fields, expected {len(header)}", row=number)
-        try:
-            rows.append([float(c) if c else np.nan for c in cells])
-        except ValueError:
-            raise InputFileError(
-                path, "expected numbers (or empty for no ZMP)", row=number
-            ) from None
-    table = np.array(rows, dtype=np.float64).reshape(-1, len(header))
-    return header, table
-
-
 def _walk_signals(path: Path, header: list[str], table: NDArray[np.float64]) -> RecordedSignals:
-    from zmpkit.pipelines.walk_report import PITCH_JOINTS
 
     col = {name: table[:, header.index(name)] for name in header}
     time = col["time_s"]
@@ -190,29 +162,18 @@ def read_walk_folder(folder: str | Path) -> WalkExperiment:
         InputFileError: on a missing or malformed file, a fallen walk, or commanded angles
             that the re-planned walk does not reproduce.
     """
-    from zmpkit.identify.simfit.walk_plan import match_walk_plan
 
     folder = Path(folder)
     summary = _read_summary(folder)
-    path = folder / WALK_SERIES_FILE
-    signals = _walk_signals(path, *_read_series(path))
+    path = folder / SERIES_FILE
+    signals = _walk_signals(path, *read_series(path))
     speed = float(summary["commanded_speed_mps"])
     step_s = 1.0 / float(summary["step_frequency_hz"])
     duration, height = match_walk_plan(path, speed, step_s, signals)
     return WalkExperiment(folder.name, speed, step_s, duration, height, signals)
 
 
-def tilt_from_quaternions(quat_wxyz: NDArray[np.float64], plane: str) -> NDArray[np.float64]:
-    """Trunk pitch (sagittal) or roll (frontal) of IMU quaternions (w, x, y, z) [rad]."""
-    from zmpkit.pipelines.walk_sim import quaternion_pitch_roll
-
-    angles = np.array([quaternion_pitch_roll(q) for q in quat_wxyz])
-    return angles[:, 0 if plane == "sagittal" else 1].copy()
-
-
 def _step_experiments(folder: Path) -> list[StepExperiment]:
-    from zmpkit.experiments import read_step_dataset
-    from zmpkit.sensors import zmp_series
 
     dataset = read_step_dataset(folder)
     settings = dataset.meta.get("settings", {})

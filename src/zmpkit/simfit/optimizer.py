@@ -2,8 +2,8 @@
 
 Each generation asks ``popsize`` candidates in [0, 1]^n (``cma``'s bound handling keeps
 them inside), evaluates every candidate on every experiment through an
-:class:`~zmpkit.identify.simfit.backends.Evaluator`, tells the mean cost over the
-experiments, and writes the checkpoint (:mod:`~zmpkit.identify.simfit.checkpoint`) before
+:class:`~zmpkit.simfit.backends.Evaluator`, tells the mean cost over the
+experiments, and writes the checkpoint (:mod:`~zmpkit.simfit.checkpoint`) before
 reporting progress. ``cma`` samples through its ``randn`` option, here a private
 ``RandomState`` seeded by the fit (pickled with the strategy, so it travels in the
 checkpoint); any other draw it makes comes from numpy's global generator, whose state is
@@ -27,16 +27,16 @@ import numpy as np
 from numpy.typing import NDArray
 
 from zmpkit.errors import ZmpkitError
-from zmpkit.identify.simfit.backends import Evaluator
-from zmpkit.identify.simfit.checkpoint import (
+from zmpkit.simfit.backends import Evaluator
+from zmpkit.simfit.checkpoint import (
     Checkpoint,
     GenerationRecord,
     check_fingerprint,
     load_checkpoint,
     save_checkpoint,
 )
-from zmpkit.identify.simfit.parameters import from_unit, to_unit
-from zmpkit.identify.simfit.problem import FitProblem
+from zmpkit.simfit.parameters import from_unit, to_unit
+from zmpkit.simfit.problem import FitProblem
 
 __all__ = ["CmaOptions", "CmaResult", "FitInterruptedError", "FitProgress", "run_cma"]
 

@@ -1,7 +1,7 @@
 """How well a fitted simulator reproduces an experiment: trunk oscillation and joint angles.
 
 For each experiment the recorded and the simulated trunk tilt are compared by the largest
-peak of their amplitude spectra above :data:`~zmpkit.analysis.walk_metrics.MIN_PEAK_HZ`
+peak of their amplitude spectra above :data:`~zmpkit.signals.spectra.MIN_PEAK_HZ`
 (frequency [Hz] and amplitude [rad]), and the encoders by their RMS difference [rad].
 Paper B's targets (issue 7): frequency within :data:`FREQUENCY_TOLERANCE_HZ`, amplitude
 within :data:`AMPLITUDE_TOLERANCE` (relative).
@@ -14,8 +14,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from zmpkit.analysis.walk_metrics import amplitude_spectrum
-from zmpkit.identify.simfit.experiments import RecordedSignals
+from zmpkit.signals.spectra import amplitude_spectrum
+from zmpkit.simfit.experiments import RecordedSignals
 
 __all__ = [
     "AMPLITUDE_TOLERANCE",

@@ -1,12 +1,12 @@
 """Where rollouts run: in this process, on a local process pool, or on a Ray cluster.
 
 Every backend takes a list of candidate parameter vectors and returns, per candidate, the
-:class:`~zmpkit.identify.simfit.cost.CostTerms` of every experiment; the work is split into
+:class:`~zmpkit.simfit.cost.CostTerms` of every experiment; the work is split into
 one task per (candidate, experiment) pair.
 
 - ``"local"`` (default): this machine, ``workers`` cores. Every experiment is open loop, so
   a generation runs as MuJoCo thread-pool batches in this process
-  (:class:`~zmpkit.identify.simfit.batch_backend.BatchEvaluator`): all candidates of an
+  (:class:`~zmpkit.simfit.batch_backend.BatchEvaluator`): all candidates of an
   experiment in one batch, no Python per physics step.
 - ``"pool"``: a ``spawn`` process pool of ``workers`` processes, one rollout per task on the
   serial path; each worker gets the problem once, ignores Ctrl-C (the parent handles it and
@@ -50,8 +50,9 @@ from typing import Protocol
 import numpy as np
 
 from zmpkit.errors import ParameterError
-from zmpkit.identify.simfit.cost import CostTerms
-from zmpkit.identify.simfit.problem import FitProblem, evaluate
+from zmpkit.simfit.batch_backend import BatchEvaluator
+from zmpkit.simfit.cost import CostTerms
+from zmpkit.simfit.problem import FitProblem, evaluate
 
 __all__ = [
     "BACKENDS",
@@ -257,14 +258,10 @@ def make_evaluator(
     if backend == "serial":
         return SerialEvaluator(problem)
     if backend == "local":
-        from zmpkit.identify.simfit.batch_backend import BatchEvaluator
-
         return BatchEvaluator(problem, workers)
     if backend == "pool":
         return LocalPoolEvaluator(problem, workers)
     if backend == "warp":
-        from zmpkit.identify.simfit.batch_backend import BatchEvaluator
-
         try:
             import mujoco_warp  # noqa: F401
         except ImportError:

@@ -9,7 +9,7 @@ Recorded once per motion frame:
   apply [N·m] (NAO estimates these from its motor currents);
 - trunk pitch and roll from the IMU's orientation [rad];
 - each foot's F-T wrench rotated into the world frame, and the sensor's world position, from
-  which the measured ZMP follows (:mod:`zmpkit.analysis.walk_metrics`);
+  which the measured ZMP follows (:func:`zmpkit.sensors.zmp.zmp_in_world`);
 - each sole centre's world position and the torso position: a motion capture of the robot.
 
 A fall (trunk tilt beyond :data:`FALL_TILT_RAD` or torso below :data:`FALL_TORSO_HEIGHT_M`)
@@ -23,13 +23,15 @@ hook the planned trajectory is played unchanged.
 
 from __future__ import annotations
 
-import math
 from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import NDArray
 
+from zmpkit.sensors.imu import quaternion_pitch_roll
+from zmpkit.sensors.mount import wrench_in_world
+from zmpkit.sensors.zmp import CONTACT_FORCE_THRESHOLD_N, zmp_in_world
 from zmpkit.sim.world import Simulation
 from zmpkit.walking.ik import JointTrajectory
 
@@ -40,10 +42,8 @@ __all__ = [
     "FrameReading",
     "ProgressCallback",
     "WalkRecord",
-    "quaternion_pitch_roll",
     "simulate_walk",
     "start_pose",
-    "wrench_in_world",
 ]
 
 FALL_TILT_RAD = 0.8
@@ -67,6 +67,7 @@ class FrameReading:
         force_in_world: F-T force of each foot in the world frame [N], shape (F, 3).
         moment_in_world: F-T moment about each sensor, world frame [N·m], shape (F, 3).
         sensor_in_world: F-T sensor origins [m], shape (F, 3).
+        contact_threshold_n: the robot's contact threshold [N] (:mod:`zmpkit.sensors.zmp`).
     """
 
     frame: int
@@ -74,6 +75,14 @@ class FrameReading:
     force_in_world: NDArray[np.float64]
     moment_in_world: NDArray[np.float64]
     sensor_in_world: NDArray[np.float64]
+    contact_threshold_n: float = CONTACT_FORCE_THRESHOLD_N
+
+    def zmp_in_world(self) -> NDArray[np.float64]:
+        """The measured ZMP of this frame [m], shape (2,); NaN without contact."""
+        return zmp_in_world(
+            self.force_in_world[None], self.moment_in_world[None], self.sensor_in_world[None],
+            self.contact_threshold_n,
+        )[0]  # fmt: skip
 
 
 FrameHook = Callable[[int, FrameReading], "NDArray[np.float64] | None"]
@@ -102,6 +111,7 @@ class WalkRecord:
         fall_time_s: when, or None.
         qpos: the simulator's whole configuration (MuJoCo ``qpos``), shape (N, nq); for
             validating models against the simulation, not something a real robot reports.
+        contact_threshold_n: the robot's contact threshold [N] (:mod:`zmpkit.sensors.zmp`).
     """
 
     time_s: NDArray[np.float64]
@@ -120,32 +130,22 @@ class WalkRecord:
     fell: bool
     fall_time_s: float | None
     qpos: NDArray[np.float64] | None = None
+    contact_threshold_n: float = CONTACT_FORCE_THRESHOLD_N
+
+    def zmp_in_world(self) -> NDArray[np.float64]:
+        """The measured ZMP from the feet's F-T sensors [m], shape (N, 2); NaN without contact."""
+        return zmp_in_world(
+            self.force_in_world, self.moment_in_world, self.sensor_in_world,
+            self.contact_threshold_n,
+        )  # fmt: skip
+
+    def in_contact(self) -> NDArray[np.bool_]:
+        """Whether each foot touches the floor, shape (N, F) (the ZMP's contact rule)."""
+        return self.force_in_world[..., 2] >= self.contact_threshold_n
 
     def joint(self, name: str) -> int:
         """Column of joint ``name``."""
         return self.joint_names.index(name)
-
-
-def quaternion_pitch_roll(quat_wxyz: NDArray[np.float64]) -> tuple[float, float]:
-    """Pitch and roll [rad] of an orientation (ZYX Euler angles; pitch about y)."""
-    w, x, y, z = (float(v) for v in quat_wxyz)
-    pitch = math.asin(max(-1.0, min(1.0, 2.0 * (w * y - z * x))))
-    roll = math.atan2(2.0 * (w * x + y * z), 1.0 - 2.0 * (x * x + y * y))
-    return pitch, roll
-
-
-def wrench_in_world(
-    sensor_xmat: NDArray[np.float64], wrench: NDArray[np.float64]
-) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-    """Force [N] and moment [N·m] of sensor-frame wrenches in the world frame.
-
-    Args:
-        sensor_xmat: the sensor frames' rotations (MuJoCo ``site_xmat``), shape (..., 9).
-        wrench: (Fx, Fy, Fz, Tx, Ty, Tz) in the sensor frame, shape (..., 6).
-    """
-    rotation = np.reshape(sensor_xmat, (*np.shape(sensor_xmat)[:-1], 3, 3))
-    force = np.einsum("...ij,...j->...i", rotation, wrench[..., :3])
-    return force, np.einsum("...ij,...j->...i", rotation, wrench[..., 3:])
 
 
 def start_pose(sim: Simulation, trajectory: JointTrajectory) -> list[float]:
@@ -202,13 +202,16 @@ class _Recorder:
             self.time[:n], self.sim.joint_names, self.q_cmd[:n], self.q_meas[:n],
             self.torque[:n], self.pitch[:n], self.roll[:n], self.feet, self.force[:n],
             self.moment[:n], self.sensor[:n], self.sole[:n], self.torso[:n], fell, fall_time,
-            self.qpos[:n],
+            self.qpos[:n], self.sim.robot.contact_force_threshold_n,
         )  # fmt: skip
 
     def reading(self) -> FrameReading:
         """The last recorded frame."""
         k = self.rows - 1
-        return FrameReading(k, float(self.time[k]), self.force[k], self.moment[k], self.sensor[k])
+        return FrameReading(
+            k, float(self.time[k]), self.force[k], self.moment[k], self.sensor[k],
+            self.sim.robot.contact_force_threshold_n,
+        )  # fmt: skip
 
 
 def _fallen(sim: Simulation, pitch: float, roll: float) -> bool:

@@ -9,10 +9,14 @@ from collections.abc import Sequence
 import numpy as np
 from numpy.typing import NDArray
 
-from zmpkit.identify.simfit.experiments import Experiment, RecordedSignals, WalkExperiment
-from zmpkit.identify.simfit.open_loop import OpenLoopSchedule
-from zmpkit.identify.simfit.rollout import empty_signals, step_signals
+from zmpkit.experiments.walk_trial import FALL_TILT_RAD, FALL_TORSO_HEIGHT_M
+from zmpkit.sensors.imu import quaternion_pitch_roll, tilt_from_quaternions
+from zmpkit.sensors.mount import wrench_in_world
+from zmpkit.sensors.zmp import zmp_in_world
 from zmpkit.sim.world import Simulation
+from zmpkit.simfit.experiments import Experiment, RecordedSignals, WalkExperiment
+from zmpkit.simfit.open_loop import OpenLoopSchedule
+from zmpkit.simfit.rollout import empty_signals, step_signals
 
 __all__ = ["BatchRows"]
 
@@ -117,10 +121,6 @@ class BatchRows:
             right, left = (rows["ft"][:, self.feet.index(f)] for f in ("right", "left"))
             data = np.concatenate([right, left, encoders, quats], axis=1)
             return step_signals(self.experiment, data, n)  # type: ignore[arg-type]
-        from zmpkit.analysis.walk_metrics import measured_zmp
-        from zmpkit.identify.simfit.experiments import tilt_from_quaternions
-        from zmpkit.pipelines.walk_sim import wrench_in_world
-
         force, moment = wrench_in_world(rows["site_xmat"], rows["ft"])
         keep = [sim.joint_names.index(j) for j in signals.joint_names]
         return RecordedSignals(
@@ -128,7 +128,7 @@ class BatchRows:
             signals.joint_names,
             self.schedule.q_cmd_rad[:n],
             encoders[:, keep],
-            measured_zmp(force, moment, rows["site_xpos"]),
+            zmp_in_world(force, moment, rows["site_xpos"], sim.robot.contact_force_threshold_n),
             tilt_from_quaternions(quats, "sagittal"),
         )
 
@@ -139,7 +139,6 @@ def _first_fall(qpos: NDArray[np.float64], quat: NDArray[np.float64]) -> int | N
     Screened with numpy, decided with the serial path's own scalar rule (so a tilt within
     rounding of the limit is judged exactly as there).
     """
-    from zmpkit.pipelines.walk_sim import FALL_TILT_RAD, FALL_TORSO_HEIGHT_M, quaternion_pitch_roll
 
     w, x, y, z = quat.T
     pitch = np.arcsin(np.clip(2.0 * (w * y - z * x), -1.0, 1.0))

@@ -16,14 +16,17 @@ from __future__ import annotations
 import copy
 import os
 import re
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
 import yaml
 
 from zmpkit.errors import InputFileError, ParameterError
-from zmpkit.identify.simfit.parameters import FitParameter
+from zmpkit.robots import nao, teo
+from zmpkit.robots.nao import truth as nao_truth
+from zmpkit.robots.teo import truth as teo_truth
+from zmpkit.simfit.parameters import FitParameter
 
 __all__ = [
     "base_truth_path",
@@ -34,6 +37,12 @@ __all__ = [
     "truth_doc_with",
     "write_truth_doc",
 ]
+
+_SHIPPED_TRUTH: Mapping[str, tuple[Path, Callable[[Mapping[str, Any], str], Any]]] = {
+    "nao": (Path(nao.DEFAULT_TRUTH_PATH), nao_truth.truth_from_doc),
+    "teo": (Path(teo.DEFAULT_TRUTH_PATH), teo_truth.truth_from_doc),
+}
+"""Per robot: its shipped truth file and the parser of a truth document."""
 
 _TOKEN = re.compile(r"([^.\[\]]+)|\[([^\]]*)\]")
 
@@ -106,11 +115,13 @@ def base_truth_path(robot: str, truth: str | Path | None) -> Path:
     """The base truth file: ``truth`` if given, else the robot's shipped one."""
     if truth is not None:
         return Path(truth)
-    if robot == "nao":
-        from zmpkit.robots.nao import DEFAULT_TRUTH_PATH
-    else:
-        from zmpkit.robots.teo import DEFAULT_TRUTH_PATH
-    return Path(DEFAULT_TRUTH_PATH)
+    return _robot_truth(robot)[0]
+
+
+def _robot_truth(robot: str) -> tuple[Path, Callable[[Mapping[str, Any], str], Any]]:
+    if robot not in _SHIPPED_TRUTH:
+        raise ParameterError(f"robot must be one of {', '.join(_SHIPPED_TRUTH)}; got {robot!r}")
+    return _SHIPPED_TRUTH[robot]
 
 
 def load_truth_doc(path: str | Path) -> dict[str, Any]:
@@ -151,8 +162,4 @@ def write_truth_doc(doc: Mapping[str, Any], path: str | Path, header: str = "") 
 
 def load_robot_truth(robot: str, doc: Mapping[str, Any]) -> Any:
     """The robot's truth object (``NaoTruth`` or ``TeoTruth``) for a truth document."""
-    if robot == "nao":
-        from zmpkit.robots.nao.truth import truth_from_doc
-    else:
-        from zmpkit.robots.teo.truth import truth_from_doc
-    return truth_from_doc(doc, "<fit candidate truth>")
+    return _robot_truth(robot)[1](doc, "<fit candidate truth>")

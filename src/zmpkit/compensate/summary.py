@@ -1,0 +1,160 @@
+"""What a compensation achieved on its validation walks: the ``summary.json`` of a run.
+
+Per validation walk (walks tuning never saw), the trunk pitch's step-frequency amplitude
+("peak") and standard deviation ("std") over the steady walk, without and with the
+compensation, and their reductions :math:`100 (1 - after/before)` [%]. The means cover only
+the walks where neither version fell: a fall is counted (``compensated_falls``), never turned
+into a number.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+from zmpkit.compensate.methods import CompensatedWalk
+
+__all__ = [
+    "EXTRA_SUMMARY_KEYS",
+    "SUMMARY_KEYS",
+    "CompensationSummary",
+    "ValidationWalkOutcome",
+    "summary_of",
+]
+
+SUMMARY_KEYS: tuple[str, ...] = (
+    "method", "baseline_peak_amplitude_rad", "compensated_peak_amplitude_rad",
+    "peak_reduction_pct", "baseline_std_rad", "compensated_std_rad", "std_reduction_pct",
+    "validation_walks",
+)  # fmt: skip
+"""Keys of ``summary.json`` (``alg1`` adds ``iteration_rms_m``)."""
+EXTRA_SUMMARY_KEYS: tuple[str, ...] = ("walks_compared", "compensated_falls")
+"""Keys zmpkit adds: how many validation walks the means cover (neither version fell), and
+how many compensated walks fell."""
+
+
+def _reduction(before: float | None, after: float | None) -> float | None:
+    """100·(1 − after/before) [%]; None when either walk has no oscillation to compare."""
+    if before is None or after is None or before == 0.0:
+        return None
+    return float(100.0 * (1.0 - after / before))
+
+
+def _peak(walk: CompensatedWalk) -> float | None:
+    """Step-frequency peak [rad]; None for a walk that fell (it has no steady oscillation)."""
+    return None if walk.fell else walk.step_peak_rad
+
+
+def _std(walk: CompensatedWalk) -> float | None:
+    """Trunk-pitch std [rad]; None for a walk that fell."""
+    return None if walk.fell else walk.std_rad
+
+
+def _mean(values: list[float | None]) -> float | None:
+    """Mean of the values that are not None; None if there are none."""
+    kept = [v for v in values if v is not None]
+    return float(np.mean(kept)) if kept else None
+
+
+@dataclass(frozen=True)
+class ValidationWalkOutcome:
+    """One validation walk without and with the compensation (None where a version fell).
+
+    Attributes:
+        speed_mps: commanded speed [m/s].
+        seed: sensor-noise seed [-].
+        duration_s: walking time [s].
+        baseline_peak_amplitude_rad: uncompensated step-frequency amplitude [rad].
+        compensated_peak_amplitude_rad: compensated step-frequency amplitude [rad].
+        peak_reduction_pct: its reduction [%].
+        baseline_std_rad: uncompensated trunk-pitch std [rad].
+        compensated_std_rad: compensated trunk-pitch std [rad].
+        std_reduction_pct: its reduction [%].
+        baseline_fell: whether the uncompensated walk fell.
+        compensated_fell: whether the compensated walk fell.
+    """
+
+    speed_mps: float
+    seed: int
+    duration_s: float
+    baseline_peak_amplitude_rad: float | None
+    compensated_peak_amplitude_rad: float | None
+    peak_reduction_pct: float | None
+    baseline_std_rad: float | None
+    compensated_std_rad: float | None
+    std_reduction_pct: float | None
+    baseline_fell: bool
+    compensated_fell: bool
+
+    @classmethod
+    def of(cls, base: CompensatedWalk, comp: CompensatedWalk) -> ValidationWalkOutcome:
+        """The outcome of one walk from its two versions."""
+        w = base.walk
+        return cls(
+            w.speed_mps, w.seed, w.duration_s, _peak(base), _peak(comp),
+            _reduction(_peak(base), _peak(comp)), _std(base), _std(comp),
+            _reduction(_std(base), _std(comp)), base.fell, comp.fell,
+        )  # fmt: skip
+
+    def as_dict(self) -> dict[str, object]:
+        """The walk's entry of ``summary.json``."""
+        return dict(self.__dict__)
+
+
+@dataclass(frozen=True)
+class CompensationSummary:
+    """The means over the validation walks where neither version fell (module docstring).
+
+    Attributes:
+        method: the compensation method.
+        baseline_peak_amplitude_rad: mean uncompensated step-frequency amplitude [rad].
+        compensated_peak_amplitude_rad: mean compensated step-frequency amplitude [rad].
+        peak_reduction_pct: reduction of the mean amplitude [%].
+        baseline_std_rad: mean uncompensated trunk-pitch std [rad].
+        compensated_std_rad: mean compensated trunk-pitch std [rad].
+        std_reduction_pct: reduction of the mean std [%].
+        validation_walks: every validation walk, fallen ones included.
+        walks_compared: walks the means cover (neither version fell) [-].
+        compensated_falls: compensated walks that fell [-].
+        iteration_rms_m: Algorithm 1's RMS ZMP error per iteration [m]; None for others.
+    """
+
+    method: str
+    baseline_peak_amplitude_rad: float | None
+    compensated_peak_amplitude_rad: float | None
+    peak_reduction_pct: float | None
+    baseline_std_rad: float | None
+    compensated_std_rad: float | None
+    std_reduction_pct: float | None
+    validation_walks: tuple[ValidationWalkOutcome, ...]
+    walks_compared: int
+    compensated_falls: int
+    iteration_rms_m: tuple[float, ...] | None = None
+
+    def as_dict(self) -> dict[str, object]:
+        """``summary.json``: :data:`SUMMARY_KEYS`, the counts, and ``iteration_rms_m`` for
+        Algorithm 1."""
+        out: dict[str, object] = {k: getattr(self, k) for k in SUMMARY_KEYS}
+        out["validation_walks"] = [w.as_dict() for w in self.validation_walks]
+        out.update({k: getattr(self, k) for k in EXTRA_SUMMARY_KEYS})
+        if self.iteration_rms_m is not None:
+            out["iteration_rms_m"] = list(self.iteration_rms_m)
+        return out
+
+
+def summary_of(
+    method: str, baseline: Sequence[CompensatedWalk], compensated: Sequence[CompensatedWalk]
+) -> CompensationSummary:
+    """The summary of a run from its validation walks, without and with compensation."""
+    pairs = list(zip(baseline, compensated, strict=True))
+    both = [(b, c) for b, c in pairs if not b.fell and not c.fell]
+    peaks = [_mean([_peak(w[k]) for w in both]) for k in (0, 1)]
+    stds = [_mean([_std(w[k]) for w in both]) for k in (0, 1)]
+    rms = tuple(compensated[0].iteration_rms_m) if method == "alg1" else None
+    return CompensationSummary(
+        method, peaks[0], peaks[1], _reduction(*peaks), stds[0], stds[1], _reduction(*stds),
+        tuple(ValidationWalkOutcome.of(b, c) for b, c in pairs), len(both),
+        sum(c.fell for _, c in pairs), rms,
+    )  # fmt: skip

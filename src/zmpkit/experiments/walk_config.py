@@ -1,0 +1,63 @@
+"""The configuration of one walk experiment: the command, the gait and the simulated robot."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from zmpkit import _validate
+from zmpkit.errors import ParameterError
+from zmpkit.robots.nao import NAO_WALK_COM_HEIGHT_M
+from zmpkit.sim.effect_set import EffectSet
+from zmpkit.walking import GaitParameters, PatternConfig, WalkCommand
+
+__all__ = ["ROBOTS", "WalkConfig"]
+
+ROBOTS: tuple[str, ...] = ("nao",)
+"""Robots that can walk."""
+
+
+@dataclass(frozen=True)
+class WalkConfig:
+    """One walk, as ``zmpkit walk`` takes it.
+
+    Attributes:
+        robot: robot name, one of :data:`ROBOTS`.
+        speed_mps: commanded forward speed [m/s].
+        step_duration_s: one step [s].
+        duration_s: walking time [s] (plus standing before and after).
+        effects: ``"all"``, ``"none"`` or letters such as ``"M,I,G,F"``.
+        seed: seed of the sensor noise.
+        com_height_m: CoM height of the pattern [m].
+        truth: a truth file for the simulator, or None for the shipped one.
+        figures: whether to draw the figures.
+    """
+
+    robot: str = "nao"
+    speed_mps: float = 0.2
+    step_duration_s: float = 0.5
+    duration_s: float = 10.0
+    effects: str = "all"
+    seed: int = 0
+    com_height_m: float = NAO_WALK_COM_HEIGHT_M
+    truth: str | None = None
+    figures: bool = True
+
+    def __post_init__(self) -> None:
+        if self.robot not in ROBOTS:
+            raise ParameterError(f"robot must be one of {', '.join(ROBOTS)}; got {self.robot!r}")
+        _validate.finite("WalkConfig.speed_mps", self.speed_mps)
+        _validate.positive("WalkConfig.step_duration_s", self.step_duration_s, "s")
+        _validate.positive("WalkConfig.duration_s", self.duration_s, "s")
+        _validate.positive("WalkConfig.com_height_m", self.com_height_m, "m")
+        if isinstance(self.seed, bool) or not isinstance(self.seed, int) or self.seed < 0:
+            raise ParameterError(f"WalkConfig.seed must be an integer >= 0; got {self.seed!r}")
+        object.__setattr__(self, "effects", EffectSet.parse(self.effects).letters)
+
+    def pattern_config(self) -> PatternConfig:
+        """The walking pattern this walk plays."""
+        return PatternConfig(
+            command=WalkCommand(v_x=self.speed_mps),
+            duration_s=self.duration_s,
+            gait=GaitParameters(step_duration_s=self.step_duration_s),
+            com_height_m=self.com_height_m,
+        )

@@ -1,0 +1,111 @@
+"""The folder a walk writes and the fit reads back: ``summary.json`` and ``timeseries.csv``.
+
+Columns of :data:`SERIES_COLUMNS` (one row per motion frame, SI units, world frame): time;
+for the left and right hip, knee and ankle pitch the commanded and measured angle [rad] and
+torque [N·m]; trunk pitch and roll from the IMU [rad]; the measured ZMP (empty without
+contact) and the planned ZMP reference [m]; each sole centre's position [m] and vertical
+force [N]; the torso position [m] and the planned CoM [m].
+"""
+
+from __future__ import annotations
+
+import json
+from dataclasses import asdict
+from pathlib import Path
+
+import numpy as np
+from numpy.typing import NDArray
+
+from zmpkit.errors import InputFileError
+from zmpkit.experiments.walk_summary import WalkSummary
+from zmpkit.experiments.walk_trial import WalkRecord
+from zmpkit.walking.pattern import WalkingPattern
+
+__all__ = [
+    "PITCH_JOINTS",
+    "SERIES_COLUMNS",
+    "SERIES_FILE",
+    "SUMMARY_FILE",
+    "read_series",
+    "write_series",
+    "write_summary",
+]
+
+SUMMARY_FILE = "summary.json"
+"""The walk's metrics, :class:`~zmpkit.experiments.walk_summary.WalkSummary` as JSON."""
+SERIES_FILE = "timeseries.csv"
+"""The walk's signals, :data:`SERIES_COLUMNS`."""
+PITCH_JOINTS: tuple[str, ...] = tuple(
+    f"{s}{j}" for s in ("L", "R") for j in ("HipPitch", "KneePitch", "AnklePitch")
+)
+"""Joints whose angles and torques the time series keeps (paper B Figs. 7–9)."""
+SERIES_COLUMNS: tuple[str, ...] = (
+    "time_s",
+    *(f"{j}_{q}" for j in PITCH_JOINTS for q in ("cmd_rad", "meas_rad", "torque_nm")),
+    "trunk_pitch_rad", "trunk_roll_rad", "zmp_x_m", "zmp_y_m", "zmp_ref_x_m", "zmp_ref_y_m",
+    *(f"{f}_{c}" for f in ("left", "right") for c in ("x_m", "y_m", "z_m", "fz_n")),
+    "torso_x_m", "torso_y_m", "torso_z_m", "com_ref_x_m", "com_ref_y_m",
+)  # fmt: skip
+
+
+def _planned(values: np.ndarray, n: int) -> np.ndarray:
+    """The first ``n`` rows of a planned signal (a record stops early at a fall)."""
+    return values[:n]
+
+
+def write_series(path: Path, pattern: WalkingPattern, record: WalkRecord) -> Path:
+    """Write :data:`SERIES_COLUMNS` as CSV; an undefined ZMP is an empty field."""
+    n = record.time_s.size
+    joints = [record.joint(j) for j in PITCH_JOINTS]
+    columns = [record.time_s[:, None]]
+    for j in joints:
+        columns.append(np.column_stack([record.q_cmd_rad[:, j], record.q_meas_rad[:, j],
+                                        record.torque_nm[:, j]]))  # fmt: skip
+    zmp = record.zmp_in_world()
+    columns += [record.trunk_pitch_rad[:, None], record.trunk_roll_rad[:, None], zmp]
+    columns.append(_planned(pattern.zmp_reference_in_world, n))
+    for i in range(len(record.feet)):
+        columns.append(
+            np.column_stack([record.sole_in_world[:, i], record.force_in_world[:, i, 2]])
+        )
+    columns += [record.torso_in_world, _planned(pattern.com_position_in_world[:, :2], n)]
+    table = np.column_stack(columns)
+    lines = [",".join(SERIES_COLUMNS)]
+    lines += [",".join("" if np.isnan(v) else f"{v:.7g}" for v in row) for row in table]
+    path.write_text("\n".join(lines) + "\n", encoding="utf-8")
+    return path
+
+
+def write_summary(path: Path, summary: WalkSummary) -> Path:
+    """Write ``summary`` as JSON."""
+    path.write_text(json.dumps(asdict(summary), indent=2) + "\n", encoding="utf-8")
+    return path
+
+
+def read_series(path: Path) -> tuple[list[str], NDArray[np.float64]]:
+    """Read a walk's time series: its header and its rows (NaN for an empty ZMP field).
+
+    Raises:
+        InputFileError: on a missing column, a short row or a cell that is not a number.
+    """
+    try:
+        lines = path.read_text(encoding="utf-8").splitlines()
+    except OSError as exc:
+        raise InputFileError(path, f"cannot read the walk time series: {exc}") from None
+    header = lines[0].split(",") if lines else []
+    missing = [c for c in SERIES_COLUMNS if c not in header]
+    if missing:
+        raise InputFileError(path, f"missing columns {missing[:4]}; expected {SERIES_COLUMNS}")
+    rows = []
+    for number, line in enumerate(lines[1:], start=2):
+        cells = line.split(",")
+        if len(cells) != len(header):
+            raise InputFileError(path, f"{len(cells)} fields, expected {len(header)}", row=number)
+        try:
+            rows.append([float(c) if c else np.nan for c in cells])
+        except ValueError:
+            raise InputFileError(
+                path, "expected numbers (or empty for no ZMP)", row=number
+            ) from None
+    table = np.array(rows, dtype=np.float64).reshape(-1, len(header))
+    return header, table

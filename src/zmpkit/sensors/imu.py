@@ -1,0 +1,36 @@
+r"""Trunk pitch and roll from an IMU's orientation estimate.
+
+An orientation quaternion ``(w, x, y, z)`` (world ← body) gives ZYX Euler angles; pitch
+about y, roll about x:
+
+.. math:: \theta = \arcsin(2 (w y - z x)), \qquad
+    \phi = \operatorname{atan2}(2 (w x + y z),\; 1 - 2 (x^2 + y^2)).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numpy.typing import NDArray
+
+__all__ = ["quaternion_pitch_roll", "tilt_from_quaternions"]
+
+
+def quaternion_pitch_roll(quat_wxyz: NDArray[np.float64]) -> tuple[float, float]:
+    """Pitch and roll [rad] of an orientation (ZYX Euler angles; pitch about y)."""
+    w, x, y, z = (float(v) for v in quat_wxyz)
+    pitch = math.asin(max(-1.0, min(1.0, 2.0 * (w * y - z * x))))
+    roll = math.atan2(2.0 * (w * x + y * z), 1.0 - 2.0 * (x * x + y * y))
+    return pitch, roll
+
+
+def tilt_from_quaternions(quat_wxyz: NDArray[np.float64], plane: str) -> NDArray[np.float64]:
+    """Trunk pitch (``plane="sagittal"``) or roll (otherwise) of IMU quaternions [rad], (N,).
+
+    Args:
+        quat_wxyz: orientations (w, x, y, z), shape (N, 4).
+        plane: ``"sagittal"`` for pitch, ``"frontal"`` for roll.
+    """
+    angles = np.array([quaternion_pitch_roll(q) for q in quat_wxyz])
+    return angles[:, 0 if plane == "sagittal" else 1].copy()

@@ -1,0 +1,76 @@
+"""zmpkit.simfit: fit a simulator's effect parameters to recorded experiments.
+
+Paper B §II (MoToFlex): "The simulation is optimized by Evolutionary Algorithms to fit a
+physical robot." One concept per module:
+
+- :mod:`~zmpkit.simfit.parameters`: :class:`FitParameter` and the catalogue per
+  robot and effect letter;
+- :mod:`~zmpkit.simfit.truth_doc`: the truth YAML edited by path, written back;
+- :mod:`~zmpkit.simfit.experiments`: recorded experiments and their folders;
+- :mod:`~zmpkit.simfit.walk_plan`: a walk's commanded trajectory, re-planned;
+- :mod:`~zmpkit.simfit.rollout`: replay an experiment on the simulator;
+- :mod:`~zmpkit.simfit.cost`: the normalised cost terms;
+- :mod:`~zmpkit.simfit.problem`: the problem as data, one evaluation;
+- :mod:`~zmpkit.simfit.backends`: serial, local process pool, Ray;
+- :mod:`~zmpkit.simfit.checkpoint`: CMA-ES state and history on disk;
+- :mod:`~zmpkit.simfit.optimizer`: the CMA-ES loop with resume;
+- :mod:`~zmpkit.simfit.identifiability`: profile and CMA-ES spread;
+- :mod:`~zmpkit.simfit.validation`: trunk oscillation and joint error checks;
+- :mod:`~zmpkit.simfit.self_test`: hidden perturbed truth, recording, recovery;
+- :mod:`~zmpkit.simfit.outputs`: the files of a fit.
+
+The pipeline is :func:`zmpkit.pipelines.identify_sim.run_identify_sim`.
+"""
+
+from __future__ import annotations
+
+from zmpkit.simfit.backends import BACKENDS, DEFAULT_WORKERS, make_evaluator
+from zmpkit.simfit.cost import CostTerms, CostWeights, experiment_cost
+from zmpkit.simfit.experiments import (
+    RecordedSignals,
+    StepExperiment,
+    WalkExperiment,
+    read_experiments,
+)
+from zmpkit.simfit.identifiability import ParameterIdentifiability, identifiability
+from zmpkit.simfit.optimizer import (
+    CmaOptions,
+    CmaResult,
+    FitInterruptedError,
+    FitProgress,
+    run_cma,
+)
+from zmpkit.simfit.parameters import FIT_LETTERS, FitParameter, default_parameters
+from zmpkit.simfit.problem import FitProblem, evaluate, simulate
+from zmpkit.simfit.self_test import RECOVERY_COLUMNS, RecoveryRow
+from zmpkit.simfit.validation import ReproductionCheck, reproduction_check
+
+__all__ = [
+    "BACKENDS",
+    "DEFAULT_WORKERS",
+    "FIT_LETTERS",
+    "RECOVERY_COLUMNS",
+    "CmaOptions",
+    "CmaResult",
+    "CostTerms",
+    "CostWeights",
+    "FitInterruptedError",
+    "FitParameter",
+    "FitProblem",
+    "FitProgress",
+    "ParameterIdentifiability",
+    "RecordedSignals",
+    "RecoveryRow",
+    "ReproductionCheck",
+    "StepExperiment",
+    "WalkExperiment",
+    "default_parameters",
+    "evaluate",
+    "experiment_cost",
+    "identifiability",
+    "make_evaluator",
+    "read_experiments",
+    "reproduction_check",
+    "run_cma",
+    "simulate",
+]
