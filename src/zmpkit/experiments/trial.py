@@ -28,6 +28,7 @@ from zmpkit.experiments.config import PushConfig, StepExperimentConfig
 from zmpkit.experiments.lean import LeanModel, design_lean_model, lean_angle
 from zmpkit.robots.teo import make_teo
 from zmpkit.signals import PLANES
+from zmpkit.signals.time_series import Signal, TimeSeries
 from zmpkit.sim.servo import ServoLimits, TrajectoryLimiter
 from zmpkit.sim.world import Simulation
 
@@ -91,6 +92,26 @@ class StepTrialRecord:
     encoders: NDArray[np.float64]
     commanded: NDArray[np.float64]
     imu: NDArray[np.float64]
+
+    def as_time_series(self) -> TimeSeries:
+        """The trial's samples as one time series (sensor-frame wrenches, joints, IMU)."""
+        wrench = ("fx", "fy", "fz", "tx", "ty", "tz")
+        units = ("N", "N", "N", "N·m", "N·m", "N·m")
+        imu = [("gyro_x", "rad/s"), ("gyro_y", "rad/s"), ("gyro_z", "rad/s"),
+               ("accel_x", "m/s^2"), ("accel_y", "m/s^2"), ("accel_z", "m/s^2"),
+               ("quat_w", "-"), ("quat_x", "-"), ("quat_y", "-"), ("quat_z", "-")]  # fmt: skip
+        columns = [
+            (Signal(f"{side}_{axis}", unit, "sensor"), values[:, k])
+            for side, values in (("right", self.right_wrench), ("left", self.left_wrench))
+            for k, (axis, unit) in enumerate(zip(wrench, units, strict=True))
+        ]
+        for k, joint in enumerate(self.joint_names):
+            columns.append((Signal(f"{joint}_meas", "rad", "joint"), self.encoders[:, k]))
+            columns.append((Signal(f"{joint}_cmd", "rad", "joint"), self.commanded[:, k]))
+        columns += [
+            (Signal(name, unit, "base"), self.imu[:, k]) for k, (name, unit) in enumerate(imu)
+        ]
+        return TimeSeries.from_columns(self.time, columns)
 
 
 def trial_seed(seed: int, plane: str, target_m: float) -> int:

@@ -19,6 +19,7 @@ from numpy.typing import NDArray
 from zmpkit.errors import InputFileError
 from zmpkit.experiments.walk_summary import WalkSummary
 from zmpkit.experiments.walk_trial import WalkRecord
+from zmpkit.signals.time_series import Signal, TimeSeries
 from zmpkit.walking.pattern import WalkingPattern
 
 __all__ = [
@@ -27,6 +28,7 @@ __all__ = [
     "SERIES_FILE",
     "SUMMARY_FILE",
     "read_series",
+    "walk_time_series",
     "write_series",
     "write_summary",
 ]
@@ -48,32 +50,41 @@ SERIES_COLUMNS: tuple[str, ...] = (
 )  # fmt: skip
 
 
-def _planned(values: np.ndarray, n: int) -> np.ndarray:
-    """The first ``n`` rows of a planned signal (a record stops early at a fall)."""
-    return values[:n]
+def walk_time_series(pattern: WalkingPattern, record: WalkRecord) -> TimeSeries:
+    """The signals of :data:`SERIES_COLUMNS` as a time series (world frame; joints' own axes).
+
+    The planned ZMP and CoM are cut to the record's length (a record stops at a fall).
+    """
+    n = record.time_s.size
+    world = [Signal("trunk_pitch", "rad", "world"), Signal("trunk_roll", "rad", "world")]
+    columns: list[tuple[Signal, NDArray[np.float64]]] = []
+    for joint in PITCH_JOINTS:
+        j = record.joint(joint)
+        columns += [
+            (Signal(f"{joint}_cmd", "rad", "joint"), record.q_cmd_rad[:, j]),
+            (Signal(f"{joint}_meas", "rad", "joint"), record.q_meas_rad[:, j]),
+            (Signal(f"{joint}_torque", "N·m", "joint"), record.torque_nm[:, j]),
+        ]
+    columns += [(world[0], record.trunk_pitch_rad), (world[1], record.trunk_roll_rad)]
+    zmp, zmp_ref = record.zmp_in_world(), pattern.zmp_reference_in_world[:n]
+    for k, axis in enumerate("xy"):
+        columns += [(Signal(f"zmp_{axis}", "m", "world"), zmp[:, k]),
+                    (Signal(f"zmp_ref_{axis}", "m", "world"), zmp_ref[:, k])]  # fmt: skip
+    for i, foot in enumerate(record.feet):
+        columns += [(Signal(f"{foot}_{a}", "m", "world"), record.sole_in_world[:, i, k])
+                    for k, a in enumerate("xyz")]  # fmt: skip
+        columns.append((Signal(f"{foot}_fz", "N", "world"), record.force_in_world[:, i, 2]))
+    com_ref = pattern.com_position_in_world[:n]
+    for k, axis in enumerate("xyz"):
+        columns.append((Signal(f"torso_{axis}", "m", "world"), record.torso_in_world[:, k]))
+    columns += [(Signal(f"com_ref_{a}", "m", "world"), com_ref[:, k]) for k, a in enumerate("xy")]
+    series = TimeSeries.from_columns(record.time_s, columns)
+    return series.select(SERIES_COLUMNS[1:])
 
 
 def write_series(path: Path, pattern: WalkingPattern, record: WalkRecord) -> Path:
-    """Write :data:`SERIES_COLUMNS` as CSV; an undefined ZMP is an empty field."""
-    n = record.time_s.size
-    joints = [record.joint(j) for j in PITCH_JOINTS]
-    columns = [record.time_s[:, None]]
-    for j in joints:
-        columns.append(np.column_stack([record.q_cmd_rad[:, j], record.q_meas_rad[:, j],
-                                        record.torque_nm[:, j]]))  # fmt: skip
-    zmp = record.zmp_in_world()
-    columns += [record.trunk_pitch_rad[:, None], record.trunk_roll_rad[:, None], zmp]
-    columns.append(_planned(pattern.zmp_reference_in_world, n))
-    for i in range(len(record.feet)):
-        columns.append(
-            np.column_stack([record.sole_in_world[:, i], record.force_in_world[:, i, 2]])
-        )
-    columns += [record.torso_in_world, _planned(pattern.com_position_in_world[:, :2], n)]
-    table = np.column_stack(columns)
-    lines = [",".join(SERIES_COLUMNS)]
-    lines += [",".join("" if np.isnan(v) else f"{v:.7g}" for v in row) for row in table]
-    path.write_text("\n".join(lines) + "\n", encoding="utf-8")
-    return path
+    """Write :data:`SERIES_COLUMNS` as CSV (7 significant digits); an undefined ZMP is empty."""
+    return walk_time_series(pattern, record).write_csv(path, digits=7)
 
 
 def write_summary(path: Path, summary: WalkSummary) -> Path:

@@ -33,6 +33,7 @@ from zmpkit.experiments import read_step_dataset
 from zmpkit.experiments.walk_dataset import PITCH_JOINTS, SERIES_FILE, SUMMARY_FILE, read_series
 from zmpkit.sensors import zmp_series
 from zmpkit.sensors.imu import tilt_from_quaternions
+from zmpkit.signals.time_series import Signal, TimeSeries
 from zmpkit.simfit.walk_plan import match_walk_plan
 
 __all__ = [
@@ -70,6 +71,19 @@ class RecordedSignals:
     def dt_s(self) -> float:
         """Median sample period [s]."""
         return float(np.median(np.diff(self.time_s)))
+
+    def as_time_series(self) -> TimeSeries:
+        """The recording as one time series (joints on their axes, ZMP and tilt in world)."""
+        columns = []
+        for k, joint in enumerate(self.joint_names):
+            columns.append((Signal(f"{joint}_cmd", "rad", "joint"), self.q_cmd_rad[:, k]))
+            columns.append((Signal(f"{joint}_meas", "rad", "joint"), self.q_meas_rad[:, k]))
+        columns += [
+            (Signal("zmp_x", "m", "world"), self.zmp_m[:, 0]),
+            (Signal("zmp_y", "m", "world"), self.zmp_m[:, 1]),
+            (Signal("trunk_tilt", "rad", "world"), self.trunk_tilt_rad),
+        ]
+        return TimeSeries.from_columns(self.time_s, columns)
 
 
 @dataclass(frozen=True, eq=False)
