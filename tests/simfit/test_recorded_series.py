@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from zmpkit.simfit.experiments import RecordedSignals
+from zmpkit.simfit.recorded import RecordedSignals
 
 
 def test_recorded_signals_as_time_series() -> None:

@@ -6,6 +6,7 @@ from collections.abc import Sequence
 from pathlib import Path
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from zmpkit.analysis.figure import new_figure, save_figure
 from zmpkit.analysis.table1 import Table1Row
@@ -15,9 +16,9 @@ __all__ = ["plot_error_fit", "plot_step_responses_by_target", "plot_zmp_ref_vs_m
 
 
 def plot_error_fit(
-    x_cmd: Sequence[float],
-    x_measured: Sequence[float],
-    fitted_on: Sequence[bool],
+    x_cmd: ArrayLike,
+    x_measured: ArrayLike,
+    fitted_on: ArrayLike,
     fit: ErrorModelFit,
     path: str | Path,
     *,

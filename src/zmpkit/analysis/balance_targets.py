@@ -76,14 +76,19 @@ def balance_targets(plane: str, rows: Sequence[Table1Row]) -> BalanceTargets:
 
 
 def _mean_abs(values: list[float | None]) -> float | None:
-    if not values or any(v is None for v in values):
+    present = [v for v in values if v is not None]
+    if not values or len(present) < len(values):
         return None
-    return float(np.mean(np.abs(values)))
+    return float(np.mean(np.abs(present)))
 
 
 def _count_lower(rows: Sequence[Table1Row], attribute: str) -> tuple[int, int]:
-    """(targets where DLIPM < LIPM, targets compared); an undefined DLIPM value counts as
-    not lower."""
+    """Count the targets where DLIPM's ``attribute`` is lower than LIPM's.
+
+    Returns:
+        (targets where DLIPM < LIPM, targets compared); an undefined DLIPM value counts as
+        not lower.
+    """
     lower = 0
     for r in rows:
         lipm, dlipm = getattr(r.lipm, attribute), getattr(r.dlipm, attribute)

@@ -1,14 +1,15 @@
-"""Figures of the walking compensation, after paper B: the ZMP error per iteration of
-Algorithm 1 (Fig. 5), the measured ZMP against the modified target (Figs. 10, 11), the
-trunk-pitch spectrum with and without each offset (Fig. 12) and a box plot of the
-oscillation's standard deviation (Fig. 13).
+"""Figures of the walking compensation, after paper B.
+
+The ZMP error per iteration of Algorithm 1 (Fig. 5), the measured ZMP against the modified
+target (Figs. 10, 11), the trunk-pitch spectrum with and without each offset (Fig. 12) and a
+box plot of the oscillation's standard deviation (Fig. 13).
 
 Every function takes plain arrays, draws one figure and saves it as PNG.
 """
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from pathlib import Path
 
 import numpy as np
@@ -24,7 +25,7 @@ MAX_FREQUENCY_HZ = 6.0
 """Upper end of the spectrum plot [Hz]."""
 
 
-def plot_iteration_rms(rms_m: Array, path: str | Path, title: str) -> Path:
+def plot_iteration_rms(rms_m: Sequence[float] | Array, path: str | Path, title: str) -> Path:
     """RMS of desired minus multibody ZMP per iteration of Algorithm 1 (Fig. 5) [mm]."""
     fig, ax = new_figure()
     iterations = np.arange(1, len(rms_m) + 1)
@@ -51,6 +52,11 @@ def plot_zmp_target(
         desired_m: the linear reference [m], shape (N,).
         target_m: the modified reference p' [m], shape (N,).
         measured: label -> measured ZMP x [m], shape (N,) (NaN without contact).
+        path: the PNG file to write.
+        title: the figure's title.
+
+    Returns:
+        The path of the saved figure.
     """
     fig, ax = new_figure()
     ax.plot(time_s, desired_m, color="grey", lw=1.0, ls="--", label="desired (linear)")

@@ -14,7 +14,7 @@ import numpy as np
 from zmpkit.analysis.figure import new_figure, save_figure
 from zmpkit.signals.spectra import amplitude_spectrum
 from zmpkit.simfit.checkpoint import GenerationRecord
-from zmpkit.simfit.experiments import RecordedSignals
+from zmpkit.simfit.recorded import RecordedSignals
 
 __all__ = ["plot_cost_history", "plot_signal_fit"]
 
@@ -27,8 +27,11 @@ def _largest_tracking_error(signals: RecordedSignals) -> int:
 def plot_signal_fit(
     recorded: RecordedSignals, simulated: RecordedSignals, path: Path, title: str
 ) -> Path:
-    """Recorded vs fitted simulation: the joint with the largest tracking error [rad],
-    ZMP x and y [m], trunk tilt [rad] and its amplitude spectrum [rad vs Hz]."""
+    """Plot recorded vs fitted simulation, save it to ``path`` and return the path.
+
+    Panels: the joint with the largest tracking error [rad], ZMP x and y [m], trunk tilt
+    [rad] and its amplitude spectrum [rad vs Hz].
+    """
     fig, axes = new_figure(2, 2, width_in=11.0, height_in=7.0)
     n = min(recorded.time_s.size, simulated.time_s.size)
     t = recorded.time_s

@@ -1,6 +1,8 @@
-"""Figures of a walk, after paper B: trunk oscillation (Fig. 2), feet in contact (Fig. 3),
-feet distance in double support (Fig. 4), oscillation per effect set (Fig. 6), target vs
-actual angle vs torque of a joint (Figs. 7–9), and the trunk-pitch spectrum (Fig. 12).
+"""Figures of a walk, after paper B.
+
+Trunk oscillation (Fig. 2), feet in contact (Fig. 3), feet distance in double support
+(Fig. 4), oscillation per effect set (Fig. 6), target vs actual angle vs torque of a joint
+(Figs. 7–9), and the trunk-pitch spectrum (Fig. 12).
 
 Every function takes plain arrays, draws one figure and saves it as PNG.
 """
@@ -111,6 +113,11 @@ def plot_effect_comparison(
 
     Args:
         runs: effect-set label → (time [s], trunk pitch [rad]).
+        path: the PNG file to write.
+        title: the figure's title.
+
+    Returns:
+        The path of the saved figure.
     """
     fig, axes = new_figure(len(runs), 1, height_in=1.6 * len(runs) + 1.0)
     axes = np.atleast_1d(axes).ravel()

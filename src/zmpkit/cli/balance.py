@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from pathlib import Path
+from typing import Any
 
 import click
 
@@ -65,8 +66,7 @@ def balance_command(
     dlipm_pace: str,
 ) -> None:
     """Paper A end to end: LIPM steps, DLIPM identification, scheduled controller, Table 1."""
-
-    changes = {
+    changes: dict[str, Any] = {
         "robot": robot,
         "seed": seed,
         "effects": effects,

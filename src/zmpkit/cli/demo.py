@@ -19,6 +19,5 @@ __all__ = ["demo_command"]
 )
 def demo_command(out_dir: Path) -> None:
     """Run the main job on the built-in virtual robot and write a report to --out."""
-
     result = run_demo(out_dir, echo=click.echo, displays=RichDisplays())
     click.echo(f"report: {result.report_path}")

@@ -39,7 +39,6 @@ def identify_balance_command(
     DATASET is a step dataset folder (zmpkit sim push) or a step manifest .yaml listing a
     robot's logs (CSV, Parquet, ROS 2 bag, YARP dump) with each step's target and time.
     """
-
     result = run_identify_balance(dataset, out_dir, mass_kg=mass, length_m=length)
     plane = next(iter(result.identification.planes.values()))
     click.echo(f"{plane.error_fit.model.equation}: {dict(plane.error_fit.model.as_dict())}")
@@ -106,7 +105,6 @@ def identify_sim_command(
     held_out: tuple[Path, ...],
 ) -> None:
     """Fit the simulator's effect parameters to recorded DATA (walk folders, step datasets)."""
-
     config = IdentifySimConfig(
         data=tuple(str(d) for d in data),
         robot=robot,

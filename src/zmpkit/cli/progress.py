@@ -62,8 +62,11 @@ class TrialProgressBar(_Display):
 
 
 class SweepProgress(_Display):
-    """A bar per sweep; the instance is a ``progress(label, total)`` factory returning that
-    sweep's ``progress(finished, total, target_m)`` callback."""
+    """A bar per sweep.
+
+    The instance is a ``progress(label, total)`` factory returning that sweep's
+    ``progress(finished, total, target_m)`` callback.
+    """
 
     def __init__(self) -> None:
         super().__init__(_COUNT())
@@ -105,9 +108,11 @@ class StageProgress(_Display):
 
 
 class GenerationProgress(_Display):
-    """A bar of CMA-ES generations with the best cost and ETA; the instance is the fit's
-    ``progress(FitProgress)`` callback. It appears with the first finished generation, so
-    an input error before the fit starts prints alone."""
+    """A bar of CMA-ES generations with the best cost and ETA.
+
+    The instance is the fit's ``progress(FitProgress)`` callback. It appears with the first
+    finished generation, so an input error before the fit starts prints alone.
+    """
 
     def __init__(self, label: str = "fit") -> None:
         super().__init__(_COUNT(), "best cost {task.fields[best]}", "ETA {task.fields[eta]}")

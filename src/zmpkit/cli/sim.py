@@ -65,7 +65,6 @@ def sim_push_command(
     workers: int,
 ) -> None:
     """ZMP step / push sweep (paper A Fig. 14): dataset, steady_state.csv and steps.png."""
-
     config = sim_push_config(
         robot=robot,
         targets=targets,

@@ -72,11 +72,11 @@ def walk_group(
         result = run_walk(config, progress=progress)
     write_walk(result, out_dir)
     s = result.summary
-    speed = format_or_undefined(s.mean_speed_mps, ".4f")
+    speed_text = format_or_undefined(s.mean_speed_mps, ".4f")
     peak_hz = format_or_undefined(s.trunk_pitch_peak_hz, ".2f")
     peak_rad = format_or_undefined(s.trunk_pitch_peak_amplitude_rad, ".4f")
     click.echo(
-        f"fell: {s.fell}; speed {speed} m/s (commanded {s.commanded_speed_mps:.4f}); "
+        f"fell: {s.fell}; speed {speed_text} m/s (commanded {s.commanded_speed_mps:.4f}); "
         f"trunk pitch peak {peak_hz} Hz, {peak_rad} rad"
     )
     click.echo(f"summary: {Path(out_dir) / 'summary.json'}")
@@ -111,7 +111,6 @@ def walk_compensate_command(
     out_dir: Path,
 ) -> None:
     """Compensate the walk's model abstractions; validate on walks not used for tuning."""
-
     config = CompensateConfig(
         method=method,
         robot=robot,

@@ -70,9 +70,10 @@ def zmp_command(
     contact_threshold: float | None,
     out_dir: Path,
 ) -> None:
-    """ZMP of a recorded force-torque LOG: CSV, Parquet, ROS 2 bag (folder, .db3, .mcap) or
-    YARP dump folder; writes zmp.csv and zmp.png."""
+    """ZMP of a recorded force-torque LOG; writes zmp.csv and zmp.png.
 
+    LOG is a CSV, Parquet, ROS 2 bag (folder, .db3, .mcap) or YARP dump folder.
+    """
     if (feet_path is None) == (robot is None):
         raise click.UsageError("give exactly one of --feet FEET.yaml or --robot ROBOT")
     feet = _robot_feet(robot) if robot is not None else None

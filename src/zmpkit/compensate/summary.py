@@ -134,8 +134,10 @@ class CompensationSummary:
     iteration_rms_m: tuple[float, ...] | None = None
 
     def as_dict(self) -> dict[str, object]:
-        """``summary.json``: :data:`SUMMARY_KEYS`, the counts, and ``iteration_rms_m`` for
-        Algorithm 1."""
+        """Return the contents of ``summary.json``.
+
+        These are :data:`SUMMARY_KEYS`, the counts, and ``iteration_rms_m`` for Algorithm 1.
+        """
         out: dict[str, object] = {k: getattr(self, k) for k in SUMMARY_KEYS}
         out["validation_walks"] = [w.as_dict() for w in self.validation_walks]
         out.update({k: getattr(self, k) for k in EXTRA_SUMMARY_KEYS})

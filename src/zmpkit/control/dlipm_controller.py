@@ -187,8 +187,13 @@ class DlipmController:
         return max(self.time_scale, needed)
 
     def reset(self, angle_rad: float | None = None, rate_rad_s: float = 0.0) -> None:
-        """Set the state: the current ankle angle [rad] (default: the steady angle of the
-        current target, i.e. at rest there) and rate [rad/s]."""
+        """Set the state: the current ankle angle [rad] and rate [rad/s].
+
+        Args:
+            angle_rad: Current ankle angle [rad]; default: the steady angle of the current
+                target, i.e. at rest there.
+            rate_rad_s: Current ankle rate [rad/s].
+        """
         angle = self.steady_angle if angle_rad is None else finite("angle_rad", angle_rad)
         self._angle = angle
         self._x0 = angle - self._theta0

@@ -216,7 +216,10 @@ class LinearCorrectionController(LipmController):
     def from_error_model(
         cls, error_model: ErrorModel, length: float, dt: float, **kwargs: Any
     ) -> LinearCorrectionController:
-        """b = f'(0) and c = f(0) of an identified error model (its b and c coefficients)."""
+        """Build the controller with b = f'(0) and c = f(0) of an identified error model.
+
+        These are the error model's b and c coefficients.
+        """
         slope = float(error_model.derivative(0.0))
         return cls(length, dt, slope=slope, offset=float(error_model.predict(0.0)), **kwargs)
 

@@ -90,7 +90,7 @@ def _out(values: FloatArray, scalar: bool) -> float | FloatArray:
 
 @dataclass(frozen=True, eq=False)
 class GainSchedule:
-    """Smooth gain surface of the DLIPM over the ZMP target (module docstring).
+    r"""Smooth gain surface of the DLIPM over the ZMP target (module docstring).
 
     Every method is vectorised: a scalar target gives a float, an array an array.
 
@@ -100,7 +100,7 @@ class GainSchedule:
         length: pendulum length, ankle to CoM [m].
         zeta: damping ratio of the scheduled DLIPM [-].
         g: gravitational acceleration [m/s²].
-        theta_offset: :math:`\\theta_0 = \\arcsin(f^{-1}(0)/l)`, the constant feed-forward [rad].
+        theta_offset: :math:`\theta_0 = \arcsin(f^{-1}(0)/l)`, the constant feed-forward [rad].
     """
 
     error_model: ErrorModel
@@ -213,7 +213,10 @@ def teo_coded_gains(
 
     Args:
         zmp_ref: ZMP references r [m].
-        mass: M [kg]. length: L [m]. g: [m/s²]. chi: χ [-].
+        mass: M [kg].
+        length: L [m].
+        g: gravity [m/s²].
+        chi: χ [-].
         fit: (a, b, c) of the code's steady-state fit f.
 
     Returns:

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import math
 import re
+from collections.abc import Iterable
 from dataclasses import asdict, dataclass
 from typing import Any
 
@@ -122,9 +123,9 @@ class StepExperimentConfig:
         return out
 
 
-def _clean_targets(values: object) -> tuple[float, ...]:
+def _clean_targets(values: Iterable[float]) -> tuple[float, ...]:
     try:
-        targets = tuple(round(finite("target", float(v)), _TARGET_DECIMALS) for v in values)  # type: ignore[attr-defined]
+        targets = tuple(round(finite("target", float(v)), _TARGET_DECIMALS) for v in values)
     except (TypeError, ValueError) as exc:
         raise ParameterError(f"targets must be a sequence of numbers [m]: {exc}") from None
     if not targets:

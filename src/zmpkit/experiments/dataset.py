@@ -58,6 +58,7 @@ _IMU = (
     *(f"imu_quat_{a}" for a in "wxyz"),
 )
 _IMU_UNITS = ("rad/s",) * 3 + ("m/s^2",) * 3 + ("1",) * 4
+_META_FIELDS: tuple[str, ...]
 _META_FIELDS = ("format", "robot", "plane", "effects", "seed", "settings", "joint_names")
 _META_FIELDS += ("sensor_mounts", "units", "zmpkit_version", "lean_length_m", "lean_angle_joints")
 _META_FIELDS += ("trials",)

@@ -64,11 +64,11 @@ def _rotate(vec: NDArray[np.float64], angle: float) -> NDArray[np.float64]:
 
 @dataclass(frozen=True, eq=False)
 class LeanModel:
-    """The static lean of a design model in one plane.
+    r"""The static lean of a design model in one plane.
 
     Attributes:
         plane: ``"sagittal"`` or ``"frontal"``.
-        lean_length_m: :math:`l_{lean} = \\partial x_{CoM} / \\partial \\theta` at upright [m].
+        lean_length_m: :math:`l_{lean} = \partial x_{CoM} / \partial \theta` at upright [m].
         axis_signs: per side, the sign of the pivot joint axis along the plane normal [-].
         ankles: frontal: ankle roll axes (y, z) of right and left, shape (2, 2) [m].
         hips: frontal: hip roll axes (y, z) of right and left, shape (2, 2) [m].
@@ -124,9 +124,9 @@ class LeanModel:
         return out
 
     def angle_joints(self) -> dict[str, float]:
-        """The pivot joints and ``s_j`` with :math:`\\theta = \\operatorname{mean}_j(s_j q_j)` [-].
+        r"""The pivot joints and ``s_j`` with :math:`\theta = \operatorname{mean}_j(s_j q_j)` [-].
 
-        Sagittal: exact. Frontal: the pivots are the legs' tilts, whose mean is :math:`\\theta`.
+        Sagittal: exact. Frontal: the pivots are the legs' tilts, whose mean is :math:`\theta`.
         """
         flip = -1.0 if self.plane == "sagittal" else 1.0
         return {f"{side}_{_PIVOT[self.plane]}": flip * sign for side, sign in self._sides()}
@@ -136,10 +136,10 @@ class LeanModel:
 
 
 def lean_angle(target_m: float, lean_length_m: float) -> float:
-    """The LIPM lean angle :math:`\\arcsin(x_{ref} / l_{lean})` for a ZMP target [rad].
+    r"""The LIPM lean angle :math:`\arcsin(x_{ref} / l_{lean})` for a ZMP target [rad].
 
     Raises:
-        ParameterError: if :math:`|x_{ref}| \\ge l_{lean}` (no angle reaches it).
+        ParameterError: if :math:`|x_{ref}| \ge l_{lean}` (no angle reaches it).
     """
     if not abs(target_m) < lean_length_m:
         raise ParameterError(
@@ -229,14 +229,15 @@ def design_lean_model(robot: str, plane: str) -> LeanModel:
     sim = make_teo("none")
     m, d = sim.model, sim.data
     axis = _AXIS_INDEX[plane]
-    signs = tuple(float(np.sign(d.xaxis[m.joint(f"{s}_{_PIVOT[plane]}").id, axis])) for s in SIDES)
+    right, left = (float(np.sign(d.xaxis[m.joint(f"{s}_{_PIVOT[plane]}").id, axis])) for s in SIDES)
+    signs = (right, left)
     ankles = _anchors(sim, _PIVOT[plane], plane)
     hips = _anchors(sim, _HIP_ROLL, plane)
-    model = LeanModel(plane, 0.0, signs, ankles, hips)  # type: ignore[arg-type]
+    model = LeanModel(plane, 0.0, signs, ankles, hips)
     bodies = _design_bodies(sim, plane, model)
     step = _LEVER_STEP_RAD
     lever = (_com(bodies, model, step) - _com(bodies, model, -step)) / (2.0 * step)
-    return LeanModel(plane, lever, signs, ankles, hips)  # type: ignore[arg-type]
+    return LeanModel(plane, lever, signs, ankles, hips)
 
 
 def lean_angle_joints(robot: str, plane: str) -> dict[str, float]:

@@ -64,14 +64,14 @@ STEADY_STATE_COLUMNS = ("plane", "zmp_ref", "zmp_measured", "error_pct", "oversh
 
 @dataclass(frozen=True, eq=False)
 class TrialResponse:
-    """The ZMP response of one trial in its plane.
+    r"""The ZMP response of one trial in its plane.
 
     Attributes:
         plane: ``"sagittal"`` or ``"frontal"``.
         zmp_ref: the ZMP target [m].
         time_since_step: sample times minus ``t_step`` [s], shape (N,).
         zmp_measured: measured ZMP, start-up offset removed [m], NaN where undefined, (N,).
-        zmp_expected: :math:`l_{lean}\\sin\\theta_{cmd}(t)` [m], shape (N,).
+        zmp_expected: :math:`l_{lean}\sin\theta_{cmd}(t)` [m], shape (N,).
         steady_state: mean measured ZMP over the steady window [m]; None if not settled.
         error_pct: :math:`100 (x_{ss} - x_{ref}) / x_{ref}` [%]; None at target 0 or unsettled.
         overshoot_pct: overshoot past the steady state [%]; None at target 0 or unsettled.
@@ -130,7 +130,7 @@ def _measured(dataset: StepDataset, index: int) -> NDArray[np.float64]:
 
 
 def expected_zmp(trial: StepTrialRecord, angle_joints: dict[str, float]) -> NDArray[np.float64]:
-    """:math:`l_{lean}\\sin\\theta_{cmd}(t)` from the commanded joint columns [m]."""
+    r""":math:`l_{lean}\sin\theta_{cmd}(t)` from the commanded joint columns [m]."""
     names = list(trial.joint_names)
     theta = np.mean(
         [s * trial.commanded[:, names.index(j)] for j, s in angle_joints.items()], axis=0

@@ -36,6 +36,7 @@ __all__ = ["DEFAULT_WORKERS", "ProgressCallback", "check_sweep", "new_meta", "ru
 
 DEFAULT_WORKERS = 2
 """Processes that run trials in parallel by default."""
+_CONSISTENT_FIELDS: tuple[str, ...]
 _CONSISTENT_FIELDS = ("format", "robot", "plane", "effects", "seed", "settings", "joint_names")
 _CONSISTENT_FIELDS += ("sensor_mounts", "lean_length_m", "controller")
 
@@ -51,7 +52,6 @@ def new_meta(
     ``controller`` (the lean controller's factory, if any) is recorded by its ``settings()``
     when it has one, else by its repr, under the key ``"controller"`` (None: LIPM step).
     """
-
     joints = tuple(TEO_DRIVEN_JOINTS)
     return {
         "format": DATASET_FORMAT,
@@ -119,7 +119,6 @@ def _resume(folder: Path, meta: dict[str, Any]) -> list[dict[str, Any]]:
 
 def check_sweep(config: StepExperimentConfig) -> None:
     """Fail before any work on a target out of reach or an unreadable truth file."""
-
     length = design_lean_model(config.robot, config.plane).lean_length_m
     for target in config.targets_m:
         lean_angle(target, length)

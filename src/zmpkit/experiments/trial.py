@@ -62,13 +62,13 @@ _PUSH_BODY = {"com": "root_waist", "trunk": "trunk_frontal"}
 
 @dataclass(frozen=True, eq=False)
 class StepTrialRecord:
-    """What one trial recorded; arrays have one row per F-T sample.
+    r"""What one trial recorded; arrays have one row per F-T sample.
 
     Attributes:
         plane: ``"sagittal"`` or ``"frontal"``.
         target_m: the ZMP target :math:`x_{ref}` [m].
         t_step_s: time the lean (and push) starts [s].
-        lean_angle_rad: the commanded lean :math:`\\arcsin(x_{ref}/l_{lean})` [rad].
+        lean_angle_rad: the commanded lean :math:`\arcsin(x_{ref}/l_{lean})` [rad].
         lean_length_m: the design lean length :math:`l_{lean}` [m].
         joint_names: the driven joints, order of ``encoders`` and ``commanded``.
         time: sample times [s], shape (N,).
@@ -202,7 +202,6 @@ def run_step_trial(
         ParameterError: if the target is out of reach of the lean.
         SimulationDivergedError: if the simulation diverges (says when and where).
     """
-
     lean = design_lean_model(config.robot, config.plane)
     angle = lean_angle(target_m, lean.lean_length_m)
     seed = trial_seed(config.seed, config.plane, target_m)

@@ -1,5 +1,6 @@
-"""Play a joint trajectory on a simulated robot and record what its sensors and a motion
-capture see.
+"""Play a joint trajectory on a simulated robot.
+
+Record what its sensors and a motion capture see.
 
 The robot's motion frame (NAO: 10 ms) gives one IK solution per frame; its device manager
 interpolates linearly between frames, so the servos get a new setpoint every physics step.

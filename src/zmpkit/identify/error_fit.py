@@ -178,9 +178,9 @@ def _choose(scores: list[CandidateScore], margin: float) -> tuple[str, str]:
         key=lambda s: (s.n_params, MODEL_KINDS.index(s.kind)),
     )
     if not ranked:
-        notes = "; ".join(f"{s.kind}: {s.note}" for s in scores)
-        raise ModelError(f"no candidate error model can be cross-validated ({notes})")
-    best, notes = ranked[0], []
+        reasons = "; ".join(f"{s.kind}: {s.note}" for s in scores)
+        raise ModelError(f"no candidate error model can be cross-validated ({reasons})")
+    best, notes = ranked[0], list[str]()
     for cand in ranked[1:]:
         assert cand.loo_rmse is not None
         assert best.loo_rmse is not None

@@ -25,6 +25,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import NoReturn
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -155,7 +156,12 @@ class ErrorModel:
         return self.as_dict().get(name, 0.0)
 
     def _dabc(self) -> tuple[float, float, float, float]:
-        return tuple(self.coefficient(n) for n in "dabc")  # type: ignore[return-value]
+        return (
+            self.coefficient("d"),
+            self.coefficient("a"),
+            self.coefficient("b"),
+            self.coefficient("c"),
+        )
 
     def predict(self, x_cmd: ArrayLike) -> float | FloatArray:
         """Measured ZMP :math:`f(u)` [m] for commanded ZMP ``x_cmd`` [m] (scalar or array)."""
@@ -210,10 +216,10 @@ class ErrorModel:
         _, a, b, c = self._dabc()
         discriminant = b * b + 4.0 * a * (x - c)
         if np.any(discriminant <= 0.0):
-            self._raise_range(x, -b / (2.0 * a), self.predict(-b / (2.0 * a)))  # type: ignore[arg-type]
+            self._raise_range(x, -b / (2.0 * a), float(self.predict(-b / (2.0 * a))))
         return 2.0 * (x - c) / (b + np.sqrt(discriminant))
 
-    def _raise_range(self, x: FloatArray, u_turn: float, x_turn: float) -> None:
+    def _raise_range(self, x: FloatArray, u_turn: float, x_turn: float) -> NoReturn:
         raise ModelError(
             f"the {self.kind} error model ({self.equation}, {self.as_dict()}) is not monotonic "
             f"beyond x_cmd = {u_turn:.6g} m, where the measured ZMP turns at {x_turn:.6g} m; "
@@ -249,8 +255,11 @@ class ErrorModel:
         return out
 
     def _bracket_end(self, sign: float, turn: float, target: float, x: FloatArray) -> float:
-        """A command on side ``sign`` of 0, before the turning point ``turn`` [m], whose
-        prediction lies beyond ``target`` [m]; ModelError naming the range if none does."""
+        """Return a command on side ``sign`` of 0 whose prediction lies beyond ``target``.
+
+        The command lies before the turning point ``turn`` [m] and its prediction beyond
+        ``target`` [m]; raises ModelError naming the range if none does.
+        """
         h = max(1.0, 2.0 * abs(target))
         while h < abs(turn):
             if sign * (self._scalar(sign * h) - target) > 0.0:

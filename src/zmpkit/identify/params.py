@@ -99,7 +99,10 @@ class BalanceParams:
         """The YAML document as plain data (module docstring)."""
         planes = {}
         for name, plane in self.planes.items():
-            model = {"model": plane.error_model.kind, "equation": plane.error_model.equation}
+            model: dict[str, str | float] = {
+                "model": plane.error_model.kind,
+                "equation": plane.error_model.equation,
+            }
             for key, value in plane.error_model.as_dict().items():
                 model[COEFFICIENT_KEYS[key]] = value
             transient = {"zeta": plane.zeta, "omega_n_rad_per_s": plane.omega_n}
@@ -304,7 +307,7 @@ def _identify_plane(
     se = np.array([steadies[k].std_error for k in used], dtype=float)
     fit = fit_error_model(
         [chosen[k].x_cmd for k in used],
-        [steadies[k].value for k in used],
+        np.asarray([steadies[k].value for k in used], dtype=np.float64),  # all settled: not None
         std_errors=se if settings.weighted and np.all(se > 0.0) else None,
         candidates=settings.candidates,
         margin=settings.margin,

@@ -82,14 +82,14 @@ def second_order_step(t: ArrayLike, zeta: float, omega_n: float) -> FloatArray:
 
 @dataclass(frozen=True)
 class SecondOrderStep:
-    """A fitted second-order step with dead time (module docstring).
+    r"""A fitted second-order step with dead time (module docstring).
 
     Attributes:
         initial_value: :math:`y_0` [m].
-        step_size: :math:`\\Delta` [m].
+        step_size: :math:`\Delta` [m].
         zeta: damping ratio [-].
         omega_n: natural frequency [rad/s].
-        dead_time: :math:`\\tau` [s].
+        dead_time: :math:`\tau` [s].
         t_step: time of the step [s].
         std_errors: standard errors in :data:`PARAMETER_NAMES` order (units as above).
     """
@@ -123,7 +123,7 @@ class SecondOrderStep:
 
 @dataclass(frozen=True)
 class TransientFit:
-    """Transient of one trial.
+    r"""Transient of one trial.
 
     Attributes:
         ok: whether the second-order fit succeeded.
@@ -131,7 +131,7 @@ class TransientFit:
         metrics: overshoot, settling time etc. measured on the samples (None if undefined);
             noise adds to the measured peak, the model's ``overshoot_pct`` does not see it.
         model: the fitted second-order step; None when ``ok`` is False.
-        gain: :math:`\\Delta / (x_{cmd} - x_{cmd,before})` [-]; None without a fit or command step.
+        gain: :math:`\Delta / (x_{cmd} - x_{cmd,before})` [-]; None without a fit or command step.
         rms_residual: RMS of the fit residuals [m]; None without a fit.
         noise_std: robust noise estimate of the samples, MAD of differences / √2 [m].
     """
@@ -290,7 +290,8 @@ def _judge(
     cov = np.linalg.inv(jtj) * float(r @ r) / dof * inflation
     se = [*np.sqrt(np.abs(np.diag(cov))).tolist(), *([0.0] * (5 - n_params))]
     tau = float(p[4]) if n_params == 5 else 0.0
-    model = SecondOrderStep(*(float(v) for v in p[:4]), tau, trial.t_step, tuple(se))
+    y0, step_size, zeta, omega_n = (float(v) for v in p[:4])
+    model = SecondOrderStep(y0, step_size, zeta, omega_n, tau, trial.t_step, tuple(se))
     command_step = trial.x_cmd - trial.zmp_commanded_before
     gain = model.step_size / command_step if command_step != 0.0 else None
     message = f"ζ = {model.zeta:.3g} ± {se[2]:.2g}, ω_n = {model.omega_n:.3g} ± {se[3]:.2g} rad/s"

@@ -14,16 +14,24 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 from pathlib import Path
-from typing import Any
+from typing import Any, TypedDict
 
 from zmpkit.errors import InputFileError
 from zmpkit.io.yaml_file import read_yaml_mapping, require_number, require_vector
 from zmpkit.sensors import SensorMount
 
-__all__ = ["FOOT_NAMES", "feet_from_mapping", "read_feet_yaml"]
+__all__ = ["FOOT_NAMES", "FootMountEntry", "feet_from_mapping", "read_feet_yaml"]
 
 FOOT_NAMES = ("right", "left")
 _FOOT_FIELDS = ("position", "rpy", "sole_height")
+
+
+class FootMountEntry(TypedDict):
+    """One foot's entry of the format above, as the robots' built-in ``*_feet_mounts`` give it."""
+
+    position: list[float]
+    rpy: list[float]
+    sole_height: float
 
 
 def read_feet_yaml(path: str | Path) -> dict[str, SensorMount]:

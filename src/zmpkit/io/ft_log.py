@@ -18,6 +18,7 @@ import warnings
 from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
+from typing import NoReturn
 
 import numpy as np
 from numpy.typing import NDArray
@@ -157,7 +158,7 @@ def _load_numeric(
     return values
 
 
-def _raise_first_bad_cell(path: Path, header: list[str], index: list[int]) -> None:
+def _raise_first_bad_cell(path: Path, header: list[str], index: list[int]) -> NoReturn:
     with path.open(newline="", encoding="utf-8") as f:
         reader = csv.reader(f)
         next(reader)

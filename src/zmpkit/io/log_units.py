@@ -156,7 +156,7 @@ def _foot_units(path: Path, name: str, entry: Any) -> FootUnits:
         calibration = WrenchCalibration(**kwargs)
     except (ParameterError, TypeError) as exc:
         raise InputFileError(path, f"field '{name}': {exc}") from None
-    return FootUnits(calibration, mounting)  # type: ignore[arg-type]
+    return FootUnits(calibration, mounting)
 
 
 def _check_keys(path: Path, prefix: str, data: Mapping[str, Any], valid: tuple[str, ...]) -> None:

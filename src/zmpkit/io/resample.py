@@ -17,7 +17,7 @@ Rules, the same for every stream:
 from __future__ import annotations
 
 import dataclasses
-from typing import TypeVar
+from typing import overload
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -32,16 +32,34 @@ __all__ = ["DEFAULT_MAX_GAP_PERIODS", "interpolate_stream", "merge_feet", "resam
 DEFAULT_MAX_GAP_PERIODS = 10.0
 """Default longest gap interpolated across, in median sample periods of the stream [-]."""
 
-Log = TypeVar("Log", RobotLog, FtLog)
 
-
+@overload
 def resample(
-    log: Log,
+    log: RobotLog,
     *,
     rate_hz: float | None = None,
     time: ArrayLike | None = None,
     max_gap_s: float | None = None,
-) -> Log:
+) -> RobotLog: ...
+
+
+@overload
+def resample(
+    log: FtLog,
+    *,
+    rate_hz: float | None = None,
+    time: ArrayLike | None = None,
+    max_gap_s: float | None = None,
+) -> FtLog: ...
+
+
+def resample(
+    log: RobotLog | FtLog,
+    *,
+    rate_hz: float | None = None,
+    time: ArrayLike | None = None,
+    max_gap_s: float | None = None,
+) -> RobotLog | FtLog:
     """Put every stream of ``log`` onto one clock.
 
     Args:
@@ -153,7 +171,8 @@ def _target_time(
         if target.size == 0 or np.any(np.diff(target) <= 0.0):
             raise ParameterError("time must be a non-empty, strictly increasing array [s]")
         return target
-    rate = positive("rate_hz", rate_hz, "Hz")  # type: ignore[arg-type]
+    assert rate_hz is not None  # exactly one of the two is given, and time is not
+    rate = positive("rate_hz", rate_hz, "Hz")
     start, end = _common_span(log.streams(), log.source)
     n = int(np.floor((end - start) * rate + 1e-9)) + 1
     # the 1e-9 slack keeps a last tick that lands on `end` up to rounding; clip it onto `end`

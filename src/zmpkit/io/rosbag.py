@@ -17,6 +17,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from pathlib import Path
+from typing import Protocol, cast
 
 from rosbags.rosbag2 import Reader
 from rosbags.typesys import Stores, get_typestore
@@ -141,6 +142,21 @@ def _check_topics(path: Path, reader: Reader, wanted: dict[str, str]) -> None:
             raise InputFileError(path, f"topic '{topic}' has no messages; expected at least one")
 
 
+class _Time(Protocol):
+    sec: int
+    nanosec: int
+
+
+class _Header(Protocol):
+    stamp: _Time
+
+
+class _StampedMessage(Protocol):
+    """What is read of every message here: its std_msgs/Header (WrenchStamped, JointState, Imu)."""
+
+    header: _Header
+
+
 def _collect(
     path: Path, reader: Reader, wanted: dict[str, str], use_header: bool
 ) -> dict[str, TopicData]:
@@ -149,7 +165,8 @@ def _collect(
     connections = [c for c in reader.connections if c.topic in wanted]
     try:
         for connection, receive_ns, raw in reader.messages(connections=connections):
-            msg = typestore.deserialize_cdr(raw, connection.msgtype)
+            # rosbags builds the message classes at run time: its deserializer returns object
+            msg = cast(_StampedMessage, typestore.deserialize_cdr(raw, connection.msgtype))
             stamp = msg.header.stamp
             ns = stamp.sec * 1_000_000_000 + stamp.nanosec if use_header else receive_ns
             data[connection.topic].append(ns, msg)

@@ -155,7 +155,9 @@ def _field(path: Path, topic: str, k: int, name: str, values: Any, n: int) -> ND
 def imu_arrays(
     path: Path, data: TopicData
 ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64] | None]:
-    """``(angular velocity (N, 3) [rad/s], linear acceleration (N, 3) [m/s²], quaternion
+    """Return the arrays of Imu messages.
+
+    ``(angular velocity (N, 3) [rad/s], linear acceleration (N, 3) [m/s²], quaternion
     (N, 4) (x, y, z, w) or None)`` of Imu messages.
 
     Orientation is None when every message marks it absent (``orientation_covariance[0] ==

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 from pathlib import Path
-from typing import Any
+from typing import Any, Literal, overload
 
 import yaml
 
@@ -47,6 +47,16 @@ def require_number(path: Path, field: str, value: object) -> float:
     if x != x or x in (float("inf"), float("-inf")):
         raise InputFileError(path, f"field '{field}' must be finite, got {value!r}")
     return x
+
+
+@overload
+def require_vector(
+    path: Path, field: str, value: object, length: Literal[3]
+) -> tuple[float, float, float]: ...
+
+
+@overload
+def require_vector(path: Path, field: str, value: object, length: int) -> tuple[float, ...]: ...
 
 
 def require_vector(path: Path, field: str, value: object, length: int) -> tuple[float, ...]:

@@ -215,7 +215,7 @@ def _layout(line: str, n_prefix: int) -> Layout:
 
     The first ``n_prefix`` numbers (packet number and stamps) are not values.
     """
-    stack: list[list[object]] = [[]]
+    stack: list[list[int | Layout]] = [[]]
     k = 0
     for token in _TOKEN.findall(line):
         if token == "(":
@@ -230,8 +230,8 @@ def _layout(line: str, n_prefix: int) -> Layout:
     return _freeze(stack[0])
 
 
-def _freeze(items: list[object]) -> Layout:
-    return tuple(items)  # type: ignore[arg-type]
+def _freeze(items: list[int | Layout]) -> Layout:
+    return tuple(items)
 
 
 def _parse_line(

@@ -47,6 +47,7 @@ not read.
 from __future__ import annotations
 
 from pathlib import Path
+from typing import TypeGuard
 
 import numpy as np
 from numpy.typing import NDArray
@@ -137,22 +138,26 @@ def _mas_columns(dump: YarpDump, layout: Layout, group: int, sensor: int) -> lis
             row=dump.first_line,
         )
     measurement = measurements[sensor]
-    ok = (
-        isinstance(measurement, tuple)
-        and len(measurement) == 2
-        and isinstance(measurement[0], tuple)
-        and len(measurement[0]) == 3
-        and all(isinstance(k, int) for k in measurement[0])
-        and isinstance(measurement[1], int)
-    )
-    if not ok:
+    if not _is_xyz_measurement(measurement):
         raise InputFileError(
             dump.source,
             f"{name} sensor {sensor}: expected '((x y z) timestamp)', got "
             f"{_describe_item(measurement)}",
             row=dump.first_line,
         )
-    return list(measurement[0])  # type: ignore[index, arg-type]
+    return list(measurement[0])
+
+
+def _is_xyz_measurement(item: int | Layout) -> TypeGuard[tuple[tuple[int, int, int], int]]:
+    """Whether ``item`` is the layout ``((x y z) timestamp)``: three value columns, one stamp."""
+    return (
+        isinstance(item, tuple)
+        and len(item) == 2
+        and isinstance(item[0], tuple)
+        and len(item[0]) == 3
+        and all(isinstance(k, int) for k in item[0])
+        and isinstance(item[1], int)
+    )
 
 
 def _describe(dump: YarpDump) -> str:

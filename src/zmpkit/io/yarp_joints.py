@@ -65,8 +65,10 @@ def joint_log_from_dumps(
     origin: float,
     max_gap_s: float | None,
 ) -> JointLog:
-    """Joint positions [port unit] of every port, on the first port's clock, times
-    ``stamp − origin`` [s]: the other ports are interpolated onto it over the span all cover.
+    """Joint positions [port unit] of every port, on the first port's clock.
+
+    Times are ``stamp − origin`` [s]: the other ports are interpolated onto the first
+    port's clock over the span all cover.
 
     Raises:
         InputFileError: names not one per value, or ports that do not overlap in time.

@@ -114,8 +114,10 @@ class LinearSystem:
     C: FloatArray
     D: FloatArray
 
-    def __post_init__(self) -> None:
-        matrices = _state_space_matrices(("A", "B", "C", "D"), self.A, self.B, self.C, self.D)
+    def __init__(self, A: ArrayLike, B: ArrayLike, C: ArrayLike, D: ArrayLike) -> None:
+        # Written out (the dataclass keeps it) so that the matrices may be given as any
+        # array-like; they are stored as validated, read-only float64 arrays.
+        matrices = _state_space_matrices(("A", "B", "C", "D"), A, B, C, D)
         for name, matrix in zip("ABCD", matrices, strict=True):
             object.__setattr__(self, name, matrix)
 

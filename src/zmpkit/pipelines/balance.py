@@ -21,6 +21,7 @@ import math
 from collections.abc import Callable
 from dataclasses import dataclass, field, replace
 from pathlib import Path
+from typing import Any
 
 from zmpkit.analysis.balance_validation import evaluate_trial
 from zmpkit.analysis.table1 import Table1Row
@@ -102,9 +103,9 @@ class BalanceConfig:
                 )
 
     @classmethod
-    def quick(cls, **changes: object) -> BalanceConfig:
+    def quick(cls, **changes: Any) -> BalanceConfig:
         """Fewer targets and shorter holds; still fits on even targets, validates on all."""
-        return replace(cls(targets_m=QUICK_TARGETS_M, hold_s=14.0), **changes)  # type: ignore[arg-type]
+        return replace(cls(targets_m=QUICK_TARGETS_M, hold_s=14.0), **changes)
 
 
 @dataclass(frozen=True, eq=False)
@@ -155,8 +156,11 @@ def run_balance(
     progress: _ProgressFactory | None = None,
     echo: Callable[[str], None] = print,
 ) -> BalanceResult:
-    """Run every plane of ``config``; write datasets, ``params.yaml``, ``table1.csv``, figures
-    and ``report.md`` into ``out_dir`` (created if missing)."""
+    """Run every plane of ``config`` and write its outputs into ``out_dir``.
+
+    Writes datasets, ``params.yaml``, ``table1.csv``, figures and ``report.md`` into
+    ``out_dir`` (created if missing).
+    """
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     planes = {}
@@ -251,6 +255,8 @@ def _factory(
 
 
 def _lean_acceleration_limit(plane: str) -> float:
-    """The lean angle's acceleration limit from TEO's servo limits [rad/s²] (lean joints
-    move by the lean angle, in the frontal plane about as much)."""
+    """The lean angle's acceleration limit from TEO's servo limits [rad/s²].
+
+    Lean joints move by the lean angle, in the frontal plane about as much.
+    """
     return TEO_SERVO_LIMITS.max_acceleration

@@ -8,7 +8,7 @@ the dataset's ``meta.json``, so a resumed sweep refuses a folder run with other 
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, TypedDict
 
 from zmpkit.control import DlipmController, GainSchedule, LinearCorrectionController
 from zmpkit.experiments import CONTROL_PERIOD_S, LeanController
@@ -19,6 +19,14 @@ __all__ = ["CONTROLLER_KINDS", "LeanControllerFactory"]
 
 CONTROLLER_KINDS = ("dlipm", "linear")
 """Controllers built here: the scheduled DLIPM (Fig. 19) and one linear correction."""
+
+
+class _Limits(TypedDict):
+    """The limits both kinds of controller take, by keyword."""
+
+    angle_limit_rad: float
+    rate_limit_rad_s: float
+    support_polygon: tuple[float, float]
 
 
 @dataclass(frozen=True)
@@ -54,7 +62,7 @@ class LeanControllerFactory:
 
     def __call__(self) -> LeanController:
         """A new controller at rest on target 0."""
-        limits = {
+        limits: _Limits = {
             "angle_limit_rad": self.angle_limit_rad,
             "rate_limit_rad_s": self.rate_limit_rad_s,
             "support_polygon": self.support_polygon,

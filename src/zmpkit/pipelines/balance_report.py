@@ -84,7 +84,7 @@ def _plane_figures(plane: PlaneResult, out: Path) -> list[Path]:
 def _planned_angles(plane: PlaneResult, path: Path) -> Path:
     """The ankle-angle plans of the scheduled DLIPM and the linear correction at 0.09 m."""
     n = round(_PLANNED_DURATION_S / CONTROL_PERIOD_S)
-    t = np.arange(n + 1) * CONTROL_PERIOD_S
+    t = np.arange(n + 1, dtype=np.float64) * CONTROL_PERIOD_S
     curves = []
     for kind, factory in plane.factories.items():
         controller = factory()

@@ -19,6 +19,7 @@ LABELS = {
 
 
 def format_optional(x: float | None) -> str:
+    """Format ``x`` with 6 significant digits, or an empty string for None (a table cell)."""
     return "" if x is None else f"{x:.6g}"
 
 
@@ -32,6 +33,22 @@ def write_report(
     walks: dict[str, Any],
     compensation: dict[str, Any] | None,
 ) -> Path:
+    """Write the demo's ``report.md`` into ``out`` and return its path.
+
+    Args:
+        out: the demo's output folder; linked files are relative to it.
+        config: the demo's :class:`~zmpkit.pipelines.demo.DemoConfig` (mass [kg], length [m],
+            ZMP step [m], damping ratio ζ [-]).
+        models: the demo's models by key of :data:`LABELS`.
+        metrics: step-response metrics of each stable model, by key of :data:`LABELS`.
+        figures: the figures the demo wrote (the report links them by their fixed names).
+        balance: the quick balance run's :class:`BalanceArtifacts`, or None.
+        walks: the virtual NAO's walk summaries by effect set (empty without walking).
+        compensation: the walk compensation's ``summary.json`` contents, or None.
+
+    Returns:
+        The path of ``report.md``.
+    """
     si, paper = models["dlipm_si"], models["dlipm_paper_units"]
     rows = "\n".join(
         f"| {LABELS[n]} | {format_optional(m.overshoot_pct)} | {format_optional(m.rise_time_s)} | "

@@ -83,6 +83,8 @@ def _recorded_steps(
     source: Path, mass_kg: float | None, length_m: float | None
 ) -> tuple[list[StepTrial], str, float, float]:
     """The trials, plane and pendulum (mass [kg], length [m]) of a dataset or a manifest."""
+    mass: float | None
+    length: float | None
     if source.suffix in (".yaml", ".yml"):
         manifest = read_step_manifest(source)
         mass = manifest.mass_kg if mass_kg is None else mass_kg
@@ -90,7 +92,7 @@ def _recorded_steps(
         return list(manifest.trials), manifest.plane, mass, length
     dataset = read_step_dataset(source)
     meta_path = source / "meta.json"
-    mass = mass_kg if mass_kg is not None else _DESIGN_MASS_KG.get(dataset.meta.get("robot"))
+    mass = mass_kg if mass_kg is not None else _DESIGN_MASS_KG.get(dataset.meta["robot"])
     if mass is None:
         raise InputFileError(meta_path, "unknown robot: give the pendulum mass with --mass KG")
     length = length_m if length_m is not None else dataset.meta.get("lean_length_m")

@@ -55,8 +55,11 @@ def write_fit_files(
     out: Path,
     figures: bool = True,
 ) -> dict[str, Path]:
-    """Write the fitted truth, parameters, history, identifiability and reproduction tables
-    and the cost-history figure into ``out``; return them by role."""
+    """Write the fit's files into ``out`` and return them by role.
+
+    The files are the fitted truth, parameters, history, identifiability and reproduction
+    tables and the cost-history figure.
+    """
     params, best = problem.parameters, cma_result.best_values
     source = ", ".join(e.name for e in problem.experiments)
     files = {

@@ -20,7 +20,6 @@ def write_figures(
     out: Path, config: WalkConfig, pattern: WalkingPattern, record: WalkRecord
 ) -> dict[str, Path]:
     """Draw paper B's figures of one walk into ``out``; return them by role."""
-
     label = f"{config.robot.upper()} {config.speed_mps:g} m/s, effects {config.effects}"
     t = record.time_s
     files = {"trunk_pitch": plots.plot_trunk_pitch(t, record.trunk_pitch_rad,

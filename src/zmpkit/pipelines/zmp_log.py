@@ -60,7 +60,11 @@ def run_zmp_log(
     """
     if (feet is None) == (feet_path is None):
         raise ValueError("give exactly one of feet and feet_path")
-    mounts = feet if feet is not None else read_feet_yaml(feet_path)  # type: ignore[arg-type]
+    if feet is not None:
+        mounts: Mapping[str, SensorMount] = feet
+    else:
+        assert feet_path is not None  # exactly one of the two is given
+        mounts = read_feet_yaml(feet_path)
     log = read_ft_source(
         log_path,
         right_topic=right_topic,

@@ -105,23 +105,35 @@ class WrenchCalibration:
             is not a permutation of 0..5, a sign other than ±1 or an unknown unit.
     """
 
-    offset: ArrayLike = (0.0,) * 6
-    gain: ArrayLike = (1.0,) * 6
-    axis_order: ArrayLike = _IDENTITY_ORDER
-    signs: ArrayLike = (1.0,) * 6
-    force_unit: str = "N"
-    moment_unit: str = "N·m"
+    offset: NDArray[np.float64]
+    gain: NDArray[np.float64]
+    axis_order: NDArray[np.intp]
+    signs: NDArray[np.float64]
+    force_unit: str
+    moment_unit: str
 
-    def __post_init__(self) -> None:
-        gain = finite_array("gain", self.gain, (6,))
-        if np.any(gain <= 0.0):
-            raise ParameterError(f"gain must be > 0 each, got {tuple(gain.tolist())}")
-        _unit_scale("force_unit", self.force_unit, FORCE_UNIT_SCALE)
-        _unit_scale("moment_unit", self.moment_unit, MOMENT_UNIT_SCALE)
-        object.__setattr__(self, "offset", _frozen(finite_array("offset", self.offset, (6,))))
-        object.__setattr__(self, "gain", _frozen(gain))
-        object.__setattr__(self, "axis_order", _axis_order(self.axis_order))
-        object.__setattr__(self, "signs", _signs(self.signs))
+    def __init__(
+        self,
+        offset: ArrayLike = (0.0,) * 6,
+        gain: ArrayLike = (1.0,) * 6,
+        axis_order: ArrayLike = _IDENTITY_ORDER,
+        signs: ArrayLike = (1.0,) * 6,
+        force_unit: str = "N",
+        moment_unit: str = "N·m",
+    ) -> None:
+        # Written out (the dataclass keeps it) so that the vectors may be given as any
+        # array-like; they are stored as validated, read-only arrays.
+        gain_array = finite_array("gain", gain, (6,))
+        if np.any(gain_array <= 0.0):
+            raise ParameterError(f"gain must be > 0 each, got {tuple(gain_array.tolist())}")
+        _unit_scale("force_unit", force_unit, FORCE_UNIT_SCALE)
+        _unit_scale("moment_unit", moment_unit, MOMENT_UNIT_SCALE)
+        object.__setattr__(self, "offset", _frozen(finite_array("offset", offset, (6,))))
+        object.__setattr__(self, "gain", _frozen(gain_array))
+        object.__setattr__(self, "axis_order", _axis_order(axis_order))
+        object.__setattr__(self, "signs", _signs(signs))
+        object.__setattr__(self, "force_unit", force_unit)
+        object.__setattr__(self, "moment_unit", moment_unit)
 
     @property
     def scale(self) -> NDArray[np.float64]:
@@ -144,7 +156,9 @@ class WrenchCalibration:
 
     def with_offset(self, offset: ArrayLike) -> WrenchCalibration:
         """A copy with ``offset`` [N, N·m] instead of this one's."""
-        return dataclasses.replace(self, offset=offset)
+        return WrenchCalibration(
+            offset, self.gain, self.axis_order, self.signs, self.force_unit, self.moment_unit
+        )
 
 
 def _window_mask(time: NDArray[np.float64], window: ArrayLike, name: str) -> NDArray[np.bool_]:

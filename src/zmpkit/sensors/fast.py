@@ -1,4 +1,4 @@
-"""Scalar double-support ZMP for a 1 kHz control loop, in pure Python floats.
+r"""Scalar double-support ZMP for a 1 kHz control loop, in pure Python floats.
 
 Same conventions and result as :mod:`zmpkit.sensors.zmp` (equal to 1e-12 relative), at a
 fraction of a microsecond per sample: numpy costs a few microseconds per sample on arrays of
@@ -9,7 +9,7 @@ How: per foot, the world ``F_z``, ``p_x F_z = o_x F_z − (τ_y + h F_x)`` and
 (:func:`~zmpkit.sensors.zmp.moment_coefficients`). The feet are combined without a division
 per foot,
 
-.. math:: p_x = \\frac{\\sum_i p_{x,i} F_{z,i}}{\\sum_i F_{z,i}} \\quad \\text{(feet in contact)},
+.. math:: p_x = \frac{\sum_i p_{x,i} F_{z,i}}{\sum_i F_{z,i}} \quad \text{(feet in contact)},
 
 so one call is a few multiply–adds and one or two divisions. The coefficients are written as
 literals into a function generated for the two mounts, keeping only the nonzero ones (with
@@ -20,6 +20,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
+from typing import cast
 
 import numpy as np
 from numpy.typing import NDArray
@@ -90,7 +91,9 @@ def _generate(
     namespace: dict[str, object] = {}
     # Only float reprs enter the source: exec runs no user text.
     exec(compile(source, "<zmpkit.sensors.fast.DoubleSupportZmp>", "exec"), namespace)
-    return source, namespace["zmp"], namespace["contacts"]  # type: ignore[return-value]
+    # the template defines zmp and contacts with these signatures
+    zmp = cast(ZmpFunction, namespace["zmp"])
+    return source, zmp, cast(ContactsFunction, namespace["contacts"])
 
 
 @dataclass(frozen=True, eq=False)

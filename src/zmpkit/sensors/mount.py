@@ -60,9 +60,9 @@ def _rot_z(angle: float) -> NDArray[np.float64]:
 
 
 def rpy_to_matrix(rpy: ArrayLike) -> NDArray[np.float64]:
-    """Rotation matrix of roll–pitch–yaw angles.
+    r"""Rotation matrix of roll–pitch–yaw angles.
 
-    .. math:: R = R_z(\\text{yaw})\\, R_y(\\text{pitch})\\, R_x(\\text{roll})
+    .. math:: R = R_z(\text{yaw})\, R_y(\text{pitch})\, R_x(\text{roll})
 
     i.e. rotate about the fixed x axis by roll, then about fixed y by pitch, then about fixed
     z by yaw (the URDF/SDF ``rpy`` convention). Entries smaller than

@@ -57,4 +57,4 @@ def amplitude_spectrum(signal: NDArray[np.float64], dt_s: float) -> Spectrum:
     x = x - np.polyval(np.polyfit(t, x, 1), t)
     window = np.hanning(x.size)
     amplitude = 2.0 * np.abs(np.fft.rfft(x * window)) / window.sum()
-    return Spectrum(np.fft.rfftfreq(x.size, dt_s), amplitude)
+    return Spectrum(np.asarray(np.fft.rfftfreq(x.size, dt_s), dtype=np.float64), amplitude)

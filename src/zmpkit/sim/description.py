@@ -39,8 +39,11 @@ class FootSensor:
 
     @classmethod
     def named(cls, foot: str, sole_height_m: float) -> FootSensor:
-        """The sensor of ``foot`` named by convention: site ``{foot}_ft`` with the force and
-        torque sensors ``{foot}_ft_force`` and ``{foot}_ft_torque``."""
+        """The sensor of ``foot`` named by convention.
+
+        Site ``{foot}_ft`` with the force and torque sensors ``{foot}_ft_force`` and
+        ``{foot}_ft_torque``.
+        """
         return cls(foot, f"{foot}_ft_force", f"{foot}_ft_torque", f"{foot}_ft", sole_height_m)
 
 

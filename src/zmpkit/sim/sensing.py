@@ -1,10 +1,10 @@
-"""The sensor effects (S): what a real F-T sensor, encoder and IMU make of the true values.
+r"""The sensor effects (S): what a real F-T sensor, encoder and IMU make of the true values.
 
 An F-T sample, taken every ``1 / ft_rate_hz`` seconds, is
 
 .. math::
-    y_k = Q\\big(y_{k-1} + \\alpha\\,((1 + g)\\,w_k + o + n_k - y_{k-1})\\big),
-    \\qquad \\alpha = 1 - e^{-2 \\pi f_c / f_s},
+    y_k = Q\big(y_{k-1} + \alpha\,((1 + g)\,w_k + o + n_k - y_{k-1})\big),
+    \qquad \alpha = 1 - e^{-2 \pi f_c / f_s},
 
 with gain error ``g``, offset ``o``, white noise ``n_k`` and a first-order low-pass filter
 (cutoff ``f_c``); ``Q`` rounds to the output quantum (applied to the output, the filter

@@ -1,11 +1,11 @@
-"""The joint servo's trajectory interpolation: velocity- and acceleration-limited setpoints.
+r"""The joint servo's trajectory interpolation: velocity- and acceleration-limited setpoints.
 
 A position drive does not jump to a new target: it moves its setpoint there along a
 trapezoidal velocity profile (TEO's drives in profile-position mode). Each tick every
 joint's setpoint velocity moves toward
 
 .. math::
-    v_{des} = \\operatorname{sign}(e) \\min(v_{max}, \\sqrt{2 a_{max} |e|}),
+    v_{des} = \operatorname{sign}(e) \min(v_{max}, \sqrt{2 a_{max} |e|}),
 
 the fastest speed from which it can still stop at the target, changing by at most
 ``a_max dt`` per tick. A commanded step thus passes through the joint's own limits, as on

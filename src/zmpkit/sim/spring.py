@@ -1,12 +1,12 @@
-"""A structural spring that softens with load, built from native MuJoCo springs.
+r"""A structural spring that softens with load, built from native MuJoCo springs.
 
 The law: the compliance grows linearly with the load,
 
 .. math::
-    \\delta = \\frac{\\tau}{k_0} + \\frac{\\tau |\\tau|}{k_0 \\tau_s}
-    \\iff
-    \\tau(\\delta) = \\operatorname{sign}(\\delta) \\frac{\\tau_s}{2}
-        \\left(\\sqrt{1 + 4 k_0 |\\delta| / \\tau_s} - 1\\right),
+    \delta = \frac{\tau}{k_0} + \frac{\tau |\tau|}{k_0 \tau_s}
+    \iff
+    \tau(\delta) = \operatorname{sign}(\delta) \frac{\tau_s}{2}
+        \left(\sqrt{1 + 4 k_0 |\delta| / \tau_s} - 1\right),
 
 with ``k0`` the stiffness at rest [N·m/rad] and ``τ_s`` the softening torque [N·m] (at
 ``|τ| = τ_s`` the secant stiffness has halved). Its tangent stiffness

@@ -8,7 +8,7 @@ sections whose layout is common (``flex`` entries).
 
 from __future__ import annotations
 
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Iterable, Mapping
 from pathlib import Path
 from typing import Any, TypeVar
 
@@ -17,7 +17,7 @@ import yaml
 from zmpkit.errors import InputFileError, ZmpkitError
 from zmpkit.sim.effects import FlexJoint
 
-__all__ = ["flex_joint", "parse_truth_doc", "read_truth_file", "section"]
+__all__ = ["flex_joint", "parse_truth_doc", "read_truth_file", "section", "vector3"]
 
 T = TypeVar("T")
 
@@ -59,14 +59,20 @@ def section(doc: Mapping[str, Any], key: str, path: Path) -> Any:
     return doc[key]
 
 
+def vector3(values: Iterable[Any]) -> tuple[float, float, float]:
+    """A truth file's 3-vector as floats; ValueError (reported naming the file) if not 3 long."""
+    x, y, z = (float(v) for v in values)
+    return x, y, z
+
+
 def flex_joint(entry: Mapping[str, Any]) -> FlexJoint:
     """One entry of a truth file's ``flex`` list (a passive compliant joint)."""
     return FlexJoint(
         name=entry["name"],
         body=entry["body"],
-        axis=tuple(float(a) for a in entry["axis"]),  # type: ignore[arg-type]
-        anchor=tuple(float(a) for a in entry.get("anchor", (0, 0, 0))),  # type: ignore[arg-type]
-        stiffness=tuple(float(k) for k in entry["stiffness"]),  # type: ignore[arg-type]
+        axis=vector3(entry["axis"]),
+        anchor=vector3(entry.get("anchor", (0, 0, 0))),
+        stiffness=vector3(entry["stiffness"]),
         damping=float(entry.get("damping", 0.0)),
         softening_torque=float(entry.get("softening_torque", 0.0)),
         softening_torque_range=float(entry.get("softening_torque_range", 50.0)),

@@ -8,7 +8,7 @@ the fields in which they differ become per-world ("batched") MuJoCo Warp model a
 Runs on a CUDA device (the point) or on Warp's CPU device (tests); ``pip install
 'zmpkit[gpu]'``. On CUDA each step and each record is replayed as a captured graph.
 
-Differences from CPU MuJoCo, measured in ``tests/test_warp_batch.py`` and the report of
+Differences from CPU MuJoCo, measured in ``tests/sim/test_warp_batch.py`` and the report of
 issue 7:
 
 - MuJoCo Warp computes in float32 (state in, state out, solver ``tolerance >= 1e-6``).
@@ -126,22 +126,24 @@ def _kernels() -> tuple[Any, Any, Any]:
     """(set_ctrl, record, advance) Warp kernels, built once per process."""
     import warp as wp
 
+    # Warp's kernel DSL reads these annotations at run time: its array types are calls, which
+    # no static checker accepts as types, hence the ignores on each kernel parameter.
     @wp.kernel(enable_backward=False)
     def set_ctrl(
-        control: wp.array2d(dtype=float),
-        counter: wp.array(dtype=wp.int32),
-        ctrl: wp.array2d(dtype=float),
+        control: wp.array2d(dtype=float),  # type: ignore[valid-type]  # Warp's kernel DSL
+        counter: wp.array(dtype=wp.int32),  # type: ignore[valid-type]  # Warp's kernel DSL
+        ctrl: wp.array2d(dtype=float),  # type: ignore[valid-type]  # Warp's kernel DSL
     ):
         world, j = wp.tid()
         ctrl[world, j] = control[counter[0], j]
 
     @wp.kernel(enable_backward=False)
     def record(
-        state: wp.array2d(dtype=float),
-        sensordata: wp.array2d(dtype=float),
-        counter: wp.array(dtype=wp.int32),
-        state_out: wp.array3d(dtype=float),
-        sensordata_out: wp.array3d(dtype=float),
+        state: wp.array2d(dtype=float),  # type: ignore[valid-type]  # Warp's kernel DSL
+        sensordata: wp.array2d(dtype=float),  # type: ignore[valid-type]  # Warp's kernel DSL
+        counter: wp.array(dtype=wp.int32),  # type: ignore[valid-type]  # Warp's kernel DSL
+        state_out: wp.array3d(dtype=float),  # type: ignore[valid-type]  # Warp's kernel DSL
+        sensordata_out: wp.array3d(dtype=float),  # type: ignore[valid-type]  # Warp's kernel DSL
     ):
         world = wp.tid()
         row = counter[0]
@@ -151,7 +153,7 @@ def _kernels() -> tuple[Any, Any, Any]:
             sensordata_out[row, world, i] = sensordata[world, i]
 
     @wp.kernel(enable_backward=False)
-    def advance(counter: wp.array(dtype=wp.int32)):
+    def advance(counter: wp.array(dtype=wp.int32)):  # type: ignore[valid-type]  # Warp's kernel DSL
         counter[0] = counter[0] + 1
 
     return set_ctrl, record, advance
@@ -219,7 +221,9 @@ def _simulate(
 def _valid_rows(state: NDArray[np.float64], nq: int, nv: int) -> NDArray[np.int64]:
     """Per world, the leading rows that are finite and within the divergence speed."""
     qvel = np.abs(state[:, :, 1 + nq : 1 + nq + nv])
-    sane = np.isfinite(state).all(axis=2) & (qvel <= DIVERGED_SPEED_RAD_S).all(axis=2)
+    sane: NDArray[np.bool_] = np.all(np.isfinite(state), axis=2) & np.all(
+        qvel <= DIVERGED_SPEED_RAD_S, axis=2
+    )
     return np.where(sane.all(axis=1), sane.shape[1], np.argmin(sane, axis=1)).astype(np.int64)
 
 
@@ -286,11 +290,11 @@ def rollout_warp(
             template, mujoco.MjData(template), nworld=nbatch, nconmax=nconmax, njmax=njmax
         )
         mjw.set_state(m, d, wp.array(np.ascontiguousarray(state0), dtype=float), _FULL)
-        state, sens = _simulate(wp, mjw, m, d, ctrl, int(record_every), nstate)
+        state32, sens32 = _simulate(wp, mjw, m, d, ctrl, int(record_every), nstate)
         overflow = d.overflow.numpy()
         name = str(wp.get_device())
-    state = np.ascontiguousarray(state.transpose(1, 0, 2), dtype=np.float64)
-    sens = np.ascontiguousarray(sens.transpose(1, 0, 2), dtype=np.float64)
+    state = np.ascontiguousarray(state32.transpose(1, 0, 2), dtype=np.float64)
+    sens = np.ascontiguousarray(sens32.transpose(1, 0, 2), dtype=np.float64)
     valid = _valid_rows(state, template.nq, template.nv)
     steps = (np.arange(state.shape[1]) + 1) * int(record_every)
     timestep = np.array([mm.opt.timestep for mm in models])

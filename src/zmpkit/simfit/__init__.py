@@ -26,12 +26,7 @@ from __future__ import annotations
 
 from zmpkit.simfit.backends import BACKENDS, DEFAULT_WORKERS, make_evaluator
 from zmpkit.simfit.cost import CostTerms, CostWeights, experiment_cost
-from zmpkit.simfit.experiments import (
-    RecordedSignals,
-    StepExperiment,
-    WalkExperiment,
-    read_experiments,
-)
+from zmpkit.simfit.experiments import StepExperiment, WalkExperiment, read_experiments
 from zmpkit.simfit.identifiability import ParameterIdentifiability, identifiability
 from zmpkit.simfit.optimizer import (
     CmaOptions,
@@ -42,6 +37,7 @@ from zmpkit.simfit.optimizer import (
 )
 from zmpkit.simfit.parameters import FIT_LETTERS, FitParameter, default_parameters
 from zmpkit.simfit.problem import FitProblem, evaluate, simulate
+from zmpkit.simfit.recorded import RecordedSignals
 from zmpkit.simfit.self_test import RECOVERY_COLUMNS, RecoveryRow
 from zmpkit.simfit.validation import ReproductionCheck, reproduction_check
 

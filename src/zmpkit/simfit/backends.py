@@ -52,6 +52,7 @@ import numpy as np
 from zmpkit.errors import ParameterError
 from zmpkit.simfit.batch_backend import BatchEvaluator
 from zmpkit.simfit.cost import CostTerms
+from zmpkit.simfit.parameters import ParameterValues
 from zmpkit.simfit.problem import FitProblem, evaluate
 
 __all__ = [
@@ -76,12 +77,16 @@ Costs = list[list[CostTerms]]
 class Evaluator(Protocol):
     """Evaluates candidates: ``costs(values)[c][e]`` for candidate c, experiment e."""
 
-    def costs(self, candidates: Sequence[Sequence[float]]) -> Costs: ...
+    def costs(self, candidates: Sequence[ParameterValues]) -> Costs:
+        """Return the cost terms ``[c][e]`` of every candidate c on every experiment e."""
+        ...
 
-    def close(self) -> None: ...
+    def close(self) -> None:
+        """Release the evaluator's workers (threads, processes or a Ray connection)."""
+        ...
 
 
-def _pairs(problem: FitProblem, candidates: Sequence[Sequence[float]]) -> list[tuple[int, int]]:
+def _pairs(problem: FitProblem, candidates: Sequence[ParameterValues]) -> list[tuple[int, int]]:
     return [(c, e) for c in range(len(candidates)) for e in range(len(problem.experiments))]
 
 
@@ -96,7 +101,7 @@ class SerialEvaluator:
     def __init__(self, problem: FitProblem) -> None:
         self.problem = problem
 
-    def costs(self, candidates: Sequence[Sequence[float]]) -> Costs:
+    def costs(self, candidates: Sequence[ParameterValues]) -> Costs:
         """Cost terms per candidate and experiment."""
         flat = [
             evaluate(self.problem, candidates[c], e) for c, e in _pairs(self.problem, candidates)
@@ -133,7 +138,7 @@ class LocalPoolEvaluator:
             workers, mp_context=context, initializer=_init_worker, initargs=(problem,)
         )
 
-    def costs(self, candidates: Sequence[Sequence[float]]) -> Costs:
+    def costs(self, candidates: Sequence[ParameterValues]) -> Costs:
         """Cost terms per candidate and experiment."""
         pairs = _pairs(self.problem, candidates)
         futures = [
@@ -219,7 +224,7 @@ class RayEvaluator:
         self._problem_ref = ray.put(problem)
         self._task = ray.remote(evaluate)
 
-    def costs(self, candidates: Sequence[Sequence[float]]) -> Costs:
+    def costs(self, candidates: Sequence[ParameterValues]) -> Costs:
         """Cost terms per candidate and experiment; on Ctrl-C the pending tasks are cancelled."""
         if self._problem_ref is None:
             raise ParameterError("this RayEvaluator is closed; make a new one")

@@ -20,6 +20,7 @@ import numpy as np
 from zmpkit.errors import ParameterError
 from zmpkit.simfit.batched import simulate_batch
 from zmpkit.simfit.cost import CostTerms, experiment_cost
+from zmpkit.simfit.parameters import ParameterValues
 from zmpkit.simfit.problem import FitProblem
 
 __all__ = ["BatchEvaluator"]
@@ -44,7 +45,7 @@ class BatchEvaluator:
         self.threads = threads
         self.warp_device = warp_device
 
-    def costs(self, candidates: Sequence[Sequence[float]]) -> list[list[CostTerms]]:
+    def costs(self, candidates: Sequence[ParameterValues]) -> list[list[CostTerms]]:
         """Cost terms per candidate and experiment."""
         problem = self.problem
         truths = [problem.truth(np.asarray(c, dtype=float).tolist()) for c in candidates]

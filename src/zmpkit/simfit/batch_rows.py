@@ -1,5 +1,7 @@
-"""What each candidate of a batch records, read from the batch's rows as the serial path reads
-its simulation: F-T readings held between samples, encoders, IMU, a walk's fall.
+"""What each candidate of a batch records, read from the batch's rows.
+
+Read as the serial path reads its simulation: F-T readings held between samples, encoders,
+IMU, a walk's fall.
 """
 
 from __future__ import annotations
@@ -14,8 +16,9 @@ from zmpkit.sensors.imu import quaternion_pitch_roll, tilt_from_quaternions
 from zmpkit.sensors.mount import wrench_in_world
 from zmpkit.sensors.zmp import zmp_in_world
 from zmpkit.sim.world import Simulation
-from zmpkit.simfit.experiments import Experiment, RecordedSignals, WalkExperiment
+from zmpkit.simfit.experiments import Experiment, StepExperiment, WalkExperiment
 from zmpkit.simfit.open_loop import OpenLoopSchedule
+from zmpkit.simfit.recorded import RecordedSignals
 from zmpkit.simfit.rollout import empty_signals, step_signals
 
 __all__ = ["BatchRows"]
@@ -78,6 +81,7 @@ class BatchRows:
         """Keep candidate ``i``'s rows among a chunk's first ``limit`` steps.
 
         Args:
+            i: the candidate's index in the batch.
             rows: the chunk's records of this candidate, one row per step.
             steps: the step each row ends.
             ft_rows: the rows that are F-T sample steps.
@@ -117,10 +121,10 @@ class BatchRows:
         sim = self.sims[i]
         encoders = sim.encoders_of(rows["qpos"])
         quats = rows["sensordata"][:, self.quat]
-        if not self.walk:
+        if isinstance(self.experiment, StepExperiment):  # not self.walk
             right, left = (rows["ft"][:, self.feet.index(f)] for f in ("right", "left"))
             data = np.concatenate([right, left, encoders, quats], axis=1)
-            return step_signals(self.experiment, data, n)  # type: ignore[arg-type]
+            return step_signals(self.experiment, data, n)
         force, moment = wrench_in_world(rows["site_xmat"], rows["ft"])
         keep = [sim.joint_names.index(j) for j in signals.joint_names]
         return RecordedSignals(
@@ -139,7 +143,6 @@ def _first_fall(qpos: NDArray[np.float64], quat: NDArray[np.float64]) -> int | N
     Screened with numpy, decided with the serial path's own scalar rule (so a tilt within
     rounding of the limit is judged exactly as there).
     """
-
     w, x, y, z = quat.T
     pitch = np.arcsin(np.clip(2.0 * (w * y - z * x), -1.0, 1.0))
     roll = np.arctan2(2.0 * (w * x + y * z), 1.0 - 2.0 * (x * x + y * y))

@@ -36,13 +36,15 @@ from zmpkit.errors import ParameterError
 from zmpkit.sim.sensing import sample_series
 from zmpkit.sim.world import DIVERGED_SPEED_RAD_S, Simulation
 from zmpkit.simfit.batch_rows import BatchRows
-from zmpkit.simfit.experiments import Experiment, RecordedSignals
+from zmpkit.simfit.experiments import Experiment
 from zmpkit.simfit.open_loop import (
     OpenLoopSchedule,
     open_loop_schedule,
     posed_simulation,
 )
+from zmpkit.simfit.recorded import RecordedSignals
 from zmpkit.simfit.rollout import simulate_experiment
+from zmpkit.simfit.truth_doc import RobotTruth
 
 __all__ = ["CHUNK_S", "simulate_batch"]
 
@@ -59,7 +61,7 @@ _LAYOUT_SIZES = (
 
 def simulate_batch(
     experiment: Experiment,
-    truths: Sequence[object],
+    truths: Sequence[RobotTruth],
     effects: str,
     nthread: int = 2,
     warp_device: str | None = None,
@@ -157,9 +159,15 @@ def _read_candidates(
     """Judge each alive candidate's rows of a chunk (divergence) and keep the wanted ones.
 
     Args:
+        rows: what each candidate records; filled, and its done/rerun/diverged flags set.
+        alive: the candidates (indices into ``rows``) simulated in this chunk.
         out: the chunk's records, ``(alive, steps, ...)`` per item.
+        steps: the step each recorded row ends.
+        ft_rows: the rows that are F-T sample steps.
+        measured: the F-T readings at those samples, (alive, samples, feet, 6).
         warned: per alive candidate, which MuJoCo warnings rose in the chunk.
         t0: each candidate's time at the start [s].
+        dt: the physics time step [s].
         valid: rows each candidate's engine vouches for (MuJoCo Warp), or None.
     """
     start = rows.schedule.start_step
@@ -232,6 +240,9 @@ def _ft_samples(
     """The F-T readings at the chunk's sample steps, (alive, samples, feet, 6).
 
     Args:
+        rows: what each candidate records (its feet, and which have the sensor effect on).
+        sims: every candidate's simulation (its F-T channels).
+        alive: the candidates (indices into ``sims``) simulated in this chunk.
         sensordata: MuJoCo's sensor rows at those steps, (alive, samples, nsensordata).
     """
     wrenches = np.stack(

@@ -38,7 +38,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from zmpkit.signals.spectra import amplitude_spectrum
-from zmpkit.simfit.experiments import RecordedSignals
+from zmpkit.simfit.recorded import RecordedSignals
 
 __all__ = [
     "FAILED_COST",
@@ -133,6 +133,8 @@ def experiment_cost(
     """The normalised errors of ``simulated`` against ``recorded`` (same time grid).
 
     Args:
+        recorded: the recorded experiment's signals.
+        simulated: the simulation's signals, on the recorded time grid.
         keep_zmp_mean: charge the mean ZMP difference too (module docstring).
     """
     n = recorded.time_s.size
@@ -144,6 +146,6 @@ def experiment_cost(
     dt = recorded.dt_s
     _, a_rec = spectrum_in_band(recorded.trunk_tilt_rad, dt)
     _, a_sim = spectrum_in_band(simulated.trunk_tilt_rad, dt)
-    spectrum = float(np.linalg.norm(a_sim - a_rec) / max(np.linalg.norm(a_rec), _MIN_SCALE))
+    spectrum = float(np.linalg.norm(a_sim - a_rec) / max(float(np.linalg.norm(a_rec)), _MIN_SCALE))
     zmp = _zmp_error(recorded, simulated, keep_zmp_mean)
     return CostTerms(q_err / q_scale, zmp, spectrum, 1.0, q_err)

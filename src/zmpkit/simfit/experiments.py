@@ -33,57 +33,16 @@ from zmpkit.experiments import read_step_dataset
 from zmpkit.experiments.walk_dataset import PITCH_JOINTS, SERIES_FILE, SUMMARY_FILE, read_series
 from zmpkit.sensors import zmp_series
 from zmpkit.sensors.imu import tilt_from_quaternions
-from zmpkit.signals.time_series import Signal, TimeSeries
+from zmpkit.simfit.recorded import RecordedSignals
 from zmpkit.simfit.walk_plan import match_walk_plan
 
 __all__ = [
     "Experiment",
-    "RecordedSignals",
     "StepExperiment",
     "WalkExperiment",
     "read_experiments",
     "read_walk_folder",
 ]
-
-
-@dataclass(frozen=True, eq=False)
-class RecordedSignals:
-    """What a robot recorded in one experiment, one row per sample.
-
-    Attributes:
-        time_s: sample times [s], shape (N,).
-        joint_names: columns of the joint arrays.
-        q_cmd_rad: commanded joint angles [rad], shape (N, J).
-        q_meas_rad: joint encoders [rad], shape (N, J).
-        zmp_m: ZMP from the F-T sensors, world x and y [m], shape (N, 2); NaN without contact.
-        trunk_tilt_rad: trunk tilt from the IMU in the experiment's plane (pitch for walks
-            and sagittal steps, roll for frontal steps) [rad], shape (N,).
-    """
-
-    time_s: NDArray[np.float64]
-    joint_names: tuple[str, ...]
-    q_cmd_rad: NDArray[np.float64]
-    q_meas_rad: NDArray[np.float64]
-    zmp_m: NDArray[np.float64]
-    trunk_tilt_rad: NDArray[np.float64]
-
-    @property
-    def dt_s(self) -> float:
-        """Median sample period [s]."""
-        return float(np.median(np.diff(self.time_s)))
-
-    def as_time_series(self) -> TimeSeries:
-        """The recording as one time series (joints on their axes, ZMP and tilt in world)."""
-        columns = []
-        for k, joint in enumerate(self.joint_names):
-            columns.append((Signal(f"{joint}_cmd", "rad", "joint"), self.q_cmd_rad[:, k]))
-            columns.append((Signal(f"{joint}_meas", "rad", "joint"), self.q_meas_rad[:, k]))
-        columns += [
-            (Signal("zmp_x", "m", "world"), self.zmp_m[:, 0]),
-            (Signal("zmp_y", "m", "world"), self.zmp_m[:, 1]),
-            (Signal("trunk_tilt", "rad", "world"), self.trunk_tilt_rad),
-        ]
-        return TimeSeries.from_columns(self.time_s, columns)
 
 
 @dataclass(frozen=True, eq=False)
@@ -176,7 +135,6 @@ def read_walk_folder(folder: str | Path) -> WalkExperiment:
         InputFileError: on a missing or malformed file, a fallen walk, or commanded angles
             that the re-planned walk does not reproduce.
     """
-
     folder = Path(folder)
     summary = _read_summary(folder)
     path = folder / SERIES_FILE

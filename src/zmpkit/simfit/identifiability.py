@@ -57,7 +57,7 @@ IDENTIFIABLE_WITHIN = 0.10
 
 @dataclass(frozen=True)
 class ParameterIdentifiability:
-    """How well the data pin one parameter down.
+    r"""How well the data pin one parameter down.
 
     Attributes:
         name: the parameter.
@@ -65,7 +65,7 @@ class ParameterIdentifiability:
         cost_minus: cost with the value × (1 − h) [-].
         cost_opt: cost at the fitted values [-].
         cost_plus: cost with the value × (1 + h) [-].
-        resolution: relative change :math:`\\delta^*` that raises the cost visibly [-].
+        resolution: relative change :math:`\delta^*` that raises the cost visibly [-].
         cma_relative_std: CMA-ES's final spread as a fraction of the value [-].
         identifiable: resolution and CMA-ES spread ≤ :data:`IDENTIFIABLE_WITHIN`.
     """

@@ -18,11 +18,12 @@ from numpy.typing import NDArray
 
 from zmpkit.errors import SimulationDivergedError
 from zmpkit.experiments.walk_trial import start_pose
-from zmpkit.robots.nao import make_nao
-from zmpkit.robots.teo import make_teo
+from zmpkit.robots.nao import NaoTruth, make_nao
+from zmpkit.robots.teo import TeoTruth, make_teo
 from zmpkit.sim.world import Simulation
 from zmpkit.simfit.experiments import Experiment, StepExperiment, WalkExperiment
 from zmpkit.simfit.rollout import setpoint_table
+from zmpkit.simfit.truth_doc import RobotTruth
 from zmpkit.simfit.walk_plan import walk_trajectory
 
 __all__ = ["OpenLoopSchedule", "open_loop_schedule", "posed_simulation"]
@@ -49,14 +50,16 @@ class OpenLoopSchedule:
     q_cmd_rad: NDArray[np.float64]
 
 
-def posed_simulation(experiment: Experiment, truth: object, effects: str) -> Simulation:
+def posed_simulation(experiment: Experiment, truth: RobotTruth, effects: str) -> Simulation:
     """A candidate's simulation where the serial path starts its loop."""
     if isinstance(experiment, WalkExperiment):
-        sim = make_nao(effects, truth, seed=0)  # type: ignore[arg-type]
+        assert isinstance(truth, NaoTruth), "a walk experiment is NAO's"
+        sim = make_nao(effects, truth, seed=0)
         start_pose(sim, walk_trajectory(*_walk_key(experiment)))
         return sim
 
-    return make_teo(effects, truth, seed=0)  # type: ignore[arg-type]
+    assert isinstance(truth, TeoTruth), "a step experiment is TEO's"
+    return make_teo(effects, truth, seed=0)
 
 
 def _walk_key(experiment: WalkExperiment) -> tuple[float, float, float, float]:
@@ -69,6 +72,7 @@ def _walk_key(experiment: WalkExperiment) -> tuple[float, float, float, float]:
 
 
 def open_loop_schedule(experiment: Experiment, sim: Simulation) -> OpenLoopSchedule:
+    """The servo setpoints [rad] of ``experiment`` for every physics step of ``sim``."""
     if isinstance(experiment, WalkExperiment):
         return _walk_schedule(experiment, sim)
     return _step_schedule(experiment, sim)
@@ -122,7 +126,6 @@ def _plan_walk_schedule(experiment: WalkExperiment, sim: Simulation) -> OpenLoop
 
 def _step_schedule(experiment: StepExperiment, sim: Simulation) -> OpenLoopSchedule:
     """The recorded setpoints, one per servo tick, sampled at the recorded times."""
-
     signals = experiment.signals
     if tuple(sim.joint_names) != tuple(signals.joint_names):
         raise SimulationDivergedError(0.0, "the joint list", "recorded joints differ from TEO's")

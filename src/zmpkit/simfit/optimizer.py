@@ -130,7 +130,7 @@ def fingerprint(problem: FitProblem, options: CmaOptions) -> dict[str, Any]:
 
 
 def _global_rng() -> Any:
-    """numpy's global random state (``cma`` may draw from it)."""
+    """Return NumPy's global random state (``cma`` may draw from it)."""
     return np.random.get_state()  # noqa: NPY002 - cma draws from the legacy global generator
 
 

@@ -20,7 +20,7 @@ import yaml
 
 from zmpkit.simfit.checkpoint import GenerationRecord
 from zmpkit.simfit.identifiability import ParameterIdentifiability
-from zmpkit.simfit.parameters import FitParameter
+from zmpkit.simfit.parameters import FitParameter, ParameterValues
 from zmpkit.simfit.truth_doc import truth_doc_with, write_truth_doc
 from zmpkit.simfit.validation import ReproductionCheck
 
@@ -61,7 +61,7 @@ def write_fitted_truth(
     path: Path,
     base_doc: dict,
     parameters: Sequence[FitParameter],
-    values: Sequence[float],
+    values: ParameterValues,
     source: str,
 ) -> Path:
     """The base truth with the fitted values, loadable as ``--truth``."""

@@ -1,11 +1,11 @@
-"""Fit parameters: what the evolutionary fit may change in a robot's truth file, and how.
+r"""Fit parameters: what the evolutionary fit may change in a robot's truth file, and how.
 
 A :class:`FitParameter` names one number (or one number shared by several entries) of the
 truth YAML by its path, with a nominal value, bounds and a unit. The optimiser works in
 normalised coordinates ``u`` in [0, 1]:
 
 .. math::
-    v = v_{lo} + u (v_{hi} - v_{lo}) \\quad \\text{or, with ``log_scale``,} \\quad
+    v = v_{lo} + u (v_{hi} - v_{lo}) \quad \text{or, with ``log_scale``,} \quad
     v = v_{lo} (v_{hi} / v_{lo})^u,
 
 so every parameter has the same scale for CMA-ES whatever its unit.
@@ -27,6 +27,7 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import TypeAlias
 
 import numpy as np
 from numpy.typing import NDArray
@@ -37,6 +38,7 @@ __all__ = [
     "FIT_LETTERS",
     "ROBOTS",
     "FitParameter",
+    "ParameterValues",
     "default_parameters",
     "from_unit",
     "parse_fit_effects",
@@ -54,6 +56,9 @@ FIT_LETTERS: dict[str, str] = {
     "C": "mass and CoM (CAD vs real)",
 }
 """Effect letters that carry fit parameters."""
+
+ParameterValues: TypeAlias = Sequence[float] | NDArray[np.float64]
+"""One value per fitted parameter [its unit]: a list, or an array as the optimiser gives it."""
 
 
 @dataclass(frozen=True)

@@ -7,16 +7,16 @@ worker (process pool) or put once in the object store (Ray).
 
 from __future__ import annotations
 
-from collections.abc import Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
 
 from zmpkit.simfit.cost import CostTerms, CostWeights, experiment_cost
-from zmpkit.simfit.experiments import Experiment, RecordedSignals
-from zmpkit.simfit.parameters import FitParameter
+from zmpkit.simfit.experiments import Experiment
+from zmpkit.simfit.parameters import FitParameter, ParameterValues
+from zmpkit.simfit.recorded import RecordedSignals
 from zmpkit.simfit.rollout import simulate_experiment
-from zmpkit.simfit.truth_doc import load_robot_truth, truth_doc_with
+from zmpkit.simfit.truth_doc import RobotTruth, load_robot_truth, truth_doc_with
 
 __all__ = ["FitProblem", "evaluate", "simulate"]
 
@@ -43,16 +43,19 @@ class FitProblem:
 
     @property
     def keeps_zmp_mean(self) -> bool:
-        """Whether the cost charges the mean ZMP difference: F-T offsets (S) or the mass and
-        CoM (C) are fitted, so the simulator models what shifts the whole ZMP."""
+        """Whether the cost charges the mean ZMP difference.
+
+        True when F-T offsets (S) or the mass and CoM (C) are fitted, so the simulator
+        models what shifts the whole ZMP.
+        """
         return any(p.effect in ("S", "C") for p in self.parameters)
 
-    def truth(self, values: Sequence[float]) -> object:
+    def truth(self, values: ParameterValues) -> RobotTruth:
         """The robot's truth object with the parameters at ``values`` [units]."""
         return load_robot_truth(self.robot, truth_doc_with(self.base_doc, self.parameters, values))
 
 
-def simulate(problem: FitProblem, values: Sequence[float], index: int) -> RecordedSignals:
+def simulate(problem: FitProblem, values: ParameterValues, index: int) -> RecordedSignals:
     """Simulated signals of experiment ``index`` with the parameters at ``values``.
 
     With the sensor effect on, the noise seed is fixed (0): every candidate sees the same
@@ -62,7 +65,7 @@ def simulate(problem: FitProblem, values: Sequence[float], index: int) -> Record
     return simulate_experiment(problem.experiments[index], truth, problem.sim_effects)
 
 
-def evaluate(problem: FitProblem, values: Sequence[float], index: int) -> CostTerms:
+def evaluate(problem: FitProblem, values: ParameterValues, index: int) -> CostTerms:
     """Cost terms of experiment ``index`` with the parameters at ``values`` [units]."""
     simulated = simulate(problem, values, index)
     return experiment_cost(problem.experiments[index].signals, simulated, problem.keeps_zmp_mean)

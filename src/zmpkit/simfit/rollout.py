@@ -17,17 +17,20 @@ from numpy.typing import NDArray
 
 from zmpkit.errors import SimulationDivergedError
 from zmpkit.experiments.walk_trial import simulate_walk
-from zmpkit.robots.nao import make_nao
-from zmpkit.robots.teo import make_teo
+from zmpkit.robots.nao import NaoTruth, make_nao
+from zmpkit.robots.teo import TeoTruth, make_teo
 from zmpkit.sensors import zmp_series
 from zmpkit.sensors.imu import tilt_from_quaternions
-from zmpkit.simfit.experiments import Experiment, RecordedSignals, StepExperiment, WalkExperiment
+from zmpkit.sim.world import Simulation
+from zmpkit.simfit.experiments import Experiment, StepExperiment, WalkExperiment
+from zmpkit.simfit.recorded import RecordedSignals
+from zmpkit.simfit.truth_doc import RobotTruth
 from zmpkit.simfit.walk_plan import walk_trajectory
 
 __all__ = ["empty_signals", "setpoint_table", "simulate_experiment", "step_signals"]
 
 
-def simulate_experiment(experiment: Experiment, truth: object, effects: str) -> RecordedSignals:
+def simulate_experiment(experiment: Experiment, truth: RobotTruth, effects: str) -> RecordedSignals:
     """The signals the simulator with ``truth`` and ``effects`` records in ``experiment``.
 
     Args:
@@ -43,7 +46,7 @@ def simulate_experiment(experiment: Experiment, truth: object, effects: str) -> 
     return _step(experiment, truth, effects)
 
 
-def _walk(experiment: WalkExperiment, truth: object, effects: str) -> RecordedSignals:
+def _walk(experiment: WalkExperiment, truth: RobotTruth, effects: str) -> RecordedSignals:
 
     trajectory = walk_trajectory(
         experiment.speed_mps,
@@ -51,8 +54,9 @@ def _walk(experiment: WalkExperiment, truth: object, effects: str) -> RecordedSi
         experiment.duration_s,
         experiment.com_height_m,
     )
+    assert isinstance(truth, NaoTruth), "a walk experiment is NAO's"
     try:
-        record = simulate_walk(make_nao(effects, truth, seed=0), trajectory)  # type: ignore[arg-type]
+        record = simulate_walk(make_nao(effects, truth, seed=0), trajectory)
     except SimulationDivergedError:
         return empty_signals(experiment.signals)
     names = experiment.signals.joint_names
@@ -84,10 +88,11 @@ def setpoint_table(signals: RecordedSignals, n_ticks: int, dt: float) -> NDArray
     return np.column_stack([np.interp(t, signals.time_s, cmd[:, j]) for j in range(cmd.shape[1])])
 
 
-def _step(experiment: StepExperiment, truth: object, effects: str) -> RecordedSignals:
+def _step(experiment: StepExperiment, truth: RobotTruth, effects: str) -> RecordedSignals:
 
     signals = experiment.signals
-    sim = make_teo(effects, truth, seed=0)  # type: ignore[arg-type]
+    assert isinstance(truth, TeoTruth), "a step experiment is TEO's"
+    sim = make_teo(effects, truth, seed=0)
     if tuple(sim.joint_names) != tuple(signals.joint_names):
         raise SimulationDivergedError(0.0, "the joint list", "recorded joints differ from TEO's")
     dt = sim.dt
@@ -107,14 +112,13 @@ def _step(experiment: StepExperiment, truth: object, effects: str) -> RecordedSi
     return step_signals(experiment, np.array(rows), len(rows))
 
 
-def _sample(sim: object) -> NDArray[np.float64]:
-    quat = sim.imu()[2]  # type: ignore[attr-defined]
-    return np.concatenate([sim.ft("right"), sim.ft("left"), sim.encoders(), quat])  # type: ignore[attr-defined]
+def _sample(sim: Simulation) -> NDArray[np.float64]:
+    quat = sim.imu()[2]
+    return np.concatenate([sim.ft("right"), sim.ft("left"), sim.encoders(), quat])
 
 
 def step_signals(experiment: StepExperiment, data: NDArray[np.float64], n: int) -> RecordedSignals:
     """A step trial's signals from ``n`` sample rows ``[F-T right, F-T left, encoders, quat]``."""
-
     signals = experiment.signals
     if n < 2:
         return empty_signals(signals)

@@ -1,7 +1,7 @@
-"""Self-test of the simulator fit: a virtual robot with hidden, perturbed truth.
+r"""Self-test of the simulator fit: a virtual robot with hidden, perturbed truth.
 
 1. :func:`perturbed_values`: every fitted parameter moves from its nominal value by a
-   factor :math:`e^{\\pm u}`, :math:`u \\sim U(\\ln 1.08, \\ln 1.25)` with a random sign
+   factor :math:`e^{\pm u}`, :math:`u \sim U(\ln 1.08, \ln 1.25)` with a random sign
    (linear parameters by ±8–25 % of their bounds' range), drawn from the seed and kept
    inside the bounds. These values are the hidden truth.
 2. :func:`record_experiments`: the virtual robot with that truth and the sensor effects on

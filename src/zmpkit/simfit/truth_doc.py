@@ -18,7 +18,7 @@ import os
 import re
 from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
-from typing import Any
+from typing import Any, TypeAlias
 
 import yaml
 
@@ -26,9 +26,10 @@ from zmpkit.errors import InputFileError, ParameterError
 from zmpkit.robots import nao, teo
 from zmpkit.robots.nao import truth as nao_truth
 from zmpkit.robots.teo import truth as teo_truth
-from zmpkit.simfit.parameters import FitParameter
+from zmpkit.simfit.parameters import FitParameter, ParameterValues
 
 __all__ = [
+    "RobotTruth",
     "base_truth_path",
     "get_path",
     "load_robot_truth",
@@ -38,7 +39,14 @@ __all__ = [
     "write_truth_doc",
 ]
 
-_SHIPPED_TRUTH: Mapping[str, tuple[Path, Callable[[Mapping[str, Any], str], Any]]] = {
+RobotTruth: TypeAlias = nao_truth.NaoTruth | teo_truth.TeoTruth
+"""A robot's truth object, as the fit builds it from a truth document for the robot's factory
+(:func:`~zmpkit.robots.nao.make_nao`, :func:`~zmpkit.robots.teo.make_teo`). The fit reads
+nothing of it: it only hands it on, so it is the union of the robots' truths, not a protocol."""
+
+_TruthParser: TypeAlias = Callable[[Mapping[str, Any], str], RobotTruth]
+
+_SHIPPED_TRUTH: Mapping[str, tuple[Path, _TruthParser]] = {
     "nao": (Path(nao.DEFAULT_TRUTH_PATH), nao_truth.truth_from_doc),
     "teo": (Path(teo.DEFAULT_TRUTH_PATH), teo_truth.truth_from_doc),
 }
@@ -118,7 +126,7 @@ def base_truth_path(robot: str, truth: str | Path | None) -> Path:
     return _robot_truth(robot)[0]
 
 
-def _robot_truth(robot: str) -> tuple[Path, Callable[[Mapping[str, Any], str], Any]]:
+def _robot_truth(robot: str) -> tuple[Path, _TruthParser]:
     if robot not in _SHIPPED_TRUTH:
         raise ParameterError(f"robot must be one of {', '.join(_SHIPPED_TRUTH)}; got {robot!r}")
     return _SHIPPED_TRUTH[robot]
@@ -140,7 +148,7 @@ def load_truth_doc(path: str | Path) -> dict[str, Any]:
 
 
 def truth_doc_with(
-    base: Mapping[str, Any], parameters: Sequence[FitParameter], values: Sequence[float]
+    base: Mapping[str, Any], parameters: Sequence[FitParameter], values: ParameterValues
 ) -> dict[str, Any]:
     """A copy of ``base`` with each parameter's path set to its value [units]."""
     doc = copy.deepcopy(dict(base))
@@ -160,6 +168,6 @@ def write_truth_doc(doc: Mapping[str, Any], path: str | Path, header: str = "") 
     return path
 
 
-def load_robot_truth(robot: str, doc: Mapping[str, Any]) -> Any:
+def load_robot_truth(robot: str, doc: Mapping[str, Any]) -> RobotTruth:
     """The robot's truth object (``NaoTruth`` or ``TeoTruth``) for a truth document."""
     return _robot_truth(robot)[1](doc, "<fit candidate truth>")

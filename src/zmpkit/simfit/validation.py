@@ -15,7 +15,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from zmpkit.signals.spectra import amplitude_spectrum
-from zmpkit.simfit.experiments import RecordedSignals
+from zmpkit.simfit.recorded import RecordedSignals
 
 __all__ = [
     "AMPLITUDE_TOLERANCE",

@@ -16,6 +16,7 @@ import numpy as np
 
 from zmpkit.errors import InputFileError
 from zmpkit.robots.nao import NAO_WALK_COM_HEIGHT_M, nao_ik_model
+from zmpkit.simfit.recorded import RecordedSignals
 from zmpkit.walking import GaitParameters, PatternConfig, WalkCommand, generate_pattern
 from zmpkit.walking.ik import JointTrajectory, solve_walking_ik
 
@@ -31,7 +32,6 @@ def walk_trajectory(
     speed_mps: float, step_duration_s: float, duration_s: float, com_height_m: float
 ) -> JointTrajectory:
     """Pattern + IK of a NAO walk (cached) [rad per joint per 10 ms frame]."""
-
     config = PatternConfig(
         command=WalkCommand(v_x=speed_mps),
         duration_s=duration_s,
@@ -52,24 +52,23 @@ def _pattern_end(speed_mps: float, step_duration_s: float, duration_s: float) ->
 
 
 def match_walk_plan(
-    path: Path, speed_mps: float, step_duration_s: float, signals: object
+    path: Path, speed_mps: float, step_duration_s: float, signals: RecordedSignals
 ) -> tuple[float, float]:
     """The (duration [s], CoM height [m]) whose plan reproduces the recorded commands.
 
     Raises:
         InputFileError: naming ``path`` if no plan reproduces the commanded angles.
     """
-
     overhead = _pattern_end(speed_mps, step_duration_s, _PROBE_DURATION_S) - _PROBE_DURATION_S
-    t_last = float(signals.time_s[-1])  # type: ignore[attr-defined]
+    t_last = float(signals.time_s[-1])
     duration = round(t_last - overhead, 2)  # the CSV keeps 7 digits; frames are 10 ms
     if duration <= 0.0:
         raise InputFileError(path, f"a walk of {t_last} s is shorter than its standing phases")
     trajectory = walk_trajectory(speed_mps, step_duration_s, duration, NAO_WALK_COM_HEIGHT_M)
-    names = signals.joint_names  # type: ignore[attr-defined]
+    names = signals.joint_names
     columns = [trajectory.joint_names.index(j) for j in names]
     planned = trajectory.q_rad[:, columns]
-    recorded = signals.q_cmd_rad  # type: ignore[attr-defined]
+    recorded = signals.q_cmd_rad
     if planned.shape != recorded.shape:
         raise InputFileError(
             path, f"{recorded.shape[0]} rows, but the re-planned walk has {planned.shape[0]} frames"

@@ -128,7 +128,7 @@ class FootstepPlan:
         phases = [SupportPhase("double", 0.0, self.walk_start_s, None, -1)]
         for k, step in enumerate(self.steps):
             t0 = self.steps[k - 1].t_end if k else self.walk_start_s
-            stance = "right" if step.side == "left" else "left"
+            stance: Side = "right" if step.side == "left" else "left"
             phases.append(SupportPhase("double", t0, step.t_start, None, k))
             phases.append(SupportPhase("single", step.t_start, step.t_end, stance, k))
         t_last = self.steps[-1].t_end

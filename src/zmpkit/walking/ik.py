@@ -18,6 +18,7 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 from dataclasses import dataclass, field
+from typing import Protocol
 
 import mink
 import mujoco
@@ -28,6 +29,7 @@ from zmpkit import _validate
 from zmpkit.errors import ModelError
 from zmpkit.robots.nao import NAO_LEG_JOINTS
 from zmpkit.walking.pattern import WalkingPattern
+from zmpkit.walking.swing import FeetTrajectories
 
 __all__ = ["IkSettings", "JointTrajectory", "WalkingIk", "solve_walking_ik"]
 
@@ -132,9 +134,21 @@ def _pose(x: float, y: float, z: float, yaw: float) -> mink.SE3:
     return mink.SE3.from_rotation_and_translation(rotation, np.array([x, y, z]))
 
 
+class IkTargets(Protocol):
+    """What :meth:`WalkingIk.set_targets` reads: a :class:`WalkingPattern`, or online targets."""
+
+    @property
+    def feet(self) -> FeetTrajectories: ...
+
+    @property
+    def com_position_in_world(self) -> NDArray[np.float64]: ...
+
+
 class WalkingIk:
-    """The whole-body IK of one model, re-targeted sample after sample (for online use,
-    e.g. a compensation that changes the CoM plan while walking)."""
+    """The whole-body IK of one model, re-targeted sample after sample.
+
+    For online use, e.g. a compensation that changes the CoM plan while walking.
+    """
 
     def __init__(self, model: mujoco.MjModel, settings: IkSettings) -> None:
         self.settings = settings
@@ -154,7 +168,8 @@ class WalkingIk:
         self.limits = [mink.ConfigurationLimit(model)]
         self.qadr = [_qpos_address(model, name) for name in settings.joint_names]
 
-    def set_targets(self, pattern: WalkingPattern, k: int) -> None:
+    def set_targets(self, pattern: IkTargets, k: int) -> None:
+        """Aim the tasks at sample ``k`` of ``pattern``: feet [m, rad], torso yaw [rad], CoM [m]."""
         feet = pattern.feet
         for side, task in self.feet.items():
             trajectory = feet.left if side == "left" else feet.right
@@ -172,6 +187,11 @@ class WalkingIk:
         return com, foot, torso
 
     def solve(self, iterations: int, dt: float) -> tuple[float, float, float]:
+        """Integrate up to ``iterations`` IK steps of ``dt`` [s] and return the errors.
+
+        Stops early once the CoM and foot errors are below the tolerance [m]; the errors are
+        those of :meth:`errors`: CoM [m], largest foot position [m], torso orientation [rad].
+        """
         s = self.settings
         for _ in range(iterations):
             velocity = mink.solve_ik(

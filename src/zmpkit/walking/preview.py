@@ -109,8 +109,8 @@ class PreviewController:
         self._k_x = gains.integral_gain * self._C + gains.state_gain  # G_i C + G_x
         T = p.sampling_period_s
         g_x0, g_x1, g_x2 = (float(g) for g in gains.state_gain)
-        self._scalars = (T, T * T / 2, T**3 / 6, -float(self._C[2]), gains.integral_gain)
-        self._scalars += (g_x0, g_x1, g_x2)
+        integrator = (T, T * T / 2, T**3 / 6, -float(self._C[2]), gains.integral_gain)
+        self._scalars = (*integrator, g_x0, g_x1, g_x2)
         closed = self._closed_loop_matrix()
         self._closed_powers = np.empty((SCAN_BLOCK + 1, 4, 4))  # M^0 .. M^b
         self._closed_powers[0] = np.eye(4)
@@ -125,8 +125,11 @@ class PreviewController:
 
     @property
     def state_in_world(self) -> NDArray[np.float64]:
-        """Read-only view (2, 4): rows x, y; position [m], velocity [m/s], acceleration
-        [m/s^2], sum of ZMP errors [m]."""
+        """Read-only view (2, 4) of the preview controller's state.
+
+        Rows x, y; columns position [m], velocity [m/s], acceleration [m/s^2], sum of ZMP
+        errors [m].
+        """
         view = self._state.view()
         view.setflags(write=False)
         return view
@@ -219,9 +222,12 @@ class PreviewController:
         jerk = drive - np.einsum("i,nik->nk", self._k_x, z[:, :3]) - g.integral_gain * z[:, 3]
         position = z[:, 0] + p0
         zmp = position + self._C[2] * z[:, 2]
-        time = np.arange(ref.shape[0]) * g.parameters.sampling_period_s
+        time = np.arange(ref.shape[0], dtype=np.float64) * g.parameters.sampling_period_s
         arrays = (time, position, z[:, 1], z[:, 2], jerk, zmp, ref)
-        return CoMTrajectory(*(_read_only(a) for a in arrays), g.parameters.com_height_m)
+        time, position, velocity, acceleration, jerk, zmp, ref = (_read_only(a) for a in arrays)
+        return CoMTrajectory(
+            time, position, velocity, acceleration, jerk, zmp, ref, g.parameters.com_height_m
+        )
 
     @staticmethod
     def _check_reference(

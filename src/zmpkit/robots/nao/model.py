@@ -23,9 +23,13 @@ A torso IMU (gyro, accelerometer, orientation) sits at the inertial unit's place
 from __future__ import annotations
 
 import xml.etree.ElementTree as ET
+from typing import TYPE_CHECKING
 
 from zmpkit.robots.nao import geometry as geo
 from zmpkit.sim.sole_plate import SolePlate, add_sole_plate
+
+if TYPE_CHECKING:
+    from zmpkit.io.feet import FootMountEntry
 
 __all__ = [
     "NAO_DRIVEN_JOINTS",
@@ -227,7 +231,7 @@ def base_mjcf(
     return mujoco
 
 
-def nao_feet_mounts() -> dict[str, dict[str, object]]:
+def nao_feet_mounts() -> dict[str, FootMountEntry]:
     """NAO's foot F-T sensor mounts in the world frame, zero pose (soles on z = 0).
 
     Returns:

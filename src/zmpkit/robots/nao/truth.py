@@ -1,4 +1,4 @@
-"""The truth parameters of the virtual NAO's effects, read from a YAML file.
+r"""The truth parameters of the virtual NAO's effects, read from a YAML file.
 
 The shipped file is ``robots/nao/data/truth.yaml``. Pipelines never read the truth (a real
 user cannot); the simulator and tests do. Every problem is reported as
@@ -8,7 +8,7 @@ NAO's motor boards run a PID on the joint angle whose output is a *voltage* (MoT
 paper B §II), scaled by NAO's stiffness factor ``s``. With the motor's torque constant K,
 resistance R and gear ratio N, a voltage gain ``g`` [V/rad] is the joint-side torque gain
 
-.. math:: k_{link} = s\\,g\\,K N / R \\quad [N·m/rad],
+.. math:: k_{link} = s\,g\,K N / R \quad [N·m/rad],
 
 and the drive's voltage clamp is the supply ``V_supply``. The simulated drive compensates the
 back-EMF (:class:`~zmpkit.sim.effects.MotorParams`); ``friction.back_emf_damping: true`` adds it
@@ -81,11 +81,14 @@ class NaoTruth:
     source: str = str(DEFAULT_TRUTH_PATH)
 
     def torso_inertial(self) -> Inertial:
-        """The real torso link: mass [kg], CoM [m] and the URDF inertia scaled by the mass
-        ratio [kg·m²] (same shape, denser)."""
+        """The real torso link: mass [kg], CoM [m] and inertia [kg·m²].
+
+        The inertia is the URDF's scaled by the mass ratio (same shape, denser).
+        """
         scale = self.torso_mass_kg / TORSO.mass
-        inertia = tuple(scale * i for i in TORSO.inertia)
-        return Inertial(self.torso_mass_kg, self.torso_com_m, inertia)  # type: ignore[arg-type]
+        ixx, iyy, izz = TORSO.inertia
+        inertia = (scale * ixx, scale * iyy, scale * izz)
+        return Inertial(self.torso_mass_kg, self.torso_com_m, inertia)
 
 
 def _motor(ratio: float, doc: Mapping[str, Any], path: Path) -> MotorParams:

@@ -25,10 +25,14 @@ from __future__ import annotations
 
 import math
 import xml.etree.ElementTree as ET
+from typing import TYPE_CHECKING
 
 from zmpkit.robots.teo import geometry as geo
 from zmpkit.robots.teo.truth import TeoTruth
 from zmpkit.sim.sole_plate import SolePlate, add_sole_plate
+
+if TYPE_CHECKING:
+    from zmpkit.io.feet import FootMountEntry
 
 __all__ = [
     "FLOOR_FRICTION",
@@ -243,7 +247,7 @@ def base_mjcf(truth: TeoTruth) -> ET.Element:
     return mujoco
 
 
-def teo_feet_mounts() -> dict[str, dict[str, object]]:
+def teo_feet_mounts() -> dict[str, FootMountEntry]:
     """TEO's foot F-T sensor mounts in the world frame, standing pose (soles on z = 0).
 
     Returns:

@@ -21,7 +21,7 @@ from zmpkit.sim.effects import (
     MotorParams,
     SensorParams,
 )
-from zmpkit.sim.truth_file import flex_joint, parse_truth_doc, read_truth_file, section
+from zmpkit.sim.truth_file import flex_joint, parse_truth_doc, read_truth_file, section, vector3
 
 __all__ = ["DEFAULT_TRUTH_PATH", "TeoTruth", "load_truth", "truth_from_doc"]
 
@@ -114,7 +114,7 @@ def _parse(doc: Mapping[str, Any], path: Path) -> TeoTruth:
         sensors=SensorParams(ft_offset=offsets["right"], **sensors),
         ft_offsets=offsets,
         payload_mass_kg=float(payload["mass_kg"]),
-        payload_position_m=tuple(float(v) for v in payload["position_m"]),  # type: ignore[arg-type]
+        payload_position_m=vector3(payload["position_m"]),
         source=str(path),
     )
 

@@ -13,7 +13,7 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from conftest import write_log
+from helpers.ft_data import write_log
 from zmpkit.errors import InputFileError, ParameterError
 from zmpkit.io import (
     FT_LOG_COLUMNS,

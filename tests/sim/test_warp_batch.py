@@ -1,6 +1,8 @@
 """MuJoCo Warp batched rollouts against CPU MuJoCo (``mujoco.rollout``), on Warp's CPU device.
 
-Skipped where ``mujoco_warp`` is not installed (``pip install 'zmpkit[gpu]'``).
+The tests marked ``needs_warp`` are skipped where ``mujoco_warp`` is not installed
+(``pip install 'zmpkit[gpu]'``); ``rollout_warp`` imports MuJoCo Warp before it checks its
+arguments, so only the error that says how to install it runs without it.
 
 Tolerances come from measurements on the virtual NAO with M, G and S on (dcmotor actuators
 and tendon gears), 300 steps of 1 ms under a 2 Hz setpoint wave: MuJoCo Warp computes in
@@ -19,8 +21,6 @@ import mujoco
 import numpy as np
 import pytest
 from mujoco import rollout
-
-pytest.importorskip("mujoco_warp")
 
 from zmpkit.errors import ParameterError
 from zmpkit.robots.nao import make_nao
@@ -81,6 +81,7 @@ def assert_close_to_cpu(model, warp_state, warp_sensors, cpu_state, cpu_sensors)
         assert error < SENSOR_REL_TOL * np.abs(cpu).max(), model.sensor(i).name
 
 
+@pytest.mark.needs_warp
 @pytest.mark.slow
 def test_batch_matches_cpu_mujoco_per_world(nao) -> None:
     model, state, control = nao
@@ -99,6 +100,7 @@ def test_batch_matches_cpu_mujoco_per_world(nao) -> None:
     assert apart > 1000 * QPOS_TOL
 
 
+@pytest.mark.needs_warp
 @pytest.mark.slow
 def test_diverged_world_is_flagged_not_reset_and_alone(nao) -> None:
     model, state, wave = nao
@@ -115,6 +117,7 @@ def test_diverged_world_is_flagged_not_reset_and_alone(nao) -> None:
     assert_close_to_cpu(model, out.state[0], out.sensordata[0], *cpu_rows(model, state, hold))
 
 
+@pytest.mark.needs_warp
 def test_unsupported_model_names_feature_and_cpu_backend(nao) -> None:
     _, _, control = nao
     ideal = make_nao("G", None, seed=0)  # without M the joints are driven by `pid` servos
@@ -124,6 +127,7 @@ def test_unsupported_model_names_feature_and_cpu_backend(nao) -> None:
         rollout_warp([ideal.model], state, control[:, : ideal.model.nu], device="cpu")
 
 
+@pytest.mark.needs_warp
 @pytest.mark.parametrize(
     ("edit", "message"),
     [
@@ -143,6 +147,7 @@ def test_bad_shapes_are_named(nao, edit, message) -> None:
         rollout_warp([model], bad_state, bad_control, device="cpu")
 
 
+@pytest.mark.needs_warp
 @pytest.mark.parametrize("every", [0, NSTEP + 1, 1.5])
 def test_bad_record_every(nao, every) -> None:
     model, state, control = nao
@@ -150,6 +155,7 @@ def test_bad_record_every(nao, every) -> None:
         rollout_warp([model], state, control, every, device="cpu")
 
 
+@pytest.mark.needs_warp
 def test_models_differing_in_unbatchable_field(nao) -> None:
     model, state, control = nao
     other = copy.deepcopy(model)
@@ -158,6 +164,7 @@ def test_models_differing_in_unbatchable_field(nao) -> None:
         rollout_warp([model, other], state, control, device="cpu")
 
 
+@pytest.mark.needs_warp
 def test_models_differing_in_zero_pattern(nao) -> None:
     model, state, control = nao
     other = copy.deepcopy(model)
@@ -166,6 +173,7 @@ def test_models_differing_in_zero_pattern(nao) -> None:
         rollout_warp([model, other], state, control, device="cpu")
 
 
+@pytest.mark.needs_warp
 def test_models_of_different_mjcf(nao) -> None:
     model, state, control = nao
     other = make_nao("M,I,G,F,S", None, seed=0).model
@@ -173,12 +181,14 @@ def test_models_of_different_mjcf(nao) -> None:
         rollout_warp([model, other], state, control, device="cpu")
 
 
+@pytest.mark.needs_warp
 def test_unknown_device(nao) -> None:
     model, state, control = nao
     with pytest.raises(ParameterError, match=r"unknown Warp device 'tpu:0'; available: \["):
         rollout_warp([model], state, control, device="tpu:0")
 
 
+@pytest.mark.needs_warp
 def test_no_models(nao) -> None:
     _, state, control = nao
     with pytest.raises(ParameterError, match=r"non-empty sequence of mujoco\.MjModel"):
@@ -192,6 +202,7 @@ def test_missing_package_says_how_to_install(nao, monkeypatch) -> None:
         rollout_warp([model], state, control)
 
 
+@pytest.mark.needs_warp
 @pytest.mark.slow
 def test_warp_backend_costs_follow_the_cpu_batch(tmp_path) -> None:
     """The fit's ``"warp"`` backend on a recorded walk: float32 physics, the same verdicts.
@@ -200,7 +211,7 @@ def test_warp_backend_costs_follow_the_cpu_batch(tmp_path) -> None:
     value (the ZMP and spectrum terms; encoders agree exactly after quantisation) and a
     falling candidate falls at the same frame; the tolerance is 1 % of the total.
     """
-    from simfit_data import record_walk, small_case
+    from helpers.simfit_data import record_walk, small_case
     from zmpkit.simfit.backends import make_evaluator
     from zmpkit.simfit.experiments import read_experiments
     from zmpkit.simfit.problem import FitProblem

@@ -7,7 +7,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from conftest import write_log
+from helpers.ft_data import write_log
 from zmpkit.errors import InputFileError
 from zmpkit.io import FT_LOG_COLUMNS, read_column_map, read_ft_log_csv
 

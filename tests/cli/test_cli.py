@@ -8,7 +8,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from conftest import wrench_in_sensor, write_log
+from helpers.ft_data import wrench_in_sensor, write_log
 from zmpkit import __version__
 from zmpkit.cli import main
 from zmpkit.io import read_feet_yaml

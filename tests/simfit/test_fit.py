@@ -9,7 +9,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from simfit_data import record_walk, small_case
+from helpers.simfit_data import record_walk, small_case
 from zmpkit.simfit.backends import make_evaluator
 from zmpkit.simfit.experiments import read_experiments
 from zmpkit.simfit.optimizer import CmaOptions, FitInterruptedError, FitProgress, run_cma

@@ -17,10 +17,11 @@ from zmpkit.pipelines.identify_sim import IdentifySimConfig
 from zmpkit.simfit import parameters as catalogue
 from zmpkit.simfit.checkpoint import check_fingerprint, load_checkpoint
 from zmpkit.simfit.cost import FAILED_COST, CostWeights, experiment_cost
-from zmpkit.simfit.experiments import RecordedSignals, read_experiments
+from zmpkit.simfit.experiments import read_experiments
 from zmpkit.simfit.outputs import write_fitted_truth
 from zmpkit.simfit.parameters import FitParameter, default_parameters
 from zmpkit.simfit.problem import FitProblem
+from zmpkit.simfit.recorded import RecordedSignals
 from zmpkit.simfit.self_test import (
     RECOVERY_COLUMNS,
     perturbed_values,
@@ -68,7 +69,7 @@ def test_catalogue_names_valid_letters_and_robot_gaps(monkeypatch: pytest.Monkey
 def test_every_catalogue_path_exists_in_the_shipped_truth(robot: str) -> None:
     doc = load_truth_doc(base_truth_path(robot, None))
     # NAO's C starts from the design (the URDF torso), not the shipped truth: see
-    # tests/test_nao_payload.py.
+    # tests/robots/test_nao_payload.py.
     letters = "M,I,G,F,S" + (",C" if robot == "teo" else "")
     for p in default_parameters(robot, letters):
         values = get_path(doc, p.path)
@@ -244,7 +245,7 @@ def test_resume_refuses_another_fit(tmp_path: Path) -> None:
 
 @pytest.fixture(scope="module")
 def nao_walk_folder(tmp_path_factory: pytest.TempPathFactory) -> Path:
-    from simfit_data import record_walk
+    from helpers.simfit_data import record_walk
 
     return record_walk(tmp_path_factory.mktemp("simfit_walk"))
 

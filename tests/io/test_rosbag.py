@@ -10,7 +10,7 @@ from rosbags.rosbag2 import Writer
 from rosbags.rosbag2.enums import StoragePlugin
 from rosbags.typesys import Stores, get_typestore
 
-from conftest import FEET_YAML
+from helpers.ft_data import FEET_YAML
 from zmpkit.errors import InputFileError, ParameterError
 from zmpkit.io import read_ft_source, read_robot_source, read_ros2_bag
 from zmpkit.pipelines.zmp_log import run_zmp_log

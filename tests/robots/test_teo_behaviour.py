@@ -13,7 +13,7 @@ The LIPM angle is ``θ = asin(x_ref / l)`` with ``l`` the lean lever of the rigi
 geometry (the CoM's displacement per radian about the ankle axes, ≈ 0.777 m sagittal: the
 ankle axis is 0.123 m above the sole). Run as a script to print the steady-state tables::
 
-    .venv/bin/python tests/test_teo_behaviour.py --effects 'all;none' --plane both
+    .venv/bin/python tests/robots/test_teo_behaviour.py --effects 'all;none' --plane both
 """
 
 from __future__ import annotations

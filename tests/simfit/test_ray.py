@@ -12,7 +12,7 @@ import pytest
 
 ray = pytest.importorskip("ray")
 
-from simfit_data import record_walk, small_case  # noqa: E402
+from helpers.simfit_data import record_walk, small_case  # noqa: E402
 from zmpkit.errors import ParameterError  # noqa: E402
 from zmpkit.simfit.backends import RayEvaluator, make_evaluator  # noqa: E402
 from zmpkit.simfit.experiments import read_experiments  # noqa: E402

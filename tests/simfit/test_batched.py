@@ -10,16 +10,12 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from simfit_data import record_walk, small_case
+from helpers.simfit_data import record_walk, small_case
 from zmpkit.sim.sensing import sample_series
 from zmpkit.simfit.batched import simulate_batch
-from zmpkit.simfit.experiments import (
-    RecordedSignals,
-    StepExperiment,
-    WalkExperiment,
-    read_experiments,
-)
+from zmpkit.simfit.experiments import StepExperiment, WalkExperiment, read_experiments
 from zmpkit.simfit.parameters import default_parameters
+from zmpkit.simfit.recorded import RecordedSignals
 from zmpkit.simfit.rollout import simulate_experiment
 from zmpkit.simfit.truth_doc import (
     base_truth_path,

@@ -10,7 +10,7 @@ import pyarrow as pa
 import pyarrow.parquet as pq
 import pytest
 
-from conftest import FEET_YAML, wrench_in_sensor, write_log
+from helpers.ft_data import FEET_YAML, wrench_in_sensor, write_log
 from zmpkit.cli import main
 from zmpkit.errors import InputFileError
 from zmpkit.identify import BalanceParams
