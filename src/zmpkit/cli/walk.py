@@ -9,11 +9,14 @@ import click
 from zmpkit.cli.app import cli, format_or_undefined
 from zmpkit.cli.progress import SimTimeProgress, StageProgress
 from zmpkit.experiments.walk_config import WalkConfig
+from zmpkit.experiments.walk_trial import Push
 from zmpkit.pipelines.walk import run_walk, write_walk
 from zmpkit.pipelines.walk_compensate import CompensateConfig, run_walk_compensate
 from zmpkit.pipelines.walk_compensate_report import write_walk_compensate
+from zmpkit.pipelines.walk_sweep import SweepConfig, run_walk_sweep, write_walk_sweep
+from zmpkit.walking.walk_controllers import CONTROLLERS
 
-__all__ = ["walk_compensate_command", "walk_group"]
+__all__ = ["walk_compensate_command", "walk_group", "walk_sweep_command"]
 
 
 @cli.group("walk", invoke_without_command=True)
@@ -23,6 +26,31 @@ __all__ = ["walk_compensate_command", "walk_group"]
     "--step-duration", type=float, default=0.5, show_default=True, help="Duration of one step [s]."
 )
 @click.option("--duration", type=float, default=10.0, show_default=True, help="Walking time [s].")
+@click.option(
+    "--lateral-speed", type=float, default=0.0, show_default=True, help="Leftward speed [m/s]."
+)
+@click.option(
+    "--turn-rate",
+    type=float,
+    default=0.0,
+    show_default=True,
+    help="Yaw rate, counter-clockwise positive [rad/s].",
+)
+@click.option(
+    "--controller",
+    type=click.Choice(CONTROLLERS),
+    default=CONTROLLERS[0],
+    show_default=True,
+    help="zmpip: preview control on a state observed from the F-T ZMP and the estimated CoM "
+    "(paper B's walk); dcm: DCM stabiliser; open: the planned walk played without feedback.",
+)
+@click.option(
+    "--push",
+    "pushes",
+    multiple=True,
+    metavar="FORCE_N@TIME_S[:x|y|-x|-y]",
+    help="A 0.1 s push on the torso, e.g. 20@4.2:y (repeatable).",
+)
 @click.option(
     "--effects",
     default="all",
@@ -48,6 +76,10 @@ def walk_group(
     speed: float,
     step_duration: float,
     duration: float,
+    lateral_speed: float,
+    turn_rate: float,
+    controller: str,
+    pushes: tuple[str, ...],
     effects: str,
     seed: int,
     truth: Path | None,
@@ -67,6 +99,10 @@ def walk_group(
         effects=effects,
         seed=seed,
         truth=None if truth is None else str(truth),
+        controller=controller,
+        lateral_speed_mps=lateral_speed,
+        turn_rate_rps=turn_rate,
+        pushes=tuple(Push.parse(text) for text in pushes),
     )
     with SimTimeProgress(f"walk ({config.effects or 'none'})") as progress:
         result = run_walk(config, progress=progress)
@@ -75,9 +111,16 @@ def walk_group(
     speed_text = format_or_undefined(s.mean_speed_mps, ".4f")
     peak_hz = format_or_undefined(s.trunk_pitch_peak_hz, ".2f")
     peak_rad = format_or_undefined(s.trunk_pitch_peak_amplitude_rad, ".4f")
+    if s.clamped_step_limits:
+        click.echo(
+            f"warning: steps were shortened by the footstep limits "
+            f"({', '.join(s.clamped_step_limits)}): the walk is slower than commanded",
+            err=True,
+        )
+    fall = f"{s.fell} ({s.fall_kind} at {s.fall_time_s:.2f} s)" if s.fell else "False"
     click.echo(
-        f"fell: {s.fell}; speed {speed_text} m/s (commanded {s.commanded_speed_mps:.4f}); "
-        f"trunk pitch peak {peak_hz} Hz, {peak_rad} rad"
+        f"{s.controller}: fell: {fall}; speed {speed_text} m/s "
+        f"(commanded {s.commanded_speed_mps:.4f}); trunk pitch peak {peak_hz} Hz, {peak_rad} rad"
     )
     click.echo(f"summary: {Path(out_dir) / 'summary.json'}")
 
@@ -134,3 +177,48 @@ def walk_compensate_command(
             f"{s.compensated_falls}"
         )
     click.echo(f"summary: {Path(out_dir) / 'summary.json'}")
+
+
+@walk_group.command("sweep")
+@click.option("--robot", type=click.Choice(("nao",)), default="nao", show_default=True)
+@click.option(
+    "--controllers",
+    default=",".join(("zmpip", "dcm", "open")),
+    show_default=True,
+    help=f"Comma-separated controllers among {', '.join(CONTROLLERS)}.",
+)
+@click.option("--effects", default="all", show_default=True, help="Simulated effects.")
+@click.option("--duration", type=float, default=10.0, show_default=True, help="Walk time [s].")
+@click.option("--seed", type=int, default=0, show_default=True, help="Seed of the sensor noise.")
+@click.option("--workers", type=int, default=2, show_default=True, help="Parallel processes.")
+@click.option(
+    "--out", "out_dir", type=click.Path(path_type=Path), required=True, help="Output folder."
+)
+def walk_sweep_command(
+    robot: str,
+    controllers: str,
+    effects: str,
+    duration: float,
+    seed: int,
+    workers: int,
+    out_dir: Path,
+) -> None:
+    """Robustness matrix: speeds, step durations, sideways, turning, pushes, sensor faults.
+
+    Writes robustness.csv row by row; rerun into the same folder to resume.
+    """
+    config = SweepConfig(
+        robot=robot,
+        controllers=tuple(c.strip() for c in controllers.split(",") if c.strip()),
+        effects=effects,
+        duration_s=duration,
+        seed=seed,
+        workers=workers,
+    )
+    with StageProgress() as progress:
+        result = run_walk_sweep(config, out_dir, progress=progress)
+    result = write_walk_sweep(result, out_dir)
+    for controller in config.controllers:
+        falls, cases = result.falls(controller)
+        click.echo(f"{controller}: {falls} of {cases} walks fell")
+    click.echo(f"robustness: {Path(out_dir) / 'robustness.csv'}")

@@ -11,15 +11,25 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+import mujoco
+
 from zmpkit.experiments.walk_config import WalkConfig
 from zmpkit.experiments.walk_summary import WalkSummary, summarise_walk
 from zmpkit.experiments.walk_trial import ProgressCallback, WalkRecord, simulate_walk
-from zmpkit.robots.nao import make_nao, nao_ik_model
+from zmpkit.robots.nao import NAO_LEG_JOINTS, make_nao, nao_ik_model
+from zmpkit.sim.world import Simulation
 from zmpkit.walking import generate_pattern
-from zmpkit.walking.ik import JointTrajectory, solve_walking_ik
+from zmpkit.walking.ik import IkSettings, JointTrajectory, solve_walking_ik
 from zmpkit.walking.pattern import WalkingPattern
+from zmpkit.walking.walk_controllers import (
+    DcmWalk,
+    OpenLoopWalk,
+    SensorLayout,
+    WalkController,
+    ZmpIpWalk,
+)
 
-__all__ = ["WalkTrial", "run_walk_trial"]
+__all__ = ["WalkTrial", "make_controller", "run_walk_trial", "sensor_layout"]
 
 
 @dataclass(frozen=True)
@@ -41,6 +51,37 @@ class WalkTrial:
     summary: WalkSummary
 
 
+def sensor_layout(sim: Simulation) -> SensorLayout:
+    """Where the simulated robot's sensors sit: its F-T sites, sole centres and IMU site."""
+    model = sim.model
+    orientation = sim.robot.imu.orientation
+    sensor = model.sensor(orientation)
+    imu_site = mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_SITE, int(sensor.objid[0]))
+    return SensorLayout(
+        sole_sites={f.foot: f"{f.foot}_sole" for f in sim.robot.feet},
+        sensor_sites={f.foot: f.site for f in sim.robot.feet},
+        imu_site=str(imu_site),
+        contact_threshold_n=sim.robot.contact_force_threshold_n,
+    )
+
+
+def make_controller(
+    name: str,
+    pattern: WalkingPattern,
+    trajectory: JointTrajectory,
+    model: mujoco.MjModel,
+    settings: IkSettings,
+    sim: Simulation,
+) -> WalkController:
+    """The walking controller ``name`` for this walk (``open``, ``zmpip`` or ``dcm``)."""
+    if name == "open":
+        return OpenLoopWalk(trajectory)
+    layout = sensor_layout(sim)
+    if name == "zmpip":
+        return ZmpIpWalk(pattern, model, settings, layout, sim.joint_names)
+    return DcmWalk(pattern, model, settings, layout, sim.joint_names)
+
+
 def run_walk_trial(config: WalkConfig, progress: ProgressCallback | None = None) -> WalkTrial:
     """Plan, solve the IK, simulate and summarise one walk.
 
@@ -49,8 +90,15 @@ def run_walk_trial(config: WalkConfig, progress: ProgressCallback | None = None)
         progress: called with (simulated time, total time) [s] during the simulation.
     """
     pattern = generate_pattern(config.pattern_config())
-    trajectory = solve_walking_ik(pattern, nao_ik_model())
+    model = nao_ik_model()
+    settings = IkSettings(joint_names=NAO_LEG_JOINTS)
+    trajectory = solve_walking_ik(pattern, model, settings)
     sim = make_nao(config.effects, config.truth, seed=config.seed)
-    record = simulate_walk(sim, trajectory, progress)
-    summary = summarise_walk(pattern, trajectory, record, config.effects, config.seed)
+    controller = make_controller(config.controller, pattern, trajectory, model, settings, sim)
+    record = simulate_walk(
+        sim, trajectory, progress, controller=controller, pushes=config.pushes,
+        faults=config.faults,
+    )  # fmt: skip
+    pushes = [f"{p.force_n:g}@{p.time_s:g}:{p.direction}" for p in config.pushes]
+    summary = summarise_walk(pattern, trajectory, record, config.effects, config.seed, pushes)
     return WalkTrial(config, pattern, trajectory, record, summary)

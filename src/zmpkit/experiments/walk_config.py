@@ -6,9 +6,11 @@ from dataclasses import dataclass
 
 from zmpkit import _validate
 from zmpkit.errors import ParameterError
+from zmpkit.experiments.walk_trial import Push, SensorFault
 from zmpkit.robots.nao import NAO_WALK_COM_HEIGHT_M
 from zmpkit.sim.effect_set import EffectSet
 from zmpkit.walking import GaitParameters, PatternConfig, WalkCommand
+from zmpkit.walking.walk_controllers import CONTROLLERS
 
 __all__ = ["ROBOTS", "WalkConfig"]
 
@@ -30,6 +32,12 @@ class WalkConfig:
         com_height_m: CoM height of the pattern [m].
         truth: a truth file for the simulator, or None for the shipped one.
         figures: whether to draw the figures.
+        controller: the walking controller, one of
+            :data:`~zmpkit.walking.walk_controllers.CONTROLLERS`.
+        lateral_speed_mps: commanded leftward speed [m/s].
+        turn_rate_rps: commanded yaw rate, counter-clockwise positive [rad/s].
+        pushes: forces on the torso during the walk.
+        faults: sensor faults the controller meets.
     """
 
     robot: str = "nao"
@@ -41,11 +49,24 @@ class WalkConfig:
     com_height_m: float = NAO_WALK_COM_HEIGHT_M
     truth: str | None = None
     figures: bool = True
+    controller: str = "open"
+    lateral_speed_mps: float = 0.0
+    turn_rate_rps: float = 0.0
+    pushes: tuple[Push, ...] = ()
+    faults: tuple[SensorFault, ...] = ()
 
     def __post_init__(self) -> None:
         if self.robot not in ROBOTS:
             raise ParameterError(f"robot must be one of {', '.join(ROBOTS)}; got {self.robot!r}")
         _validate.finite("WalkConfig.speed_mps", self.speed_mps)
+        _validate.finite("WalkConfig.lateral_speed_mps", self.lateral_speed_mps)
+        _validate.finite("WalkConfig.turn_rate_rps", self.turn_rate_rps)
+        if self.controller not in CONTROLLERS:
+            raise ParameterError(
+                f"controller must be one of {', '.join(CONTROLLERS)}; got {self.controller!r}"
+            )
+        object.__setattr__(self, "pushes", tuple(self.pushes))
+        object.__setattr__(self, "faults", tuple(self.faults))
         _validate.positive("WalkConfig.step_duration_s", self.step_duration_s, "s")
         _validate.positive("WalkConfig.duration_s", self.duration_s, "s")
         _validate.positive("WalkConfig.com_height_m", self.com_height_m, "m")
@@ -56,7 +77,9 @@ class WalkConfig:
     def pattern_config(self) -> PatternConfig:
         """The walking pattern this walk plays."""
         return PatternConfig(
-            command=WalkCommand(v_x=self.speed_mps),
+            command=WalkCommand(
+                v_x=self.speed_mps, v_y=self.lateral_speed_mps, omega=self.turn_rate_rps
+            ),
             duration_s=self.duration_s,
             gait=GaitParameters(step_duration_s=self.step_duration_s),
             com_height_m=self.com_height_m,

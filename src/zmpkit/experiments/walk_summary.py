@@ -3,13 +3,19 @@
 Paper B §III reports the trunk oscillation (its spectrum peaks at the step frequency), the
 actual vs commanded speed, and traces the speed difference to the feet: the distance between
 the feet in double support (step length) and their slip while they stand. Every metric is
-taken over the steady walk (see :func:`steady_window`). Metrics that cannot be taken (the
-robot fell before the window) are None.
+taken over the steady walk (see :func:`steady_window`).
+
+A fall is a fall: a walk that fell has every metric None, whatever it did before. Falls are
+a tilt past the limit (``roll``, ``pitch``), the torso too low (``height``) — both stop the
+simulation (:mod:`zmpkit.experiments.walk_trial`) — or a ``stall``: over two consecutive
+steps the torso progressed less than :data:`STALL_PROGRESS_RATIO` of the commanded distance
+(straight walks of at least :data:`STALL_MIN_SPEED_MPS`; a turning walk is not judged).
 """
 
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -21,10 +27,22 @@ from zmpkit.signals.spectra import amplitude_spectrum
 from zmpkit.walking.ik import JointTrajectory
 from zmpkit.walking.pattern import WalkingPattern
 
-__all__ = ["MIN_WINDOW_S", "WalkSummary", "steady_window", "summarise_walk"]
+__all__ = [
+    "MIN_WINDOW_S",
+    "STALL_MIN_SPEED_MPS",
+    "STALL_PROGRESS_RATIO",
+    "WalkSummary",
+    "stall_time",
+    "steady_window",
+    "summarise_walk",
+]
 
 MIN_WINDOW_S = 1.0
 """Shortest steady window that gives metrics [s]."""
+STALL_PROGRESS_RATIO = 0.5
+"""A walk stalls when two steps progress less than this share of the commanded distance [-]."""
+STALL_MIN_SPEED_MPS = 0.02
+"""Commanded speeds below this are not judged for stalls [m/s]."""
 
 
 @dataclass(frozen=True)
@@ -51,6 +69,13 @@ class WalkSummary:
         seed: the sensor-noise seed.
         ik_max_com_error_m: largest CoM error the IK left [m].
         ik_max_foot_error_m: largest foot error the IK left [m].
+        fall_kind: ``roll``, ``pitch``, ``height`` or ``stall``; None when it stood.
+        controller: the walking controller (``open``, ``zmpip``, ``dcm``).
+        commanded_lateral_speed_mps: commanded leftward speed [m/s].
+        commanded_turn_rate_rps: commanded yaw rate [rad/s].
+        clamped_step_limits: the footstep limits that shortened a step (empty: none did;
+            then the walk is slower than commanded).
+        pushes: the pushes, as ``FORCE_N@TIME_S:DIR``.
     """
 
     fell: bool
@@ -72,6 +97,12 @@ class WalkSummary:
     seed: int
     ik_max_com_error_m: float
     ik_max_foot_error_m: float
+    fall_kind: str | None = None
+    controller: str = "open"
+    commanded_lateral_speed_mps: float = 0.0
+    commanded_turn_rate_rps: float = 0.0
+    clamped_step_limits: tuple[str, ...] = ()
+    pushes: tuple[str, ...] = ()
 
 
 def steady_window(pattern: WalkingPattern, record: WalkRecord) -> tuple[float, float]:
@@ -83,6 +114,33 @@ def steady_window(pattern: WalkingPattern, record: WalkRecord) -> tuple[float, f
     if record.fall_time_s is not None:
         end = min(end, record.fall_time_s)
     return float(start), float(end)
+
+
+def stall_time(pattern: WalkingPattern, record: WalkRecord) -> float | None:
+    """End of the first two-step window whose progress was under half the commanded [s].
+
+    Windows slide by one step over the steady walk (:func:`steady_window`: the start and the
+    stop, where the plan itself is slower, are not judged). Progress is the torso's
+    displacement (motion capture) along the commanded direction;
+    None when the walk never stalled or is not judged (turning, or slower than
+    :data:`STALL_MIN_SPEED_MPS`).
+    """
+    command = pattern.config.command
+    speed = math.hypot(command.v_x, command.v_y)
+    if command.omega != 0.0 or speed < STALL_MIN_SPEED_MPS:
+        return None
+    direction = np.array([command.v_x, command.v_y]) / speed
+    span = 2.0 * pattern.footsteps.gait.step_duration_s
+    time, torso = record.time_s, record.torso_in_world[:, :2]
+    t, end = steady_window(pattern, record)
+    while t + span <= end + 1e-9:
+        i0, i1 = np.searchsorted(time, [t, t + span])
+        i1 = min(int(i1), time.size - 1)
+        progress = float((torso[i1] - torso[int(i0)]) @ direction)
+        if progress < STALL_PROGRESS_RATIO * speed * span:
+            return float(time[i1])
+        t += span / 2.0
+    return None
 
 
 def _mean(values: NDArray[np.float64]) -> float | None:
@@ -134,9 +192,27 @@ def summarise_walk(
     record: WalkRecord,
     effects: str,
     seed: int,
+    pushes: Sequence[str] = (),
 ) -> WalkSummary:
-    """The summary of one simulated walk (see :class:`WalkSummary`)."""
+    """The summary of one simulated walk (see :class:`WalkSummary`).
+
+    Args:
+        pattern: the planned walk.
+        trajectory: its IK.
+        record: what the robot did.
+        effects: the effects that were on.
+        seed: the sensor-noise seed.
+        pushes: the pushes, as ``FORCE_N@TIME_S:DIR``.
+    """
     step_hz = 1.0 / pattern.footsteps.gait.step_duration_s
+    fall_kind, fall_time = record.fall_kind, record.fall_time_s
+    if record.fell and fall_kind is None:
+        fall_kind = "tilt"  # a record from before fall kinds were told apart
+    if not record.fell:
+        stalled = stall_time(pattern, record)
+        if stalled is not None:
+            fall_kind, fall_time = "stall", stalled
+    fell = fall_kind is not None
     window = steady_window(pattern, record)
     time = record.time_s
     mask = (time >= window[0]) & (time <= window[1])
@@ -146,23 +222,30 @@ def summarise_walk(
          "trunk_pitch_step_frequency_amplitude_rad", "mean_double_support_foot_distance_m",
          "planned_double_support_foot_distance_m", "foot_slip_m", "foot_slip_x_m"),
     )  # fmt: skip
-    if window[1] - window[0] >= MIN_WINDOW_S:
+    if not fell and window[1] - window[0] >= MIN_WINDOW_S:
         planned_mask = (pattern.time_s >= window[0]) & (pattern.time_s <= window[1])
         metrics["mean_speed_mps"] = fitted_speed(time, record.torso_in_world[:, 0], mask)
         com_x = pattern.com_position_in_world[:, 0]
         metrics["planned_speed_mps"] = fitted_speed(pattern.time_s, com_x, planned_mask)
         metrics.update(_trunk(record, mask, step_hz))
         metrics.update(_feet(record, pattern, mask, planned_mask))
+    command = pattern.config.command
     return WalkSummary(
-        fell=record.fell,
-        commanded_speed_mps=float(pattern.config.command.v_x),
+        fell=fell,
+        commanded_speed_mps=float(command.v_x),
         step_frequency_hz=step_hz,
-        fall_time_s=record.fall_time_s,
+        fall_time_s=fall_time,
         window_s=window,
         effects=effects,
         seed=seed,
         ik_max_com_error_m=trajectory.max_com_error_m,
         ik_max_foot_error_m=trajectory.max_foot_error_m,
+        fall_kind=fall_kind,
+        controller=record.controller,
+        commanded_lateral_speed_mps=float(command.v_y),
+        commanded_turn_rate_rps=float(command.omega),
+        clamped_step_limits=pattern.footsteps.clamped_limits,
+        pushes=tuple(pushes),
         **{
             k: (None if v is None or not math.isfinite(v) else float(v)) for k, v in metrics.items()
         },

@@ -14,27 +14,37 @@ Recorded once per motion frame:
 - each sole centre's world position and the torso position: a motion capture of the robot.
 
 A fall (trunk tilt beyond :data:`FALL_TILT_RAD` or torso below :data:`FALL_TORSO_HEIGHT_M`)
-stops the run; the record then ends at the fall.
+stops the run; the record then ends at the fall and says which (``fall_kind``: ``roll``,
+``pitch`` or ``height``).
 
-An online controller (paper B's Algorithm 2) enters through ``frame_hook``: before each motion
-frame ``k`` it gets the :class:`FrameReading` of frame ``k - 1`` and returns the joint targets
-of frame ``k`` (in the trajectory's joint order), or None to keep the planned ones. Without a
-hook the planned trajectory is played unchanged.
+A walking controller (:mod:`zmpkit.walking.walk_controllers`) reads, before each motion frame
+``k``, the :class:`~zmpkit.walking.measurement.WalkMeasurement` of frame ``k - 1`` — encoders,
+IMU and the F-T wrenches in their sensor frames, nothing else — and gives the joint targets
+of frame ``k``. Paper B's Algorithm 2 enters the same way through ``frame_hook``, which gets
+the :class:`FrameReading` of frame ``k - 1`` and returns the targets of frame ``k`` (or None to
+keep the controller's). With neither, the planned trajectory is played unchanged.
+
+Pushes (:class:`Push`) are external forces on the torso, applied at its CoM in the world.
+Sensor faults (:class:`SensorFault`) corrupt what the controller reads, never the record.
 """
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import NDArray
 
+from zmpkit import _validate
+from zmpkit.errors import ParameterError
 from zmpkit.sensors.imu import quaternion_pitch_roll
 from zmpkit.sensors.mount import wrench_in_world
 from zmpkit.sensors.zmp import CONTACT_FORCE_THRESHOLD_N, zmp_in_world
 from zmpkit.sim.world import Simulation
 from zmpkit.walking.ik import JointTrajectory
+from zmpkit.walking.measurement import WalkMeasurement
+from zmpkit.walking.walk_controllers import WalkController
 
 __all__ = [
     "FALL_TILT_RAD",
@@ -42,6 +52,8 @@ __all__ = [
     "FrameHook",
     "FrameReading",
     "ProgressCallback",
+    "Push",
+    "SensorFault",
     "WalkRecord",
     "simulate_walk",
     "start_pose",
@@ -56,6 +68,57 @@ PROGRESS_EVERY_S = 0.5
 
 ProgressCallback = Callable[[float, float], None]
 """``progress(simulated_s, total_s)``, called during a run."""
+
+PUSH_DIRECTIONS: dict[str, tuple[float, float]] = {
+    "x": (1.0, 0.0), "-x": (-1.0, 0.0), "y": (0.0, 1.0), "-y": (0.0, -1.0),
+}  # fmt: skip
+"""Push directions in the world frame (x forward, y left)."""
+
+
+@dataclass(frozen=True)
+class Push:
+    """A horizontal force on the torso for a while (the usual push-recovery test).
+
+    Attributes:
+        force_n: magnitude [N], > 0.
+        time_s: when it starts [s].
+        direction: one of :data:`PUSH_DIRECTIONS`.
+        duration_s: how long it lasts [s].
+    """
+
+    force_n: float
+    time_s: float
+    direction: str = "x"
+    duration_s: float = 0.1
+
+    def __post_init__(self) -> None:
+        _validate.positive("Push.force_n", self.force_n, "N")
+        _validate.non_negative("Push.time_s", self.time_s, "s")
+        _validate.positive("Push.duration_s", self.duration_s, "s")
+        if self.direction not in PUSH_DIRECTIONS:
+            raise ParameterError(
+                f"Push.direction must be one of {', '.join(PUSH_DIRECTIONS)}; "
+                f"got {self.direction!r}"
+            )
+
+    @classmethod
+    def parse(cls, text: str) -> Push:
+        """Read ``FORCE_N@TIME_S[:DIR]``, e.g. ``20@3.5:y`` (direction x when not given)."""
+        force, _, rest = text.partition("@")
+        when, _, direction = rest.partition(":")
+        try:
+            return cls(float(force), float(when), direction or "x")
+        except ValueError:
+            raise ParameterError(
+                f"a push is FORCE_N@TIME_S[:x|y|-x|-y], e.g. 20@3.5:y; got {text!r}"
+            ) from None
+
+    def force_in_world(self, time_s: float) -> tuple[float, float]:
+        """The force at ``time_s`` [N] (x, y); zero outside the push."""
+        if not self.time_s <= time_s < self.time_s + self.duration_s:
+            return 0.0, 0.0
+        ux, uy = PUSH_DIRECTIONS[self.direction]
+        return self.force_n * ux, self.force_n * uy
 
 
 @dataclass(frozen=True)
@@ -110,6 +173,8 @@ class WalkRecord:
         torso_in_world: torso origin [m], shape (N, 3).
         fell: whether the robot fell.
         fall_time_s: when, or None.
+        fall_kind: how (``roll``, ``pitch``, ``height``), or None.
+        controller: the walking controller that ran.
         qpos: the simulator's whole configuration (MuJoCo ``qpos``), shape (N, nq); for
             validating models against the simulation, not something a real robot reports.
         contact_threshold_n: the robot's contact threshold [N] (:mod:`zmpkit.sensors.zmp`).
@@ -132,6 +197,8 @@ class WalkRecord:
     fall_time_s: float | None
     qpos: NDArray[np.float64] | None = None
     contact_threshold_n: float = CONTACT_FORCE_THRESHOLD_N
+    fall_kind: str | None = None
+    controller: str = "open"
 
     def zmp_in_world(self) -> NDArray[np.float64]:
         """The measured ZMP from the feet's F-T sensors [m], shape (N, 2); NaN without contact."""
@@ -197,13 +264,15 @@ class _Recorder:
         self.rows += 1
         return self.pitch[k], self.roll[k]
 
-    def result(self, fell: bool, fall_time: float | None) -> WalkRecord:
+    def result(self, fall_kind: str | None, controller: str) -> WalkRecord:
         n = self.rows
+        fall_time = float(self.time[n - 1]) if fall_kind is not None else None
         return WalkRecord(
             self.time[:n], self.sim.joint_names, self.q_cmd[:n], self.q_meas[:n],
             self.torque[:n], self.pitch[:n], self.roll[:n], self.feet, self.force[:n],
-            self.moment[:n], self.sensor[:n], self.sole[:n], self.torso[:n], fell, fall_time,
-            self.qpos[:n], self.sim.robot.contact_force_threshold_n,
+            self.moment[:n], self.sensor[:n], self.sole[:n], self.torso[:n],
+            fall_kind is not None, fall_time, self.qpos[:n],
+            self.sim.robot.contact_force_threshold_n, fall_kind, controller,
         )  # fmt: skip
 
     def reading(self) -> FrameReading:
@@ -215,9 +284,99 @@ class _Recorder:
         )  # fmt: skip
 
 
-def _fallen(sim: Simulation, pitch: float, roll: float) -> bool:
-    tilt = max(abs(pitch), abs(roll))
-    return tilt > FALL_TILT_RAD or float(sim.data.qpos[2]) < FALL_TORSO_HEIGHT_M
+FAULTS: dict[str, str] = {
+    "ft_dropout": "both F-T sensors read zero for 50 ms",
+    "ft_spike": "one sample of +500 N on the right foot's F_z",
+    "ft_nan": "both F-T sensors read NaN for 30 ms",
+    "gyro_bias": "a 0.05 rad/s gyro bias about z: the IMU's yaw drifts from the start",
+}
+"""Sensor faults a controller meets, by name."""
+
+
+@dataclass(frozen=True)
+class SensorFault:
+    """A fault of the robot's sensors, as the controller reads them (:data:`FAULTS`).
+
+    Attributes:
+        kind: one of :data:`FAULTS`.
+        time_s: when it starts [s] (a bias is there from the start).
+    """
+
+    kind: str
+    time_s: float = 0.0
+
+    DROPOUT_S = 0.05
+    NAN_S = 0.03
+    SPIKE_N = 500.0
+    GYRO_BIAS_RPS = 0.05
+
+    def __post_init__(self) -> None:
+        if self.kind not in FAULTS:
+            raise ParameterError(f"a sensor fault is one of {', '.join(FAULTS)}; got {self.kind!r}")
+        _validate.non_negative("SensorFault.time_s", self.time_s, "s")
+
+    def apply(self, measurement: WalkMeasurement, frame_s: float) -> None:
+        """Corrupt ``measurement`` (read at ``measurement.time_s``) in place."""
+        t, start = measurement.time_s, self.time_s
+        if self.kind == "gyro_bias":
+            yaw = self.GYRO_BIAS_RPS * t
+            measurement.gyro_rps[2] += self.GYRO_BIAS_RPS
+            drift = np.array([np.cos(yaw / 2), 0.0, 0.0, np.sin(yaw / 2)])
+            q = measurement.imu_quaternion.copy()
+            measurement.imu_quaternion[0] = drift[0] * q[0] - drift[3] * q[3]
+            measurement.imu_quaternion[1] = drift[0] * q[1] - drift[3] * q[2]
+            measurement.imu_quaternion[2] = drift[0] * q[2] + drift[3] * q[1]
+            measurement.imu_quaternion[3] = drift[0] * q[3] + drift[3] * q[0]
+        elif self.kind == "ft_dropout" and start <= t < start + self.DROPOUT_S:
+            measurement.force_in_sensor[:] = 0.0
+            measurement.moment_in_sensor[:] = 0.0
+        elif self.kind == "ft_nan" and start <= t < start + self.NAN_S:
+            measurement.force_in_sensor[:] = np.nan
+            measurement.moment_in_sensor[:] = np.nan
+        elif self.kind == "ft_spike" and start <= t < start + frame_s:
+            right = measurement.feet.index("right") if "right" in measurement.feet else 0
+            measurement.force_in_sensor[right, 2] += self.SPIKE_N
+
+
+def _fall_kind(sim: Simulation, pitch: float, roll: float) -> str | None:
+    """``roll`` or ``pitch`` past :data:`FALL_TILT_RAD`, ``height`` (torso too low), or None."""
+    if max(abs(pitch), abs(roll)) > FALL_TILT_RAD:
+        return "roll" if abs(roll) >= abs(pitch) else "pitch"
+    if float(sim.data.qpos[2]) < FALL_TORSO_HEIGHT_M:
+        return "height"
+    return None
+
+
+def read_measurement(sim: Simulation, measurement: WalkMeasurement) -> None:
+    """Fill ``measurement`` with what the robot's sensors read now (encoders, IMU, F-T)."""
+    measurement.time_s = sim.time
+    measurement.q_meas_rad[:] = sim.encoders()
+    gyro, _, quaternion = sim.imu()
+    measurement.gyro_rps[:] = gyro
+    measurement.imu_quaternion[:] = quaternion
+    for i, foot in enumerate(measurement.feet):
+        wrench = sim.ft(foot)
+        measurement.force_in_sensor[i] = wrench[:3]
+        measurement.moment_in_sensor[i] = wrench[3:]
+
+
+class _Pusher:
+    """Applies the pushes to the torso, physics step by physics step."""
+
+    def __init__(self, sim: Simulation, pushes: Sequence[Push]) -> None:
+        self.sim, self.pushes = sim, tuple(pushes)
+        self.body = 1  # the floating base (torso)
+
+    def apply(self) -> None:
+        if not self.pushes:
+            return
+        t = self.sim.time
+        fx = fy = 0.0
+        for push in self.pushes:
+            px, py = push.force_in_world(t)
+            fx, fy = fx + px, fy + py
+        self.sim.data.xfrc_applied[self.body, 0] = fx
+        self.sim.data.xfrc_applied[self.body, 1] = fy
 
 
 def simulate_walk(
@@ -225,6 +384,9 @@ def simulate_walk(
     trajectory: JointTrajectory,
     progress: ProgressCallback | None = None,
     frame_hook: FrameHook | None = None,
+    controller: WalkController | None = None,
+    pushes: Sequence[Push] = (),
+    faults: Sequence[SensorFault] = (),
 ) -> WalkRecord:
     """Track ``trajectory`` with the simulated robot's servos from its first pose.
 
@@ -234,6 +396,9 @@ def simulate_walk(
         progress: called with (simulated time, total time) [s] every half second of walk.
         frame_hook: online controller that may replace each frame's joint targets (module
             docstring); None plays ``trajectory`` as planned.
+        controller: the walking controller (module docstring); None plays ``trajectory``.
+        pushes: forces on the torso during the walk.
+        faults: sensor faults the controller meets.
 
     Returns:
         The record, ending at the fall if the robot fell.
@@ -244,13 +409,21 @@ def simulate_walk(
     substeps = max(1, round(frame_s / sim.dt))
     feet = tuple(f.foot for f in sim.robot.feet)
     recorder = _Recorder(sim, len(q_frames), feet)
+    measurement = WalkMeasurement.empty(sim.joint_names, feet)
+    pusher = _Pusher(sim, pushes)
     start_pose(sim, trajectory)
     recorder.record(q_frames[0])
     total = float(trajectory.time_s[-1])
     every = max(1, round(PROGRESS_EVERY_S / frame_s))
-    if frame_hook is not None:
+    name = "open" if controller is None else controller.name
+    if frame_hook is not None or controller is not None:
         q_frames = q_frames.copy()
     for k in range(1, len(q_frames)):
+        if controller is not None:
+            read_measurement(sim, measurement)
+            for fault in faults:
+                fault.apply(measurement, frame_s)
+            q_frames[k] = controller.step(k, measurement)[columns]
         if frame_hook is not None:
             online = frame_hook(k, recorder.reading())
             if online is not None:
@@ -258,10 +431,12 @@ def simulate_walk(
         step = (q_frames[k] - q_frames[k - 1]) / substeps
         for i in range(1, substeps + 1):
             sim.command(q_frames[k - 1] + i * step)
+            pusher.apply()
             sim.step(1)
         pitch, roll = recorder.record(q_frames[k])
-        if _fallen(sim, pitch, roll):
-            return recorder.result(True, sim.time)
+        kind = _fall_kind(sim, pitch, roll)
+        if kind is not None:
+            return recorder.result(kind, name)
         if progress is not None and k % every == 0:
             progress(sim.time, total)
-    return recorder.result(False, None)
+    return recorder.result(None, name)

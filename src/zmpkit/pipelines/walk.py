@@ -77,5 +77,9 @@ def write_walk(result: WalkResult, out_dir: str | Path) -> WalkResult:
         "series": write_series(out / SERIES_FILE, result.pattern, result.record),
     }
     if result.config.figures:
-        files.update(write_figures(out, result.config, result.pattern, result.record))
+        files.update(
+            write_figures(
+                out, result.config, result.pattern, result.record, result.summary.window_s
+            )
+        )
     return replace(result, files=files)

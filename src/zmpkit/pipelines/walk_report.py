@@ -17,15 +17,29 @@ __all__ = ["write_figures"]
 
 
 def write_figures(
-    out: Path, config: WalkConfig, pattern: WalkingPattern, record: WalkRecord
+    out: Path,
+    config: WalkConfig,
+    pattern: WalkingPattern,
+    record: WalkRecord,
+    window_s: tuple[float, float] | None = None,
 ) -> dict[str, Path]:
-    """Draw paper B's figures of one walk into ``out``; return them by role."""
-    label = f"{config.robot.upper()} {config.speed_mps:g} m/s, effects {config.effects}"
+    """Draw paper B's figures of one walk into ``out``; return them by role.
+
+    The spectrum is taken over ``window_s`` [s] (the summary's steady window, so the figure
+    shows the numbers of ``summary.json``), or over the whole record when None.
+    """
+    label = (
+        f"{config.robot.upper()} {config.speed_mps:g} m/s, effects {config.effects}, "
+        f"{config.controller}"
+    )
     t = record.time_s
     files = {"trunk_pitch": plots.plot_trunk_pitch(t, record.trunk_pitch_rad,
                                                    out / "trunk_pitch.png", label)}  # fmt: skip
-    if t.size >= 8:
-        spectrum = amplitude_spectrum(record.trunk_pitch_rad, float(np.median(np.diff(t))))
+    keep = np.ones(t.size, dtype=bool)
+    if window_s is not None:
+        keep = (t >= window_s[0]) & (t <= window_s[1])
+    if np.count_nonzero(keep) >= 8:
+        spectrum = amplitude_spectrum(record.trunk_pitch_rad[keep], float(np.median(np.diff(t))))
         step_hz = 1.0 / config.step_duration_s
         files["spectrum"] = plots.plot_trunk_spectrum(
             spectrum, step_hz, out / "trunk_pitch_spectrum.png", label

@@ -1,0 +1,198 @@
+"""``zmpkit walk sweep``: the robustness matrix of the walking controllers, resumable.
+
+Every case of :func:`~zmpkit.experiments.robustness.robustness_matrix` is walked in a process
+pool; each finished row is appended to ``robustness.csv`` at once, so an interrupted sweep
+loses at most the walks in flight, and a rerun into the same folder walks only the cases not
+yet in the file (rows of another configuration are refused: ``sweep.json`` records it).
+``write_walk_sweep`` adds one figure per controller and the counts of falls.
+"""
+
+from __future__ import annotations
+
+import csv
+import json
+import multiprocessing
+from collections.abc import Iterator
+from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
+from dataclasses import asdict, dataclass, field
+from pathlib import Path
+
+from zmpkit import _validate
+from zmpkit.analysis.robustness_plot import plot_robustness
+from zmpkit.errors import InputFileError, ParameterError
+from zmpkit.experiments.robustness import (
+    ROBUSTNESS_COLUMNS,
+    RobustnessCase,
+    RobustnessRow,
+    robustness_matrix,
+    run_case,
+)
+from zmpkit.experiments.walk_config import ROBOTS
+from zmpkit.pipelines.progress import StageCallback
+from zmpkit.sim.effect_set import EffectSet
+from zmpkit.walking.walk_controllers import CONTROLLERS
+
+__all__ = ["SweepConfig", "SweepResult", "run_walk_sweep", "write_walk_sweep"]
+
+CSV_FILE = "robustness.csv"
+CONFIG_FILE = "sweep.json"
+
+
+@dataclass(frozen=True)
+class SweepConfig:
+    """A robustness sweep.
+
+    Attributes:
+        robot: the robot, one of the walking robots.
+        controllers: the controllers to sweep.
+        effects: the simulated effects.
+        duration_s: walking time of each case [s].
+        seed: sensor-noise seed.
+        workers: parallel processes.
+    """
+
+    robot: str = "nao"
+    controllers: tuple[str, ...] = ("zmpip", "dcm", "open")
+    effects: str = "all"
+    duration_s: float = 10.0
+    seed: int = 0
+    workers: int = 2
+
+    def __post_init__(self) -> None:
+        if self.robot not in ROBOTS:
+            raise ParameterError(f"robot must be one of {', '.join(ROBOTS)}; got {self.robot!r}")
+        unknown = [c for c in self.controllers if c not in CONTROLLERS]
+        if unknown or not self.controllers:
+            raise ParameterError(
+                f"controllers must be among {', '.join(CONTROLLERS)}; got {self.controllers!r}"
+            )
+        _validate.positive("SweepConfig.duration_s", self.duration_s, "s")
+        if self.duration_s < 5.0:
+            raise ParameterError(
+                f"SweepConfig.duration_s must be >= 5 s (pushes land in the seventh step); "
+                f"got {self.duration_s}"
+            )
+        if self.workers < 1:
+            raise ParameterError(f"SweepConfig.workers must be >= 1; got {self.workers}")
+        object.__setattr__(self, "effects", EffectSet.parse(self.effects).letters)
+
+    def identity(self) -> dict[str, object]:
+        """What must match for rows to be resumed (not the controllers nor the workers)."""
+        return {k: v for k, v in asdict(self).items() if k not in ("controllers", "workers")}
+
+
+@dataclass(frozen=True)
+class SweepResult:
+    """A finished sweep.
+
+    Attributes:
+        config: what was swept.
+        rows: one row per case, in the matrix's order.
+        files: the files written, by role.
+    """
+
+    config: SweepConfig
+    rows: tuple[tuple[str, ...], ...]
+    files: dict[str, Path] = field(default_factory=dict)
+
+    def falls(self, controller: str) -> tuple[int, int]:
+        """(falls, cases) of ``controller``."""
+        mine = [r for r in self.rows if r[0] == controller]
+        return sum(r[ROBUSTNESS_COLUMNS.index("fell")] == "true" for r in mine), len(mine)
+
+
+def _read_rows(path: Path) -> dict[tuple[str, ...], tuple[str, ...]]:
+    if not path.exists():
+        return {}
+    with path.open(newline="", encoding="utf-8") as handle:
+        reader = csv.reader(handle)
+        header = next(reader, None)
+        if header is None:
+            return {}
+        if tuple(header) != ROBUSTNESS_COLUMNS:
+            raise InputFileError(path, "is not a robustness table of this zmpkit; remove it")
+        return {tuple(row[:9]): tuple(row) for row in reader if len(row) == len(header)}
+
+
+def _check_identity(out: Path, config: SweepConfig) -> None:
+    path = out / CONFIG_FILE
+    if path.exists():
+        earlier = json.loads(path.read_text(encoding="utf-8"))
+        if earlier != config.identity():
+            raise InputFileError(
+                path, f"holds another sweep ({earlier}); use another --out to sweep {config}"
+            )
+    path.write_text(json.dumps(config.identity(), indent=2) + "\n", encoding="utf-8")
+
+
+def _finished(cases: list[RobustnessCase], config: SweepConfig) -> Iterator[RobustnessRow]:
+    if config.workers <= 1:
+        for case in cases:
+            yield run_case(case, config.effects, config.duration_s, config.seed)
+        return
+    context = multiprocessing.get_context("spawn")
+    with ProcessPoolExecutor(max_workers=config.workers, mp_context=context) as pool:
+        pending: set[Future[RobustnessRow]] = {
+            pool.submit(run_case, case, config.effects, config.duration_s, config.seed)
+            for case in cases
+        }
+        while pending:
+            done, pending = wait(pending, return_when=FIRST_COMPLETED)
+            for future in done:
+                yield future.result()
+
+
+def run_walk_sweep(
+    config: SweepConfig, out: Path, progress: StageCallback | None = None
+) -> SweepResult:
+    """Walk every case not yet in ``out/robustness.csv``, appending each row as it finishes.
+
+    Args:
+        config: the sweep.
+        out: output folder (created); an earlier sweep's rows there are kept.
+        progress: called with ("walks", finished, total).
+    """
+    cases = robustness_matrix(config.controllers)
+    out.mkdir(parents=True, exist_ok=True)
+    _check_identity(out, config)
+    path = out / CSV_FILE
+    done = _read_rows(path)
+    todo = [c for c in cases if c.key not in done]
+    new_file = not path.exists() or not done
+    with path.open("w" if new_file else "a", newline="", encoding="utf-8") as handle:
+        writer = csv.writer(handle)
+        if new_file:
+            writer.writerow(ROBUSTNESS_COLUMNS)
+            handle.flush()
+        finished = len(cases) - len(todo)
+        if progress is not None:
+            progress("walks", finished, len(cases))
+        for row in _finished(todo, config):
+            cells = tuple(row.cells())
+            writer.writerow(cells)
+            handle.flush()
+            done[cells[:9]] = cells
+            finished += 1
+            if progress is not None:
+                progress("walks", finished, len(cases))
+    rows = tuple(done[c.key] for c in cases)
+    return SweepResult(config, rows, {"robustness": path})
+
+
+def write_walk_sweep(result: SweepResult, out: Path) -> SweepResult:
+    """Write one figure per controller and ``summary.json`` (falls per controller)."""
+    files = dict(result.files)
+    for controller in result.config.controllers:
+        rows = [r for r in result.rows if r[0] == controller]
+        files[f"figure_{controller}"] = plot_robustness(
+            rows, ROBUSTNESS_COLUMNS, out / f"robustness_{controller}.png",
+            f"{result.config.robot.upper()}, effects {result.config.effects or 'none'}: "
+            f"{controller}",
+        )  # fmt: skip
+    summary = {
+        c: {"falls": f, "cases": n} for c in result.config.controllers for f, n in [result.falls(c)]
+    }
+    path = out / "summary.json"
+    path.write_text(json.dumps(summary, indent=2) + "\n", encoding="utf-8")
+    files["summary"] = path
+    return SweepResult(result.config, result.rows, files)

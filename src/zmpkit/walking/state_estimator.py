@@ -1,0 +1,172 @@
+r"""Where a walking robot's CoM and ZMP are, from its encoders, IMU and F-T sensors.
+
+A real robot has no motion capture: the controller places itself in the world through the
+feet it stands on. Each tick, the robot's design model (the IK's rigid model) is put in the
+measured configuration — joints from the encoders, the floating base's orientation from the
+IMU — with the base at the origin (forward kinematics). That gives the CoM ``c_fk``, each sole
+centre ``s_i``, each F-T sensor's origin ``o_i`` and rotation ``R_i``. The feet in contact are
+where the footstep plan put them (``ŝ_i``), so the whole robot is shifted by the
+contact-weighted anchor offset
+
+.. math::
+
+    Δ = \frac{\sum_i F_{z,i} (\hat s_i - s_i)}{\sum_i F_{z,i}}, \qquad
+    \hat c = c_{fk} + Δ, \qquad \hat o_i = o_i + Δ
+
+over the feet in contact (world ``F_z`` at least the contact threshold; weighting by force
+makes the estimate continuous through double support). The ZMP follows from the wrenches
+rotated into the world, ``R_i f_i`` and ``R_i τ_i``, about ``\hat o_i``
+(:func:`zmpkit.sensors.zmp.zmp_in_world`). The CoM velocity is the finite difference of
+``\hat c`` low-passed with time constant ``τ_v``:
+
+.. math:: \hat v \leftarrow \hat v + \frac{T}{τ_v + T}\left(\frac{\hat c_k - \hat c_{k-1}}{T}
+    - \hat v\right).
+
+The IMU is assumed on the floating base (the root body), as on NAO and TEO.
+"""
+
+from __future__ import annotations
+
+import mujoco
+import numpy as np
+from numpy.typing import NDArray
+
+from zmpkit import _validate
+from zmpkit.errors import ModelError
+from zmpkit.sensors.zmp import zmp_in_world
+from zmpkit.walking.measurement import WalkMeasurement
+
+__all__ = ["KinematicStateEstimator"]
+
+
+def _site(model: mujoco.MjModel, name: str) -> int:
+    site = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_SITE, name)
+    if site < 0:
+        raise ModelError(f"the design model has no site {name!r}")
+    return int(site)
+
+
+class KinematicStateEstimator:
+    """CoM, its velocity and the ZMP in the world, from one :class:`WalkMeasurement` a tick.
+
+    Args:
+        model: the robot's rigid design model, floating base first (the IK's model).
+        joint_names: the encoders' joints, in the measurement's order.
+        sole_sites: foot -> site at its sole centre.
+        sensor_sites: foot -> site of its F-T sensor (the wrench's frame and origin).
+        imu_site: the IMU's site, on the root body.
+        contact_threshold_n: world ``F_z`` from which a foot is in contact [N].
+        period_s: the control period T [s].
+        velocity_time_constant_s: τ_v of the velocity's low-pass [s].
+    """
+
+    def __init__(
+        self,
+        model: mujoco.MjModel,
+        joint_names: tuple[str, ...],
+        sole_sites: dict[str, str],
+        sensor_sites: dict[str, str],
+        imu_site: str,
+        contact_threshold_n: float,
+        period_s: float,
+        velocity_time_constant_s: float = 0.02,
+    ) -> None:
+        self.model = model
+        self.data = mujoco.MjData(model)
+        self.feet = tuple(sole_sites)
+        self.period_s = _validate.positive("period_s", period_s, "s")
+        tau = _validate.non_negative("velocity_time_constant_s", velocity_time_constant_s, "s")
+        self._blend = self.period_s / (tau + self.period_s)
+        self.threshold_n = _validate.positive("contact_threshold_n", contact_threshold_n, "N")
+        self._qadr = np.array([self._qpos_address(name) for name in joint_names])
+        self._coupled = self._coupled_joints(set(self._qadr.tolist()))
+        self._sole = [_site(model, sole_sites[f]) for f in self.feet]
+        self._sensor = [_site(model, sensor_sites[f]) for f in self.feet]
+        imu = _site(model, imu_site)
+        if int(model.site_bodyid[imu]) != 1:
+            raise ModelError(f"the IMU site {imu_site!r} must be on the root body")
+        self._imu_in_base = np.empty(4)
+        mujoco.mju_negQuat(self._imu_in_base, model.site_quat[imu])  # conjugate
+        f = len(self.feet)
+        self._force = np.zeros((1, f, 3))
+        self._moment = np.zeros((1, f, 3))
+        self._origin = np.zeros((1, f, 3))
+        self._offset = np.zeros(3)
+        self.com_in_world = np.zeros(3)
+        """Estimated CoM [m], shape (3,)."""
+        self.com_velocity_in_world = np.zeros(3)
+        """Estimated CoM velocity [m/s], shape (3,)."""
+        self.zmp_in_world = np.full(2, np.nan)
+        """Estimated ZMP on the floor [m], shape (2,); NaN without contact."""
+        self.force_z_n = np.zeros(f)
+        """Each foot's vertical force in the world [N], shape (F,)."""
+        self._started = False
+
+    def _qpos_address(self, name: str) -> int:
+        joint = mujoco.mj_name2id(self.model, mujoco.mjtObj.mjOBJ_JOINT, name)
+        if joint < 0:
+            raise ModelError(f"the design model has no joint {name!r}")
+        return int(self.model.jnt_qposadr[joint])
+
+    def _coupled_joints(self, measured: set[int]) -> list[tuple[int, int, float, float]]:
+        """Joints without an encoder that a joint equality ties to one that has one.
+
+        Each as (qpos address, leader's qpos address, c0, c1): ``q = c0 + c1 q_leader``
+        (e.g. NAO's right HipYawPitch, driven by the left one's motor).
+        """
+        model, coupled = self.model, []
+        for eq in range(model.neq):
+            if model.eq_type[eq] != mujoco.mjtEq.mjEQ_JOINT or model.eq_obj2id[eq] < 0:
+                continue
+            follower = int(model.jnt_qposadr[model.eq_obj1id[eq]])
+            leader = int(model.jnt_qposadr[model.eq_obj2id[eq]])
+            if follower not in measured and leader in measured:
+                c0, c1 = (float(v) for v in model.eq_data[eq, :2])
+                coupled.append((follower, leader, c0, c1))
+        return coupled
+
+    def reset(self) -> None:
+        """Forget the velocity and the last anchor (a new walk)."""
+        self._started = False
+        self.com_velocity_in_world[:] = 0.0
+        self._offset[:] = 0.0
+
+    def update(self, measurement: WalkMeasurement, planned_soles: NDArray[np.float64]) -> None:
+        """Estimate from one tick's measurement.
+
+        Args:
+            measurement: this tick's encoders, IMU and F-T wrenches.
+            planned_soles: where the plan puts each sole centre now [m], shape (F, 3), in
+                the order of ``sole_sites``.
+        """
+        data, model = self.data, self.model
+        data.qpos[:3] = 0.0
+        mujoco.mju_mulQuat(data.qpos[3:7], measurement.imu_quaternion, self._imu_in_base)
+        data.qpos[self._qadr] = measurement.q_meas_rad
+        for follower, leader, c0, c1 in self._coupled:
+            data.qpos[follower] = c0 + c1 * data.qpos[leader]
+        mujoco.mj_kinematics(model, data)
+        mujoco.mj_comPos(model, data)
+        total = 0.0
+        anchor = np.zeros(3)
+        for i, (sole, sensor) in enumerate(zip(self._sole, self._sensor, strict=True)):
+            rotation = data.site_xmat[sensor].reshape(3, 3)
+            self._force[0, i] = rotation @ measurement.force_in_sensor[i]
+            self._moment[0, i] = rotation @ measurement.moment_in_sensor[i]
+            fz = float(self._force[0, i, 2])
+            self.force_z_n[i] = fz
+            if fz >= self.threshold_n:
+                anchor += fz * (planned_soles[i] - data.site_xpos[sole])
+                total += fz
+        if total > 0.0:
+            self._offset[:] = anchor / total
+        self._origin[0] = data.site_xpos[self._sensor] + self._offset
+        com = data.subtree_com[1] + self._offset
+        if self._started:
+            rate = (com - self.com_in_world) / self.period_s
+            self.com_velocity_in_world += self._blend * (rate - self.com_velocity_in_world)
+        self._started = True
+        self.com_in_world[:] = com
+        self.zmp_in_world[:] = zmp_in_world(
+            self._force, self._moment, self._origin, self.threshold_n
+        )[0]

@@ -1,0 +1,310 @@
+r"""Walking controllers: what turns the planned walk and the robot's sensors into joint targets.
+
+Every controller answers, once per motion frame, ``step(frame, measurement)``: the joint
+targets of frame ``k`` from the sensors read at frame ``k - 1`` (one frame of latency, as on
+a robot whose control loop runs at the motion-frame rate). Three are built in:
+
+- :class:`OpenLoopWalk` (``open``): the IK of the planned pattern, played unchanged; nothing
+  reads a sensor. Paper B's simulations before feedback.
+- :class:`ZmpIpWalk` (``zmpip``): paper B's walk. The preview controller of the 3D-LIPM runs
+  on the state of :mod:`zmpkit.walking.zmp_observer`, corrected every frame by the CoM the
+  robot estimates from its encoders and IMU and by the ZMP of its F-T sensors
+  (:mod:`zmpkit.walking.state_estimator`); the whole-body IK then realises the observed
+  plan's next CoM with the planned feet.
+- :class:`DcmWalk` (``dcm``): the divergent-component-of-motion stabiliser of today's walking
+  controllers (Englsberger et al. 2015; Caron et al., lipm_walking_controller, 2019), in the
+  form a position-controlled robot can use. With ``ω = √(g/z_c)``, the DCM ``ξ = c + ċ/ω``
+  estimated from the robot and ``ξ^{ref}`` of the plan, a correction ``Δc`` is added to the
+  planned CoM, driven by the DCM error ``e = ξ - ξ^{ref}``:
+
+  .. math:: Δ\ddot c = -(ω + K_ξ)\,Δ\dot c - ω K_ξ \Big(e + K_i \int e\,dt\Big)
+      + A_c (p - p^d).
+
+  If the robot tracks its CoM, ``e = Δc + Δ\dot c/ω`` plus what disturbed it, so the loop's
+  poles are ``-ω`` and ``-K_ξ``: the DCM error decays at ``K_ξ`` [1/s] and the correction
+  stays bounded whatever the estimate does. The ZMP this asks of the robot is
+  ``p^d = p^{ref} - Δ\ddot c/ω^2`` (the LIPM's ``p = c - \ddot c/ω^2``): a forward DCM error
+  moves the ZMP forward. ``Δ\ddot c`` is clamped so that ``|p^d - p^{ref}|`` stays within
+  ``max_zmp_shift_m``, ``Δc`` within ``max_com_shift_m``. The CoM admittance ``A_c`` (off by
+  default) moves the measured ZMP ``p`` towards ``p^d``.
+
+Controllers read only :class:`~zmpkit.walking.measurement.WalkMeasurement` (encoders, IMU,
+F-T) and the plan; the simulator's state is not theirs to see.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Protocol
+
+import mujoco
+import numpy as np
+from numpy.typing import NDArray
+
+from zmpkit import _validate
+from zmpkit.errors import ParameterError
+from zmpkit.models.pendulum import STANDARD_GRAVITY_MPS2
+from zmpkit.walking.ik import IkSettings, JointTrajectory, WalkingIk
+from zmpkit.walking.measurement import WalkMeasurement
+from zmpkit.walking.pattern import WalkingPattern
+from zmpkit.walking.state_estimator import KinematicStateEstimator
+from zmpkit.walking.zmp_observer import ObservedPreviewControl, ZmpObserverParameters
+
+__all__ = [
+    "CONTROLLERS",
+    "DcmParameters",
+    "DcmWalk",
+    "OpenLoopWalk",
+    "SensorLayout",
+    "WalkController",
+    "ZmpIpWalk",
+]
+
+CONTROLLERS: tuple[str, ...] = ("zmpip", "dcm", "open")
+"""Names of the walking controllers, the default first."""
+
+
+class WalkController(Protocol):
+    """A walking controller (module docstring)."""
+
+    name: str
+
+    def step(self, frame: int, measurement: WalkMeasurement) -> NDArray[np.float64]:
+        """Joint targets of ``frame`` [rad] (trajectory order) from the readings of ``frame-1``."""
+        ...
+
+
+@dataclass(frozen=True)
+class SensorLayout:
+    """Where a robot's sensors sit on its design model (site names).
+
+    Attributes:
+        sole_sites: foot -> site at its sole centre (the footstep plan's foot point).
+        sensor_sites: foot -> its F-T sensor's site.
+        imu_site: the IMU's site (on the root body).
+        contact_threshold_n: world ``F_z`` from which a foot is in contact [N].
+    """
+
+    sole_sites: dict[str, str]
+    sensor_sites: dict[str, str]
+    imu_site: str
+    contact_threshold_n: float
+
+
+class OpenLoopWalk:
+    """Plays the planned trajectory; reads no sensor (``open``)."""
+
+    name = "open"
+
+    def __init__(self, trajectory: JointTrajectory) -> None:
+        self.trajectory = trajectory
+
+    def step(self, frame: int, measurement: WalkMeasurement) -> NDArray[np.float64]:
+        """The planned joint angles of ``frame`` [rad]."""
+        return self.trajectory.q_rad[frame]
+
+
+class _OnlineTargets:
+    """What the IK reads of a pattern, with the CoM written frame by frame."""
+
+    def __init__(self, pattern: WalkingPattern) -> None:
+        self.feet = pattern.feet
+        self.com_position_in_world = pattern.com_position_in_world.copy()
+
+
+class _OnlineWalk:
+    """A feedback walk: estimate, correct the CoM of the next frame, solve the IK for it."""
+
+    name = "online"
+
+    def __init__(
+        self,
+        pattern: WalkingPattern,
+        model: mujoco.MjModel,
+        ik_settings: IkSettings,
+        sensors: SensorLayout,
+        joint_names: tuple[str, ...],
+    ) -> None:
+        self.pattern = pattern
+        self.dt = pattern.config.control_period_s
+        self.targets = _OnlineTargets(pattern)
+        self.ik = WalkingIk(model, ik_settings)
+        self.ik.set_targets(self.targets, 0)
+        self.ik.solve(ik_settings.max_iterations * 10, self.dt)
+        self.estimator = KinematicStateEstimator(
+            model, joint_names, sensors.sole_sites, sensors.sensor_sites, sensors.imu_site,
+            sensors.contact_threshold_n, self.dt,
+        )  # fmt: skip
+        feet = pattern.feet
+        by_side = {"left": feet.left.position_in_world, "right": feet.right.position_in_world}
+        self._soles = np.stack([by_side[f] for f in self.estimator.feet], axis=1)  # (N, F, 3)
+        self.omega = math.sqrt(STANDARD_GRAVITY_MPS2 / pattern.com.com_height_m)
+        self.com_target_in_world = np.full((pattern.time_s.size, 2), np.nan)
+        """The CoM each frame was commanded to [m], shape (N, 2)."""
+        self.com_estimate_in_world = np.full((pattern.time_s.size, 2), np.nan)
+        """The estimated CoM of each frame [m], shape (N, 2)."""
+
+    def _correct(self, frame: int) -> None:
+        """Write the CoM target of ``frame`` into ``self.targets`` (estimates are current)."""
+        raise NotImplementedError
+
+    def step(self, frame: int, measurement: WalkMeasurement) -> NDArray[np.float64]:
+        """Joint targets of ``frame`` [rad] from the readings of ``frame - 1``."""
+        last = min(frame - 1, self._soles.shape[0] - 1)
+        self.estimator.update(measurement, self._soles[last])
+        self.com_estimate_in_world[last] = self.estimator.com_in_world[:2]
+        self._correct(frame)
+        self.com_target_in_world[frame] = self.targets.com_position_in_world[frame, :2]
+        self.ik.set_targets(self.targets, frame)
+        self.ik.solve(self.ik.settings.max_iterations, self.dt)
+        return self.ik.configuration.q[self.ik.qadr]
+
+
+class ZmpIpWalk(_OnlineWalk):
+    """Paper B's walk: preview control on the observed cart-table state (``zmpip``).
+
+    Args:
+        pattern: the planned walk (its reference, gains and feet).
+        model: the robot's design model (the IK's).
+        ik_settings: the IK settings the plan was solved with.
+        sensors: where the sensors sit on ``model``.
+        joint_names: the encoders' joints, in the measurement's order.
+        parameters: the observer's noise levels.
+    """
+
+    name = "zmpip"
+
+    def __init__(
+        self,
+        pattern: WalkingPattern,
+        model: mujoco.MjModel,
+        ik_settings: IkSettings,
+        sensors: SensorLayout,
+        joint_names: tuple[str, ...],
+        parameters: ZmpObserverParameters | None = None,
+    ) -> None:
+        super().__init__(pattern, model, ik_settings, sensors, joint_names)
+        com = pattern.com
+        initial = np.column_stack(
+            [
+                com.com_position_in_world[0],
+                com.com_velocity_in_world[0],
+                com.com_acceleration_in_world[0],
+            ]
+        )
+        self.control = ObservedPreviewControl(
+            pattern.gains, pattern.zmp_reference_in_world, initial, parameters
+        )
+        self.offset_in_world = np.full((pattern.time_s.size, 2), np.nan)
+        """The estimated ZMP offset ``d̂`` of each frame [m], shape (N, 2)."""
+
+    def _correct(self, frame: int) -> None:
+        est = self.estimator
+        com = self.control.update(frame - 1, est.com_in_world, est.zmp_in_world)
+        self.offset_in_world[frame - 1] = self.control.offset_in_world
+        self.targets.com_position_in_world[frame, :2] = com
+
+
+@dataclass(frozen=True)
+class DcmParameters:
+    """Gains and limits of the DCM stabiliser (module docstring).
+
+    Attributes:
+        dcm_gain_per_s: K_ξ, the DCM error's decay rate [1/s].
+        dcm_integral_gain_per_s: K_i [1/s].
+        com_admittance_per_s2: A_c [1/s²]; 0 switches the admittance off.
+        max_zmp_shift_m: the asked ZMP stays within this of the plan [m].
+        max_com_shift_m: the CoM correction stays within this [m].
+        integral_limit_m_s: clamp of the DCM error's integral [m·s].
+        dcm_deadband_m: DCM errors within ±this are the walk's own sway, not a disturbance,
+            and get no feedback (beyond it, only the excess does) [m].
+    """
+
+    dcm_gain_per_s: float = 3.0
+    dcm_integral_gain_per_s: float = 0.0
+    com_admittance_per_s2: float = 0.0
+    max_zmp_shift_m: float = 0.03
+    max_com_shift_m: float = 0.03
+    integral_limit_m_s: float = 0.01
+    dcm_deadband_m: float = 0.03
+
+    def __post_init__(self) -> None:
+        for name in ("dcm_gain_per_s", "max_zmp_shift_m", "max_com_shift_m"):
+            _validate.positive(f"DcmParameters.{name}", getattr(self, name))
+        for name in (
+            "dcm_integral_gain_per_s", "com_admittance_per_s2", "integral_limit_m_s",
+            "dcm_deadband_m",
+        ):  # fmt: skip
+            _validate.non_negative(f"DcmParameters.{name}", getattr(self, name))
+        if self.dcm_gain_per_s > 50.0:
+            raise ParameterError(
+                f"DcmParameters.dcm_gain_per_s must be <= 50 1/s (the 10 ms loop's limit); "
+                f"got {self.dcm_gain_per_s}"
+            )
+
+
+class DcmWalk(_OnlineWalk):
+    """The DCM stabiliser around the planned walk (``dcm``).
+
+    Args:
+        pattern: the planned walk (its reference, CoM and feet).
+        model: the robot's design model (the IK's).
+        ik_settings: the IK settings the plan was solved with.
+        sensors: where the sensors sit on ``model``.
+        joint_names: the encoders' joints, in the measurement's order.
+        parameters: gains and limits.
+    """
+
+    name = "dcm"
+
+    def __init__(
+        self,
+        pattern: WalkingPattern,
+        model: mujoco.MjModel,
+        ik_settings: IkSettings,
+        sensors: SensorLayout,
+        joint_names: tuple[str, ...],
+        parameters: DcmParameters | None = None,
+    ) -> None:
+        super().__init__(pattern, model, ik_settings, sensors, joint_names)
+        self.parameters = parameters or DcmParameters()
+        com = pattern.com
+        self._dcm_ref = com.com_position_in_world + com.com_velocity_in_world / self.omega
+        self._reference = pattern.zmp_reference_in_world
+        self._shift = np.zeros(2)  # Δc [m]
+        self._shift_rate = np.zeros(2)  # Δċ [m/s]
+        self._integral = np.zeros(2)  # ∫ (ξ - ξ_ref) dt [m·s]
+        self.desired_zmp_in_world = np.full((pattern.time_s.size, 2), np.nan)
+        """The ZMP p^d the stabiliser asked for at each frame [m], shape (N, 2)."""
+
+    def _correct(self, frame: int) -> None:
+        k = frame - 1
+        par, est, omega, dt = self.parameters, self.estimator, self.omega, self.dt
+        gain = par.dcm_gain_per_s
+        accel_limit = omega * omega * par.max_zmp_shift_m
+        zmp = est.zmp_in_world
+        for axis in (0, 1):
+            dcm = est.com_in_world[axis] + est.com_velocity_in_world[axis] / omega
+            error = dcm - self._dcm_ref[k, axis]
+            excess = abs(error) - par.dcm_deadband_m
+            error = math.copysign(excess, error) if excess > 0.0 else 0.0
+            integral = self._integral[axis] + error * dt
+            self._integral[axis] = min(
+                max(integral, -par.integral_limit_m_s), par.integral_limit_m_s
+            )
+            drive = error + par.dcm_integral_gain_per_s * self._integral[axis]
+            accel = -(omega + gain) * self._shift_rate[axis] - omega * gain * drive
+            desired = self._reference[k, axis] - accel / (omega * omega)
+            if par.com_admittance_per_s2 > 0.0 and math.isfinite(float(zmp[axis])):
+                accel += par.com_admittance_per_s2 * (zmp[axis] - desired)
+            accel = min(max(accel, -accel_limit), accel_limit)
+            self.desired_zmp_in_world[k, axis] = self._reference[k, axis] - accel / (omega * omega)
+            self._shift_rate[axis] += accel * dt
+            value = self._shift[axis] + self._shift_rate[axis] * dt
+            if abs(value) > par.max_com_shift_m:
+                value = math.copysign(par.max_com_shift_m, value)
+                self._shift_rate[axis] = 0.0
+            self._shift[axis] = value
+        com = self.pattern.com.com_position_in_world[frame]
+        self.targets.com_position_in_world[frame, :2] = com + self._shift

@@ -1,0 +1,118 @@
+"""Walks with feedback, pushes and honest outcomes (falls, stalls, nulls)."""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+import pytest
+
+from zmpkit.errors import ParameterError
+from zmpkit.experiments.walk import run_walk_trial
+from zmpkit.experiments.walk_config import WalkConfig
+from zmpkit.experiments.walk_summary import stall_time, summarise_walk
+from zmpkit.experiments.walk_trial import Push
+
+METRICS = (
+    "mean_speed_mps", "planned_speed_mps", "trunk_pitch_peak_hz",
+    "trunk_pitch_peak_amplitude_rad", "trunk_pitch_std_rad",
+    "trunk_pitch_step_frequency_amplitude_rad", "mean_double_support_foot_distance_m",
+    "planned_double_support_foot_distance_m", "foot_slip_m", "foot_slip_x_m",
+)  # fmt: skip
+
+
+def test_a_push_is_read_from_the_command_line_form() -> None:
+    assert Push.parse("20@4.5:-y") == Push(20.0, 4.5, "-y")
+    assert Push.parse("10@3") == Push(10.0, 3.0, "x")
+    assert Push(10.0, 3.0, "y").force_in_world(3.05) == (0.0, 10.0)
+    assert Push(10.0, 3.0, "y").force_in_world(3.1) == (0.0, 0.0)
+    for bad in ("20", "x@3", "20@3:z", "-5@3", "20@-1"):
+        with pytest.raises(ParameterError, match=r"push|Push"):
+            Push.parse(bad)
+
+
+def test_an_unknown_controller_is_refused() -> None:
+    with pytest.raises(ParameterError, match="controller must be one of zmpip, dcm, open"):
+        WalkConfig(controller="mpc")
+
+
+@pytest.fixture(scope="module")
+def pushed_over():
+    """The rigid robot, open loop, pushed sideways by 40 N for 0.1 s."""
+    config = WalkConfig(
+        effects="none", duration_s=3.0, controller="open", figures=False,
+        pushes=(Push(40.0, 1.5, "y"),),
+    )  # fmt: skip
+    return run_walk_trial(config)
+
+
+def test_a_sideways_push_is_a_roll_fall_with_every_metric_null(pushed_over) -> None:
+    s = pushed_over.summary
+    assert s.fell
+    assert s.fall_kind == "roll"
+    assert s.fall_time_s == pytest.approx(pushed_over.record.time_s[-1])
+    assert 1.5 < s.fall_time_s < 3.0
+    assert all(getattr(s, name) is None for name in METRICS)
+    assert s.pushes == ("40@1.5:y",)
+    assert pushed_over.record.fall_kind == "roll"
+
+
+@pytest.fixture(scope="module")
+def rigid_walk():
+    return run_walk_trial(WalkConfig(effects="none", duration_s=4.0, controller="open"))
+
+
+def test_a_walk_that_stays_in_place_is_a_stall(rigid_walk) -> None:
+    """Motion capture of a robot stepping on the spot: no progress over two steps."""
+    record = rigid_walk.record
+    assert stall_time(rigid_walk.pattern, record) is None
+    frozen = np.repeat(record.torso_in_world[:1], record.time_s.size, axis=0)
+    stalled = dataclasses.replace(record, torso_in_world=frozen)
+    when = stall_time(rigid_walk.pattern, stalled)
+    window = rigid_walk.summary.window_s
+    assert when is not None
+    assert window[0] < when <= window[1]
+    s = summarise_walk(rigid_walk.pattern, rigid_walk.trajectory, stalled, "", 0)
+    assert s.fell
+    assert s.fall_kind == "stall"
+    assert s.fall_time_s == when
+    assert all(getattr(s, name) is None for name in METRICS)
+
+
+def test_half_the_commanded_progress_is_not_a_stall(rigid_walk) -> None:
+    """The rule's boundary: at 60 % of the commanded progress the walk is slow, not stalled."""
+    record = rigid_walk.record
+    torso = record.torso_in_world.copy()
+    torso[:, 0] = 0.6 * 0.2 * record.time_s
+    slow = dataclasses.replace(record, torso_in_world=torso)
+    assert stall_time(rigid_walk.pattern, slow) is None
+    torso[:, 0] = 0.4 * 0.2 * record.time_s
+    assert stall_time(rigid_walk.pattern, dataclasses.replace(record, torso_in_world=torso))
+
+
+def test_zmpip_recovers_from_a_20_n_push_that_fells_the_open_loop_walk() -> None:
+    """All effects on, a 4 s walk pushed backwards with 20 N for 0.1 s at 2.2 s."""
+    push = (Push(20.0, 2.2, "-x"),)
+    outcomes = {
+        controller: run_walk_trial(
+            WalkConfig(duration_s=4.0, controller=controller, figures=False, pushes=push)
+        ).summary
+        for controller in ("open", "zmpip")
+    }
+    assert outcomes["open"].fell
+    assert not outcomes["zmpip"].fell
+    assert outcomes["zmpip"].controller == "zmpip"
+    assert outcomes["zmpip"].mean_speed_mps == pytest.approx(0.2, abs=0.03)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize(
+    "change",
+    [{"speed_mps": 0.25}, {"step_duration_s": 0.4}, {"speed_mps": 0.0, "lateral_speed_mps": 0.05}],
+)
+def test_zmpip_walks_where_the_open_loop_walk_falls(change) -> None:
+    """Paper B's robot (all effects) outside the one tuned walk: 10 s each."""
+    open_loop = run_walk_trial(WalkConfig(controller="open", figures=False, **change)).summary
+    closed = run_walk_trial(WalkConfig(controller="zmpip", figures=False, **change)).summary
+    assert open_loop.fell
+    assert not closed.fell

@@ -1,0 +1,94 @@
+"""The kinematic state estimator against the design model's own forward kinematics."""
+
+from __future__ import annotations
+
+import mujoco
+import numpy as np
+import pytest
+
+from zmpkit.robots.nao import NAO_DRIVEN_JOINTS, nao_ik_model
+from zmpkit.sensors.zmp import zmp_in_world
+from zmpkit.walking.measurement import WalkMeasurement
+from zmpkit.walking.state_estimator import KinematicStateEstimator
+
+FEET = ("left", "right")
+
+
+def _posed(base_xyz, base_rpy, joints: dict[str, float]):
+    model = nao_ik_model()
+    data = mujoco.MjData(model)
+    data.qpos[:3] = base_xyz
+    mujoco.mju_euler2Quat(data.qpos[3:7], np.asarray(base_rpy, dtype=float), "xyz")
+    for name, angle in joints.items():
+        data.qpos[model.joint(name).qposadr[0]] = angle
+    data.qpos[model.joint("RHipYawPitch").qposadr[0]] = joints.get("LHipYawPitch", 0.0)
+    mujoco.mj_kinematics(model, data)
+    mujoco.mj_comPos(model, data)
+    return model, data
+
+
+def _estimator(model, threshold_n=5.0):
+    return KinematicStateEstimator(
+        model, NAO_DRIVEN_JOINTS,
+        {f: f"{f}_sole" for f in FEET}, {f: f"{f}_ft" for f in FEET}, "imu", threshold_n, 0.01,
+    )  # fmt: skip
+
+
+def _measurement(model, data, joints, force_world, moment_world) -> WalkMeasurement:
+    m = WalkMeasurement.empty(NAO_DRIVEN_JOINTS, FEET)
+    m.q_meas_rad[:] = [joints.get(j, 0.0) for j in NAO_DRIVEN_JOINTS]
+    mujoco.mju_mat2Quat(m.imu_quaternion, data.site("imu").xmat)
+    for i, foot in enumerate(FEET):
+        rotation = data.site(f"{foot}_ft").xmat.reshape(3, 3)
+        m.force_in_sensor[i] = rotation.T @ force_world[i]
+        m.moment_in_sensor[i] = rotation.T @ moment_world[i]
+    return m
+
+
+@pytest.mark.parametrize(
+    ("base_xyz", "base_rpy"),
+    [((0.0, 0.0, 0.30), (0.0, 0.0, 0.0)), ((0.42, -0.13, 0.31), (0.03, -0.05, 0.4))],
+)
+def test_com_and_zmp_equal_the_model_when_the_feet_are_where_planned(base_xyz, base_rpy) -> None:
+    joints = {"LHipPitch": -0.4, "LKneePitch": 0.8, "LAnklePitch": -0.35, "RHipPitch": -0.5,
+              "RKneePitch": 0.9, "RAnklePitch": -0.45, "LHipYawPitch": -0.1, "LHipRoll": 0.05,
+              "RAnkleRoll": -0.04}  # fmt: skip
+    model, data = _posed(base_xyz, base_rpy, joints)
+    force = np.array([[1.0, -2.0, 18.0], [-0.5, 1.5, 30.0]])
+    moment = np.array([[0.3, -0.2, 0.01], [-0.1, 0.4, 0.0]])
+    m = _measurement(model, data, joints, force, moment)
+    soles = np.array([data.site(f"{f}_sole").xpos for f in FEET])
+    estimator = _estimator(model)
+    estimator.update(m, soles)
+    np.testing.assert_allclose(estimator.com_in_world, data.subtree_com[1], atol=1e-9)
+    sensors = np.array([data.site(f"{f}_ft").xpos for f in FEET])
+    expected = zmp_in_world(force[None], moment[None], sensors[None], 5.0)[0]
+    np.testing.assert_allclose(estimator.zmp_in_world, expected, atol=1e-9)
+    np.testing.assert_allclose(estimator.force_z_n, force[:, 2], atol=1e-9)
+
+
+def test_a_foot_off_its_plan_moves_the_estimate_by_its_share_of_the_weight() -> None:
+    """Anchor Δ = Σ F_z,i (ŝ_i - s_i) / Σ F_z,i: the left foot 1 cm off its plan carrying a
+    third of the weight moves the CoM estimate by a third of a centimetre."""
+    model, data = _posed((0.0, 0.0, 0.3), (0.0, 0.0, 0.0), {})
+    force = np.array([[0.0, 0.0, 10.0], [0.0, 0.0, 20.0]])
+    m = _measurement(model, data, {}, force, np.zeros((2, 3)))
+    soles = np.array([data.site(f"{f}_sole").xpos for f in FEET])
+    soles[0, 0] += 0.01
+    estimator = _estimator(model)
+    estimator.update(m, soles)
+    shift = estimator.com_in_world - data.subtree_com[1]
+    np.testing.assert_allclose(shift, [0.01 / 3.0, 0.0, 0.0], atol=1e-12)
+
+
+def test_no_contact_gives_no_zmp_and_keeps_the_last_anchor() -> None:
+    model, data = _posed((0.0, 0.0, 0.3), (0.0, 0.0, 0.0), {})
+    soles = np.array([data.site(f"{f}_sole").xpos for f in FEET])
+    estimator = _estimator(model)
+    m = _measurement(model, data, {}, np.array([[0, 0, 20.0], [0, 0, 20.0]]), np.zeros((2, 3)))
+    estimator.update(m, soles + np.array([0.02, 0.0, 0.0]))
+    first = estimator.com_in_world.copy()
+    m = _measurement(model, data, {}, np.zeros((2, 3)), np.zeros((2, 3)))
+    estimator.update(m, soles)
+    assert np.all(np.isnan(estimator.zmp_in_world))
+    np.testing.assert_allclose(estimator.com_in_world, first, atol=1e-12)
