@@ -8,7 +8,9 @@ MuJoCo's own loader (:class:`mujoco.MjSpec`) reads the file, MJCF or URDF alike.
    box is the only contact of the foot with the floor (the foot's own geoms stop colliding);
 3. the root is lifted so the plates rest on the floor (a plane, added if the model has none);
 4. an IMU site on the IMU body, the force, torque, gyro, accelerometer and orientation
-   sensors, and one ideal servo per leg joint replace the model's own actuators.
+   sensors, and one ideal servo per leg joint replace the model's own actuators; each servo
+   joint gets at least the armature (reflected rotor inertia) that keeps it stable
+   (:data:`STIFFNESS_STEPS`).
 
 The robot's mass, footprint and standing pose come from the compiled model: a user gives
 names, not numbers.
@@ -18,6 +20,7 @@ from __future__ import annotations
 
 import xml.etree.ElementTree as ET
 from dataclasses import dataclass
+from pathlib import Path
 
 import mujoco
 import numpy as np
@@ -29,12 +32,16 @@ from zmpkit.sim.builder import add_ideal_servo
 from zmpkit.sim.effects import IdealServoParams
 from zmpkit.sim.sole_plate import SolePlate, add_sole_plate
 
-__all__ = ["FootPrint", "UserModel", "load_spec", "user_model"]
+__all__ = ["FootPrint", "UserModel", "geom_corners", "load_spec", "user_model"]
 
 _FLOOR_FRICTION = 1.0
 _SOLREF = "0.005 1"
 _SOLIMP = "0.9 0.95 0.001"
 _PLATE_MASS_FRACTION = 0.002
+STIFFNESS_STEPS = 0.2
+"""A servo joint's armature is at least ``kp dt² / STIFFNESS_STEPS²``: the servo's natural
+period then spans at least ``2π / STIFFNESS_STEPS`` ≈ 31 physics steps, so the explicit
+position gain stays stable on light links (a servo's reflected rotor inertia) [-]."""
 
 
 @dataclass(frozen=True)
@@ -73,22 +80,22 @@ class UserModel:
     servo: IdealServoParams
 
 
-def load_spec(robot: RobotFile) -> mujoco.MjSpec:
-    """The user's model as MuJoCo loads it, with a free joint at the root.
+def load_spec(model_file: Path) -> mujoco.MjSpec:
+    """The model (MJCF or URDF) as MuJoCo loads it, with a free joint at the root.
 
     Raises:
         InputFileError: naming the model file if MuJoCo cannot load it.
     """
     try:
-        spec = mujoco.MjSpec.from_file(str(robot.model))
+        spec = mujoco.MjSpec.from_file(str(model_file))
     except (ValueError, mujoco.FatalError) as exc:
-        raise InputFileError(robot.model, f"MuJoCo cannot load the model: {exc}") from None
-    base = robot.model.parent
+        raise InputFileError(model_file, f"MuJoCo cannot load the model: {exc}") from None
+    base = model_file.parent
     spec.meshdir = str((base / spec.meshdir).resolve())
     spec.texturedir = str((base / spec.texturedir).resolve())
     root = spec.worldbody.first_body()
     if root is None:
-        raise InputFileError(robot.model, "the model has no body")
+        raise InputFileError(model_file, "the model has no body")
     if not any(j.type == mujoco.mjtJoint.mjJNT_FREE for j in root.joints):
         root.add_freejoint(name="root")
     return spec
@@ -112,7 +119,7 @@ def _subtree(model: mujoco.MjModel, root: int) -> list[int]:
     return inside
 
 
-def _geom_corners(model: mujoco.MjModel, data: mujoco.MjData, geom: int) -> NDArray[np.float64]:
+def geom_corners(model: mujoco.MjModel, data: mujoco.MjData, geom: int) -> NDArray[np.float64]:
     """The 8 corners of a geom's bounding box in the world frame [m], shape (8, 3)."""
     centre, half = model.geom_aabb[geom, :3], model.geom_aabb[geom, 3:]
     signs = np.array([[x, y, z] for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)])
@@ -137,7 +144,7 @@ def footprint(robot: RobotFile, model: mujoco.MjModel, data: mujoco.MjData, side
     ]
     if not geoms:
         raise InputFileError(robot.path, f"feet.{side}: body {body!r} has no collision geom")
-    corners = np.vstack([_geom_corners(model, data, g) for g in geoms])
+    corners = np.vstack([geom_corners(model, data, g) for g in geoms])
     low, high = corners.min(axis=0), corners.max(axis=0)
     length = robot.sole_length_m or float(high[0] - low[0])
     width = robot.sole_width_m or float(high[1] - low[1])
@@ -227,7 +234,7 @@ def user_model(robot: RobotFile) -> UserModel:
     Raises:
         InputFileError: naming the robot file or the model on any problem.
     """
-    spec = load_spec(robot)
+    spec = load_spec(robot.model)
     model, data = _compile(robot, spec)
     check_names(robot, model)
     feet = {side: footprint(robot, model, data, side) for side in SIDES}
@@ -292,5 +299,9 @@ def _finish_xml(
     ET.SubElement(sensors, "gyro", {"name": "imu_gyro", "site": "imu"})
     ET.SubElement(sensors, "accelerometer", {"name": "imu_accel", "site": "imu"})
     ET.SubElement(sensors, "framequat", {"name": "imu_quat", "objtype": "site", "objname": "imu"})
+    minimum = servo.kp * robot.timestep_s**2 / STIFFNESS_STEPS**2
     for joint in robot.leg_joints:
         add_ideal_servo(xml, joint, servo)
+        element = next(j for j in xml.iter("joint") if j.get("name") == joint)
+        armature = max(float(element.get("armature", "0")), minimum)
+        element.set("armature", f"{armature:.9g}")

@@ -8,6 +8,7 @@ refused rather than silently left out. Balance, walking and fit sections are not
 
 from __future__ import annotations
 
+import copy
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from functools import cache
@@ -125,7 +126,7 @@ def load_robot_file(path: str | Path) -> Robot:
         source=str(file.path),
         describe=_description(file, built, threshold),
         driven_joints=file.leg_joints,
-        feet_mounts=lambda: {side: dict(m) for side, m in mounts.items()},  # type: ignore[misc]
+        feet_mounts=lambda: copy.deepcopy(mounts),
         truth=TruthSpec(file.path, load, from_doc, UserTruth),
         servo_limits=USER_SERVO_LIMITS,
         contact_force_threshold_n=threshold,
