@@ -77,6 +77,52 @@ def test_the_three_zmps_of_a_standing_biped_agree(biped: Path, tmp_path: Path) -
     assert result.feet["left"][2] == pytest.approx(0.005, abs=2e-4)  # on a 5 mm sole plate
 
 
+def _urdf_leg(p: str, y: float) -> str:
+    def link(name: str, mass: float, geom: str, z: float = 0.0) -> str:
+        inertia = 'ixx="1e-3" iyy="1e-3" izz="1e-3" ixy="0" ixz="0" iyz="0"'
+        return (
+            f'<link name="{name}"><inertial><origin xyz="0 0 {z}"/><mass value="{mass}"/>'
+            f'<inertia {inertia}/></inertial><collision><origin xyz="0 0 {z}"/>'
+            f"<geometry>{geom}</geometry></collision></link>"
+        )
+
+    def joint(name: str, parent: str, child: str, xyz: str, axis: str) -> str:
+        return (
+            f'<joint name="{name}" type="revolute"><parent link="{parent}"/>'
+            f'<child link="{child}"/><origin xyz="{xyz}"/><axis xyz="{axis}"/>'
+            '<limit lower="-1.5" upper="1.5" effort="100" velocity="10"/></joint>'
+        )
+
+    return "".join([
+        link(f"{p}_hip", 0.1, '<sphere radius="0.01"/>'),
+        link(f"{p}_thigh", 0.8, '<cylinder radius="0.03" length="0.22"/>', -0.11),
+        link(f"{p}_foot", 0.3, '<box size="0.14 0.08 0.02"/>', -0.04),
+        joint(f"{p}_hip_roll", "pelvis", f"{p}_hip", f"0 {y} -0.04", "1 0 0"),
+        joint(f"{p}_hip_pitch", f"{p}_hip", f"{p}_thigh", "0 0 0", "0 1 0"),
+        joint(f"{p}_ankle_pitch", f"{p}_thigh", f"{p}_foot", "0 0 -0.22", "0 1 0"),
+    ])  # fmt: skip
+
+
+def test_a_urdf_gets_a_free_joint_and_stands(tmp_path: Path) -> None:
+    pelvis = (
+        '<link name="pelvis"><inertial><mass value="5"/><inertia ixx="0.01" iyy="0.01" '
+        'izz="0.01" ixy="0" ixz="0" iyz="0"/></inertial><collision><geometry>'
+        '<box size="0.12 0.2 0.08"/></geometry></collision></link>'
+    )
+    urdf = tmp_path / "biped.urdf"
+    urdf.write_text(
+        f'<robot name="u">{pelvis}{_urdf_leg("r", -0.06)}{_urdf_leg("l", 0.06)}</robot>',
+        encoding="utf-8",
+    )
+    out = tmp_path / "robot.yaml"
+    assert main(["robot", "init", str(urdf), "--out", str(out)]) == 0
+    doc = yaml.safe_load(out.read_text(encoding="utf-8"))
+    assert doc["legs"]["left"] == ["l_hip_roll", "l_hip_pitch", "l_ankle_pitch"]
+    result = check_robot(get_robot(out))
+    assert result.mass_kg == pytest.approx((5.0 + 2 * 1.2) * 1.004, rel=1e-3)
+    assert result.ok
+
+
 @pytest.mark.parametrize(
     ("change", "message"),
     [

@@ -4,7 +4,6 @@ Layout (lengths in m; every path relative to the YAML's folder)::
 
     name: mybiped                    # optional; default: the YAML's folder name
     model: mybiped.xml               # MJCF or URDF (a free joint is added at the root if none)
-    package_dirs: [..]               # URDF: folders where package://NAME/... is looked up
     feet:                            # body names (or {site: NAME}) of the feet
       right: right_foot
       left: left_foot
@@ -45,7 +44,6 @@ DEFAULT_TIMESTEP_S = 0.001
 _FIELDS = (
     "name",
     "model",
-    "package_dirs",
     "feet",
     "legs",
     "imu",
@@ -65,7 +63,6 @@ class RobotFile:
         path: the YAML file.
         name: the robot's name.
         model: the MJCF or URDF file.
-        package_dirs: folders searched for ``package://`` URIs (URDF).
         feet: side → (``"body"`` or ``"site"``, name).
         legs: side → the leg's joints, hip to ankle.
         imu: body carrying the IMU, or None for the root body.
@@ -81,7 +78,6 @@ class RobotFile:
     path: Path
     name: str
     model: Path
-    package_dirs: tuple[Path, ...]
     feet: Mapping[str, tuple[str, str]]
     legs: Mapping[str, tuple[str, ...]]
     imu: str | None
@@ -162,12 +158,10 @@ def read_robot_file(path: str | Path) -> RobotFile:
         raise _fail(
             file, "sole" if not isinstance(sole, Mapping) else "servo", "expected a mapping"
         )
-    dirs = doc.get("package_dirs") or []
     return RobotFile(
         path=file,
         name=str(doc.get("name") or file.parent.name),
         model=_model_path(file, doc),
-        package_dirs=tuple((file.parent / str(d)).resolve() for d in dirs),
         feet={s: _foot(file, s, v) for s, v in _sides(file, "feet", doc).items()},
         legs={s: _names(file, f"legs.{s}", v) for s, v in _sides(file, "legs", doc).items()},
         imu=None if doc.get("imu") is None else str(doc["imu"]),

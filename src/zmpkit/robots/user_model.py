@@ -91,6 +91,7 @@ def load_spec(model_file: Path) -> mujoco.MjSpec:
     except (ValueError, mujoco.FatalError) as exc:
         raise InputFileError(model_file, f"MuJoCo cannot load the model: {exc}") from None
     base = model_file.parent
+    spec.compiler.fusestatic = False  # keep every named body (a URDF's fixed links too)
     spec.meshdir = str((base / spec.meshdir).resolve())
     spec.texturedir = str((base / spec.texturedir).resolve())
     root = spec.worldbody.first_body()
@@ -205,9 +206,12 @@ def root_body(model: mujoco.MjModel) -> str:
     return str(model.body(1).name)
 
 
-def _servo(robot: RobotFile, model: mujoco.MjModel, data: mujoco.MjData) -> IdealServoParams:
+def _servo(
+    robot: RobotFile, model: mujoco.MjModel, data: mujoco.MjData, sole_z: float
+) -> IdealServoParams:
     """The ideal servo: the file's gains, else scaled from weight × CoM height [N·m]."""
-    weight_moment = float(model.body_subtreemass[0]) * 9.81 * float(data.subtree_com[0][2])
+    height = float(data.subtree_com[0][2]) - sole_z
+    weight_moment = float(model.body_subtreemass[0]) * 9.81 * height
     kp = robot.servo.get("kp", 100.0 * weight_moment)
     return IdealServoParams(
         kp=kp, ki=robot.servo.get("ki", kp), kd=robot.servo.get("kd", 0.005 * kp)
@@ -239,7 +243,7 @@ def user_model(robot: RobotFile) -> UserModel:
     check_names(robot, model)
     feet = {side: footprint(robot, model, data, side) for side in SIDES}
     mass = float(model.body_subtreemass[0])
-    servo = _servo(robot, model, data)
+    servo = _servo(robot, model, data, min(f.bottom_z_m for f in feet.values()))
     h = robot.sole_height_m
     for side, foot in feet.items():
         for b in _subtree(model, model.body(foot.body).id):
