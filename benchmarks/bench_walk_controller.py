@@ -22,9 +22,9 @@ from typing import Any
 from harness import base_parser, best_of, environment, print_table, write_json
 from zmpkit.experiments.walk import sensor_layout
 from zmpkit.experiments.walk_trial import read_measurement, start_pose
-from zmpkit.robots.nao import NAO_LEG_JOINTS, make_nao, nao_ik_model
+from zmpkit.robots.registry import get_robot
 from zmpkit.walking import GaitParameters, PatternConfig, WalkCommand, generate_pattern
-from zmpkit.walking.ik import IkSettings, solve_walking_ik
+from zmpkit.walking.ik import solve_walking_ik
 from zmpkit.walking.measurement import WalkMeasurement
 from zmpkit.walking.walk_controllers import DcmWalk, OpenLoopWalk, ZmpIpWalk
 
@@ -43,11 +43,12 @@ def run(number: int) -> dict[str, Any]:
             gait=GaitParameters(step_duration_s=0.5),
         )
     )
-    model, settings = nao_ik_model(), IkSettings(joint_names=NAO_LEG_JOINTS)
+    robot = get_robot("nao")
+    model, settings = robot.ik_model(), robot.ik_settings
     trajectory = solve_walking_ik(pattern, model, settings)
-    sim = make_nao("all")
+    sim = robot.make_simulation("all", None, seed=0)
     start_pose(sim, trajectory)
-    layout = sensor_layout(sim)
+    layout = sensor_layout(sim, settings.sole_sites)
     measurement = WalkMeasurement.empty(sim.joint_names, tuple(layout.sole_sites))
     read_measurement(sim, measurement)
     open_loop = OpenLoopWalk(trajectory)

@@ -9,14 +9,17 @@ from zmpkit.compensate.algorithm1 import compensate_abstraction
 from zmpkit.compensate.algorithm2 import Algorithm2Parameters, OnlineZmpCompensator
 from zmpkit.errors import ParameterError
 from zmpkit.experiments.walk_trial import simulate_walk
-from zmpkit.robots.nao import NAO_LEG_JOINTS, make_nao, nao_ik_model
+from zmpkit.robots.nao import make_nao, nao_ik_model
+from zmpkit.robots.registry import get_robot
 from zmpkit.walking import PatternConfig, generate_pattern
-from zmpkit.walking.ik import IkSettings, solve_walking_ik
+from zmpkit.walking.ik import solve_walking_ik
+
+NAO_IK = get_robot("nao").ik_settings
 
 
 def test_algorithm1_reduces_the_error_on_a_short_walk() -> None:
     result = compensate_abstraction(PatternConfig(duration_s=3.0, com_height_m=0.25),
-                                    nao_ik_model(), iterations=4)  # fmt: skip
+                                    nao_ik_model(), iterations=4, ik_settings=NAO_IK)  # fmt: skip
     rms = result.iteration_rms_m
     assert rms.shape == (4,)
     assert np.all(np.diff(rms) < 0.0)
@@ -26,13 +29,14 @@ def test_algorithm1_reduces_the_error_on_a_short_walk() -> None:
 
 def test_algorithm1_iterations_are_checked() -> None:
     with pytest.raises(ParameterError, match="iterations must be an integer >= 1; got 0"):
-        compensate_abstraction(PatternConfig(duration_s=2.0), nao_ik_model(), iterations=0)
+        compensate_abstraction(PatternConfig(duration_s=2.0), nao_ik_model(), iterations=0,
+                               ik_settings=NAO_IK)  # fmt: skip
 
 
 @pytest.fixture(scope="module")
 def short_walk():
     pattern = generate_pattern(PatternConfig(duration_s=1.5, com_height_m=0.25))
-    settings = IkSettings(joint_names=NAO_LEG_JOINTS)
+    settings = NAO_IK
     return pattern, settings, solve_walking_ik(pattern, nao_ik_model(), settings)
 
 

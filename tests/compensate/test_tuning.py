@@ -17,6 +17,7 @@ from zmpkit.errors import ParameterError
 from zmpkit.pipelines.walk_compensate import CompensateConfig, CompensateResult, run_walk_compensate
 from zmpkit.pipelines.walk_compensate_report import write_walk_compensate
 from zmpkit.robots.nao import nao_ik_model
+from zmpkit.robots.registry import get_robot
 from zmpkit.walking import generate_pattern
 
 SHORT = WalkSpec(speed_mps=0.2, seed=0, duration_s=3.0)
@@ -24,7 +25,9 @@ SHORT = WalkSpec(speed_mps=0.2, seed=0, duration_s=3.0)
 
 def test_tuning_improves_on_no_offset_and_resumes_from_its_cache(tmp_path) -> None:
     config = SHORT.walk_config().pattern_config()
-    model_offset = compensate_abstraction(config, nao_ik_model(), iterations=3)
+    model_offset = compensate_abstraction(
+        config, nao_ik_model(), iterations=3, ik_settings=get_robot("nao").ik_settings
+    )
     prior = prior_from_offset("half-sine", model_offset.zmp_offset_in_world,
                               generate_pattern(config))  # fmt: skip
     result = tune_offset(prior, [SHORT], evaluations=2, cache_dir=tmp_path, workers=1, seed=3)

@@ -16,7 +16,7 @@ from zmpkit.control import (
     LinearCorrectionController,
     LipmController,
     PidGains,
-    teo_coded_gains,
+    paper_a_coded_gains,
 )
 from zmpkit.errors import ModelError, ParameterError
 from zmpkit.identify import BalanceParams, ErrorModel, PlaneParams, fit_error_model
@@ -111,14 +111,14 @@ def test_gain_tends_to_its_value_at_zero(a: float, b: float, c: float, x: float)
 def test_teo_coded_law_matches_the_table_and_jumps_near_zero() -> None:
     # robots/teo-parameters.md §8, computed from W LIPM2d.cpp
     r = [0.00, 0.02, 0.04, 0.06, 0.08, 0.09, 0.10]
-    k_a, b_a = teo_coded_gains(r)
+    k_a, b_a = paper_a_coded_gains(r)
     table_k = [9.9500, 9.9580, 9.9671, 9.9754, 9.9837, 9.9879, 9.9921]
     table_b = [46.84, 48.16, 49.62, 50.92, 52.17, 52.79, 53.41]
     np.testing.assert_allclose(k_a, table_k, atol=5e-5)
     np.testing.assert_allclose(b_a, table_b, atol=5e-3)
     # its fallback below r ≈ 0.39 mm makes k_a jump from 9.95 to about g (β → 0)
     grid = np.linspace(-0.001, 0.001, 2001)
-    teo_k = teo_coded_gains(grid)[0]
+    teo_k = paper_a_coded_gains(grid)[0]
     assert np.max(np.abs(np.diff(teo_k))) > 0.1
     assert np.all(teo_k[grid < 0.0] == 9.95)
     ours = GainSchedule(PAPER_A, MASS_KG, LENGTH_M).k_a(grid) / MASS_KG

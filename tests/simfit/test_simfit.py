@@ -58,7 +58,8 @@ def test_fit_parameter_rejects_nominal_outside_bounds() -> None:
 def test_catalogue_names_valid_letters_and_robot_gaps(monkeypatch: pytest.MonkeyPatch) -> None:
     with pytest.raises(ParameterError, match=r"letters from: M .*C \(mass and CoM"):
         default_parameters("nao", "M,X")
-    monkeypatch.setitem(catalogue._CATALOGUE, "nao", default_parameters("nao", "M,I,G,F,S"))
+    no_c = default_parameters("nao", "M,I,G,F,S")
+    monkeypatch.setattr(catalogue, "robot_catalogue", lambda robot: no_c)
     with pytest.raises(ParameterError, match="nao has no fit parameters for effect C"):
         default_parameters("nao", "C")
     with pytest.raises(ParameterError, match="valid: \\['gear_backlash'"):

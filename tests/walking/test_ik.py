@@ -8,6 +8,7 @@ import pytest
 
 from zmpkit.errors import ModelError
 from zmpkit.robots.nao import nao_ik_model
+from zmpkit.robots.registry import get_robot
 from zmpkit.walking import PatternConfig, generate_pattern
 from zmpkit.walking.ik import IkSettings, solve_walking_ik
 
@@ -19,7 +20,7 @@ TOLERANCE_M = 1e-4
 def solved():
     pattern = generate_pattern(PatternConfig(n_steps=4, duration_s=None, com_height_m=0.25))
     model = nao_ik_model()
-    return pattern, model, solve_walking_ik(pattern, model)
+    return pattern, model, solve_walking_ik(pattern, model, get_robot("nao").ik_settings)
 
 
 def test_ik_reaches_com_and_feet(solved) -> None:

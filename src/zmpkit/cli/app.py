@@ -8,17 +8,49 @@ one line on stderr and exit code 2.
 from __future__ import annotations
 
 import sys
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
+from typing import Any, TypeVar
 
 import click
 
 from zmpkit import __version__
 from zmpkit.errors import ZmpkitError
+from zmpkit.robots.registry import get_robot, robot_names, robots_that
 
-__all__ = ["EXIT_USAGE", "ROBOT_CHOICES", "cli", "format_or_undefined", "main"]
+__all__ = ["EXIT_USAGE", "cli", "format_or_undefined", "main", "robot_option"]
 
-ROBOT_CHOICES = ("teo",)
 EXIT_USAGE = 2
+_F = TypeVar("_F", bound=Callable[..., Any])
+_NEEDS_TEXT = {
+    None: "",
+    "balance": " with a balance model",
+    "walking": " that walks",
+    "fit": " with a fit catalogue",
+}
+
+
+def robot_option(
+    default: str | None, needs: str | None = None, help_text: str = "Robot"
+) -> Callable[[_F], _F]:
+    """The ``--robot NAME|PATH/robot.yaml`` option; its choices come from the registry.
+
+    An unknown robot, or one without what the command ``needs`` (``"balance"``,
+    ``"walking"``, ``"fit"``), ends the command with exit 2 and one line naming the valid ones.
+    """
+    valid = robots_that(needs) if needs else robot_names()
+
+    def check(ctx: click.Context, param: click.Parameter, value: str | None) -> str | None:
+        if value is not None:
+            get_robot(value, needs=needs)
+        return value
+
+    return click.option(
+        "--robot",
+        default=default,
+        show_default=default is not None,
+        callback=check,
+        help=f"{help_text}: {', '.join(valid)}, or PATH/robot.yaml (a robot{_NEEDS_TEXT[needs]}).",
+    )
 
 
 @click.group(context_settings={"help_option_names": ["-h", "--help"]})

@@ -7,17 +7,18 @@ from typing import Any
 
 import click
 
-from zmpkit.cli.app import ROBOT_CHOICES, cli
+from zmpkit.cli.app import cli, robot_option
 from zmpkit.cli.progress import SweepProgress
 from zmpkit.control import PAPER_A_TIME_SCALE
 from zmpkit.pipelines.balance import BalanceConfig, run_balance
 from zmpkit.pipelines.balance_report import write_balance_outputs
+from zmpkit.robots.registry import DEFAULT_BALANCE_ROBOT
 
 __all__ = ["balance_command"]
 
 
 @cli.command("balance")
-@click.option("--robot", type=click.Choice(ROBOT_CHOICES), default="teo", show_default=True)
+@robot_option(DEFAULT_BALANCE_ROBOT, needs="balance")
 @click.option(
     "--out",
     "out_dir",

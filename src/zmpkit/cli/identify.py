@@ -6,10 +6,11 @@ from pathlib import Path
 
 import click
 
-from zmpkit.cli.app import cli
+from zmpkit.cli.app import cli, robot_option
 from zmpkit.cli.progress import GenerationProgress
 from zmpkit.pipelines.identify_balance import run_identify_balance
 from zmpkit.pipelines.identify_sim import IdentifySimConfig, run_identify_sim
+from zmpkit.robots.registry import DEFAULT_FIT_ROBOT
 from zmpkit.simfit.optimizer import FitInterruptedError
 
 __all__ = ["identify_balance_command", "identify_group", "identify_sim_command"]
@@ -47,13 +48,13 @@ def identify_balance_command(
 
 @identify_group.command("sim")
 @click.argument("data", nargs=-1, type=click.Path(path_type=Path))
-@click.option("--robot", type=click.Choice(("nao", "teo")), default="nao", show_default=True)
+@robot_option(DEFAULT_FIT_ROBOT, needs="fit")
 @click.option(
     "--effects",
     default="M,G",
     show_default=True,
-    help="Effects whose parameters are fitted: letters M, I, G, F, S, C (mass/CoM: TEO "
-    "payload, NAO torso).",
+    help="Effects whose parameters are fitted: letters M, I, G, F, S, C (mass/CoM: CAD vs "
+    "real, e.g. a payload or the torso).",
 )
 @click.option(
     "--out", "out_dir", type=click.Path(path_type=Path), required=True, help="Output folder."

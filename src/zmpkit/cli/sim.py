@@ -6,9 +6,10 @@ from pathlib import Path
 
 import click
 
-from zmpkit.cli.app import cli
+from zmpkit.cli.app import cli, robot_option
 from zmpkit.cli.progress import TrialProgressBar
 from zmpkit.pipelines.sim_push import run_sim_push, sim_push_config
+from zmpkit.robots.registry import DEFAULT_BALANCE_ROBOT
 
 __all__ = ["sim_group", "sim_push_command"]
 
@@ -19,7 +20,7 @@ def sim_group() -> None:
 
 
 @sim_group.command("push")
-@click.option("--robot", default="teo", show_default=True, help="Virtual robot: teo.")
+@robot_option(DEFAULT_BALANCE_ROBOT, needs="balance")
 @click.option(
     "--targets",
     default="0:0.10:0.01",

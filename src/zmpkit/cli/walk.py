@@ -1,4 +1,4 @@
-"""``zmpkit walk`` and ``zmpkit walk compensate``: paper B on the virtual NAO."""
+"""``zmpkit walk`` and ``zmpkit walk compensate``: paper B on a walking robot."""
 
 from __future__ import annotations
 
@@ -6,7 +6,7 @@ from pathlib import Path
 
 import click
 
-from zmpkit.cli.app import cli, format_or_undefined
+from zmpkit.cli.app import cli, format_or_undefined, robot_option
 from zmpkit.cli.progress import SimTimeProgress, StageProgress
 from zmpkit.experiments.walk_config import WalkConfig
 from zmpkit.experiments.walk_trial import Push
@@ -14,13 +14,14 @@ from zmpkit.pipelines.walk import run_walk, write_walk
 from zmpkit.pipelines.walk_compensate import CompensateConfig, run_walk_compensate
 from zmpkit.pipelines.walk_compensate_report import write_walk_compensate
 from zmpkit.pipelines.walk_sweep import SweepConfig, run_walk_sweep, write_walk_sweep
+from zmpkit.robots.registry import DEFAULT_WALK_ROBOT
 from zmpkit.walking.walk_controllers import CONTROLLERS
 
 __all__ = ["walk_compensate_command", "walk_group", "walk_sweep_command"]
 
 
 @cli.group("walk", invoke_without_command=True)
-@click.option("--robot", type=click.Choice(("nao",)), default="nao", show_default=True)
+@robot_option(DEFAULT_WALK_ROBOT, needs="walking")
 @click.option("--speed", type=float, default=0.2, show_default=True, help="Forward speed [m/s].")
 @click.option(
     "--step-duration", type=float, default=0.5, show_default=True, help="Duration of one step [s]."
@@ -134,7 +135,7 @@ def walk_group(
     help="alg1/alg2: paper B's Algorithms 1 and 2; half-sine, sawtooth, fourier: a tuned "
     "periodic offset on the desired ZMP; auto: tune every shape and keep the best.",
 )
-@click.option("--robot", type=click.Choice(("nao",)), default="nao", show_default=True)
+@robot_option(DEFAULT_WALK_ROBOT, needs="walking")
 @click.option("--quick", is_flag=True, help="Fewer tuning walks (under 5 min on 2 cores).")
 @click.option("--speed", type=float, default=0.2, show_default=True, help="Tuning speed [m/s].")
 @click.option("--effects", default="all", show_default=True, help="Simulated effects.")
@@ -180,7 +181,7 @@ def walk_compensate_command(
 
 
 @walk_group.command("sweep")
-@click.option("--robot", type=click.Choice(("nao",)), default="nao", show_default=True)
+@robot_option(DEFAULT_WALK_ROBOT, needs="walking")
 @click.option(
     "--controllers",
     default=",".join(("zmpip", "dcm", "open")),

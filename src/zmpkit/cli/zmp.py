@@ -6,10 +6,10 @@ from pathlib import Path
 
 import click
 
-from zmpkit.cli.app import ROBOT_CHOICES, cli
+from zmpkit.cli.app import cli, robot_option
 from zmpkit.io import feet_from_mapping
 from zmpkit.pipelines.zmp_log import run_zmp_log
-from zmpkit.robots.teo import teo_feet_mounts
+from zmpkit.robots.registry import get_robot
 from zmpkit.sensors import CONTACT_FORCE_THRESHOLD_N
 
 __all__ = ["zmp_command"]
@@ -38,11 +38,7 @@ __all__ = ["zmp_command"]
     type=click.Path(path_type=Path),
     help="FEET.yaml: each foot's sensor position [m], rpy [rad] and sole_height [m].",
 )
-@click.option(
-    "--robot",
-    type=click.Choice(ROBOT_CHOICES),
-    help="Use a built-in robot's sensor mounts instead of --feet.",
-)
+@robot_option(None, help_text="Use a robot's sensor mounts instead of --feet")
 @click.option(
     "--columns",
     "columns_path",
@@ -77,7 +73,10 @@ def zmp_command(
     if (feet_path is None) == (robot is None):
         raise click.UsageError("give exactly one of --feet FEET.yaml or --robot ROBOT")
     feet = _robot_feet(robot) if robot is not None else None
-    threshold = CONTACT_FORCE_THRESHOLD_N if contact_threshold is None else contact_threshold
+    default_threshold = (
+        CONTACT_FORCE_THRESHOLD_N if robot is None else get_robot(robot).contact_force_threshold_n
+    )
+    threshold = default_threshold if contact_threshold is None else contact_threshold
     result = run_zmp_log(
         log,
         out_dir,
@@ -99,6 +98,5 @@ def zmp_command(
 
 def _robot_feet(robot: str):
 
-    if robot == "teo":
-        return feet_from_mapping(teo_feet_mounts(), source="built-in robot 'teo'")
-    raise click.UsageError(f"unknown robot {robot!r}; valid: {', '.join(ROBOT_CHOICES)}")
+    chosen = get_robot(robot)
+    return feet_from_mapping(chosen.feet_mounts(), source=f"robot {chosen.name!r}")

@@ -72,7 +72,8 @@ def compensate_abstraction(
     config: PatternConfig,
     model: mujoco.MjModel,
     iterations: int = DEFAULT_ITERATIONS,
-    ik_settings: IkSettings | None = None,
+    *,
+    ik_settings: IkSettings,
 ) -> Algorithm1Result:
     """Run Algorithm 1 on the walk ``config`` with the design model ``model``.
 
@@ -80,7 +81,8 @@ def compensate_abstraction(
         config: the walk (its linear reference is p_r).
         model: the robot's rigid model, free joint first (the IK model).
         iterations: n >= 1.
-        ik_settings: settings of the IK; the robot's default when None.
+        ik_settings: settings of the IK (the robot's
+            :attr:`~zmpkit.robots.robot.Robot.ik_settings`).
 
     Returns:
         The offset, the RMS per iteration and the last compensated pattern.

@@ -2,7 +2,7 @@ r"""Paper B's Algorithm 2: compensate measured ZMP deviations online, with a bia
 
 Inside the walking loop, at every motion frame ``i`` (10 ms) with the measured ZMP ``p``,
 the desired ZMP ``p_r`` and one offset per frame of a step, ``p_o[0..T-1]`` (``T`` frames per
-step, 50 for NAO's 0.5 s steps), paper B writes::
+step, 50 for paper B's 0.5 s steps), paper B writes::
 
     b = α1 b + (1 - α1)(p_r - p)                       # bias of the deviation
     p' = p_r + p_o[i mod T]                             # desired ZMP of this frame

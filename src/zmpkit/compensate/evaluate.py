@@ -2,7 +2,7 @@
 
 The walk is ``zmpkit walk``'s: the pattern of :class:`~zmpkit.experiments.walk_config.WalkConfig`
 with ``zmp_offset`` added to its linear reference, the whole-body IK on the design model,
-and the virtual NAO with the configured effects. The oscillation metrics are those of
+and the simulated walking robot with the configured effects. The oscillation metrics are those of
 ``summary.json`` over the steady walk: the trunk-pitch spectrum's amplitude at the step
 frequency and the trunk pitch's standard deviation.
 """
@@ -18,7 +18,7 @@ from zmpkit.errors import SimulationDivergedError
 from zmpkit.experiments.walk_config import WalkConfig
 from zmpkit.experiments.walk_summary import WalkSummary, summarise_walk
 from zmpkit.experiments.walk_trial import WalkRecord, simulate_walk
-from zmpkit.robots.nao import make_nao, nao_ik_model
+from zmpkit.robots.registry import get_robot
 from zmpkit.walking import generate_pattern
 from zmpkit.walking.ik import JointTrajectory, solve_walking_ik
 from zmpkit.walking.pattern import WalkingPattern
@@ -69,9 +69,10 @@ def simulate_with_offset(
     config: WalkConfig, zmp_offset: NDArray[np.float64] | None = None
 ) -> WalkOutcome:
     """Plan ``config``'s walk with ``zmp_offset`` [m] (N, 2) on the reference and simulate it."""
+    robot = get_robot(config.robot, needs="walking")
     pattern = generate_pattern(config.pattern_config(), zmp_offset)
-    trajectory = solve_walking_ik(pattern, nao_ik_model())
-    sim = make_nao(config.effects, config.truth, seed=config.seed)
+    trajectory = solve_walking_ik(pattern, robot.ik_model(), robot.ik_settings)
+    sim = robot.make_simulation(config.effects, config.truth, seed=config.seed)
     try:
         record = simulate_walk(sim, trajectory)
     except SimulationDivergedError:

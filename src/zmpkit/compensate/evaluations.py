@@ -19,6 +19,7 @@ from pathlib import Path
 from zmpkit.compensate.evaluate import simulate_with_offset
 from zmpkit.compensate.offsets import OffsetParameters, offset_in_world
 from zmpkit.experiments.walk_config import WalkConfig
+from zmpkit.robots.registry import DEFAULT_WALK_ROBOT
 from zmpkit.walking import generate_pattern
 
 __all__ = ["DEFAULT_WORKERS", "Evaluation", "WalkSpec", "evaluate_all"]
@@ -35,19 +36,21 @@ class WalkSpec:
         speed_mps: commanded speed [m/s].
         seed: sensor-noise seed.
         duration_s: walking time [s].
-        effects: effect letters of the virtual NAO.
+        effects: effect letters of the simulated robot.
+        robot: the walking robot's registry name or ``robot.yaml`` path.
     """
 
     speed_mps: float = 0.2
     seed: int = 0
     duration_s: float = 10.0
     effects: str = "all"
+    robot: str = DEFAULT_WALK_ROBOT
 
     def walk_config(self) -> WalkConfig:
         """The walk as ``zmpkit walk`` runs it (no figures)."""
         return WalkConfig(
             speed_mps=self.speed_mps, seed=self.seed, duration_s=self.duration_s,
-            effects=self.effects, figures=False,
+            effects=self.effects, figures=False, robot=self.robot,
         )  # fmt: skip
 
     @property

@@ -20,9 +20,9 @@ from zmpkit.compensate.offsets import OffsetParameters, offset_in_world
 from zmpkit.errors import SimulationDivergedError
 from zmpkit.experiments.walk_summary import summarise_walk
 from zmpkit.experiments.walk_trial import WalkRecord, simulate_walk
-from zmpkit.robots.nao import NAO_LEG_JOINTS, make_nao, nao_ik_model
+from zmpkit.robots.registry import get_robot
 from zmpkit.walking import generate_pattern
-from zmpkit.walking.ik import IkSettings, solve_walking_ik
+from zmpkit.walking.ik import solve_walking_ik
 from zmpkit.walking.pattern import WalkingPattern
 
 __all__ = ["CompensatedWalk", "walk_with_algorithm1", "walk_with_algorithm2", "walk_with_offset"]
@@ -88,7 +88,10 @@ def walk_with_offset(walk: WalkSpec, offset: OffsetParameters | None) -> Compens
 def walk_with_algorithm1(walk: WalkSpec, iterations: int = DEFAULT_ITERATIONS) -> CompensatedWalk:
     """``walk`` with Algorithm 1's offset, computed for this walk on the design model."""
     config = walk.walk_config()
-    compensation = compensate_abstraction(config.pattern_config(), nao_ik_model(), iterations)
+    robot = get_robot(config.robot, needs="walking")
+    compensation = compensate_abstraction(
+        config.pattern_config(), robot.ik_model(), iterations, ik_settings=robot.ik_settings
+    )
     outcome = simulate_with_offset(config, compensation.zmp_offset_in_world)
     target = outcome.pattern.zmp_reference_in_world
     return _result(walk, outcome.pattern, outcome.record, outcome.summary, target,
@@ -99,11 +102,12 @@ def walk_with_algorithm2(walk: WalkSpec, parameters: Algorithm2Parameters) -> Co
     """``walk`` with Algorithm 2 running online on the measured ZMP."""
     config = walk.walk_config()
     pattern = generate_pattern(config.pattern_config())
-    model, settings = nao_ik_model(), IkSettings(joint_names=NAO_LEG_JOINTS)
+    robot = get_robot(config.robot, needs="walking")
+    model, settings = robot.ik_model(), robot.ik_settings
     trajectory = solve_walking_ik(pattern, model, settings)
     hook = OnlineZmpCompensator(pattern, model, parameters, settings)
     try:
-        record = simulate_walk(make_nao(config.effects, seed=config.seed), trajectory,
+        record = simulate_walk(robot.make_simulation(config.effects, seed=config.seed), trajectory,
                                frame_hook=hook)  # fmt: skip
     except SimulationDivergedError:
         return _result(walk, pattern, None, None, hook.target)

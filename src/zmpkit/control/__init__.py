@@ -13,7 +13,7 @@ from __future__ import annotations
 
 from zmpkit.control.dlipm_controller import PAPER_A_TIME_SCALE, DlipmController, support_interval
 from zmpkit.control.lipm_controller import LinearCorrectionController, LipmController, PidGains
-from zmpkit.control.schedule import DEFAULT_ZETA, GainSchedule, teo_coded_gains
+from zmpkit.control.schedule import DEFAULT_ZETA, GainSchedule, paper_a_coded_gains
 
 __all__ = [
     "DEFAULT_ZETA",
@@ -23,6 +23,6 @@ __all__ = [
     "LinearCorrectionController",
     "LipmController",
     "PidGains",
+    "paper_a_coded_gains",
     "support_interval",
-    "teo_coded_gains",
 ]

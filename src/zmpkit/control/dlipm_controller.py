@@ -19,11 +19,12 @@ state is kept across target changes, so the angle is continuous when the target 
 mid-motion.
 
 Time scale. In SI units the DC gain fixes :math:`\beta = \gamma / K` and so
-:math:`\omega_n \approx \sqrt{g/l}` (≈ 3.5 rad/s on TEO): its planned angular acceleration
-at a step, :math:`\beta\,\theta_{cmd}`, is far beyond what a tall robot's servos follow.
+:math:`\omega_n \approx \sqrt{g/l}` (≈ 3.5 rad/s on paper A's robot): its planned
+angular acceleration at a step, :math:`\beta\,\theta_{cmd}`, is far beyond what a tall
+robot's servos follow.
 ``time_scale`` = s runs the same DLIPM s times slower (discretised with :math:`\Delta t/s`:
 :math:`\omega_n/s`, same ζ, same DC gain). :data:`PAPER_A_TIME_SCALE` = √(180/π) gives
-exactly the dynamics paper A ran on TEO: its code sends θ in degrees, which scales γ and β
+exactly the dynamics paper A ran on its robot: its code sends θ in degrees, which scales γ and β
 by π/180 (its ω_n = 0.4376, see :func:`zmpkit.models.paper_units_omega_n`).
 
 With ``max_acceleration_rad_s2`` = a, each target change picks the time scale

@@ -37,8 +37,8 @@ mass explicit, :class:`~zmpkit.models.Dlipm`) then gets, for the damping ratio �
 
 A few coefficients (those of f, m, l, g, ζ) define the whole surface: no lookup table.
 
-How this differs from TEO's coded law (``robots/teo-parameters.md`` §8,
-:func:`teo_coded_gains`): TEO sets :math:`k_a = g + (k_{a,const}(r) - g)\,f(r)/r` with
+How this differs from paper A's coded law (the robot's parameter notes §8,
+:func:`paper_a_coded_gains`): its code sets :math:`k_a = g + (k_{a,const}(r) - g)\,f(r)/r` with
 k_a per kg and an ad-hoc :math:`k_{a,const}(r) = 0.25 r + 9.95`, i.e. it *evaluates* f at
 the target instead of inverting it (the angle :math:`\propto r^2/f(r)` matches
 :math:`f^{-1}(r)` only to first order in :math:`f(r) - r`); it has no feed-forward for c;
@@ -66,7 +66,7 @@ from zmpkit.identify.params import BalanceParams
 from zmpkit.models.dlipm import Dlipm
 from zmpkit.models.pendulum import STANDARD_GRAVITY_MPS2
 
-__all__ = ["DEFAULT_ZETA", "GainSchedule", "teo_coded_gains"]
+__all__ = ["DEFAULT_ZETA", "GainSchedule", "paper_a_coded_gains"]
 
 FloatArray = NDArray[np.float64]
 
@@ -196,7 +196,7 @@ def _targets(x_ref: ArrayLike) -> tuple[FloatArray, bool]:
     return np.atleast_1d(array).astype(np.float64), array.ndim == 0
 
 
-def teo_coded_gains(
+def paper_a_coded_gains(
     zmp_ref: ArrayLike,
     *,
     mass: float = 62.589,
@@ -205,7 +205,7 @@ def teo_coded_gains(
     chi: float = 1.0,
     fit: tuple[float, float, float] = (0.834, 1.024, -0.0004),
 ) -> tuple[FloatArray, FloatArray]:
-    r"""TEO's coded scheduling law (``robots/teo-parameters.md`` §8), for comparison only.
+    r"""Paper A's coded scheduling law (the robot's parameter notes §8), for comparison only.
 
     :math:`k_{a,const} = 0.25 r + 9.95`, :math:`k_a = g + (k_{a,const} - g) f(r)/r`, falling
     back to 9.95 when r = 0 or :math:`f(r) < 10^{-11}`; :math:`B_a = 2\chi M\sqrt{k_a - g}`

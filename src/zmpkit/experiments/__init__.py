@@ -11,7 +11,6 @@
 from zmpkit.experiments.config import (
     DEFAULT_TARGETS_M,
     PUSH_POINTS,
-    ROBOTS,
     PushConfig,
     StepExperimentConfig,
     parse_targets,
@@ -48,7 +47,6 @@ __all__ = [
     "DEFAULT_WORKERS",
     "META_FILE",
     "PUSH_POINTS",
-    "ROBOTS",
     "STEADY_STATE_COLUMNS",
     "STEADY_WINDOW_S",
     "LeanController",

@@ -1,7 +1,7 @@
 """Configuration of a step / push experiment sweep (paper A §4.1, Fig. 12–14).
 
 A sweep runs one trial per ZMP target: the robot stands in double support, settles, records a
-quiet start-up window (for the ZMP offset, as TEO's code does at start-up), then at
+quiet start-up window (for the ZMP offset, as paper A's code does at start-up), then at
 ``t_step`` gets the LIPM lean for the target — optionally with a push at the same time —
 and holds it while everything is recorded. A target of 0 with a push is a pure push trial.
 """
@@ -16,21 +16,19 @@ from typing import Any
 
 from zmpkit._validate import finite, positive
 from zmpkit.errors import ParameterError
+from zmpkit.robots.registry import DEFAULT_BALANCE_ROBOT, get_robot
 from zmpkit.signals import PLANES
 from zmpkit.sim.effect_set import EffectSet
 
 __all__ = [
     "DEFAULT_TARGETS_M",
     "PUSH_POINTS",
-    "ROBOTS",
     "PushConfig",
     "StepExperimentConfig",
     "parse_targets",
     "trial_file_name",
 ]
 
-ROBOTS = ("teo",)
-"""Robots a sweep can run on."""
 PUSH_POINTS = ("com", "trunk")
 """Where a push acts: the whole-body CoM, or the trunk body's CoM."""
 DEFAULT_TARGETS_M: tuple[float, ...] = tuple(round(0.01 * k, 10) for k in range(11))
@@ -67,7 +65,7 @@ class StepExperimentConfig:
     """A sweep of ZMP-step (and push) trials.
 
     Attributes:
-        robot: ``"teo"``.
+        robot: the robot's registry name or ``robot.yaml`` path; it needs a balance model.
         targets_m: ZMP targets, one trial each, |target| < the lean length [m].
         plane: ``"sagittal"`` (ZMP x) or ``"frontal"`` (ZMP y).
         effects: ``"all"``, ``"none"`` or letters such as ``"M,G,S"`` (canonical form kept).
@@ -80,7 +78,7 @@ class StepExperimentConfig:
         truth: path of a truth file replacing the shipped one, or ``None``.
     """
 
-    robot: str = "teo"
+    robot: str = DEFAULT_BALANCE_ROBOT
     targets_m: tuple[float, ...] = DEFAULT_TARGETS_M
     plane: str = "sagittal"
     effects: str = "all"
@@ -92,8 +90,7 @@ class StepExperimentConfig:
     truth: str | None = None
 
     def __post_init__(self) -> None:
-        if self.robot not in ROBOTS:
-            raise ParameterError(f"unknown robot {self.robot!r}; valid: {', '.join(ROBOTS)}")
+        get_robot(self.robot, needs="balance")
         if self.plane not in PLANES:
             raise ParameterError(f"plane must be one of {', '.join(PLANES)}; got {self.plane!r}")
         object.__setattr__(self, "effects", EffectSet.parse(self.effects).letters)

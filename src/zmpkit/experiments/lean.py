@@ -9,19 +9,21 @@ moves it by
 
 where :math:`l_{lean} = \partial x_{CoM} / \partial\theta` at the upright pose: the first moment
 of the *moving* masses about the ankle axis divided by all the mass the F-T sensors weigh. The
-feet (everything from the ankle's pivot joint down) stay. On TEO the ankle axis is 0.123 m above
-the sole, so :math:`l_{lean}` (≈ 0.777 m sagittal) is well short of the 0.893 m CoM height of
-paper A's pendulum, which is measured from the ground.
+feet (everything from the ankle's pivot joint down) stay. On paper A's robot the ankle axis is
+0.123 m above the sole, so :math:`l_{lean}` (≈ 0.777 m sagittal) is well short of the 0.893 m
+CoM height of its pendulum, which is measured from the ground.
 
 Planes (lean angle :math:`\theta > 0` moves the ZMP toward +x, resp. +y):
 
-- **sagittal** (ZMP x, forward): both ankle pitch joints ``*_ankle_frontal``; the legs stay
-  straight and the whole robot rotates about the ankle axes.
-- **frontal** (ZMP y, left): both ankle roll joints ``*_ankle_sagittal`` and the opposite hip
-  roll joints ``*_hip_sagittal``: the legs tilt, the feet stay flat, the pelvis shifts
-  sideways. TEO's legs converge from the hips (y = ±0.146 m) to the ankles (±0.1285 m), so the
-  two legs, the pelvis and the ground form a four-bar linkage, not a parallelogram: equal and
-  opposite angles would force the stiff servos against each other. The legs' roll angles and
+- **sagittal** (ZMP x, forward): both ankle pitch joints (the robot's
+  :attr:`~zmpkit.robots.robot.BalanceModel.lean_joints`); the legs stay straight and the whole
+  robot rotates about the ankle axes.
+- **frontal** (ZMP y, left): both ankle roll joints and the opposite hip roll joints
+  (:attr:`~zmpkit.robots.robot.BalanceModel.hip_roll_joints`): the legs tilt, the feet stay
+  flat, the pelvis shifts sideways. Legs that converge from the hips to the ankles (paper A's
+  robot: y = ±0.146 m to ±0.1285 m) make the two legs, the pelvis and the ground a four-bar
+  linkage, not a parallelogram: equal and opposite angles would force the stiff servos against
+  each other. The legs' roll angles and
   the pelvis roll are therefore solved from the closed chain (:meth:`LeanModel.joint_targets`);
   :math:`\theta` is the legs' mean tilt.
 
@@ -41,15 +43,13 @@ from numpy.typing import NDArray
 from scipy.optimize import brentq
 
 from zmpkit.errors import ParameterError
-from zmpkit.robots.teo import make_teo
+from zmpkit.robots.registry import get_robot
+from zmpkit.robots.robot import Robot
 from zmpkit.signals.steady_state import PLANES
 from zmpkit.sim.world import Simulation
 
 __all__ = ["LeanModel", "design_lean_model", "lean_angle", "lean_angle_joints"]
 
-SIDES = ("right", "left")
-_PIVOT = {"sagittal": "ankle_frontal", "frontal": "ankle_sagittal"}
-_HIP_ROLL = "hip_sagittal"
 _AXIS_INDEX = {"sagittal": 1, "frontal": 0}
 _LEVER_STEP_RAD = 1e-4
 _CLOSURE_BRACKET_RAD = 0.2
@@ -72,6 +72,8 @@ class LeanModel:
         axis_signs: per side, the sign of the pivot joint axis along the plane normal [-].
         ankles: frontal: ankle roll axes (y, z) of right and left, shape (2, 2) [m].
         hips: frontal: hip roll axes (y, z) of right and left, shape (2, 2) [m].
+        pivots: the pivot joints of right and left in this plane.
+        hip_rolls: the hip roll joints of right and left (they close the frontal chain).
     """
 
     plane: str
@@ -79,6 +81,8 @@ class LeanModel:
     axis_signs: tuple[float, float]
     ankles: NDArray[np.float64]
     hips: NDArray[np.float64]
+    pivots: tuple[str, str]
+    hip_rolls: tuple[str, str]
 
     def leg_tilts(self, angle_rad: float) -> tuple[float, float, float]:
         """Frontal closed chain: right and left leg tilt, pelvis tilt, for lean ``angle_rad`` [rad].
@@ -115,12 +119,13 @@ class LeanModel:
     def joint_targets(self, angle_rad: float) -> dict[str, float]:
         """Joint angles [rad] that lean the design robot by ``angle_rad`` with the feet flat."""
         if self.plane == "sagittal":
-            return {f"{s}_{_PIVOT['sagittal']}": -sg * angle_rad for s, sg in self._sides()}
+            return {p: -sg * angle_rad for p, sg in zip(self.pivots, self.axis_signs, strict=True)}
         right, left, pelvis = self.leg_tilts(angle_rad)
         out: dict[str, float] = {}
-        for (side, sign), tilt in zip(self._sides(), (right, left), strict=True):
-            out[f"{side}_{_PIVOT['frontal']}"] = sign * tilt
-            out[f"{side}_{_HIP_ROLL}"] = -sign * (tilt - pelvis)
+        for k, tilt in enumerate((right, left)):
+            sign = self.axis_signs[k]
+            out[self.pivots[k]] = sign * tilt
+            out[self.hip_rolls[k]] = -sign * (tilt - pelvis)
         return out
 
     def angle_joints(self) -> dict[str, float]:
@@ -129,10 +134,7 @@ class LeanModel:
         Sagittal: exact. Frontal: the pivots are the legs' tilts, whose mean is :math:`\theta`.
         """
         flip = -1.0 if self.plane == "sagittal" else 1.0
-        return {f"{side}_{_PIVOT[self.plane]}": flip * sign for side, sign in self._sides()}
-
-    def _sides(self) -> tuple[tuple[str, float], ...]:
-        return tuple(zip(SIDES, self.axis_signs, strict=True))
+        return {p: flip * sign for p, sign in zip(self.pivots, self.axis_signs, strict=True)}
 
 
 def lean_angle(target_m: float, lean_length_m: float) -> float:
@@ -174,10 +176,10 @@ def _design_bodies(sim: Simulation, plane: str, model: LeanModel) -> _DesignBodi
         *(_subtree(parents, int(m.site_bodyid[m.site(f.site).id])) for f in sim.robot.feet)
     )
     group = np.full(m.nbody, 3)
-    for k, side in enumerate(SIDES, start=1):
-        feet = _subtree(parents, int(m.jnt_bodyid[m.joint(f"{side}_{_PIVOT[plane]}").id]))
+    for k, (pivot, hip_roll) in enumerate(zip(model.pivots, model.hip_rolls, strict=True), 1):
+        feet = _subtree(parents, int(m.jnt_bodyid[m.joint(pivot).id]))
         if plane == "frontal":
-            hip = int(m.jnt_bodyid[m.joint(f"{side}_{_HIP_ROLL}").id])
+            hip = int(m.jnt_bodyid[m.joint(hip_roll).id])
             group[sorted(_subtree(parents, hip) - feet)] = k
         group[sorted(feet)] = 0
     keep = [b for b in range(1, m.nbody) if b not in below]
@@ -205,41 +207,50 @@ def _com(bodies: _DesignBodies, model: LeanModel, angle_rad: float) -> float:
     return float(bodies.mass @ pos[:, 0] / bodies.mass.sum())
 
 
-def _anchors(sim: Simulation, joint: str, plane: str) -> NDArray[np.float64]:
+def _anchors(sim: Simulation, joints: tuple[str, str], plane: str) -> NDArray[np.float64]:
     m, d = sim.model, sim.data
     column = 0 if plane == "sagittal" else 1
-    ids = [m.joint(f"{side}_{joint}").id for side in SIDES]
+    ids = [m.joint(joint).id for joint in joints]
     return np.array([[d.xanchor[i, column], d.xanchor[i, 2]] for i in ids])
 
 
-@cache
-def design_lean_model(robot: str, plane: str) -> LeanModel:
+def design_lean_model(robot: str | Robot, plane: str) -> LeanModel:
     """The lean of ``robot``'s design model in ``plane``: joints, linkage, lean length (cached).
 
     The design model is the rigid MJCF (effects ``"none"``, shipped parameters) standing upright.
 
+    Args:
+        robot: a robot, or its name or ``robot.yaml`` path.
+        plane: ``"sagittal"`` or ``"frontal"``.
+
     Raises:
-        ParameterError: on an unknown robot or plane, naming the valid ones.
+        ParameterError: on an unknown robot or plane, naming the valid ones, or a robot
+            without a balance model.
     """
     if plane not in PLANES:
         raise ParameterError(f"plane must be one of {', '.join(PLANES)}; got {plane!r}")
-    if robot != "teo":
-        raise ParameterError(f"unknown robot {robot!r}; valid: teo")
+    return _design_lean_model(get_robot(robot).source, plane)
 
-    sim = make_teo("none")
+
+@cache
+def _design_lean_model(source: str, plane: str) -> LeanModel:
+    robot = get_robot(source)
+    balance = robot.require_balance()
+    pivots, hip_rolls = balance.lean_joints[plane], balance.hip_roll_joints
+    sim = robot.make_simulation("none")
     m, d = sim.model, sim.data
     axis = _AXIS_INDEX[plane]
-    right, left = (float(np.sign(d.xaxis[m.joint(f"{s}_{_PIVOT[plane]}").id, axis])) for s in SIDES)
+    right, left = (float(np.sign(d.xaxis[m.joint(j).id, axis])) for j in pivots)
     signs = (right, left)
-    ankles = _anchors(sim, _PIVOT[plane], plane)
-    hips = _anchors(sim, _HIP_ROLL, plane)
-    model = LeanModel(plane, 0.0, signs, ankles, hips)
+    ankles = _anchors(sim, pivots, plane)
+    hips = _anchors(sim, hip_rolls, plane)
+    model = LeanModel(plane, 0.0, signs, ankles, hips, pivots, hip_rolls)
     bodies = _design_bodies(sim, plane, model)
     step = _LEVER_STEP_RAD
     lever = (_com(bodies, model, step) - _com(bodies, model, -step)) / (2.0 * step)
-    return LeanModel(plane, lever, signs, ankles, hips)
+    return LeanModel(plane, lever, signs, ankles, hips, pivots, hip_rolls)
 
 
-def lean_angle_joints(robot: str, plane: str) -> dict[str, float]:
+def lean_angle_joints(robot: str | Robot, plane: str) -> dict[str, float]:
     """:meth:`LeanModel.angle_joints` of ``robot``'s design model in ``plane``."""
     return design_lean_model(robot, plane).angle_joints()

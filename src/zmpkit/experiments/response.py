@@ -3,7 +3,7 @@ r"""Measured and expected ZMP of each trial, and the steady-state table (paper A
 Per trial, from the dataset alone (sensors + design knowledge in ``meta.json``):
 
 - measured ZMP: :func:`zmpkit.sensors.zmp_series` of both feet's wrenches with the dataset's
-  sensor mounts, minus its mean over the start-up window (the offset TEO's code removes at
+  sensor mounts, minus its mean over the start-up window (the offset paper A's code removes at
   start-up, :func:`zmpkit.sensors.zmp_offset_from_standing_window`); x in the sagittal plane,
   y in the frontal plane;
 - expected ZMP: the LIPM-expected ZMP of the commanded lean, :math:`l_{lean}\sin\theta(t)`,
@@ -115,7 +115,7 @@ def measured_zmp(
         trial: the recorded trial.
         mounts: the F-T sensor mounts, ``{"right": ..., "left": ...}``.
         startup_window: quiet standing before the step (t0, t1) [s], whose mean ZMP is the
-            offset removed (as TEO's code does at start-up).
+            offset removed (as paper A's code does at start-up).
     """
     series = zmp_series(
         trial.time, trial.right_wrench, trial.left_wrench, mounts["right"], mounts["left"]

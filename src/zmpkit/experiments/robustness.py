@@ -86,16 +86,19 @@ class RobustnessCase:
         """The case as the first nine cells of its CSV row (for resuming)."""
         return tuple(_cell(getattr(self, name)) for name in ROBUSTNESS_COLUMNS[:9])
 
-    def walk_config(self, effects: str, duration_s: float, seed: int) -> WalkConfig:
-        """The walk of this case."""
+    def walk_config(self, robot: str, effects: str, duration_s: float, seed: int) -> WalkConfig:
+        """The walk of this case on ``robot``."""
         pushes: tuple[Push, ...] = ()
         if self.push_n > 0.0:
-            probe = WalkConfig(step_duration_s=self.step_duration_s, speed_mps=self.speed_mps)
+            probe = WalkConfig(
+                robot=robot, step_duration_s=self.step_duration_s, speed_mps=self.speed_mps
+            )
             start = probe.pattern_config().plan().walk_start_s
             when = start + (PUSH_STEP + self.push_phase) * self.step_duration_s
             pushes = (Push(self.push_n, when, self.push_dir),)
         faults = (SensorFault(self.fault, FAULT_TIME_S),) if self.fault else ()
         return WalkConfig(
+            robot=robot,
             speed_mps=self.speed_mps,
             lateral_speed_mps=self.lateral_mps,
             turn_rate_rps=self.turn_rad_s,
@@ -172,9 +175,11 @@ def robustness_matrix(controllers: tuple[str, ...]) -> list[RobustnessCase]:
     return cases
 
 
-def run_case(case: RobustnessCase, effects: str, duration_s: float, seed: int) -> RobustnessRow:
-    """Walk ``case`` and reduce it to its row."""
-    summary = run_walk_trial(case.walk_config(effects, duration_s, seed)).summary
+def run_case(
+    case: RobustnessCase, robot: str, effects: str, duration_s: float, seed: int
+) -> RobustnessRow:
+    """Walk ``case`` on ``robot`` and reduce it to its row."""
+    summary = run_walk_trial(case.walk_config(robot, effects, duration_s, seed)).summary
     error = None
     if summary.mean_speed_mps is not None and abs(case.speed_mps) > 0.0 and not case.turn_rad_s:
         error = 100.0 * (summary.mean_speed_mps - case.speed_mps) / case.speed_mps

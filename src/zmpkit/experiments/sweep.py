@@ -30,7 +30,7 @@ from zmpkit.experiments.dataset import (
 )
 from zmpkit.experiments.lean import design_lean_model, lean_angle, lean_angle_joints
 from zmpkit.experiments.trial import LeanController, StepTrialRecord, run_step_trial
-from zmpkit.robots.teo import TEO_DRIVEN_JOINTS, teo_feet_mounts, teo_robot
+from zmpkit.robots.registry import get_robot
 
 __all__ = ["DEFAULT_WORKERS", "ProgressCallback", "check_sweep", "new_meta", "run_step_sweep"]
 
@@ -52,7 +52,8 @@ def new_meta(
     ``controller`` (the lean controller's factory, if any) is recorded by its ``settings()``
     when it has one, else by its repr, under the key ``"controller"`` (None: LIPM step).
     """
-    joints = tuple(TEO_DRIVEN_JOINTS)
+    robot = get_robot(config.robot)
+    joints = tuple(robot.driven_joints)
     return {
         "format": DATASET_FORMAT,
         "robot": config.robot,
@@ -61,7 +62,7 @@ def new_meta(
         "seed": config.seed,
         "settings": config.settings(),
         "joint_names": list(joints),
-        "sensor_mounts": teo_feet_mounts(),
+        "sensor_mounts": robot.feet_mounts(),
         "units": column_units(joints),
         "zmpkit_version": __version__,
         "lean_length_m": design_lean_model(config.robot, config.plane).lean_length_m,
@@ -122,7 +123,7 @@ def check_sweep(config: StepExperimentConfig) -> None:
     length = design_lean_model(config.robot, config.plane).lean_length_m
     for target in config.targets_m:
         lean_angle(target, length)
-    teo_robot(config.effects, config.truth)
+    get_robot(config.robot).description(config.effects, config.truth)
 
 
 def _pool(workers: int) -> ProcessPoolExecutor:

@@ -17,7 +17,7 @@ simulation is read for the record.
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from typing import Protocol
 
@@ -26,7 +26,7 @@ from numpy.typing import NDArray
 
 from zmpkit.experiments.config import PushConfig, StepExperimentConfig
 from zmpkit.experiments.lean import LeanModel, design_lean_model, lean_angle
-from zmpkit.robots.teo import make_teo
+from zmpkit.robots.registry import get_robot
 from zmpkit.signals import PLANES
 from zmpkit.signals.time_series import Signal, TimeSeries
 from zmpkit.sim.servo import ServoLimits, TrajectoryLimiter
@@ -55,9 +55,9 @@ class LeanController(Protocol):
 
 _TABLE_POINTS = 65
 CONTROL_PERIOD_S = 0.01
-"""Period at which a lean controller is stepped (TEO's simulated control boards) [s]."""
+"""Default period at which a lean controller is stepped [s]; a robot's balance model gives its
+own (:attr:`~zmpkit.robots.robot.BalanceModel.control_period_s`)."""
 _MAX_REACH_FRACTION = 0.3  # lean table covers ZMPs up to this fraction of l_lean [-]
-_PUSH_BODY = {"com": "root_waist", "trunk": "trunk_frontal"}
 
 
 @dataclass(frozen=True, eq=False)
@@ -153,9 +153,11 @@ class _LeanStream:
 class _Pusher:
     """A horizontal force on the robot, applied at a body's CoM or at the whole-body CoM."""
 
-    def __init__(self, sim: Simulation, push: PushConfig, plane: str) -> None:
+    def __init__(
+        self, sim: Simulation, push: PushConfig, plane: str, bodies: Mapping[str, str]
+    ) -> None:
         self._data = sim.data
-        self._body = sim.model.body(_PUSH_BODY[push.point]).id
+        self._body = sim.model.body(bodies[push.point]).id
         self._at_com = push.point == "com"
         self.force = np.zeros(3)
         self.force[PLANES.index(plane)] = push.force_n
@@ -195,7 +197,7 @@ def run_step_trial(
     Without ``controller`` the lean angle steps to the LIPM angle (the classic open-loop
     ankle strategy of paper A Fig. 9). With it, ``controller()`` builds a
     :class:`LeanController` (a picklable factory, so trials can run in worker processes)
-    whose target is set at ``t_step`` and which is stepped every :data:`CONTROL_PERIOD_S`;
+    whose target is set at ``t_step`` and which is stepped every control period of the robot;
     its angle goes through the same servo limits.
 
     Raises:
@@ -205,11 +207,13 @@ def run_step_trial(
     lean = design_lean_model(config.robot, config.plane)
     angle = lean_angle(target_m, lean.lean_length_m)
     seed = trial_seed(config.seed, config.plane, target_m)
-    sim = make_teo(config.effects, config.truth, seed=seed)
-    command = _command(angle, target_m, controller, sim.dt)
+    robot = get_robot(config.robot)
+    sim = robot.make_simulation(config.effects, config.truth, seed=seed)
+    balance = robot.require_balance()
+    command = _command(angle, target_m, controller, sim.dt, balance.control_period_s)
     reach = lean_angle(_MAX_REACH_FRACTION * lean.lean_length_m, lean.lean_length_m)
     stream = _LeanStream(lean, reach, sim.robot.servo_limits, sim.dt) if command else None
-    pusher = _Pusher(sim, config.push, config.plane) if config.push else None
+    pusher = _Pusher(sim, config.push, config.plane, balance.push_bodies) if config.push else None
     data = _record(sim, config, stream, command, pusher)
     j = len(sim.joint_names)
     return StepTrialRecord(
@@ -229,14 +233,18 @@ def run_step_trial(
 
 
 def _command(
-    angle: float, target_m: float, controller: Callable[[], LeanController] | None, dt: float
+    angle: float,
+    target_m: float,
+    controller: Callable[[], LeanController] | None,
+    dt: float,
+    period: float = CONTROL_PERIOD_S,
 ) -> Callable[[int], float | None] | None:
     """Lean-angle target per servo tick after the step (None: keep), or None for no lean."""
     if controller is None:
         return (lambda k: angle if k == 0 else None) if angle else None
     lean_controller = controller()
     lean_controller.set_target(target_m)
-    every = max(1, round(CONTROL_PERIOD_S / dt))
+    every = max(1, round(period / dt))
     return lambda k: lean_controller.step() if k % every == 0 else None
 
 

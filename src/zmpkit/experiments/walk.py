@@ -1,14 +1,15 @@
 """The walk experiment: a walk config in, the planned and the recorded walk out.
 
 Paper B §III: a 3D-LIPM walk (preview control) solved by whole-body IK and played open-loop
-on the virtual NAO, whose servos track the IK's joint angles with the chosen effects on. What
+on the walking robot, whose servos track the IK's joint angles with the chosen effects on. What
 it records is what a user of the real robot reads — encoders, IMU, foot F-T sensors, joint
-torques (NAO: from its motor currents) — plus the feet and torso positions of a motion
-capture; the truth file is read only by the simulator.
+torques (a real robot estimates them from its motor currents) — plus the feet and torso
+positions of a motion capture; the truth file is read only by the simulator.
 """
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass
 
 import mujoco
@@ -16,7 +17,7 @@ import mujoco
 from zmpkit.experiments.walk_config import WalkConfig
 from zmpkit.experiments.walk_summary import WalkSummary, summarise_walk
 from zmpkit.experiments.walk_trial import ProgressCallback, WalkRecord, simulate_walk
-from zmpkit.robots.nao import NAO_LEG_JOINTS, make_nao, nao_ik_model
+from zmpkit.robots.registry import get_robot
 from zmpkit.sim.world import Simulation
 from zmpkit.walking import generate_pattern
 from zmpkit.walking.ik import IkSettings, JointTrajectory, solve_walking_ik
@@ -51,14 +52,19 @@ class WalkTrial:
     summary: WalkSummary
 
 
-def sensor_layout(sim: Simulation) -> SensorLayout:
-    """Where the simulated robot's sensors sit: its F-T sites, sole centres and IMU site."""
+def sensor_layout(sim: Simulation, sole_sites: Mapping[str, str]) -> SensorLayout:
+    """Where the simulated robot's sensors sit: its F-T sites, sole centres and IMU site.
+
+    Args:
+        sim: the simulation (its F-T sensors and IMU).
+        sole_sites: foot -> site at its sole centre (the IK's).
+    """
     model = sim.model
     orientation = sim.robot.imu.orientation
     sensor = model.sensor(orientation)
     imu_site = mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_SITE, int(sensor.objid[0]))
     return SensorLayout(
-        sole_sites={f.foot: f"{f.foot}_sole" for f in sim.robot.feet},
+        sole_sites={f.foot: sole_sites[f.foot] for f in sim.robot.feet},
         sensor_sites={f.foot: f.site for f in sim.robot.feet},
         imu_site=str(imu_site),
         contact_threshold_n=sim.robot.contact_force_threshold_n,
@@ -76,7 +82,7 @@ def make_controller(
     """The walking controller ``name`` for this walk (``open``, ``zmpip`` or ``dcm``)."""
     if name == "open":
         return OpenLoopWalk(trajectory)
-    layout = sensor_layout(sim)
+    layout = sensor_layout(sim, settings.sole_sites)
     if name == "zmpip":
         return ZmpIpWalk(pattern, model, settings, layout, sim.joint_names)
     return DcmWalk(pattern, model, settings, layout, sim.joint_names)
@@ -89,11 +95,11 @@ def run_walk_trial(config: WalkConfig, progress: ProgressCallback | None = None)
         config: the walk.
         progress: called with (simulated time, total time) [s] during the simulation.
     """
+    robot = get_robot(config.robot, needs="walking")
     pattern = generate_pattern(config.pattern_config())
-    model = nao_ik_model()
-    settings = IkSettings(joint_names=NAO_LEG_JOINTS)
+    model, settings = robot.ik_model(), robot.ik_settings
     trajectory = solve_walking_ik(pattern, model, settings)
-    sim = make_nao(config.effects, config.truth, seed=config.seed)
+    sim = robot.make_simulation(config.effects, config.truth, seed=config.seed)
     controller = make_controller(config.controller, pattern, trajectory, model, settings, sim)
     record = simulate_walk(
         sim, trajectory, progress, controller=controller, pushes=config.pushes,

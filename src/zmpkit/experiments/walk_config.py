@@ -7,15 +7,12 @@ from dataclasses import dataclass
 from zmpkit import _validate
 from zmpkit.errors import ParameterError
 from zmpkit.experiments.walk_trial import Push, SensorFault
-from zmpkit.robots.nao import NAO_WALK_COM_HEIGHT_M
+from zmpkit.robots.registry import DEFAULT_WALK_ROBOT, get_robot
 from zmpkit.sim.effect_set import EffectSet
 from zmpkit.walking import GaitParameters, PatternConfig, WalkCommand
 from zmpkit.walking.walk_controllers import CONTROLLERS
 
-__all__ = ["ROBOTS", "WalkConfig"]
-
-ROBOTS: tuple[str, ...] = ("nao",)
-"""Robots that can walk."""
+__all__ = ["WalkConfig"]
 
 
 @dataclass(frozen=True)
@@ -23,13 +20,13 @@ class WalkConfig:
     """One walk, as ``zmpkit walk`` takes it.
 
     Attributes:
-        robot: robot name, one of :data:`ROBOTS`.
+        robot: the robot's registry name or ``robot.yaml`` path (it needs walking defaults).
         speed_mps: commanded forward speed [m/s].
         step_duration_s: one step [s].
         duration_s: walking time [s] (plus standing before and after).
         effects: ``"all"``, ``"none"`` or letters such as ``"M,I,G,F"``.
         seed: seed of the sensor noise.
-        com_height_m: CoM height of the pattern [m].
+        com_height_m: CoM height of the pattern [m]; None: the robot's walking default.
         truth: a truth file for the simulator, or None for the shipped one.
         figures: whether to draw the figures.
         controller: the walking controller, one of
@@ -40,13 +37,13 @@ class WalkConfig:
         faults: sensor faults the controller meets.
     """
 
-    robot: str = "nao"
+    robot: str = DEFAULT_WALK_ROBOT
     speed_mps: float = 0.2
     step_duration_s: float = 0.5
     duration_s: float = 10.0
     effects: str = "all"
     seed: int = 0
-    com_height_m: float = NAO_WALK_COM_HEIGHT_M
+    com_height_m: float | None = None
     truth: str | None = None
     figures: bool = True
     controller: str = "open"
@@ -56,8 +53,9 @@ class WalkConfig:
     faults: tuple[SensorFault, ...] = ()
 
     def __post_init__(self) -> None:
-        if self.robot not in ROBOTS:
-            raise ParameterError(f"robot must be one of {', '.join(ROBOTS)}; got {self.robot!r}")
+        walking = get_robot(self.robot, needs="walking").require_walking()
+        if self.com_height_m is None:
+            object.__setattr__(self, "com_height_m", walking.com_height_m)
         _validate.finite("WalkConfig.speed_mps", self.speed_mps)
         _validate.finite("WalkConfig.lateral_speed_mps", self.lateral_speed_mps)
         _validate.finite("WalkConfig.turn_rate_rps", self.turn_rate_rps)
@@ -69,7 +67,7 @@ class WalkConfig:
         object.__setattr__(self, "faults", tuple(self.faults))
         _validate.positive("WalkConfig.step_duration_s", self.step_duration_s, "s")
         _validate.positive("WalkConfig.duration_s", self.duration_s, "s")
-        _validate.positive("WalkConfig.com_height_m", self.com_height_m, "m")
+        _validate.positive("WalkConfig.com_height_m", self.com_height_m or 0.0, "m")
         if isinstance(self.seed, bool) or not isinstance(self.seed, int) or self.seed < 0:
             raise ParameterError(f"WalkConfig.seed must be an integer >= 0; got {self.seed!r}")
         object.__setattr__(self, "effects", EffectSet.parse(self.effects).letters)
@@ -82,5 +80,5 @@ class WalkConfig:
             ),
             duration_s=self.duration_s,
             gait=GaitParameters(step_duration_s=self.step_duration_s),
-            com_height_m=self.com_height_m,
+            com_height_m=self.com_height_m,  # type: ignore[arg-type]  # set in __post_init__
         )

@@ -2,12 +2,12 @@
 
 Record what its sensors and a motion capture see.
 
-The robot's motion frame (NAO: 10 ms) gives one IK solution per frame; its device manager
+The robot's motion frame (e.g. 10 ms) gives one IK solution per frame; its device manager
 interpolates linearly between frames, so the servos get a new setpoint every physics step.
 Recorded once per motion frame:
 
 - commanded and measured (encoder) joint angles [rad] and the joint torques the actuators
-  apply [N·m] (NAO estimates these from its motor currents);
+  apply [N·m] (a real robot estimates these from its motor currents);
 - trunk pitch and roll from the IMU's orientation [rad];
 - each foot's F-T wrench rotated into the world frame, and the sensor's world position, from
   which the measured ZMP follows (:func:`zmpkit.sensors.zmp.zmp_in_world`);

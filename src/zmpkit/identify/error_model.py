@@ -11,7 +11,7 @@ The measured ZMP :math:`x` [m] is a function of the commanded one :math:`u = x_{
 ========================  =============================================
 
 with :math:`d` [1/m²], :math:`a` [1/m], :math:`b` [-], :math:`c` [m]. Paper A found
-a = 0.834, b = 1.024, c = −0.0004 on TEO. :meth:`ErrorModel.invert` gives the command whose
+a = 0.834, b = 1.024, c = −0.0004 on its robot. :meth:`ErrorModel.invert` gives the command whose
 measured ZMP is a target, on the branch through the identity (slope b > 0 at u = 0): for the
 quadratic in the cancellation-free closed form
 

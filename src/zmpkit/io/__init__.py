@@ -15,8 +15,8 @@ from zmpkit.io.resample import DEFAULT_MAX_GAP_PERIODS, merge_feet, resample
 from zmpkit.io.robot_log import ImuLog, JointLog, RobotLog
 from zmpkit.io.rosbag import TIME_SOURCES, list_bag_topics, read_ros2_bag
 from zmpkit.io.yarp import (
-    TEO_LEFT_FOOT_PORT,
-    TEO_RIGHT_FOOT_PORT,
+    JR3_LEFT_FOOT_PORT,
+    JR3_RIGHT_FOOT_PORT,
     find_yarp_dumps,
     read_yarp_ft,
     read_yarp_joints,
@@ -30,9 +30,9 @@ __all__ = [
     "DEFAULT_MAX_GAP_PERIODS",
     "FOOT_NAMES",
     "FT_LOG_COLUMNS",
+    "JR3_LEFT_FOOT_PORT",
+    "JR3_RIGHT_FOOT_PORT",
     "SOURCE_KINDS",
-    "TEO_LEFT_FOOT_PORT",
-    "TEO_RIGHT_FOOT_PORT",
     "TIME_SOURCES",
     "WRENCH_AXES",
     "ZMP_CSV_COLUMNS",

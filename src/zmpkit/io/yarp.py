@@ -2,7 +2,7 @@
 
 Two layouts of the feet are read by :func:`read_yarp_ft` and :func:`read_yarp_robot`:
 
-- **one dump per foot** (as TEO records its JR3 sensors: ``/jr3/ch0:o`` right foot,
+- **one dump per foot** (as paper A's robot records its JR3 sensors: ``/jr3/ch0:o`` right foot,
   ``/jr3/ch1:o`` left foot): a folder holding the dump folders, each ``data.log`` line carrying
   six values ``F_x F_y F_z τ_x τ_y τ_z`` (nested bottles flattened). A dump is matched to a
   port by the source port its ``info.log`` (or legacy ``Source:`` line) names, else by its
@@ -13,10 +13,10 @@ Two layouts of the feet are read by :func:`read_yarp_ft` and :func:`read_yarp_ro
 
 :func:`read_yarp_robot` also reads, from a folder of per-port dumps:
 
-- **joints**: one or more controlboard ``state:o`` ports (TEO: ``/teo/leftLeg/state:o``,
-  ``/teo/rightLeg/state:o``), one value per joint. YARP dumps carry no joint names: give them
+- **joints**: one or more controlboard ``state:o`` ports (e.g. ``/robot/leftLeg/state:o``,
+  ``/robot/rightLeg/state:o``), one value per joint. YARP dumps carry no joint names: give them
   with ``joint_names``, in the order of the ports' values, else they are ``PORT[i]``
-  (``/teo/leftLeg/state:o[0]``, …). A controlboard streams positions in **degrees** (revolute
+  (``/robot/leftLeg/state:o[0]``, …). A controlboard streams positions in **degrees** (revolute
   joints): set ``joint_angle_unit: deg`` in the units YAML. Several ports are joined on the
   first port's clock, cut to the span all cover, the others interpolated linearly
   (:func:`~zmpkit.io.resample.interpolate_stream`, same gap rule as the feet).
@@ -45,18 +45,18 @@ from zmpkit.io.yarp_imu import imu_from_dump
 from zmpkit.io.yarp_joints import joint_log_from_dumps, port_list, read_yarp_joints
 
 __all__ = [
-    "TEO_LEFT_FOOT_PORT",
-    "TEO_RIGHT_FOOT_PORT",
+    "JR3_LEFT_FOOT_PORT",
+    "JR3_RIGHT_FOOT_PORT",
     "find_yarp_dumps",
     "read_yarp_ft",
     "read_yarp_joints",
     "read_yarp_robot",
 ]
 
-TEO_RIGHT_FOOT_PORT = "/jr3/ch0:o"
-"""TEO's right-ankle JR3 channel."""
-TEO_LEFT_FOOT_PORT = "/jr3/ch1:o"
-"""TEO's left-ankle JR3 channel."""
+JR3_RIGHT_FOOT_PORT = "/jr3/ch0:o"
+"""The right-ankle JR3 channel of paper A's robot (the default right port)."""
+JR3_LEFT_FOOT_PORT = "/jr3/ch1:o"
+"""The left-ankle JR3 channel of paper A's robot (the default left port)."""
 
 # deepest data.log looked for, in path parts: icub/head/inertials/measures_o/data.log is 5
 _MAX_DEPTH = 8
@@ -75,8 +75,8 @@ def read_yarp_ft(
 
     Args:
         path: a folder of per-port dumps, one dump folder, or one ``data.log`` file.
-        right_port: the right foot's port (default :data:`TEO_RIGHT_FOOT_PORT`).
-        left_port: the left foot's port (default :data:`TEO_LEFT_FOOT_PORT`).
+        right_port: the right foot's port (default :data:`JR3_RIGHT_FOOT_PORT`).
+        left_port: the left foot's port (default :data:`JR3_LEFT_FOOT_PORT`).
         time_source: "header" (sender stamp) or "receive", see
             :func:`~zmpkit.io.yarp_datalog.read_yarp_dump`.
         max_gap_s: longest gap [s] the left foot is interpolated across.
@@ -110,8 +110,8 @@ def read_yarp_robot(
 
     Args:
         path: a folder of per-port dumps; for the feet alone also one dump folder or file.
-        right_port: the right foot's port (default :data:`TEO_RIGHT_FOOT_PORT`).
-        left_port: the left foot's port (default :data:`TEO_LEFT_FOOT_PORT`).
+        right_port: the right foot's port (default :data:`JR3_RIGHT_FOOT_PORT`).
+        left_port: the left foot's port (default :data:`JR3_LEFT_FOOT_PORT`).
         joint_ports: controlboard ``state:o`` ports, joined in this order; () for none.
         joint_names: one name per joint value of ``joint_ports`` in order; None: ``PORT[i]``.
         imu_port: an inertial port (:mod:`zmpkit.io.yarp_imu`), or None.
@@ -147,8 +147,8 @@ def read_yarp_robot(
         imu_dump = None
     else:
         dumps = find_yarp_dumps(path)
-        right = _dump_for(path, dumps, right_port or TEO_RIGHT_FOOT_PORT, time_source)
-        left = _dump_for(path, dumps, left_port or TEO_LEFT_FOOT_PORT, time_source)
+        right = _dump_for(path, dumps, right_port or JR3_RIGHT_FOOT_PORT, time_source)
+        left = _dump_for(path, dumps, left_port or JR3_LEFT_FOOT_PORT, time_source)
         for dump in (right, left):
             _require_width(dump, 6, "F_x F_y F_z τ_x τ_y τ_z")
         right_values, left_values = right.values, left.values

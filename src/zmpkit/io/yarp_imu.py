@@ -39,7 +39,7 @@ serves the same 12 numbers through both interfaces. A dump line is one line (wra
 
 Angular velocity is kept **as the port gives it, in deg/s**: set
 ``imu_angular_velocity_unit: deg/s`` in the units YAML (:class:`~zmpkit.io.log_units.LogUnits`),
-as for TEO's JR3 moments in dN·m. Orientation is turned into a unit quaternion (x, y, z, w)
+as for paper A's JR3 moments in dN·m. Orientation is turned into a unit quaternion (x, y, z, w)
 from the degrees the two layouts define; acceleration is kept in m/s²; the magnetometer is
 not read.
 """

@@ -1,7 +1,7 @@
 """Joint encoders from YARP controlboard ``state:o`` dumps (see :mod:`zmpkit.io.yarp`).
 
 A controlboard's ``state:o`` port streams one position per joint, in degrees for revolute
-joints (YARP's ``IEncoders`` convention; TEO's ``/teo/leftLeg/state:o``). A dump has no joint
+joints (YARP's ``IEncoders`` convention; e.g. ``/robot/leftLeg/state:o``). A dump has no joint
 names; the values are kept in the port's unit, to be converted by
 :class:`~zmpkit.io.log_units.LogUnits` (``joint_angle_unit: deg``).
 """
@@ -24,9 +24,9 @@ __all__ = ["joint_log_from_dumps", "port_list", "read_yarp_joints"]
 def read_yarp_joints(
     path: str | Path, names: tuple[str, ...] | None = None, time_source: str = "header"
 ) -> JointLog:
-    """Joint positions from an encoder port's dump (e.g. ``/teo/leftLeg/state:o``).
+    """Joint positions from an encoder port's dump (e.g. ``/robot/leftLeg/state:o``).
 
-    Times are the raw stamps [s] (YARP clock); angles are kept in the port's unit (TEO's
+    Times are the raw stamps [s] (YARP clock); angles are kept in the port's unit (paper A's robot's
     encoders report degrees: convert with :class:`~zmpkit.io.log_units.LogUnits`).
 
     Args:

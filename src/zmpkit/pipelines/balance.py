@@ -36,8 +36,8 @@ from zmpkit.experiments import (
 )
 from zmpkit.identify import BalanceIdentification, BalanceParams, ErrorModel, identify_balance
 from zmpkit.pipelines.balance_controllers import LeanControllerFactory
-from zmpkit.robots.teo import TEO_BALANCE_MASS_KG, TEO_SERVO_LIMITS, teo_feet_mounts
-from zmpkit.robots.teo.geometry import ANKLE_TO_TOE_M, HEEL_TO_ANKLE_M, SOLE_WIDTH_M
+from zmpkit.robots.registry import DEFAULT_BALANCE_ROBOT, get_robot
+from zmpkit.robots.robot import Robot
 from zmpkit.signals import StepTrial
 
 __all__ = [
@@ -63,7 +63,7 @@ class BalanceConfig:
     """Settings of one balance run.
 
     Attributes:
-        robot: ``"teo"``.
+        robot: the robot's registry name or ``robot.yaml`` path (it needs a balance model).
         planes: planes to run, ``"sagittal"`` and/or ``"frontal"``.
         targets_m: validation targets [m]; the fit uses those in ``fit_targets_m``.
         fit_targets_m: targets whose LIPM steps the identification uses [m].
@@ -79,7 +79,7 @@ class BalanceConfig:
         workers: processes running trials in parallel.
     """
 
-    robot: str = "teo"
+    robot: str = DEFAULT_BALANCE_ROBOT
     planes: tuple[str, ...] = ("sagittal", "frontal")
     targets_m: tuple[float, ...] = FULL_TARGETS_M
     fit_targets_m: tuple[float, ...] = tuple(round(0.02 * k, 2) for k in range(6))
@@ -93,6 +93,7 @@ class BalanceConfig:
     workers: int = 2
 
     def __post_init__(self) -> None:
+        get_robot(self.robot, needs="balance")
         run = {round(x, 6) for x in self.targets_m}
         for x in self.fit_targets_m:
             if round(x, 6) not in run:
@@ -186,7 +187,8 @@ def _run_plane(
     lipm = _outcomes(config, experiment, plane, "lipm", out, progress, None)
     fit_set = {round(x, 6) for x in config.fit_targets_m}
     fit_trials = [t for t in lipm if round(t.zmp_ref, 6) in fit_set]
-    identification = identify_balance(fit_trials, mass=TEO_BALANCE_MASS_KG, com_height=lean_length)
+    mass = get_robot(config.robot, needs="balance").require_balance().mass_kg
+    identification = identify_balance(fit_trials, mass=mass, com_height=lean_length)
     model = identification.params.plane(plane).error_model
     factories = {
         kind: _factory(kind, model, lean_length, plane, config) for kind in ("dlipm", "linear")
@@ -229,34 +231,33 @@ def _outcomes(
     return dataset_trials(dataset)
 
 
-def support_polygon(plane: str) -> tuple[float, float]:
-    """Double-support extent of TEO's soles in ``plane``, from the design [m]."""
-    if plane == "sagittal":
-        return (-HEEL_TO_ANKLE_M, ANKLE_TO_TOE_M)
-    half_width = abs(teo_feet_mounts()["left"]["position"][1]) + SOLE_WIDTH_M / 2
-    return (-half_width, half_width)
+def support_polygon(plane: str, robot: str | Robot = DEFAULT_BALANCE_ROBOT) -> tuple[float, float]:
+    """Double-support extent of ``robot``'s soles in ``plane``, from the design [m]."""
+    low, high = get_robot(robot, needs="balance").require_balance().support_polygon_m[plane]
+    return (low, high)
 
 
 def _factory(
     kind: str, model: ErrorModel, lean_length: float, plane: str, config: BalanceConfig
 ) -> LeanControllerFactory:
+    robot = get_robot(config.robot, needs="balance")
     return LeanControllerFactory(
         kind=kind,
         error_model=model,
-        mass_kg=TEO_BALANCE_MASS_KG,
+        mass_kg=robot.require_balance().mass_kg,
         lean_length_m=lean_length,
         zeta=config.zeta,
         time_scale=config.time_scale,
         angle_limit_rad=lean_angle(_REACH_FRACTION * lean_length, lean_length),
-        rate_limit_rad_s=TEO_SERVO_LIMITS.max_velocity,
-        support_polygon=support_polygon(plane),
-        max_acceleration_rad_s2=_lean_acceleration_limit(plane) if config.servo_paced else None,
+        rate_limit_rad_s=robot.servo_limits.max_velocity,
+        support_polygon=support_polygon(plane, robot),
+        max_acceleration_rad_s2=_lean_acceleration_limit(robot) if config.servo_paced else None,
     )
 
 
-def _lean_acceleration_limit(plane: str) -> float:
-    """The lean angle's acceleration limit from TEO's servo limits [rad/s²].
+def _lean_acceleration_limit(robot: Robot) -> float:
+    """The lean angle's acceleration limit from the robot's servo limits [rad/s²].
 
     Lean joints move by the lean angle, in the frontal plane about as much.
     """
-    return TEO_SERVO_LIMITS.max_acceleration
+    return robot.servo_limits.max_acceleration

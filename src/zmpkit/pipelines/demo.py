@@ -3,10 +3,10 @@
 1. The model: angular step responses of the LIPM and the DLIPM for a ZMP step (paper A
    §4.4, Fig. 17 and 18), with their step metrics: ``report.md``, the figures,
    ``step_metrics.csv`` and ``dlipm.yaml``.
-2. The robot: ``zmpkit balance --quick`` on the virtual TEO (LIPM steps, identification,
+2. The robot: ``zmpkit balance --quick`` on the balance robot (LIPM steps, identification,
    gain-scheduled DLIPM, Table 1) into ``balance/``, linked from the report.
 
-3. Walking: the virtual NAO walks 10 s at 0.2 m/s with every effect off and on
+3. Walking: the walking robot walks 10 s at 0.2 m/s with every effect off and on
    (``zmpkit walk``) into ``walk_none/`` and ``walk_all/``; the report compares their trunk
    oscillation (paper B Fig. 2, 6, 12).
 4. Compensation: ``zmpkit walk compensate --method auto --quick`` into ``compensate/``
@@ -18,7 +18,7 @@ from __future__ import annotations
 import csv
 import math
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
@@ -35,7 +35,8 @@ from zmpkit.pipelines.progress import SILENT, Displays
 from zmpkit.pipelines.walk import run_walk, write_walk
 from zmpkit.pipelines.walk_compensate import CompensateConfig, run_walk_compensate
 from zmpkit.pipelines.walk_compensate_report import write_walk_compensate
-from zmpkit.robots.teo import TEO_BALANCE_MASS_KG, TEO_COM_HEIGHT_M
+from zmpkit.robots.registry import DEFAULT_BALANCE_ROBOT, DEFAULT_WALK_ROBOT, get_robot
+from zmpkit.robots.robot import BalanceModel
 from zmpkit.signals.step_metrics import StepMetrics, step_metrics
 
 __all__ = ["DEMO_STEP_M", "DemoConfig", "DemoResult", "run_demo"]
@@ -46,10 +47,14 @@ PAPER_ZETA = 0.8
 
 @dataclass(frozen=True)
 class DemoConfig:
-    """Demo settings: pendulum of mass [kg] and length [m], ZMP step [m], duration [s]."""
+    """Demo settings: pendulum of mass [kg] and length [m], ZMP step [m], duration [s].
 
-    mass_kg: float = TEO_BALANCE_MASS_KG
-    length_m: float = TEO_COM_HEIGHT_M
+    The pendulum is the balance robot's model (paper A §4.1's by default); the balance part
+    runs on ``balance_robot``, the walks and the compensation on ``walk_robot``.
+    """
+
+    mass_kg: float = field(default_factory=lambda: _balance_model().mass_kg)
+    length_m: float = field(default_factory=lambda: _balance_model().com_height_m)
     zmp_step_m: float = DEMO_STEP_M
     zeta: float = PAPER_ZETA
     duration_s: float = 20.0
@@ -57,6 +62,8 @@ class DemoConfig:
     balance: bool = True
     walking: bool = True
     compensation: bool = True
+    balance_robot: str = DEFAULT_BALANCE_ROBOT
+    walk_robot: str = DEFAULT_WALK_ROBOT
 
 
 @dataclass(frozen=True)
@@ -97,9 +104,9 @@ def run_demo(
     figures = _figures(out, t, theta, lipm_static, config)
     _write_metrics_csv(out / "step_metrics.csv", models, metrics)
     _write_params_yaml(out / "dlipm.yaml", models)
-    balance_report = _run_balance(out, echo, displays) if config.balance else None
-    walks = _run_walks(out, echo, displays) if config.walking else {}
-    compensation = _run_compensation(out, echo, displays) if config.compensation else None
+    balance_report = _run_balance(config, out, echo, displays) if config.balance else None
+    walks = _run_walks(config, out, echo, displays) if config.walking else {}
+    compensation = _run_compensation(config, out, echo, displays) if config.compensation else None
     report = write_report(
         out, config, models, metrics, figures, balance_report, walks, compensation
     )
@@ -107,35 +114,50 @@ def run_demo(
     return DemoResult(out, report, figures, metrics)
 
 
-def _run_compensation(out: Path, echo: Callable[[str], None], displays: Displays) -> dict[str, Any]:
+def _balance_model() -> BalanceModel:
+    return get_robot(DEFAULT_BALANCE_ROBOT, needs="balance").require_balance()
 
-    echo("virtual NAO: zmpkit walk compensate --method auto --quick")
+
+def _run_compensation(
+    config: DemoConfig, out: Path, echo: Callable[[str], None], displays: Displays
+) -> dict[str, Any]:
+
+    title = get_robot(config.walk_robot).title
+    echo(f"virtual {title}: zmpkit walk compensate --method auto --quick")
     with displays.stages() as progress:
         result = run_walk_compensate(
-            CompensateConfig(method="auto", quick=True), out / "compensate", progress
+            CompensateConfig(robot=config.walk_robot, method="auto", quick=True),
+            out / "compensate",
+            progress,
         )
     write_walk_compensate(result, out / "compensate")
     return {"chosen": result.chosen, **result.summary.as_dict()}
 
 
-def _run_walks(out: Path, echo: Callable[[str], None], displays: Displays) -> dict[str, Any]:
+def _run_walks(
+    config: DemoConfig, out: Path, echo: Callable[[str], None], displays: Displays
+) -> dict[str, Any]:
 
     walks = {}
+    title = get_robot(config.walk_robot).title
     for effects in ("none", "all"):
-        echo(f"virtual NAO: zmpkit walk --effects {effects} (10 s at 0.2 m/s)")
+        echo(f"virtual {title}: zmpkit walk --effects {effects} (10 s at 0.2 m/s)")
         with displays.simulation(f"walk, effects {effects}") as progress:
-            result = write_walk(
-                run_walk(WalkConfig(effects=effects), progress), out / f"walk_{effects}"
-            )
+            walk = WalkConfig(robot=config.walk_robot, effects=effects)
+            result = write_walk(run_walk(walk, progress), out / f"walk_{effects}")
         walks[effects] = result.summary
     return walks
 
 
-def _run_balance(out: Path, echo: Callable[[str], None], displays: Displays) -> BalanceArtifacts:
+def _run_balance(
+    config: DemoConfig, out: Path, echo: Callable[[str], None], displays: Displays
+) -> BalanceArtifacts:
 
-    echo("virtual TEO: zmpkit balance --quick (LIPM steps, DLIPM identification, Table 1)")
+    title = get_robot(config.balance_robot).title
+    echo(f"virtual {title}: zmpkit balance --quick (LIPM steps, DLIPM identification, Table 1)")
     with displays.sweeps() as progress:
-        result = run_balance(BalanceConfig.quick(), out / "balance", progress=progress, echo=echo)
+        balance = BalanceConfig.quick(robot=config.balance_robot)
+        result = run_balance(balance, out / "balance", progress=progress, echo=echo)
     return write_balance_outputs(result, out / "balance")
 
 

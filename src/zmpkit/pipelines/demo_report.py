@@ -7,6 +7,7 @@ from pathlib import Path
 from typing import Any
 
 from zmpkit.models import Dlipm
+from zmpkit.robots.registry import get_robot
 
 __all__ = ["LABELS", "format_optional", "write_report"]
 
@@ -43,7 +44,7 @@ def write_report(
         metrics: step-response metrics of each stable model, by key of :data:`LABELS`.
         figures: the figures the demo wrote (the report links them by their fixed names).
         balance: the quick balance run's :class:`BalanceArtifacts`, or None.
-        walks: the virtual NAO's walk summaries by effect set (empty without walking).
+        walks: the walking robot's walk summaries by effect set (empty without walking).
         compensation: the walk compensation's ``summary.json`` contents, or None.
 
     Returns:
@@ -55,11 +56,13 @@ def write_report(
         f"{format_optional(m.settling_time_s)} | {format_optional(math.degrees(m.final_value))} |"
         for n, m in metrics.items()
     )
+    robot = _title(config.balance_robot)
+    sections = _balance_section(out, balance, config) + _walk_section(walks, config)
     text = f"""# zmpkit demo
 
 ## LIPM vs DLIPM angular step response (paper A §4.4, Fig. 17–18)
 
-Pendulum: m = {config.mass_kg} kg, l = {config.length_m} m (TEO's balance model, paper A
+Pendulum: m = {config.mass_kg} kg, l = {config.length_m} m ({robot}'s balance model, paper A
 §4.1). ZMP step x_ref = {config.zmp_step_m} m; the LIPM's static ankle angle for it is
 asin(x/l) = {math.degrees(math.asin(config.zmp_step_m / config.length_m)):.3f}°.
 
@@ -85,7 +88,7 @@ slower in time for the same damping ratio.
 
 Data: `step_metrics.csv`; parameters: `dlipm.yaml`.
 
-{_balance_section(out, balance)}{_walk_section(walks)}{_compensation_section(compensation)}
+{sections}{_compensation_section(compensation)}
 ## To come
 
 Fitting the simulator to recorded data (MoToFlex's evolutionary identification).
@@ -95,7 +98,11 @@ Fitting the simulator to recorded data (MoToFlex's evolutionary identification).
     return path
 
 
-def _balance_section(out: Path, balance: Any) -> str:
+def _title(robot: str) -> str:
+    return get_robot(robot).title
+
+
+def _balance_section(out: Path, balance: Any, config: Any) -> str:
     """``balance`` is the quick balance run's :class:`BalanceArtifacts`, or None."""
     if balance is None:
         return ""
@@ -104,9 +111,10 @@ def _balance_section(out: Path, balance: Any) -> str:
         f"\n**{plane}** plane:\n\n" + "".join(f"- {line}\n" for line in targets.lines())
         for plane, targets in balance.targets.items()
     )
-    return f"""## The virtual TEO: LIPM vs scheduled DLIPM (paper A §4.1–4.6, Table 1)
+    title = _title(config.balance_robot)
+    return f"""## The virtual {title}: LIPM vs scheduled DLIPM (paper A §4.1–4.6, Table 1)
 
-The quick balance pipeline ran on the virtual TEO with every effect on: LIPM step
+The quick balance pipeline ran on the virtual {title} with every effect on: LIPM step
 experiments, identification of the steady-state error model from the force–torque sensors
 (fitted on the even targets), the gain-scheduled DLIPM and a single linear correction on
 every target, and paper A's Table 1. Against the targets:
@@ -121,7 +129,7 @@ _WALK_HEADER = (
 )
 
 
-def _walk_section(walks: dict[str, Any]) -> str:
+def _walk_section(walks: dict[str, Any], config: Any) -> str:
     if not walks:
         return ""
     rows = "\n".join(
@@ -133,11 +141,12 @@ def _walk_section(walks: dict[str, Any]) -> str:
     ratio = (
         walks["all"].trunk_pitch_peak_amplitude_rad / walks["none"].trunk_pitch_peak_amplitude_rad
     )
+    robot = _title(config.walk_robot)
     return f"""
-## The virtual NAO walking (paper B §III)
+## The virtual {robot} walking (paper B §III)
 
 10 s at a commanded 0.2 m/s, 0.5 s steps, 3D-LIPM preview-control pattern, whole-body IK,
-played on the virtual NAO with every effect off (rigid, ideal joints) and on (motor with PID,
+played on the virtual {robot} with every effect off (rigid, ideal joints) and on (motor with PID,
 inductance, gears with flexibility and backlash, flexible links).
 
 {_WALK_HEADER}

@@ -14,17 +14,15 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from zmpkit.analysis.balance_plots import plot_error_fit
-from zmpkit.errors import InputFileError
+from zmpkit.errors import InputFileError, ZmpkitError
 from zmpkit.experiments import read_step_dataset
 from zmpkit.identify import BalanceIdentification, identify_balance
 from zmpkit.io.step_manifest import read_step_manifest
 from zmpkit.pipelines.balance import dataset_trials
-from zmpkit.robots.teo import TEO_BALANCE_MASS_KG
+from zmpkit.robots.registry import get_robot
 from zmpkit.signals import StepTrial
 
 __all__ = ["IdentifyBalanceResult", "run_identify_balance"]
-
-_DESIGN_MASS_KG = {"teo": TEO_BALANCE_MASS_KG}  # paper A §4.1
 
 
 @dataclass(frozen=True, eq=False)
@@ -51,7 +49,7 @@ def run_identify_balance(
             manifest ``.yaml`` listing a real robot's recorded logs.
         out_dir: output folder, created if missing.
         mass_kg: pendulum mass [kg]; default: the manifest's, or the robot's design mass
-            (TEO: 62.6 kg).
+            (its balance model's mass, e.g. paper A's 62.6 kg).
         length_m: pendulum length, ankle to CoM [m]; default: the manifest's, or the
             dataset's design lean length.
     """
@@ -92,10 +90,19 @@ def _recorded_steps(
         return list(manifest.trials), manifest.plane, mass, length
     dataset = read_step_dataset(source)
     meta_path = source / "meta.json"
-    mass = mass_kg if mass_kg is not None else _DESIGN_MASS_KG.get(dataset.meta["robot"])
+    mass = mass_kg if mass_kg is not None else _design_mass(dataset.meta.get("robot"))
     if mass is None:
         raise InputFileError(meta_path, "unknown robot: give the pendulum mass with --mass KG")
     length = length_m if length_m is not None else dataset.meta.get("lean_length_m")
     if length is None:
         raise InputFileError(meta_path, "no 'lean_length_m': give the pendulum with --length M")
     return dataset_trials(dataset), dataset.plane, float(mass), float(length)
+
+
+def _design_mass(robot: object) -> float | None:
+    """The balance model's mass [kg] of the dataset's robot, or None if it has none."""
+    try:
+        balance = get_robot(str(robot)).balance
+    except ZmpkitError:
+        return None
+    return None if balance is None else balance.mass_kg

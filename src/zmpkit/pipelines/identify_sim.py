@@ -2,10 +2,10 @@
 
 Paper B §II: "The simulation is optimized by Evolutionary Algorithms to fit a physical
 robot." The fitted parameters of the chosen effects (M, I, G, F, S, and C for mass/CoM)
-are found by CMA-ES (:mod:`zmpkit.simfit`) from recorded experiments — NAO walk
-folders or TEO step datasets, using only the commanded angles, encoders, F-T ZMP and IMU
-— with rollouts in MuJoCo thread-pool batches (default), on a process pool or a Ray cluster,
-checkpointed every generation.
+are found by CMA-ES (:mod:`zmpkit.simfit`) from recorded experiments — walk folders or
+step datasets, as the robot's fit replays them, using only the commanded angles, encoders,
+F-T ZMP and IMU — with rollouts in MuJoCo thread-pool batches (default), on a process pool or
+a Ray cluster, checkpointed every generation.
 
 Writes into the output folder: the checkpoint and ``history.json``; ``fitted_truth.yaml``
 (loadable as ``--truth``), ``fitted_parameters.yaml``, ``cost_history.csv``,
@@ -22,13 +22,13 @@ import numpy as np
 
 from zmpkit.errors import ParameterError
 from zmpkit.pipelines.identify_sim_report import reproduction_checks, write_fit_files
+from zmpkit.robots.registry import DEFAULT_FIT_ROBOT, get_robot
 from zmpkit.simfit.backends import BACKENDS, DEFAULT_WORKERS, make_evaluator
 from zmpkit.simfit.cost import CostWeights
 from zmpkit.simfit.experiments import Experiment, read_experiments
 from zmpkit.simfit.identifiability import ParameterIdentifiability, identifiability
 from zmpkit.simfit.optimizer import CmaOptions, CmaResult, ProgressCallback, run_cma
 from zmpkit.simfit.parameters import (
-    ROBOTS,
     FitParameter,
     default_parameters,
     parse_fit_effects,
@@ -46,20 +46,11 @@ from zmpkit.simfit.truth_doc import base_truth_path, load_truth_doc
 from zmpkit.simfit.validation import ReproductionCheck
 
 __all__ = [
-    "QUICK_PARAMETERS",
     "IdentifySimConfig",
     "IdentifySimResult",
     "run_identify_sim",
 ]
 
-QUICK_PARAMETERS: dict[str, tuple[str, ...]] = {
-    "nao": ("pid_gain_scale", "gear_stiffness"),
-    "teo": ("foot_softening_torque", "gear_stiffness"),
-}
-"""The 2-parameter cases of ``quick``: NAO's PID gain scale sets the joint tracking error
-(encoders) and, with the gear stiffness, the trunk oscillation at the step frequency (IMU);
-TEO's gear stiffness sets the lean's linear compliance and its foot softening torque the
-growth of the steady ZMP error with the target (paper A eq. 13)."""
 DEFAULT_GENERATIONS = 40
 QUICK_GENERATIONS = 30
 
@@ -69,13 +60,14 @@ class IdentifySimConfig:
     """``zmpkit identify sim DATA... --robot R --effects M,G --out DIR [...]``.
 
     Attributes:
-        data: recorded experiment folders (NAO walk folders, TEO step datasets); empty
+        data: recorded experiment folders (walk folders or step datasets); empty
             with ``self_test``.
-        robot: ``"nao"`` or ``"teo"``.
+        robot: the robot's registry name or ``robot.yaml`` path (it needs a fit catalogue).
         effects: letters of the effects whose parameters are fitted (``M,I,G,F,S,C``); the
             simulator runs with these effects on (C is not a switch).
         parameters: fit only these catalogue names; None = all of the effects (quick: the
-            :data:`QUICK_PARAMETERS` where they belong to the effects).
+            robot's quick parameters where they belong to the effects, see
+            :attr:`~zmpkit.robots.robot.FitSpec.quick_parameters`).
         truth: base truth file holding every unfitted value; None = the shipped one.
         held_out: experiment folders not fitted, only checked (``--held-out``).
         backend: ``"local"`` (thread-pool batches), ``"pool"`` (process pool), ``"serial"``
@@ -98,7 +90,7 @@ class IdentifySimConfig:
     """
 
     data: tuple[str, ...] = ()
-    robot: str = "nao"
+    robot: str = DEFAULT_FIT_ROBOT
     effects: str = "M,G"
     parameters: tuple[str, ...] | None = None
     truth: str | None = None
@@ -118,8 +110,7 @@ class IdentifySimConfig:
     figures: bool = True
 
     def __post_init__(self) -> None:
-        if self.robot not in ROBOTS:
-            raise ParameterError(f"robot must be one of {', '.join(ROBOTS)}; got {self.robot!r}")
+        get_robot(self.robot, needs="fit")
         object.__setattr__(self, "effects", ",".join(parse_fit_effects(self.effects)))
         object.__setattr__(self, "data", tuple(str(d) for d in self.data))
         if self.backend not in BACKENDS:
@@ -131,9 +122,9 @@ class IdentifySimConfig:
         if self.self_test and self.data:
             raise ParameterError("--self-test records its own experiments; give no DATA with it")
         if not self.self_test and not self.data:
-            raise ParameterError(
-                "give at least one DATA folder (a NAO walk or a TEO dataset), or --self-test"
-            )
+            kind = get_robot(self.robot, needs="fit").require_fit().experiment
+            what = "a walk folder" if kind == "walk" else "a step dataset"
+            raise ParameterError(f"give at least one DATA folder ({what}), or --self-test")
         _positive_int("generations", self.generations, allow_none=True)
         _positive_int("popsize", self.popsize, allow_none=True)
         _positive_int("workers", self.workers)
@@ -170,7 +161,8 @@ class IdentifySimConfig:
         chosen = default_parameters(self.robot, self.effects, self.parameters)
         if self.parameters is not None or not self.quick:
             return chosen
-        quick = [p for p in chosen if p.name in QUICK_PARAMETERS[self.robot]]
+        names = get_robot(self.robot, needs="fit").require_fit().quick_parameters
+        quick = [p for p in chosen if p.name in names]
         return tuple(quick) if len(quick) >= 2 else chosen[:3]
 
 

@@ -15,7 +15,6 @@ from zmpkit.analysis.zmp_steps_plot import ZmpStepCurve, plot_zmp_steps
 from zmpkit.errors import ParameterError
 from zmpkit.experiments import (
     DEFAULT_WORKERS,
-    ROBOTS,
     PushConfig,
     StepDataset,
     StepExperimentConfig,
@@ -26,6 +25,7 @@ from zmpkit.experiments import (
     write_steady_state_csv,
 )
 from zmpkit.experiments.sweep import ProgressCallback, check_sweep
+from zmpkit.robots.registry import DEFAULT_BALANCE_ROBOT, get_robot, robots_that
 from zmpkit.signals import PLANES
 from zmpkit.sim.effect_set import EFFECT_LETTERS, EffectSet
 
@@ -82,6 +82,17 @@ def _choice(option: str, value: str, valid: tuple[str, ...]) -> str:
     return value
 
 
+def _robot(text: str) -> str:
+    try:
+        get_robot(text, needs="balance")
+    except ParameterError as exc:
+        raise ParameterError(
+            f"--robot expects one of {', '.join(robots_that('balance'))} or a robot.yaml file "
+            f"with a balance model; {exc}"
+        ) from None
+    return text
+
+
 def _effects(text: str) -> str:
     try:
         return EffectSet.parse(text).letters
@@ -106,7 +117,7 @@ def _push(force: float | None, duration: float | None) -> PushConfig | None:
 
 def sim_push_config(
     *,
-    robot: str = "teo",
+    robot: str = DEFAULT_BALANCE_ROBOT,
     targets: str = "0:0.10:0.01",
     plane: str = "sagittal",
     effects: str = "all",
@@ -127,7 +138,7 @@ def sim_push_config(
     if seed < 0:
         raise ParameterError(f"--seed expects an integer >= 0; got {seed}")
     config = StepExperimentConfig(
-        robot=_choice("--robot", robot, ROBOTS),
+        robot=_robot(robot),
         targets_m=parse_targets(targets, "--targets"),
         plane=_choice("--plane", plane, PLANES),
         effects=_effects(effects),
@@ -145,7 +156,7 @@ def _title(config: StepExperimentConfig) -> str:
     if config.push is not None:
         push = f", push {config.push.force_n:g} N for {config.push.duration_s:g} s"
     return (
-        f"{config.robot.upper()} {config.plane} ZMP steps, effects {config.effects}, "
+        f"{get_robot(config.robot).title} {config.plane} ZMP steps, effects {config.effects}, "
         f"seed {config.seed}{push}"
     )
 

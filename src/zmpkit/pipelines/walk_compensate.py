@@ -1,4 +1,4 @@
-"""The ``zmpkit walk compensate`` pipeline: paper B §III.C and §III.E on the virtual NAO.
+"""The ``zmpkit walk compensate`` pipeline: paper B §III.C and §III.E on a walking robot.
 
 Methods: ``alg1`` (Algorithm 1, offline multibody-ZMP compensation on the design model),
 ``alg2`` (Algorithm 2, online on the measured ZMP), ``half-sine``, ``sawtooth``, ``fourier``
@@ -37,7 +37,7 @@ from zmpkit.compensate.offsets import OFFSET_SHAPES, OffsetParameters
 from zmpkit.compensate.summary import CompensationSummary, summary_of
 from zmpkit.compensate.tuning import TuningResult, prior_from_offset, tune_offset
 from zmpkit.errors import ParameterError
-from zmpkit.robots.nao import nao_ik_model
+from zmpkit.robots.registry import DEFAULT_WALK_ROBOT, get_robot
 from zmpkit.sim.effect_set import EffectSet
 from zmpkit.walking import generate_pattern
 
@@ -70,11 +70,11 @@ class CompensateConfig:
 
     Attributes:
         method: one of :data:`METHODS`.
-        robot: robot name (``"nao"``).
+        robot: the walking robot's registry name or ``robot.yaml`` path.
         quick: short walks and a small tuning budget (< 5 min on 2 cores).
         speed_mps: speed of the tuning walk [m/s].
         step_duration_s: step duration [s] (the offsets' period).
-        effects: effects of the virtual NAO (``"all"`` by default).
+        effects: effects of the simulated robot (``"all"`` by default).
         seed: noise seed of the tuning walk; validation uses other seeds.
         workers: processes of the pool.
         iterations: iterations of Algorithm 1.
@@ -86,7 +86,7 @@ class CompensateConfig:
     """
 
     method: str = "auto"
-    robot: str = "nao"
+    robot: str = DEFAULT_WALK_ROBOT
     quick: bool = False
     speed_mps: float = 0.2
     step_duration_s: float = 0.5
@@ -103,8 +103,7 @@ class CompensateConfig:
     def __post_init__(self) -> None:
         if self.method not in METHODS:
             raise ParameterError(f"method must be one of {', '.join(METHODS)}; got {self.method!r}")
-        if self.robot != "nao":
-            raise ParameterError(f"robot must be one of nao; got {self.robot!r}")
+        get_robot(self.robot, needs="walking")
         _validate.positive("CompensateConfig.speed_mps", self.speed_mps, "m/s")
         _validate.positive("CompensateConfig.step_duration_s", self.step_duration_s, "s")
         for name in ("workers", "iterations"):
@@ -133,15 +132,15 @@ class CompensateConfig:
 
     def tuning_walks(self) -> tuple[WalkSpec, ...]:
         """The walk the offsets are tuned on."""
-        return (WalkSpec(self.speed_mps, self.seed, self.duration_s, self.effects),)
+        return (WalkSpec(self.speed_mps, self.seed, self.duration_s, self.effects, self.robot),)
 
     def validation_walks(self) -> tuple[WalkSpec, ...]:
         """Walks never used for tuning: other seeds at the tuning speed, and other speeds."""
-        d, e, s = self.duration_s, self.effects, self.seed
-        other = [WalkSpec(v, s + 1, d, e) for v in VALIDATION_SPEEDS_MPS]
+        d, e, s, r = self.duration_s, self.effects, self.seed, self.robot
+        other = [WalkSpec(v, s + 1, d, e, r) for v in VALIDATION_SPEEDS_MPS]
         if self.quick:
             return tuple(other)
-        return (WalkSpec(self.speed_mps, s + 1, d, e), WalkSpec(self.speed_mps, s + 2, d, e),
+        return (WalkSpec(self.speed_mps, s + 1, d, e, r), WalkSpec(self.speed_mps, s + 2, d, e, r),
                 *other)  # fmt: skip
 
 
@@ -182,7 +181,10 @@ def _tune_shapes(config: CompensateConfig, cache: Path, report) -> dict[str, Tun
     shapes = OFFSET_SHAPES if config.method == "auto" else (config.method,)
     walk = config.tuning_walks()[0].walk_config()
     pattern = generate_pattern(walk.pattern_config())
-    model_offset = compensate_abstraction(walk.pattern_config(), nao_ik_model(), config.iterations)
+    robot = get_robot(config.robot, needs="walking")
+    model_offset = compensate_abstraction(
+        walk.pattern_config(), robot.ik_model(), config.iterations, ik_settings=robot.ik_settings
+    )
     results = {}
     for i, shape in enumerate(shapes):
         report(f"tuning {shape}", i, len(shapes))
@@ -209,7 +211,7 @@ def _validation_jobs(config: CompensateConfig, offsets: dict[str, OffsetParamete
 def run_walk_compensate(
     config: CompensateConfig, out_dir: str | Path, progress: CompensateProgress | None = None
 ) -> CompensateResult:
-    """Compensate the virtual NAO's walk with ``config.method``.
+    """Compensate the walking robot's walk with ``config.method``.
 
     Tuning walks are cached under ``out_dir/cache`` (or ``config.cache_dir``) as they finish,
     so a rerun resumes; the results are written by

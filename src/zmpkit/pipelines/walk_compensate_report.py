@@ -19,6 +19,7 @@ from zmpkit.analysis import compensation_plots as plots
 from zmpkit.compensate.methods import CompensatedWalk
 from zmpkit.compensate.summary import ValidationWalkOutcome
 from zmpkit.pipelines.walk_compensate import CompensateResult
+from zmpkit.robots.registry import get_robot
 from zmpkit.signals.spectra import amplitude_spectrum
 
 __all__ = [
@@ -61,7 +62,8 @@ def _report(result: CompensateResult, figures: dict[str, Path]) -> str:
     s = result.summary
     lines = [
         f"## Walking compensation: `{s.method}` (reported: {result.chosen})", "",
-        f"Virtual NAO, effects {result.config.effects}; validation walks not used for tuning.",
+        f"Virtual {get_robot(result.config.robot).title}, effects {result.config.effects}; "
+        "validation walks not used for tuning.",
         "Peak = trunk-pitch spectrum amplitude at the step frequency; std over the steady walk.",
         "", "| walk | peak before [rad] | peak after [rad] | peak cut [%] | std before [rad] "
         "| std after [rad] | std cut [%] |", "|---|---|---|---|---|---|---|",

@@ -27,8 +27,8 @@ from zmpkit.experiments.robustness import (
     robustness_matrix,
     run_case,
 )
-from zmpkit.experiments.walk_config import ROBOTS
 from zmpkit.pipelines.progress import StageCallback
+from zmpkit.robots.registry import DEFAULT_WALK_ROBOT, get_robot
 from zmpkit.sim.effect_set import EffectSet
 from zmpkit.walking.walk_controllers import CONTROLLERS
 
@@ -51,7 +51,7 @@ class SweepConfig:
         workers: parallel processes.
     """
 
-    robot: str = "nao"
+    robot: str = DEFAULT_WALK_ROBOT
     controllers: tuple[str, ...] = ("zmpip", "dcm", "open")
     effects: str = "all"
     duration_s: float = 10.0
@@ -59,8 +59,7 @@ class SweepConfig:
     workers: int = 2
 
     def __post_init__(self) -> None:
-        if self.robot not in ROBOTS:
-            raise ParameterError(f"robot must be one of {', '.join(ROBOTS)}; got {self.robot!r}")
+        get_robot(self.robot, needs="walking")
         unknown = [c for c in self.controllers if c not in CONTROLLERS]
         if unknown or not self.controllers:
             raise ParameterError(
@@ -128,12 +127,14 @@ def _check_identity(out: Path, config: SweepConfig) -> None:
 def _finished(cases: list[RobustnessCase], config: SweepConfig) -> Iterator[RobustnessRow]:
     if config.workers <= 1:
         for case in cases:
-            yield run_case(case, config.effects, config.duration_s, config.seed)
+            yield run_case(case, config.robot, config.effects, config.duration_s, config.seed)
         return
     context = multiprocessing.get_context("spawn")
     with ProcessPoolExecutor(max_workers=config.workers, mp_context=context) as pool:
         pending: set[Future[RobustnessRow]] = {
-            pool.submit(run_case, case, config.effects, config.duration_s, config.seed)
+            pool.submit(
+                run_case, case, config.robot, config.effects, config.duration_s, config.seed
+            )
             for case in cases
         }
         while pending:
@@ -186,7 +187,7 @@ def write_walk_sweep(result: SweepResult, out: Path) -> SweepResult:
         rows = [r for r in result.rows if r[0] == controller]
         files[f"figure_{controller}"] = plot_robustness(
             rows, ROBUSTNESS_COLUMNS, out / f"robustness_{controller}.png",
-            f"{result.config.robot.upper()}, effects {result.config.effects or 'none'}: "
+            f"{get_robot(result.config.robot).title}, effects {result.config.effects or 'none'}: "
             f"{controller}",
         )  # fmt: skip
     summary = {

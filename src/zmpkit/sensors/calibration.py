@@ -10,12 +10,12 @@ frame of :mod:`zmpkit.sensors.zmp` by :meth:`WrenchCalibration.apply`, in this o
 4. offset: ``w_i ← w_i − offset_i`` (the offset is in [N, N·m]).
 
 JR3 drivers report values scaled by the sensor's full scale, so the unit of a raw channel
-depends on the driver. TEO's balance code divides the moment by 10 before using it
+depends on the driver. Paper A's balance code divides the moment by 10 before using it
 (``x = −(M_y/10 + e F_x)/F_z``), i.e. it reads moments in dN·m; that reading is unverified
-(``robots/teo-parameters.md`` §5): check it against a known load.
+(the robot's parameter notes, §5): check it against a known load.
 
 Offsets: :func:`wrench_offset_from_unloaded_window` takes the mean wrench while the feet are in
-the air; :func:`zmp_offset_from_standing_window` does what TEO's code does at start-up, the mean
+the air; :func:`zmp_offset_from_standing_window` does what paper A's code does at start-up, the mean
 measured ZMP over a window of quiet standing minus where it should be.
 """
 
@@ -222,7 +222,7 @@ def zmp_offset_from_standing_window(
 ) -> NDArray[np.float64]:
     """ZMP offset: mean measured ZMP over a window of quiet standing minus ``expected``.
 
-    TEO's controller does this at start-up with the first samples. Samples where the ZMP is
+    Paper A's controller does this at start-up with the first samples. Samples where the ZMP is
     undefined (``defined`` False in a series, NaN rows in an array) are left out of the mean.
 
     Args:

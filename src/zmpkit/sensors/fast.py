@@ -13,7 +13,7 @@ per foot,
 
 so one call is a few multiply–adds and one or two divisions. The coefficients are written as
 literals into a function generated for the two mounts, keeping only the nonzero ones (with
-TEO's mount, rotated π about x, at most 3 of 6 per numerator and 1 of 6 for ``F_z``).
+paper A's mount, rotated π about x, at most 3 of 6 per numerator and 1 of 6 for ``F_z``).
 """
 
 from __future__ import annotations

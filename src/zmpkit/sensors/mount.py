@@ -9,8 +9,8 @@ pressure on the ground (see :mod:`zmpkit.sensors.zmp`):
 - ``sole_height``: ``h``, the height of the sensor origin above the ground plane under the
   sole [m], so that the sole touches the plane ``z = o_z - h`` (:attr:`SensorMount.ground_height`).
 
-On TEO the JR3 frames are rotated π about x (sensor z points down) and sit about 0.01 m above
-the sole (inferred, not stated; see ``robots/teo-parameters.md`` §5), e.g.
+On paper A's robot the JR3 frames are rotated π about x (sensor z points down) and sit about
+0.01 m above the sole (inferred, not stated; see the robot's parameter notes, §5), e.g.
 ``SensorMount.from_rpy((0, -0.1285, 0.01), (math.pi, 0, 0), sole_height=0.01, name="right")``.
 """
 

@@ -2,7 +2,7 @@
 
 A :class:`RobotDescription` names the driven joints (in the robot's order), the foot F-T
 sensors with their sole heights, the IMU sensors, the servo trajectory limits, and carries
-the truth-side sensor errors when the S effect is on. Any robot, TEO or a user's MJCF,
+the truth-side sensor errors when the S effect is on. Any robot, built-in or a user's MJCF,
 enters the simulator through one of these.
 """
 

@@ -1,7 +1,7 @@
 r"""The joint servo's trajectory interpolation: velocity- and acceleration-limited setpoints.
 
 A position drive does not jump to a new target: it moves its setpoint there along a
-trapezoidal velocity profile (TEO's drives in profile-position mode). Each tick every
+trapezoidal velocity profile (e.g. paper A's drives in profile-position mode). Each tick every
 joint's setpoint velocity moves toward
 
 .. math::
@@ -11,7 +11,7 @@ the fastest speed from which it can still stop at the target, changing by at mos
 ``a_max dt`` per tick. A commanded step thus passes through the joint's own limits, as on
 the real robot — a raw angle step on a 0.9 m, 62 kg pendulum would tip it over.
 
-With ``synchronized`` limits (TEO's: its host interpolates all joints of a part together
+With ``synchronized`` limits (paper A's robot: its host interpolates all joints of a part together
 in cyclic synchronous position mode) each new target scales joint ``i``'s limits
 by ``|e_i| / max_j |e_j|``, its share of the largest remaining move, so joints that start
 at rest move in proportion and arrive together. This matters in closed chains: the two

@@ -70,7 +70,7 @@ def simulate_batch(
 
     Args:
         experiment: the recorded experiment to replay.
-        truths: one truth object per candidate (``NaoTruth`` or ``TeoTruth``).
+        truths: one truth object per candidate (the experiment's robot's).
         effects: effect letters switched on, e.g. ``"M,G"``.
         nthread: threads of the batch (the cores to use).
         warp_device: roll out on MuJoCo Warp on this device (``"cuda:0"``; ``"cpu"`` for

@@ -2,15 +2,15 @@
 
 Only signals a real robot records enter the fit (:class:`RecordedSignals`): the commanded
 joint angles, the joint encoders, the ZMP from the ankle F-T sensors and the trunk tilt
-from the IMU. Two kinds of experiment:
+from the IMU. Every experiment names its robot. Two kinds of experiment:
 
-- :class:`WalkExperiment` — a NAO walk folder written by ``zmpkit walk``
+- :class:`WalkExperiment` — a walk folder written by ``zmpkit walk``
   (:mod:`zmpkit.experiments.walk_dataset`): ``summary.json`` and ``timeseries.csv``. The
   CSV holds the commanded angles of the six pitch joints only; the whole commanded
   trajectory is re-planned from the walk's command (speed, step duration, duration, CoM
   height), which a user knows because they commanded it, and checked against the recorded
   commanded angles. A walk that fell is refused.
-- :class:`StepExperiment` — one trial of a TEO step dataset
+- :class:`StepExperiment` — one trial of a step dataset
   (:func:`~zmpkit.experiments.read_step_dataset`): the commanded setpoints of every joint are
   in the trial CSV; the robot stands ``settle_s`` before the recording starts.
 
@@ -31,6 +31,7 @@ from numpy.typing import NDArray
 from zmpkit.errors import InputFileError, ZmpkitError
 from zmpkit.experiments import read_step_dataset
 from zmpkit.experiments.walk_dataset import PITCH_JOINTS, SERIES_FILE, SUMMARY_FILE, read_series
+from zmpkit.robots.registry import get_robot
 from zmpkit.sensors import zmp_series
 from zmpkit.sensors.imu import tilt_from_quaternions
 from zmpkit.simfit.recorded import RecordedSignals
@@ -47,7 +48,7 @@ __all__ = [
 
 @dataclass(frozen=True, eq=False)
 class WalkExperiment:
-    """A NAO walk: its command and its recorded signals.
+    """A walk: its command and its recorded signals.
 
     Attributes:
         name: label (the folder name).
@@ -56,6 +57,7 @@ class WalkExperiment:
         duration_s: walking time of the pattern [s].
         com_height_m: CoM height of the pattern [m].
         signals: the recording.
+        robot: the robot that walked (registry name or ``robot.yaml`` path).
     """
 
     name: str
@@ -64,12 +66,12 @@ class WalkExperiment:
     duration_s: float
     com_height_m: float
     signals: RecordedSignals
-    robot: str = "nao"
+    robot: str
 
 
 @dataclass(frozen=True, eq=False)
 class StepExperiment:
-    """A TEO step trial: commanded setpoints and recorded signals.
+    """A step trial: commanded setpoints and recorded signals.
 
     Attributes:
         name: label (dataset folder and trial file).
@@ -77,6 +79,7 @@ class StepExperiment:
         settle_s: standing time before the recording starts [s].
         mounts: the F-T sensor mounts, ``{"right": ..., "left": ...}``.
         signals: the recording; ``q_cmd_rad`` holds every driven joint.
+        robot: the robot that stepped (registry name or ``robot.yaml`` path).
     """
 
     name: str
@@ -84,7 +87,7 @@ class StepExperiment:
     settle_s: float
     mounts: dict
     signals: RecordedSignals
-    robot: str = "teo"
+    robot: str
 
 
 Experiment = WalkExperiment | StepExperiment
@@ -128,8 +131,8 @@ def _walk_signals(path: Path, header: list[str], table: NDArray[np.float64]) -> 
     )
 
 
-def read_walk_folder(folder: str | Path) -> WalkExperiment:
-    """Read a ``zmpkit walk`` output folder as a :class:`WalkExperiment`.
+def read_walk_folder(folder: str | Path, robot: str) -> WalkExperiment:
+    """Read a ``zmpkit walk`` output folder of ``robot`` as a :class:`WalkExperiment`.
 
     Raises:
         InputFileError: on a missing or malformed file, a fallen walk, or commanded angles
@@ -141,11 +144,11 @@ def read_walk_folder(folder: str | Path) -> WalkExperiment:
     signals = _walk_signals(path, *read_series(path))
     speed = float(summary["commanded_speed_mps"])
     step_s = 1.0 / float(summary["step_frequency_hz"])
-    duration, height = match_walk_plan(path, speed, step_s, signals)
-    return WalkExperiment(folder.name, speed, step_s, duration, height, signals)
+    duration, height = match_walk_plan(robot, path, speed, step_s, signals)
+    return WalkExperiment(folder.name, speed, step_s, duration, height, signals, robot)
 
 
-def _step_experiments(folder: Path) -> list[StepExperiment]:
+def _step_experiments(folder: Path, robot: str) -> list[StepExperiment]:
 
     dataset = read_step_dataset(folder)
     settings = dataset.meta.get("settings", {})
@@ -174,31 +177,33 @@ def _step_experiments(folder: Path) -> list[StepExperiment]:
         )
         name = f"{folder.name}/{trial.plane}_{trial.target_m:g}"
         settle = float(settings.get("settle_s", trial.time[0]))
-        out.append(StepExperiment(name, trial.plane, settle, dict(dataset.mounts), signals))
+        out.append(StepExperiment(name, trial.plane, settle, dict(dataset.mounts), signals, robot))
     return out
 
 
 def read_experiments(folders: Sequence[str | Path], robot: str) -> list[Experiment]:
-    """Read recorded experiment folders for ``robot``.
+    """Read recorded experiment folders of ``robot``; each experiment names it.
 
-    A NAO folder is a walk output folder (``summary.json`` + ``timeseries.csv``); a TEO
-    folder is a step dataset (``meta.json`` + trial CSVs), each trial one experiment.
+    The robot's fit says what it replays (:attr:`~zmpkit.robots.robot.FitSpec.experiment`):
+    walks — a walk output folder (``summary.json`` + ``timeseries.csv``) — or steps — a step
+    dataset (``meta.json`` + trial CSVs), each trial one experiment.
 
     Raises:
         InputFileError: naming the folder or file and what was expected.
     """
     if not folders:
         raise InputFileError("DATA", "no experiment folders given; expected at least one")
+    kind = get_robot(robot, needs="fit").require_fit().experiment
     out: list[Experiment] = []
     for item in folders:
         folder = Path(item)
         if not folder.is_dir():
             raise InputFileError(folder, "expected an experiment folder (does not exist)")
-        if robot == "nao":
-            out.append(read_walk_folder(folder))
+        if kind == "walk":
+            out.append(read_walk_folder(folder, robot))
             continue
         try:
-            out.extend(_step_experiments(folder))
+            out.extend(_step_experiments(folder, robot))
         except InputFileError:
             raise
         except ZmpkitError as exc:

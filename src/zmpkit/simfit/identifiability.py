@@ -22,7 +22,8 @@ Two measures per fitted parameter, both stated in the output:
 A parameter is *identifiable* when both are within :data:`IDENTIFIABLE_WITHIN`. The profile
 alone is fooled by a rugged cost: a walk is sensitive enough that a parameter moved 10 %
 from a local minimum raises the cost steeply even where the search never settled (the
-NAO torso's CoM x in a quick self-test: a sharp profile, a 54 % CMA-ES spread, 76 % off).
+the walking robot's torso CoM x in a quick self-test: a sharp profile, a 54 % CMA-ES spread,
+76 % off).
 """
 
 from __future__ import annotations

@@ -18,8 +18,7 @@ from numpy.typing import NDArray
 
 from zmpkit.errors import SimulationDivergedError
 from zmpkit.experiments.walk_trial import start_pose
-from zmpkit.robots.nao import NaoTruth, make_nao
-from zmpkit.robots.teo import TeoTruth, make_teo
+from zmpkit.robots.registry import get_robot
 from zmpkit.sim.world import Simulation
 from zmpkit.simfit.experiments import Experiment, StepExperiment, WalkExperiment
 from zmpkit.simfit.rollout import setpoint_table
@@ -52,18 +51,15 @@ class OpenLoopSchedule:
 
 def posed_simulation(experiment: Experiment, truth: RobotTruth, effects: str) -> Simulation:
     """A candidate's simulation where the serial path starts its loop."""
+    sim = get_robot(experiment.robot).make_simulation(effects, truth, seed=0)
     if isinstance(experiment, WalkExperiment):
-        assert isinstance(truth, NaoTruth), "a walk experiment is NAO's"
-        sim = make_nao(effects, truth, seed=0)
         start_pose(sim, walk_trajectory(*_walk_key(experiment)))
-        return sim
-
-    assert isinstance(truth, TeoTruth), "a step experiment is TEO's"
-    return make_teo(effects, truth, seed=0)
+    return sim
 
 
-def _walk_key(experiment: WalkExperiment) -> tuple[float, float, float, float]:
+def _walk_key(experiment: WalkExperiment) -> tuple[str, float, float, float, float]:
     return (
+        experiment.robot,
         experiment.speed_mps,
         experiment.step_duration_s,
         experiment.duration_s,
@@ -128,7 +124,10 @@ def _step_schedule(experiment: StepExperiment, sim: Simulation) -> OpenLoopSched
     """The recorded setpoints, one per servo tick, sampled at the recorded times."""
     signals = experiment.signals
     if tuple(sim.joint_names) != tuple(signals.joint_names):
-        raise SimulationDivergedError(0.0, "the joint list", "recorded joints differ from TEO's")
+        title = get_robot(experiment.robot).title
+        raise SimulationDivergedError(
+            0.0, "the joint list", f"recorded joints differ from {title}'s"
+        )
     ticks = np.round(signals.time_s / sim.dt).astype(np.int64)
     table = setpoint_table(signals, int(ticks[-1]), sim.dt)
     return OpenLoopSchedule(table, 0, ticks, signals.q_cmd_rad)

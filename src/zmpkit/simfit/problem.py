@@ -26,7 +26,7 @@ class FitProblem:
     """What the fit minimises.
 
     Attributes:
-        robot: ``"nao"`` or ``"teo"``.
+        robot: the robot's registry name or ``robot.yaml`` path.
         sim_effects: effect letters the simulator runs with, e.g. ``"M,G"``.
         parameters: the fitted parameters.
         base_doc: the base truth document (every unfitted value).

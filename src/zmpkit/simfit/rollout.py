@@ -17,8 +17,7 @@ from numpy.typing import NDArray
 
 from zmpkit.errors import SimulationDivergedError
 from zmpkit.experiments.walk_trial import simulate_walk
-from zmpkit.robots.nao import NaoTruth, make_nao
-from zmpkit.robots.teo import TeoTruth, make_teo
+from zmpkit.robots.registry import get_robot
 from zmpkit.sensors import zmp_series
 from zmpkit.sensors.imu import tilt_from_quaternions
 from zmpkit.sim.world import Simulation
@@ -35,7 +34,7 @@ def simulate_experiment(experiment: Experiment, truth: RobotTruth, effects: str)
 
     Args:
         experiment: the recorded experiment to replay.
-        truth: the robot's truth object (``NaoTruth`` or ``TeoTruth``).
+        truth: the truth object of the experiment's robot.
         effects: effect letters switched on, e.g. ``"M,G"``.
 
     Returns:
@@ -49,14 +48,15 @@ def simulate_experiment(experiment: Experiment, truth: RobotTruth, effects: str)
 def _walk(experiment: WalkExperiment, truth: RobotTruth, effects: str) -> RecordedSignals:
 
     trajectory = walk_trajectory(
+        experiment.robot,
         experiment.speed_mps,
         experiment.step_duration_s,
         experiment.duration_s,
         experiment.com_height_m,
     )
-    assert isinstance(truth, NaoTruth), "a walk experiment is NAO's"
+    sim = get_robot(experiment.robot).make_simulation(effects, truth, seed=0)
     try:
-        record = simulate_walk(make_nao(effects, truth, seed=0), trajectory)
+        record = simulate_walk(sim, trajectory)
     except SimulationDivergedError:
         return empty_signals(experiment.signals)
     names = experiment.signals.joint_names
@@ -91,10 +91,12 @@ def setpoint_table(signals: RecordedSignals, n_ticks: int, dt: float) -> NDArray
 def _step(experiment: StepExperiment, truth: RobotTruth, effects: str) -> RecordedSignals:
 
     signals = experiment.signals
-    assert isinstance(truth, TeoTruth), "a step experiment is TEO's"
-    sim = make_teo(effects, truth, seed=0)
+    robot = get_robot(experiment.robot)
+    sim = robot.make_simulation(effects, truth, seed=0)
     if tuple(sim.joint_names) != tuple(signals.joint_names):
-        raise SimulationDivergedError(0.0, "the joint list", "recorded joints differ from TEO's")
+        raise SimulationDivergedError(
+            0.0, "the joint list", f"recorded joints differ from {robot.title}'s"
+        )
     dt = sim.dt
     sample_ticks = np.round(signals.time_s / dt).astype(int)
     table = setpoint_table(signals, int(sample_ticks[-1]), dt)

@@ -6,12 +6,13 @@ r"""Self-test of the simulator fit: a virtual robot with hidden, perturbed truth
    inside the bounds. These values are the hidden truth.
 2. :func:`record_experiments`: the virtual robot with that truth and the sensor effects on
    (S: encoder quantisation, F-T offsets, noise) runs the plan's experiments through the
-   ordinary pipelines — NAO walks with :func:`~zmpkit.experiments.walk.run_walk_trial`, TEO step
-   sweeps with :func:`~zmpkit.experiments.run_step_sweep` — into folders. The fit then
+   ordinary pipelines — walks with :func:`~zmpkit.experiments.walk.run_walk_trial` or step
+   sweeps with :func:`~zmpkit.experiments.run_step_sweep`, as the robot's fit replays them
+   (:attr:`~zmpkit.robots.robot.FitSpec.experiment`) — into folders. The fit then
    reads those folders like any recorded data and never sees the truth.
 3. :func:`recovery_rows` compares truth and fit per parameter (``recovery.csv``).
 
-Plans (:func:`self_test_plan`): NAO walks at several speeds; TEO ZMP steps. Held-out
+Plans (:func:`self_test_plan`): walks at several speeds, or ZMP steps. Held-out
 experiments are recorded the same way but never fitted.
 """
 
@@ -32,6 +33,7 @@ from zmpkit.experiments import StepExperimentConfig, run_step_sweep
 from zmpkit.experiments.walk import run_walk_trial
 from zmpkit.experiments.walk_config import WalkConfig
 from zmpkit.experiments.walk_dataset import SERIES_FILE, SUMMARY_FILE, write_series, write_summary
+from zmpkit.robots.registry import get_robot
 from zmpkit.simfit.parameters import FitParameter
 from zmpkit.simfit.truth_doc import truth_doc_with, write_truth_doc
 
@@ -56,10 +58,10 @@ class SelfTestPlan:
     """The experiments of a self-test.
 
     Attributes:
-        fit: NAO: (speed [m/s], duration [s]) per walk; TEO: ZMP targets [m] of one sweep.
+        fit: walks: (speed [m/s], duration [s]) per walk; steps: ZMP targets [m] of one sweep.
         held_out: the same for the held-out experiments.
-        hold_s: TEO only: recorded time after the step [s].
-        held_out_hold_s: TEO only: recorded time after the held-out step [s].
+        hold_s: steps only: recorded time after the step [s].
+        held_out_hold_s: steps only: recorded time after the held-out step [s].
     """
 
     fit: tuple
@@ -70,13 +72,17 @@ class SelfTestPlan:
 
 def self_test_plan(robot: str, quick: bool) -> SelfTestPlan:
     """The plan for ``robot``; ``quick`` keeps it small (2 short walks or 3 steps)."""
-    if robot == "nao":
+    if _replays_walks(robot):
         if quick:
             return SelfTestPlan(((0.2, 3.0), (0.15, 3.0)), ((0.175, 10.0),))
         return SelfTestPlan(((0.1, 6.0), (0.15, 6.0), (0.2, 6.0)), ((0.175, 10.0), (0.2, 10.0)))
     if quick:
         return SelfTestPlan((0.02, 0.05, 0.08), (0.065,))
     return SelfTestPlan((0.02, 0.04, 0.06, 0.08), (0.03, 0.07), hold_s=5.0)
+
+
+def _replays_walks(robot: str) -> bool:
+    return get_robot(robot, needs="fit").require_fit().experiment == "walk"
 
 
 def perturbed_values(parameters: tuple[FitParameter, ...], seed: int) -> NDArray[np.float64]:
@@ -93,12 +99,13 @@ def perturbed_values(parameters: tuple[FitParameter, ...], seed: int) -> NDArray
     return np.array(out)
 
 
-def _walks(specs: tuple, truth: Path, effects: str, seed: int, out: Path) -> list[Path]:
+def _walks(robot: str, specs: tuple, truth: Path, effects: str, seed: int, out: Path) -> list[Path]:
 
     folders = []
     for k, (speed, duration) in enumerate(specs):
         folder = out / f"walk_{speed:g}mps_{duration:g}s"
         config = WalkConfig(
+            robot=robot,
             speed_mps=speed,
             duration_s=duration,
             effects=effects,
@@ -114,9 +121,12 @@ def _walks(specs: tuple, truth: Path, effects: str, seed: int, out: Path) -> lis
     return folders
 
 
-def _steps(targets: tuple, hold_s: float, truth: Path, effects: str, seed: int, out: Path) -> Path:
+def _steps(
+    robot: str, targets: tuple, hold_s: float, truth: Path, effects: str, seed: int, out: Path
+) -> Path:
 
     config = StepExperimentConfig(
+        robot=robot,
         targets_m=tuple(targets),
         effects=effects,
         seed=seed,
@@ -153,13 +163,19 @@ def record_experiments(
     hidden.mkdir(exist_ok=True)
     try:
         truth = write_truth_doc(doc, hidden / "truth.yaml")
-        if robot == "nao":
-            fit = _walks(plan.fit, truth, recorded, seed, out / "fit")
-            held = _walks(plan.held_out, truth, recorded, seed + 100, out / "held_out")
+        if _replays_walks(robot):
+            fit = _walks(robot, plan.fit, truth, recorded, seed, out / "fit")
+            held = _walks(robot, plan.held_out, truth, recorded, seed + 100, out / "held_out")
             return fit, held
-        fit_dir = _steps(plan.fit, plan.hold_s, truth, recorded, seed, out / "fit_steps")
+        fit_dir = _steps(robot, plan.fit, plan.hold_s, truth, recorded, seed, out / "fit_steps")
         held_dir = _steps(
-            plan.held_out, plan.held_out_hold_s, truth, recorded, seed + 100, out / "held_out_steps"
+            robot,
+            plan.held_out,
+            plan.held_out_hold_s,
+            truth,
+            recorded,
+            seed + 100,
+            out / "held_out_steps",
         )
         return [fit_dir], [held_dir]
     finally:

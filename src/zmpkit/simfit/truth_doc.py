@@ -3,8 +3,7 @@
 The fit never reads the hidden truth of the robot it fits; it starts from a *base* truth
 file (the shipped one, or the user's ``--truth``) that holds every parameter it does not fit,
 and writes the fitted values into a copy of it. That copy is a normal truth file, loadable
-as ``--truth`` by the simulator (:func:`zmpkit.robots.nao.load_truth`,
-:func:`zmpkit.robots.teo.load_truth`).
+as ``--truth`` by the simulator (the robot's :attr:`~zmpkit.robots.robot.Robot.truth`).
 
 Paths: keys joined by dots, list items in brackets; ``[0,2]`` or ``[*]`` addresses several
 items at once (a shared value), e.g. ``flex[0,1].stiffness[0]`` or ``sensors.ft_offset.right[2]``
@@ -16,16 +15,14 @@ from __future__ import annotations
 import copy
 import os
 import re
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any, TypeAlias
 
 import yaml
 
 from zmpkit.errors import InputFileError, ParameterError
-from zmpkit.robots import nao, teo
-from zmpkit.robots.nao import truth as nao_truth
-from zmpkit.robots.teo import truth as teo_truth
+from zmpkit.robots.registry import get_robot
 from zmpkit.simfit.parameters import FitParameter, ParameterValues
 
 __all__ = [
@@ -39,18 +36,10 @@ __all__ = [
     "write_truth_doc",
 ]
 
-RobotTruth: TypeAlias = nao_truth.NaoTruth | teo_truth.TeoTruth
-"""A robot's truth object, as the fit builds it from a truth document for the robot's factory
-(:func:`~zmpkit.robots.nao.make_nao`, :func:`~zmpkit.robots.teo.make_teo`). The fit reads
-nothing of it: it only hands it on, so it is the union of the robots' truths, not a protocol."""
-
-_TruthParser: TypeAlias = Callable[[Mapping[str, Any], str], RobotTruth]
-
-_SHIPPED_TRUTH: Mapping[str, tuple[Path, _TruthParser]] = {
-    "nao": (Path(nao.DEFAULT_TRUTH_PATH), nao_truth.truth_from_doc),
-    "teo": (Path(teo.DEFAULT_TRUTH_PATH), teo_truth.truth_from_doc),
-}
-"""Per robot: its shipped truth file and the parser of a truth document."""
+RobotTruth: TypeAlias = Any
+"""A robot's truth object, as the fit builds it from a truth document for the robot's
+simulation factory (:meth:`~zmpkit.robots.robot.Robot.make_simulation`). The fit reads nothing
+of it: it only hands it on to the robot it came from."""
 
 _TOKEN = re.compile(r"([^.\[\]]+)|\[([^\]]*)\]")
 
@@ -123,13 +112,7 @@ def base_truth_path(robot: str, truth: str | Path | None) -> Path:
     """The base truth file: ``truth`` if given, else the robot's shipped one."""
     if truth is not None:
         return Path(truth)
-    return _robot_truth(robot)[0]
-
-
-def _robot_truth(robot: str) -> tuple[Path, _TruthParser]:
-    if robot not in _SHIPPED_TRUTH:
-        raise ParameterError(f"robot must be one of {', '.join(_SHIPPED_TRUTH)}; got {robot!r}")
-    return _SHIPPED_TRUTH[robot]
+    return Path(get_robot(robot).truth.default_path)
 
 
 def load_truth_doc(path: str | Path) -> dict[str, Any]:
@@ -169,5 +152,10 @@ def write_truth_doc(doc: Mapping[str, Any], path: str | Path, header: str = "") 
 
 
 def load_robot_truth(robot: str, doc: Mapping[str, Any]) -> RobotTruth:
-    """The robot's truth object (``NaoTruth`` or ``TeoTruth``) for a truth document."""
-    return _robot_truth(robot)[1](doc, "<fit candidate truth>")
+    """The robot's truth object for a truth document.
+
+    Raises:
+        ParameterError: on an unknown robot, naming the valid ones (never a guess).
+        InputFileError: if the document does not fit the robot's truth layout.
+    """
+    return get_robot(robot).truth.from_doc(doc, "<fit candidate truth>")

@@ -15,7 +15,7 @@ from pathlib import Path
 import numpy as np
 
 from zmpkit.errors import InputFileError
-from zmpkit.robots.nao import NAO_WALK_COM_HEIGHT_M, nao_ik_model
+from zmpkit.robots.registry import get_robot
 from zmpkit.simfit.recorded import RecordedSignals
 from zmpkit.walking import GaitParameters, PatternConfig, WalkCommand, generate_pattern
 from zmpkit.walking.ik import JointTrajectory, solve_walking_ik
@@ -29,16 +29,17 @@ COMMAND_TOLERANCE_RAD = 1e-4
 
 @lru_cache(maxsize=16)
 def walk_trajectory(
-    speed_mps: float, step_duration_s: float, duration_s: float, com_height_m: float
+    robot: str, speed_mps: float, step_duration_s: float, duration_s: float, com_height_m: float
 ) -> JointTrajectory:
-    """Pattern + IK of a NAO walk (cached) [rad per joint per 10 ms frame]."""
+    """Pattern + IK of ``robot``'s walk (cached) [rad per joint per motion frame]."""
     config = PatternConfig(
         command=WalkCommand(v_x=speed_mps),
         duration_s=duration_s,
         gait=GaitParameters(step_duration_s=step_duration_s),
         com_height_m=com_height_m,
     )
-    return solve_walking_ik(generate_pattern(config), nao_ik_model())
+    walker = get_robot(robot, needs="walking")
+    return solve_walking_ik(generate_pattern(config), walker.ik_model(), walker.ik_settings)
 
 
 def _pattern_end(speed_mps: float, step_duration_s: float, duration_s: float) -> float:
@@ -52,7 +53,7 @@ def _pattern_end(speed_mps: float, step_duration_s: float, duration_s: float) ->
 
 
 def match_walk_plan(
-    path: Path, speed_mps: float, step_duration_s: float, signals: RecordedSignals
+    robot: str, path: Path, speed_mps: float, step_duration_s: float, signals: RecordedSignals
 ) -> tuple[float, float]:
     """The (duration [s], CoM height [m]) whose plan reproduces the recorded commands.
 
@@ -64,7 +65,8 @@ def match_walk_plan(
     duration = round(t_last - overhead, 2)  # the CSV keeps 7 digits; frames are 10 ms
     if duration <= 0.0:
         raise InputFileError(path, f"a walk of {t_last} s is shorter than its standing phases")
-    trajectory = walk_trajectory(speed_mps, step_duration_s, duration, NAO_WALK_COM_HEIGHT_M)
+    height = get_robot(robot, needs="walking").require_walking().com_height_m
+    trajectory = walk_trajectory(robot, speed_mps, step_duration_s, duration, height)
     names = signals.joint_names
     columns = [trajectory.joint_names.index(j) for j in names]
     planned = trajectory.q_rad[:, columns]
@@ -79,8 +81,8 @@ def match_walk_plan(
         raise InputFileError(
             path,
             f"the re-planned walk ({speed_mps} m/s, {step_duration_s} s steps, CoM "
-            f"{NAO_WALK_COM_HEIGHT_M} m) differs from the recorded command by "
+            f"{height} m) differs from the recorded command by "
             f"{error[worst]:.3g} rad; expected a zmpkit walk with its default pattern",
             column=f"{names[worst]}_cmd_rad",
         )
-    return duration, NAO_WALK_COM_HEIGHT_M
+    return duration, height

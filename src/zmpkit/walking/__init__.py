@@ -19,7 +19,7 @@ from zmpkit.walking.footsteps import (
     plan_footsteps,
 )
 from zmpkit.walking.pattern import (
-    NAO_CONTROL_PERIOD_S,
+    DEFAULT_CONTROL_PERIOD_S,
     PatternConfig,
     WalkingPattern,
     generate_pattern,
@@ -44,8 +44,8 @@ from zmpkit.walking.swing import (
 from zmpkit.walking.zmp_reference import ZmpReference, linear_zmp_reference, sample_times
 
 __all__ = [
+    "DEFAULT_CONTROL_PERIOD_S",
     "DEFAULT_STEP_HEIGHT_M",
-    "NAO_CONTROL_PERIOD_S",
     "CoMTrajectory",
     "FeetTrajectories",
     "FootShape",

@@ -28,7 +28,6 @@ from numpy.typing import NDArray
 from zmpkit import _validate
 from zmpkit.errors import ParameterError
 from zmpkit.models.pendulum import STANDARD_GRAVITY_MPS2
-from zmpkit.robots.nao.model import NAO_WALKING_COM_HEIGHT_M
 
 __all__ = [
     "PreviewGains",
@@ -43,8 +42,8 @@ class PreviewParameters:
     """Cart-table model and cost weights.
 
     Attributes:
-        sampling_period_s: control period T [s] (NAO: 0.01 s).
-        com_height_m: constant CoM height z_c above the ground [m] (NAO walking: 0.26 m).
+        sampling_period_s: control period T [s] (paper B: 0.01 s).
+        com_height_m: constant CoM height z_c above the ground [m] (paper B's walk: 0.26 m).
         horizon_s: preview horizon [s]; N_L = round(horizon_s / T) samples.
         error_weight: Q_e, weight on the squared ZMP error [1/m^2].
         jerk_weight: R, weight on the squared jerk increment [s^6/m^2].
@@ -52,7 +51,7 @@ class PreviewParameters:
     """
 
     sampling_period_s: float = 0.01
-    com_height_m: float = NAO_WALKING_COM_HEIGHT_M
+    com_height_m: float = 0.26
     horizon_s: float = 1.6
     error_weight: float = 1.0
     jerk_weight: float = 1e-6

@@ -58,7 +58,7 @@ class GaitParameters:
         step_duration_s: one step, double support then single support [s].
         double_support_ratio: share of a step spent in double support [-], in [0, 0.9].
         foot_separation_m: nominal lateral distance between the foot centres [m]
-            (NAO: hips at y = +-0.050 m, so 0.100 m).
+            (paper B's robot: hips at y = +-0.050 m, so 0.100 m).
         initial_double_support_s: standing time with the ZMP centred before the first
             weight transfer [s].
         final_double_support_s: standing time with the ZMP centred after the last weight
@@ -97,7 +97,7 @@ class GaitParameters:
 class FootShape:
     """Sole rectangle centred on the footstep position.
 
-    Defaults: 0.16 x 0.09 m, NAO's 158 x 88 mm outline rounded up (nao-parameters.md §5).
+    Defaults: 0.16 x 0.09 m, paper B's robot's 158 x 88 mm outline rounded up.
 
     Attributes:
         length_m: along the foot's x axis [m].

@@ -1,23 +1,23 @@
 """Whole-body inverse kinematics of a walking pattern with mink (differential IK on MuJoCo).
 
-At every sample of the pattern (NAO: every 10 ms) the IK drives the robot model to
+At every sample of the pattern (every motion frame, e.g. 10 ms) the IK drives the robot model to
 
 - both sole-centre frames at the planned foot poses (position and yaw; flat on the ground),
 - the torso upright with the planned torso yaw (orientation only),
 - the whole-body CoM at the planned CoM ``(x, y, z_c)``,
 - and, with a small weight, a nominal posture (which fixes the redundant directions),
 
-subject to the joint limits and to the model's joint equalities (NAO's coupled HipYawPitch).
+subject to the joint limits and to the model's joint equalities (e.g. two hip joints driven by
+one motor).
 Each sample is warm-started from the previous solution and iterated until the CoM and feet
 errors fall below :attr:`IkSettings.tolerance_m` or :attr:`IkSettings.max_iterations` is
 spent. The footstep planner's foot point is the *sole centre*; the model must carry a site
-there (NAO's ankle lies 25 mm behind it), so the ankle offset is the model's geometry.
+there (an ankle may lie behind it), so the ankle offset is the model's geometry.
 """
 
 from __future__ import annotations
 
-from collections.abc import Mapping
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Protocol
 
 import mink
@@ -25,64 +25,12 @@ import mujoco
 import numpy as np
 from numpy.typing import NDArray
 
-from zmpkit import _validate
 from zmpkit.errors import ModelError
-from zmpkit.robots.nao import NAO_LEG_JOINTS
+from zmpkit.robots.ik_settings import IkSettings
 from zmpkit.walking.pattern import WalkingPattern
 from zmpkit.walking.swing import FeetTrajectories
 
 __all__ = ["IkSettings", "JointTrajectory", "WalkingIk", "solve_walking_ik"]
-
-NAO_CROUCH_POSTURE_RAD: Mapping[str, float] = {
-    f"{side}{joint}": angle
-    for side in ("L", "R")
-    for joint, angle in (("HipPitch", -0.45), ("KneePitch", 0.90), ("AnklePitch", -0.45))
-}
-"""Walking crouch whose CoM is 0.26 m high (nao-parameters.md §1) [rad]."""
-
-
-@dataclass(frozen=True)
-class IkSettings:
-    """Frames, weights and stopping rule of the walking IK.
-
-    Attributes:
-        joint_names: the joints reported in the trajectory, in order.
-        sole_sites: foot side → site at the sole centre on the sole plane.
-        torso_body: body whose orientation follows the planned torso.
-        posture_rad: nominal posture [rad] (joints not named: 0); also the start guess.
-        foot_cost: weight of the feet position [1/m] and orientation [1/rad] errors.
-        com_cost: weight of the CoM error [1/m].
-        torso_cost: weight of the torso orientation error [1/rad].
-        posture_cost: weight of the posture error [1/rad].
-        equality_cost: weight of the joint-equality residuals.
-        damping: Levenberg–Marquardt damping of the QP [-].
-        tolerance_m: stop iterating a sample when the CoM and feet errors are below this [m].
-        max_iterations: iterations per sample (the first sample gets ten times as many).
-        solver: the QP solver mink calls.
-    """
-
-    joint_names: tuple[str, ...]
-    sole_sites: Mapping[str, str] = field(
-        default_factory=lambda: {"left": "left_sole", "right": "right_sole"}
-    )
-    torso_body: str = "torso"
-    posture_rad: Mapping[str, float] = field(default_factory=lambda: dict(NAO_CROUCH_POSTURE_RAD))
-    foot_cost: float = 10.0
-    com_cost: float = 10.0
-    torso_cost: float = 1.0
-    posture_cost: float = 1e-3
-    equality_cost: float = 100.0
-    damping: float = 1e-6
-    tolerance_m: float = 2e-5
-    max_iterations: int = 8
-    solver: str = "daqp"
-
-    def __post_init__(self) -> None:
-        for name in ("foot_cost", "com_cost", "torso_cost", "posture_cost", "tolerance_m"):
-            _validate.positive(f"IkSettings.{name}", getattr(self, name))
-        _validate.non_negative("IkSettings.damping", self.damping)
-        if self.max_iterations < 1:
-            raise ModelError(f"IkSettings.max_iterations must be >= 1, got {self.max_iterations}")
 
 
 @dataclass(frozen=True)
@@ -221,7 +169,7 @@ def _start_q(model: mujoco.MjModel, settings: IkSettings) -> NDArray[np.float64]
 def solve_walking_ik(
     pattern: WalkingPattern,
     model: mujoco.MjModel,
-    settings: IkSettings | None = None,
+    settings: IkSettings,
 ) -> JointTrajectory:
     """Joint angles that realise ``pattern`` on ``model``, one IK solution per sample.
 
@@ -229,13 +177,12 @@ def solve_walking_ik(
         pattern: the walk (feet, torso yaw and CoM on one time grid).
         model: the robot's rigid kinematic model, floating base first, with a site at each
             sole centre (see :class:`IkSettings`).
-        settings: frames, weights and stopping rule; NAO's leg joints when None.
+        settings: joints, frames, weights and stopping rule (a robot's
+            :attr:`~zmpkit.robots.robot.Robot.ik_settings`).
 
     Returns:
         The joint trajectory with the CoM, feet and torso errors left at each sample.
     """
-    if settings is None:
-        settings = IkSettings(joint_names=NAO_LEG_JOINTS)
     ik = WalkingIk(model, settings)
     n = pattern.time_s.size
     q = np.empty((n, len(settings.joint_names)))

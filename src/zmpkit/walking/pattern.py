@@ -1,8 +1,9 @@
 """The walking pattern: footsteps -> linear ZMP reference -> CoM by preview control -> feet.
 
-Everything is sampled on one time grid ``0, dt, 2 dt, ...`` (NAO: dt = 10 ms) in the world
+Everything is sampled on one time grid ``0, dt, 2 dt, ...`` (paper B: dt = 10 ms) in the world
 frame of :mod:`zmpkit.walking.footsteps`. The defaults are paper B's walk: 20 cm/s straight
-ahead, 0.5 s steps, for 10 s, CoM height 0.26 m (nao-parameters.md §1). A correction of the
+ahead, 0.5 s steps, for 10 s, CoM height 0.26 m; a robot's own are its
+:class:`~zmpkit.robots.robot.WalkingDefaults`. A correction of the
 ZMP reference (paper B, Algorithms 1 and 2, half-sine or sawtooth offsets) enters through
 ``zmp_offset`` and is tracked instead of the linear reference.
 """
@@ -16,7 +17,6 @@ from numpy.typing import ArrayLike, NDArray
 
 from zmpkit import _validate
 from zmpkit.errors import ParameterError
-from zmpkit.robots.nao.model import NAO_WALKING_COM_HEIGHT_M
 from zmpkit.walking.footsteps import (
     FootstepPlan,
     GaitParameters,
@@ -36,15 +36,18 @@ from zmpkit.walking.swing import DEFAULT_STEP_HEIGHT_M, FeetTrajectories, foot_t
 from zmpkit.walking.zmp_reference import ZmpReference, linear_zmp_reference, sample_times
 
 __all__ = [
-    "NAO_CONTROL_PERIOD_S",
+    "DEFAULT_COM_HEIGHT_M",
+    "DEFAULT_CONTROL_PERIOD_S",
     "PatternConfig",
     "WalkingPattern",
     "generate_pattern",
     "pattern_sample_times",
 ]
 
-#: NAO motion frame (DCM cycle) [s] (paper B footnote 5).
-NAO_CONTROL_PERIOD_S = 0.01
+#: Paper B's motion frame (the robot's DCM cycle) [s] (paper B footnote 5).
+DEFAULT_CONTROL_PERIOD_S = 0.01
+#: Paper B's CoM height of the 3D-LIPM walk [m].
+DEFAULT_COM_HEIGHT_M = 0.26
 #: Default preview horizon [s].
 DEFAULT_PREVIEW_HORIZON_S = 1.6
 
@@ -74,8 +77,8 @@ class PatternConfig:
     gait: GaitParameters = field(default_factory=GaitParameters)
     limits: StepLimits = field(default_factory=StepLimits)
     first_side: Side | None = None
-    control_period_s: float = NAO_CONTROL_PERIOD_S
-    com_height_m: float = NAO_WALKING_COM_HEIGHT_M
+    control_period_s: float = DEFAULT_CONTROL_PERIOD_S
+    com_height_m: float = DEFAULT_COM_HEIGHT_M
     preview_horizon_s: float = DEFAULT_PREVIEW_HORIZON_S
     error_weight: float = 1.0
     jerk_weight: float = 1e-6

@@ -22,7 +22,7 @@ rotated into the world, ``R_i f_i`` and ``R_i τ_i``, about ``\hat o_i``
 .. math:: \hat v \leftarrow \hat v + \frac{T}{τ_v + T}\left(\frac{\hat c_k - \hat c_{k-1}}{T}
     - \hat v\right).
 
-The IMU is assumed on the floating base (the root body), as on NAO and TEO.
+The IMU is assumed on the floating base (the root body), as on the built-in robots.
 """
 
 from __future__ import annotations
@@ -112,7 +112,7 @@ class KinematicStateEstimator:
         """Joints without an encoder that a joint equality ties to one that has one.
 
         Each as (qpos address, leader's qpos address, c0, c1): ``q = c0 + c1 q_leader``
-        (e.g. NAO's right HipYawPitch, driven by the left one's motor).
+        (e.g. a hip joint driven by the other leg's motor).
         """
         model, coupled = self.model, []
         for eq in range(model.neq):

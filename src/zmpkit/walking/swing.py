@@ -35,7 +35,7 @@ __all__ = [
     "swing_height",
 ]
 
-#: Default swing height for a NAO-sized robot [m].
+#: Default swing height for a kid-size robot [m].
 DEFAULT_STEP_HEIGHT_M = 0.02
 
 # Polynomial coefficients in tau, lowest order first, and those of derivatives 0..3.
@@ -135,7 +135,7 @@ def foot_trajectories(
 
     Args:
         plan: the footsteps and their timing.
-        dt_s: sampling period [s] (NAO: 0.01 s).
+        dt_s: sampling period [s] (paper B: 0.01 s).
         step_height_m: peak swing height above the ground [m], >= 0.
 
     Returns:

@@ -1,7 +1,7 @@
 r"""The observer of the ZMP/IP walk: the cart-table state corrected by the measured CoM and ZMP.
 
 Czarnetzki, Kerner and Urbann ("Observer-based dynamic walking control for biped robots",
-Robotics and Autonomous Systems 57, 2009), the controller paper B's NAO walks with, run the
+Robotics and Autonomous Systems 57, 2009), the controller of paper B's walking robot, run the
 preview controller of :mod:`zmpkit.walking.preview` on an *observed* state: each control
 period the cart-table state is corrected towards the CoM and the ZMP the robot measures, so
 the CoM plan reacts to what the robot really does. zmpkit adds one state to their cart

@@ -84,7 +84,7 @@ def linear_zmp_reference(plan: FootstepPlan, dt_s: float) -> ZmpReference:
 
     Args:
         plan: the footsteps and their timing.
-        dt_s: sampling period [s] (NAO: 0.01 s).
+        dt_s: sampling period [s] (paper B: 0.01 s).
 
     Returns:
         The reference on ``sample_times(plan.duration_s, dt_s)``.

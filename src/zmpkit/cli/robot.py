@@ -1,0 +1,51 @@
+"""``zmpkit robot``: list the built-in robots, write a robot.yaml for a model, check one."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import click
+
+from zmpkit.cli.app import cli
+from zmpkit.robots.registry import get_robot, robot_names
+from zmpkit.robots.robot_check import check_robot
+from zmpkit.robots.robot_init import write_robot_file
+
+__all__ = ["robot_check_command", "robot_group", "robot_init_command", "robot_list_command"]
+
+
+@cli.group("robot")
+def robot_group() -> None:
+    """Robots: the built-in ones, and your own MJCF or URDF through a robot.yaml."""
+
+
+@robot_group.command("list")
+def robot_list_command() -> None:
+    """List the built-in robots and what each can run."""
+    for name in robot_names():
+        robot = get_robot(name)
+        can = [x for x in ("balance", "walking", "fit") if getattr(robot, x) is not None]
+        click.echo(f"{name}: {robot.summary} [{', '.join(can)}]")
+
+
+@robot_group.command("init")
+@click.argument("model", type=click.Path(path_type=Path))
+@click.option(
+    "--out", type=click.Path(path_type=Path), required=True, help="The robot.yaml to write."
+)
+def robot_init_command(model: Path, out: Path) -> None:
+    """Write a first robot.yaml for MODEL (MJCF or URDF): feet, legs, IMU guessed."""
+    path = write_robot_file(model, out)
+    click.echo(f"wrote {path}; check the feet and legs, then: zmpkit robot check {path}")
+
+
+@robot_group.command("check")
+@click.argument("robot_file", type=click.Path(path_type=Path))
+@click.option("--stand", type=float, default=2.0, show_default=True, help="Standing time [s].")
+def robot_check_command(robot_file: Path, stand: float) -> None:
+    """Load ROBOT_FILE (robot.yaml or a built-in name), stand it and compare its ZMPs."""
+    result = check_robot(get_robot(str(robot_file)), stand_s=stand)
+    for line in result.lines():
+        click.echo(line)
+    if not result.ok:
+        raise click.exceptions.Exit(1)

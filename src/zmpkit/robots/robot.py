@@ -1,0 +1,235 @@
+"""A robot as every pipeline takes it: model, description, balance and walking defaults, truth.
+
+A :class:`Robot` is what the registry (:mod:`zmpkit.robots.registry`) gives for a built-in
+name or a user's ``robot.yaml``. Pipelines never branch on a robot's name: they ask the robot.
+
+- **description** — :meth:`Robot.description` is the simulator's
+  :class:`~zmpkit.sim.description.RobotDescription` (MJCF with the chosen effects, driven joints
+  in order, foot F-T sensors with their heights above the sole, IMU, servo limits, contact
+  threshold); :meth:`Robot.make_simulation` starts a :class:`~zmpkit.sim.world.Simulation`.
+- **balance** — :class:`BalanceModel`: the pendulum a balance controller believes (mass, CoM
+  height), the support polygon and the joints of the ankle-strategy lean.
+- **walking** — :class:`WalkingDefaults`: CoM height, foot spacing, step limits, the rigid IK
+  model and the IK's frames and posture (:class:`~zmpkit.robots.ik_settings.IkSettings`).
+- **truth** — :class:`TruthSpec`: the shipped truth file and its loaders (the simulator's hidden
+  parameters); **fit** — :class:`FitSpec`: the simulator fit's parameter catalogue.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+import mujoco
+
+from zmpkit.errors import ParameterError
+from zmpkit.robots.fit_parameter import FitParameter
+from zmpkit.robots.ik_settings import IkSettings
+from zmpkit.sim.description import RobotDescription
+from zmpkit.sim.effect_set import EffectSet
+from zmpkit.sim.servo import ServoLimits
+from zmpkit.sim.world import Simulation
+
+if TYPE_CHECKING:
+    from zmpkit.io.feet import FootMountEntry
+
+__all__ = ["BalanceModel", "FitSpec", "Robot", "TruthSpec", "WalkingDefaults"]
+
+Truth = Any
+"""A robot's truth object (its own frozen dataclass); only its robot reads its fields."""
+
+
+@dataclass(frozen=True, eq=False)
+class BalanceModel:
+    """What a standing-balance controller believes, and the ankle-strategy lean's joints.
+
+    Attributes:
+        mass_kg: mass of the balance pendulum [kg].
+        com_height_m: CoM height above the ground of the pendulum [m].
+        support_polygon_m: plane → double-support extent ``(min, max)`` of the soles along
+            the plane's axis (x sagittal, y frontal), world frame, standing pose [m].
+        lean_joints: plane → the pivot joints ``(right, left)`` that lean the robot about its
+            ankles (sagittal: ankle pitch; frontal: ankle roll).
+        hip_roll_joints: ``(right, left)`` hip roll joints that close the frontal lean's chain.
+        push_bodies: push point (``"com"``, ``"trunk"``) → body the push acts on.
+        control_period_s: period at which a lean controller is stepped [s].
+    """
+
+    mass_kg: float
+    com_height_m: float
+    support_polygon_m: Mapping[str, tuple[float, float]]
+    lean_joints: Mapping[str, tuple[str, str]]
+    hip_roll_joints: tuple[str, str]
+    push_bodies: Mapping[str, str]
+    control_period_s: float = 0.01
+
+
+@dataclass(frozen=True, eq=False)
+class WalkingDefaults:
+    """A robot's walk: pattern defaults and the whole-body IK's model and settings.
+
+    Attributes:
+        com_height_m: CoM height of the walking pattern [m].
+        control_period_s: the motion frame: one IK solution per period [s].
+        foot_separation_m: nominal lateral distance between the foot centres [m].
+        max_step_length_m: largest forward step [m].
+        sole_size_m: sole ``(length, width)`` [m].
+        ik_settings: the IK's joints, frames (sole sites, torso) and nominal posture.
+        ik_mjcf: builds the rigid kinematic model's MJCF (the design, no actuators).
+    """
+
+    com_height_m: float
+    control_period_s: float
+    foot_separation_m: float
+    max_step_length_m: float
+    sole_size_m: tuple[float, float]
+    ik_settings: IkSettings
+    ik_mjcf: Callable[[], str]
+
+    @property
+    def leg_joints(self) -> tuple[str, ...]:
+        """The legs' joints the IK reports, in order."""
+        return self.ik_settings.joint_names
+
+    @property
+    def sole_sites(self) -> Mapping[str, str]:
+        """Foot side → the site at the sole centre on the sole plane."""
+        return self.ik_settings.sole_sites
+
+
+@dataclass(frozen=True, eq=False)
+class TruthSpec:
+    """Where a robot's truth file lives and how it is read.
+
+    Attributes:
+        default_path: the shipped truth file.
+        load: ``load(path or None)`` → the truth object (None: the shipped file).
+        from_doc: ``from_doc(document, source)`` → the truth object of a YAML document.
+        kind: the truth object's class (a value already loaded is taken as is).
+    """
+
+    default_path: Path
+    load: Callable[[str | Path | None], Truth]
+    from_doc: Callable[[Mapping[str, Any], str | Path], Truth]
+    kind: type
+
+    def resolve(self, truth: Truth | str | Path | None) -> Truth:
+        """A truth object from a truth object, a truth file, or None (the shipped one)."""
+        return truth if isinstance(truth, self.kind) else self.load(truth)
+
+
+@dataclass(frozen=True, eq=False)
+class FitSpec:
+    """What the simulator fit may change in this robot's truth, and how it records.
+
+    Attributes:
+        catalogue: every fit parameter, by effect letter.
+        quick_parameters: the parameters of a quick (2-parameter) fit.
+        experiment: the kind of experiment the fit replays: ``"walk"`` or ``"step"``.
+    """
+
+    catalogue: tuple[FitParameter, ...]
+    quick_parameters: tuple[str, ...]
+    experiment: str
+
+
+@dataclass(frozen=True, eq=False)
+class Robot:
+    """A robot: everything zmpkit needs of it, built-in or from a user's ``robot.yaml``.
+
+    Attributes:
+        name: short name, e.g. the registry's key.
+        title: the name written in reports and messages.
+        summary: one line for ``zmpkit robot list``.
+        source: what :func:`~zmpkit.robots.registry.get_robot` takes to give this robot again
+            (the registry name, or the ``robot.yaml`` path).
+        describe: ``describe(effects, truth)`` → the simulator's robot description.
+        driven_joints: the joints with a servo, in the robot's order.
+        feet_mounts: the foot F-T sensor mounts in the world frame at the standing pose
+            (the ``FEET.yaml`` layout).
+        truth: the truth file and its loaders.
+        servo_limits: the servos' setpoint trajectory limits.
+        contact_force_threshold_n: a foot touches the floor while its vertical force is at
+            least this [N] (the ZMP's contact rule).
+        balance: the standing-balance model, or None if the robot has none.
+        walking: the walking defaults, or None if the robot does not walk.
+        fit: the simulator fit's catalogue, or None if the robot has none.
+    """
+
+    name: str
+    title: str
+    summary: str
+    source: str
+    describe: Callable[[EffectSet | str, Truth | str | Path | None], RobotDescription]
+    driven_joints: tuple[str, ...]
+    feet_mounts: Callable[[], dict[str, FootMountEntry]]
+    truth: TruthSpec
+    servo_limits: ServoLimits
+    contact_force_threshold_n: float
+    balance: BalanceModel | None = None
+    walking: WalkingDefaults | None = None
+    fit: FitSpec | None = None
+
+    def description(
+        self, effects: EffectSet | str = "all", truth: Truth | str | Path | None = None
+    ) -> RobotDescription:
+        """The simulator's description with ``effects`` on and ``truth`` (None: shipped)."""
+        return self.describe(effects, truth)
+
+    def make_simulation(
+        self,
+        effects: EffectSet | str = "all",
+        truth: Truth | str | Path | None = None,
+        seed: int = 0,
+    ) -> Simulation:
+        """Start a simulation of the robot standing in its initial pose.
+
+        Args:
+            effects: which effects are on (see :class:`~zmpkit.sim.effect_set.EffectSet`).
+            truth: truth parameters, a truth file, or ``None`` for the shipped truth.
+            seed: seed of the sensor noise.
+        """
+        return Simulation(self.description(effects, truth), seed=seed)
+
+    def require_balance(self) -> BalanceModel:
+        """The balance model.
+
+        Raises:
+            ParameterError: if the robot has none.
+        """
+        if self.balance is None:
+            raise ParameterError(
+                f"robot {self.name!r} has no balance model (mass, CoM height, lean joints)"
+            )
+        return self.balance
+
+    def require_walking(self) -> WalkingDefaults:
+        """The walking defaults.
+
+        Raises:
+            ParameterError: if the robot does not walk.
+        """
+        if self.walking is None:
+            raise ParameterError(f"robot {self.name!r} has no walking defaults (it cannot walk)")
+        return self.walking
+
+    def require_fit(self) -> FitSpec:
+        """The fit catalogue.
+
+        Raises:
+            ParameterError: if the robot has none.
+        """
+        if self.fit is None:
+            raise ParameterError(f"robot {self.name!r} has no simulator-fit catalogue")
+        return self.fit
+
+    def ik_model(self) -> mujoco.MjModel:
+        """The compiled rigid kinematic model the walking IK uses."""
+        return mujoco.MjModel.from_xml_string(self.require_walking().ik_mjcf())
+
+    @property
+    def ik_settings(self) -> IkSettings:
+        """The walking IK's joints, frames and nominal posture."""
+        return self.require_walking().ik_settings

@@ -1,0 +1,142 @@
+r"""``zmpkit robot check``: load a robot, stand it, and compare its three ZMPs.
+
+The robot stands ``stand_s`` with every effect off (ideal servos holding the initial pose).
+Then, from the last sample:
+
+- the **F-T ZMP**: from the virtual F-T sensors' wrenches (what a user's robot measures),
+  :func:`~zmpkit.sensors.zmp.zmp_in_world`;
+- the **contact ZMP**: the centre of pressure of MuJoCo's contact forces on the floor,
+  :math:`p = \sum_i p_i f_{z,i} / \sum_i f_{z,i}` over the contact points :math:`p_i` (on the
+  floor plane, so the tangential forces have no moment about it);
+- the **CoM projection**: where the ZMP of a static robot is.
+
+They agree to about a millimetre on a correct robot; a larger gap points at F-T sensors that
+do not carry the whole foot (a foot geom still touching the floor) or a robot not at rest.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import mujoco
+import numpy as np
+
+from zmpkit.robots.robot import Robot
+from zmpkit.sensors.mount import wrench_in_world
+from zmpkit.sensors.zmp import zmp_in_world
+
+__all__ = ["RobotCheck", "check_robot"]
+
+AGREEMENT_M = 0.002
+"""The three ZMPs of a robot at rest agree within this [m]."""
+
+
+@dataclass(frozen=True)
+class RobotCheck:
+    """What ``zmpkit robot check`` reports.
+
+    Attributes:
+        name: the robot's name.
+        mass_kg: total mass [kg].
+        com_height_m: CoM height after standing [m].
+        feet: foot → its F-T sensor site's position (x, y, z) [m].
+        sensor_heights_m: foot → F-T sensor height above the sole [m].
+        sensors: the MuJoCo sensors' names.
+        driven_joints: the servo-driven joints, in order.
+        zmp_ft_m: ZMP from the F-T sensors (x, y) [m].
+        zmp_contact_m: ZMP from MuJoCo's contact forces (x, y) [m].
+        com_xy_m: the CoM's ground projection (x, y) [m].
+        stood_s: how long it stood [s].
+    """
+
+    name: str
+    mass_kg: float
+    com_height_m: float
+    feet: dict[str, tuple[float, float, float]]
+    sensor_heights_m: dict[str, float]
+    sensors: tuple[str, ...]
+    driven_joints: tuple[str, ...]
+    zmp_ft_m: tuple[float, float]
+    zmp_contact_m: tuple[float, float]
+    com_xy_m: tuple[float, float]
+    stood_s: float
+
+    @property
+    def ft_vs_contact_m(self) -> float:
+        """Distance between the F-T and the contact ZMP [m]."""
+        return float(np.hypot(*np.subtract(self.zmp_ft_m, self.zmp_contact_m)))
+
+    @property
+    def ft_vs_com_m(self) -> float:
+        """Distance between the F-T ZMP and the CoM projection [m]."""
+        return float(np.hypot(*np.subtract(self.zmp_ft_m, self.com_xy_m)))
+
+    @property
+    def ok(self) -> bool:
+        """Whether the three ZMPs agree within :data:`AGREEMENT_M`."""
+        return max(self.ft_vs_contact_m, self.ft_vs_com_m) <= AGREEMENT_M
+
+    def lines(self) -> list[str]:
+        """The report, one line per item."""
+        verdict = "OK" if self.ok else f"MISMATCH (> {1e3 * AGREEMENT_M:g} mm)"
+        feet = "; ".join(
+            f"{f} sensor at ({x:.4f}, {y:.4f}, {z:.4f}) m, {1e3 * self.sensor_heights_m[f]:.1f} mm "
+            "above the sole"
+            for f, (x, y, z) in self.feet.items()
+        )
+        return [
+            f"robot {self.name}: mass {self.mass_kg:.4g} kg, CoM height {self.com_height_m:.4f} m "
+            f"after standing {self.stood_s:g} s",
+            f"feet: {feet}",
+            f"driven joints: {', '.join(self.driven_joints)}",
+            f"sensors: {', '.join(self.sensors)}",
+            f"ZMP from the F-T sensors ({self.zmp_ft_m[0]:.4f}, {self.zmp_ft_m[1]:.4f}) m, from "
+            f"MuJoCo's contact forces ({self.zmp_contact_m[0]:.4f}, {self.zmp_contact_m[1]:.4f}) "
+            f"m, CoM projection ({self.com_xy_m[0]:.4f}, {self.com_xy_m[1]:.4f}) m",
+            f"F-T vs contact {1e3 * self.ft_vs_contact_m:.2f} mm, F-T vs CoM "
+            f"{1e3 * self.ft_vs_com_m:.2f} mm: {verdict}",
+        ]
+
+
+def _contact_zmp(model: mujoco.MjModel, data: mujoco.MjData) -> tuple[float, float]:
+    """Centre of pressure of the floor contacts [m] (module docstring)."""
+    force = np.zeros(6)
+    total, moment = 0.0, np.zeros(2)
+    for i in range(data.ncon):
+        contact = data.contact[i]
+        mujoco.mj_contactForce(model, data, i, force)
+        normal_z = abs(float(contact.frame[2])) * force[0]  # normal force's vertical part [N]
+        total += normal_z
+        moment += normal_z * contact.pos[:2]
+    return (float(moment[0] / total), float(moment[1] / total)) if total > 0 else (np.nan, np.nan)
+
+
+def _xyz(vector: np.ndarray) -> tuple[float, float, float]:
+    return (float(vector[0]), float(vector[1]), float(vector[2]))
+
+
+def check_robot(robot: Robot, stand_s: float = 2.0) -> RobotCheck:
+    """Stand ``robot`` for ``stand_s`` [s] with the effects off and report (module docstring)."""
+    sim = robot.make_simulation("none")
+    sim.step(max(1, round(stand_s / sim.dt)))
+    model, data = sim.model, sim.data
+    feet = sim.robot.feet
+    sites = [data.site(f.site) for f in feet]
+    xmat = np.array([s.xmat for s in sites])
+    force, moment = wrench_in_world(xmat, np.array([sim.ft(f.foot) for f in feet]))
+    origin = np.array([s.xpos for s in sites])
+    zmp = zmp_in_world(force[None], moment[None], origin[None], robot.contact_force_threshold_n)[0]
+    names = tuple(model.sensor(i).name for i in range(model.nsensor))
+    return RobotCheck(
+        name=robot.name,
+        mass_kg=float(model.body_subtreemass[0]),
+        com_height_m=float(data.subtree_com[0][2]),
+        feet={f.foot: _xyz(s.xpos) for f, s in zip(feet, sites, strict=True)},
+        sensor_heights_m={f.foot: f.sole_height_m for f in feet},
+        sensors=names,
+        driven_joints=tuple(sim.joint_names),
+        zmp_ft_m=(float(zmp[0]), float(zmp[1])),
+        zmp_contact_m=_contact_zmp(model, data),
+        com_xy_m=(float(data.subtree_com[0][0]), float(data.subtree_com[0][1])),
+        stood_s=sim.time,
+    )

@@ -1,0 +1,179 @@
+"""A user's robot: ``robot.yaml`` naming an MJCF or URDF file, its feet, legs and sensors.
+
+Layout (lengths in m; every path relative to the YAML's folder)::
+
+    name: mybiped                    # optional; default: the YAML's folder name
+    model: mybiped.xml               # MJCF or URDF (a free joint is added at the root if none)
+    feet:                            # body names (or {site: NAME}) of the feet
+      right: right_foot
+      left: left_foot
+    legs:                            # each leg's joints, hip to ankle
+      right: [r_hip_roll, r_hip_pitch, r_knee, r_ankle_pitch, r_ankle_roll]
+      left: [l_hip_roll, l_hip_pitch, l_knee, l_ankle_pitch, l_ankle_roll]
+    imu: torso                       # body carrying the IMU (default: the root body)
+    torso: torso                     # body kept upright when walking (default: the root body)
+    sole: {length: 0.12, width: 0.07, height: 0.005}  # default: the feet's footprint; 5 mm
+    servo: {kp: 2000.0, ki: 2000.0, kd: 10.0}         # default: scaled from weight × CoM height
+    contact_threshold_n: 2.5         # default: 5 % of the robot's weight [N]
+    timestep: 0.001                  # physics step [s]
+
+zmpkit adds a 6-axis F-T sensor under each foot: a thin sole plate ``sole.height`` thick,
+the only part of the foot that touches the floor, whose wrench on the foot the sensor at its
+top measures (site ``{side}_ft``; ``{side}_sole`` marks the sole centre). Every problem is one
+:class:`~zmpkit.errors.InputFileError` line naming the file, the field and the valid names.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from zmpkit.errors import InputFileError
+from zmpkit.io.yaml_file import read_yaml_mapping
+
+__all__ = ["SIDES", "RobotFile", "read_robot_file"]
+
+SIDES: tuple[str, str] = ("right", "left")
+"""The feet a robot file names."""
+DEFAULT_SOLE_HEIGHT_M = 0.005
+"""Thickness of the sole plate zmpkit adds = F-T sensor height above the sole [m]."""
+DEFAULT_TIMESTEP_S = 0.001
+"""Physics step of a user's robot [s]."""
+_FIELDS = (
+    "name",
+    "model",
+    "feet",
+    "legs",
+    "imu",
+    "torso",
+    "sole",
+    "servo",
+    "contact_threshold_n",
+    "timestep",
+)
+
+
+@dataclass(frozen=True)
+class RobotFile:
+    """A parsed ``robot.yaml`` (names not yet checked against the model).
+
+    Attributes:
+        path: the YAML file.
+        name: the robot's name.
+        model: the MJCF or URDF file.
+        feet: side → (``"body"`` or ``"site"``, name).
+        legs: side → the leg's joints, hip to ankle.
+        imu: body carrying the IMU, or None for the root body.
+        torso: body kept upright when walking, or None for the root body.
+        sole_length_m: sole length, or None for the foot's footprint [m].
+        sole_width_m: sole width, or None for the foot's footprint [m].
+        sole_height_m: sole plate thickness = F-T height above the sole [m].
+        servo: ideal-servo gains ``kp``, ``ki``, ``kd`` given (others derived).
+        contact_threshold_n: contact threshold, or None for 5 % of the weight [N].
+        timestep_s: physics step [s].
+    """
+
+    path: Path
+    name: str
+    model: Path
+    feet: Mapping[str, tuple[str, str]]
+    legs: Mapping[str, tuple[str, ...]]
+    imu: str | None
+    torso: str | None
+    sole_length_m: float | None
+    sole_width_m: float | None
+    sole_height_m: float
+    servo: Mapping[str, float]
+    contact_threshold_n: float | None
+    timestep_s: float
+
+    @property
+    def leg_joints(self) -> tuple[str, ...]:
+        """Both legs' joints, right leg then left leg."""
+        return (*self.legs["right"], *self.legs["left"])
+
+
+def _fail(path: Path, field: str, message: str) -> InputFileError:
+    return InputFileError(path, f"{field}: {message}", column=field)
+
+
+def _number(path: Path, field: str, value: Any, default: float | None) -> float | None:
+    if value is None:
+        return default
+    if isinstance(value, bool) or not isinstance(value, int | float) or not value > 0:
+        raise _fail(path, field, f"expected a number > 0, got {value!r}")
+    return float(value)
+
+
+def _names(path: Path, field: str, value: Any) -> tuple[str, ...]:
+    if not isinstance(value, Sequence) or isinstance(value, str) or not value:
+        raise _fail(path, field, f"expected a list of joint names, got {value!r}")
+    return tuple(str(v) for v in value)
+
+
+def _sides(path: Path, field: str, doc: Mapping[str, Any]) -> Mapping[str, Any]:
+    value = doc.get(field)
+    if not isinstance(value, Mapping) or set(value) != set(SIDES):
+        raise _fail(path, field, f"expected a mapping with keys right and left, got {value!r}")
+    return value
+
+
+def _foot(path: Path, side: str, value: Any) -> tuple[str, str]:
+    if isinstance(value, str):
+        return ("body", value)
+    if isinstance(value, Mapping) and len(value) == 1 and next(iter(value)) in ("body", "site"):
+        kind, name = next(iter(value.items()))
+        return (str(kind), str(name))
+    raise _fail(path, f"feet.{side}", f"expected a body name or {{site: NAME}}, got {value!r}")
+
+
+def _model_path(path: Path, doc: Mapping[str, Any]) -> Path:
+    model = doc.get("model")
+    if not isinstance(model, str):
+        raise _fail(path, "model", f"expected the MJCF or URDF file's path, got {model!r}")
+    file = (path.parent / model).resolve()
+    if not file.is_file():
+        raise _fail(path, "model", f"no such file {file}")
+    if file.suffix.lower() not in (".xml", ".urdf", ".mjcf"):
+        raise _fail(path, "model", f"expected an .xml (MJCF) or .urdf file, got {file.name}")
+    return file
+
+
+def read_robot_file(path: str | Path) -> RobotFile:
+    """Read and check the layout of a ``robot.yaml`` (module docstring).
+
+    Raises:
+        InputFileError: naming the file and the field, one problem per error.
+    """
+    file = Path(path).resolve()
+    doc = read_yaml_mapping(file)
+    unknown = sorted(set(doc) - set(_FIELDS))
+    if unknown:
+        raise _fail(file, unknown[0], f"unknown field; valid: {', '.join(_FIELDS)}")
+    sole = doc.get("sole") or {}
+    servo = doc.get("servo") or {}
+    if not isinstance(sole, Mapping) or not isinstance(servo, Mapping):
+        raise _fail(
+            file, "sole" if not isinstance(sole, Mapping) else "servo", "expected a mapping"
+        )
+    return RobotFile(
+        path=file,
+        name=str(doc.get("name") or file.parent.name),
+        model=_model_path(file, doc),
+        feet={s: _foot(file, s, v) for s, v in _sides(file, "feet", doc).items()},
+        legs={s: _names(file, f"legs.{s}", v) for s, v in _sides(file, "legs", doc).items()},
+        imu=None if doc.get("imu") is None else str(doc["imu"]),
+        torso=None if doc.get("torso") is None else str(doc["torso"]),
+        sole_length_m=_number(file, "sole.length", sole.get("length"), None),
+        sole_width_m=_number(file, "sole.width", sole.get("width"), None),
+        sole_height_m=_number(file, "sole.height", sole.get("height"), DEFAULT_SOLE_HEIGHT_M)
+        or DEFAULT_SOLE_HEIGHT_M,
+        servo={k: float(v) for k, v in servo.items()},
+        contact_threshold_n=_number(
+            file, "contact_threshold_n", doc.get("contact_threshold_n"), None
+        ),
+        timestep_s=_number(file, "timestep", doc.get("timestep"), DEFAULT_TIMESTEP_S)
+        or DEFAULT_TIMESTEP_S,
+    )

@@ -1,0 +1,311 @@
+"""The MJCF of a user's robot: their MJCF or URDF, loaded by MuJoCo, plus zmpkit's sensors.
+
+MuJoCo's own loader (:class:`mujoco.MjSpec`) reads the file, MJCF or URDF alike. Then:
+
+1. a free joint is added at the root body when the model has none (a URDF's usual case);
+2. each foot gets a sole plate (:mod:`zmpkit.sim.sole_plate`): a body under the foot, aligned
+   with the world at the initial pose, whose top carries the F-T site ``{side}_ft`` and whose
+   box is the only contact of the foot with the floor (the foot's own geoms stop colliding);
+3. the root is lifted so the plates rest on the floor (a plane, added if the model has none);
+4. an IMU site on the IMU body, the force, torque, gyro, accelerometer and orientation
+   sensors, and one ideal servo per leg joint replace the model's own actuators; each servo
+   joint gets at least the armature (reflected rotor inertia) that keeps it stable
+   (:data:`STIFFNESS_STEPS`).
+
+The robot's mass, footprint and standing pose come from the compiled model: a user gives
+names, not numbers.
+"""
+
+from __future__ import annotations
+
+import xml.etree.ElementTree as ET
+from dataclasses import dataclass
+from pathlib import Path
+
+import mujoco
+import numpy as np
+from numpy.typing import NDArray
+
+from zmpkit.errors import InputFileError
+from zmpkit.robots.robot_file import SIDES, RobotFile
+from zmpkit.sim.builder import add_ideal_servo
+from zmpkit.sim.effects import IdealServoParams
+from zmpkit.sim.sole_plate import SolePlate, add_sole_plate
+
+__all__ = ["FootPrint", "UserModel", "geom_corners", "load_spec", "user_model"]
+
+_FLOOR_FRICTION = 1.0
+_SOLREF = "0.005 1"
+_SOLIMP = "0.9 0.95 0.001"
+_PLATE_MASS_FRACTION = 0.002
+STIFFNESS_STEPS = 0.2
+"""A servo joint's armature is at least ``kp dt² / STIFFNESS_STEPS²``: the servo's natural
+period then spans at least ``2π / STIFFNESS_STEPS`` ≈ 31 physics steps, so the explicit
+position gain stays stable on light links (a servo's reflected rotor inertia) [-]."""
+
+
+@dataclass(frozen=True)
+class FootPrint:
+    """A foot's sole at the initial pose, world frame.
+
+    Attributes:
+        body: the foot's body.
+        centre_m: sole centre (x, y) [m].
+        bottom_z_m: lowest point of the foot's collision geoms [m].
+        length_m: sole length along x [m].
+        width_m: sole width along y [m].
+    """
+
+    body: str
+    centre_m: tuple[float, float]
+    bottom_z_m: float
+    length_m: float
+    width_m: float
+
+
+@dataclass(frozen=True)
+class UserModel:
+    """The user's robot as zmpkit simulates it.
+
+    Attributes:
+        mjcf: the MJCF text with the sole plates, sensors and servos.
+        feet: side → its footprint.
+        mass_kg: total mass [kg].
+        servo: the ideal servos' gains.
+    """
+
+    mjcf: str
+    feet: dict[str, FootPrint]
+    mass_kg: float
+    servo: IdealServoParams
+
+
+def load_spec(model_file: Path) -> mujoco.MjSpec:
+    """The model (MJCF or URDF) as MuJoCo loads it, with a free joint at the root.
+
+    Raises:
+        InputFileError: naming the model file if MuJoCo cannot load it.
+    """
+    try:
+        spec = mujoco.MjSpec.from_file(str(model_file))
+    except (ValueError, mujoco.FatalError) as exc:
+        raise InputFileError(model_file, f"MuJoCo cannot load the model: {exc}") from None
+    base = model_file.parent
+    spec.compiler.fusestatic = False  # keep every named body (a URDF's fixed links too)
+    spec.meshdir = str((base / spec.meshdir).resolve())
+    spec.texturedir = str((base / spec.texturedir).resolve())
+    root = spec.worldbody.first_body()
+    if root is None:
+        raise InputFileError(model_file, "the model has no body")
+    if not any(j.type == mujoco.mjtJoint.mjJNT_FREE for j in root.joints):
+        root.add_freejoint(name="root")
+    return spec
+
+
+def _compile(robot: RobotFile, spec: mujoco.MjSpec) -> tuple[mujoco.MjModel, mujoco.MjData]:
+    try:
+        model = spec.compile()
+    except ValueError as exc:
+        raise InputFileError(robot.model, f"MuJoCo cannot compile the model: {exc}") from None
+    data = mujoco.MjData(model)
+    mujoco.mj_forward(model, data)
+    return model, data
+
+
+def _subtree(model: mujoco.MjModel, root: int) -> list[int]:
+    inside = [root]
+    for body in range(root + 1, model.nbody):
+        if int(model.body_parentid[body]) in inside:
+            inside.append(body)
+    return inside
+
+
+def geom_corners(model: mujoco.MjModel, data: mujoco.MjData, geom: int) -> NDArray[np.float64]:
+    """The 8 corners of a geom's bounding box in the world frame [m], shape (8, 3)."""
+    centre, half = model.geom_aabb[geom, :3], model.geom_aabb[geom, 3:]
+    signs = np.array([[x, y, z] for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)])
+    local = centre + signs * half
+    return data.geom_xpos[geom] + local @ data.geom_xmat[geom].reshape(3, 3).T
+
+
+def _collides(model: mujoco.MjModel, geom: int) -> bool:
+    return bool(model.geom_contype[geom] or model.geom_conaffinity[geom])
+
+
+def footprint(robot: RobotFile, model: mujoco.MjModel, data: mujoco.MjData, side: str) -> FootPrint:
+    """The sole of ``side``'s foot from its collision geoms at the initial pose.
+
+    Raises:
+        InputFileError: on an unknown foot body, listing the model's bodies.
+    """
+    body = foot_body(robot, model, side)
+    bodies = _subtree(model, model.body(body).id)
+    geoms = [
+        g for g in range(model.ngeom) if model.geom_bodyid[g] in bodies and _collides(model, g)
+    ]
+    if not geoms:
+        raise InputFileError(robot.path, f"feet.{side}: body {body!r} has no collision geom")
+    corners = np.vstack([geom_corners(model, data, g) for g in geoms])
+    low, high = corners.min(axis=0), corners.max(axis=0)
+    length = robot.sole_length_m or float(high[0] - low[0])
+    width = robot.sole_width_m or float(high[1] - low[1])
+    centre = (float(0.5 * (low[0] + high[0])), float(0.5 * (low[1] + high[1])))
+    return FootPrint(body, centre, float(low[2]), length, width)
+
+
+def foot_body(robot: RobotFile, model: mujoco.MjModel, side: str) -> str:
+    """The body of ``side``'s foot (a named site's body for ``{site: NAME}``).
+
+    Raises:
+        InputFileError: naming the field and listing the valid names.
+    """
+    kind, name = robot.feet[side]
+    names = [model.body(b).name for b in range(1, model.nbody)]
+    if kind == "site":
+        sites = [model.site(s).name for s in range(model.nsite)]
+        if name not in sites:
+            raise InputFileError(
+                robot.path, f"feet.{side}: unknown site {name!r}; sites: {sites}", column="feet"
+            )
+        return str(model.body(int(model.site_bodyid[model.site(name).id])).name)
+    if name not in names:
+        raise InputFileError(
+            robot.path, f"feet.{side}: unknown body {name!r}; bodies: {names}", column="feet"
+        )
+    return name
+
+
+def check_names(robot: RobotFile, model: mujoco.MjModel) -> None:
+    """Every joint and body the robot file names exists, else one line naming the valid ones.
+
+    Raises:
+        InputFileError: on the first unknown name.
+    """
+    joints = [model.joint(j).name for j in range(model.njnt)]
+    hinges = [n for n in joints if model.joint(n).type[0] == mujoco.mjtJoint.mjJNT_HINGE]
+    for side in SIDES:
+        foot_body(robot, model, side)
+        for name in robot.legs[side]:
+            if name not in hinges:
+                raise InputFileError(
+                    robot.path,
+                    f"legs.{side}: unknown joint {name!r}; hinge joints: {hinges}",
+                    column="legs",
+                )
+    bodies = [model.body(b).name for b in range(1, model.nbody)]
+    for field in ("imu", "torso"):
+        name = getattr(robot, field)
+        if name is not None and name not in bodies:
+            raise InputFileError(
+                robot.path, f"{field}: unknown body {name!r}; bodies: {bodies}", column=field
+            )
+
+
+def root_body(model: mujoco.MjModel) -> str:
+    """The first body under the world (the floating base)."""
+    return str(model.body(1).name)
+
+
+def _servo(
+    robot: RobotFile, model: mujoco.MjModel, data: mujoco.MjData, sole_z: float
+) -> IdealServoParams:
+    """The ideal servo: the file's gains, else scaled from weight × CoM height [N·m]."""
+    height = float(data.subtree_com[0][2]) - sole_z
+    weight_moment = float(model.body_subtreemass[0]) * 9.81 * height
+    kp = robot.servo.get("kp", 100.0 * weight_moment)
+    return IdealServoParams(
+        kp=kp, ki=robot.servo.get("ki", kp), kd=robot.servo.get("kd", 0.005 * kp)
+    )
+
+
+def _add_plate(
+    spec: mujoco.MjSpec, data: mujoco.MjData, side: str, foot: FootPrint, h: float
+) -> None:
+    """The sole plate body under the foot, world-aligned, its top on the foot's bottom."""
+    body = spec.body(foot.body)
+    xpos, xmat = data.body(foot.body).xpos, data.body(foot.body).xmat.reshape(3, 3)
+    top = np.array([foot.centre_m[0], foot.centre_m[1], foot.bottom_z_m])
+    quat = np.zeros(4)
+    mujoco.mju_mat2Quat(quat, xmat.T.flatten())
+    plate = body.add_body(name=f"{side}_ft_plate", pos=xmat.T @ (top - xpos), quat=quat)
+    plate.add_site(name=f"{side}_ft", size=[0.005, 0.005, 0.005])
+    plate.add_site(name=f"{side}_sole", pos=[0.0, 0.0, -h], size=[0.005, 0.005, 0.005])
+
+
+def user_model(robot: RobotFile) -> UserModel:
+    """Build the MJCF zmpkit simulates for ``robot`` (module docstring).
+
+    Raises:
+        InputFileError: naming the robot file or the model on any problem.
+    """
+    spec = load_spec(robot.model)
+    model, data = _compile(robot, spec)
+    check_names(robot, model)
+    feet = {side: footprint(robot, model, data, side) for side in SIDES}
+    mass = float(model.body_subtreemass[0])
+    servo = _servo(robot, model, data, min(f.bottom_z_m for f in feet.values()))
+    h = robot.sole_height_m
+    for side, foot in feet.items():
+        for b in _subtree(model, model.body(foot.body).id):
+            for geom in spec.body(model.body(b).name).geoms:
+                geom.contype, geom.conaffinity = 0, 0
+        _add_plate(spec, data, side, foot, h)
+    lift = h - min(f.bottom_z_m for f in feet.values())
+    root = spec.worldbody.first_body()
+    root.pos = [root.pos[0], root.pos[1], root.pos[2] + lift]
+    spec.option.timestep = robot.timestep_s
+    spec.option.integrator = mujoco.mjtIntegrator.mjINT_IMPLICITFAST
+    spec.option.cone = mujoco.mjtCone.mjCONE_ELLIPTIC
+    xml = ET.fromstring(spec.to_xml())
+    _finish_xml(xml, robot, feet, mass, servo, root_body(model))
+    ET.indent(xml)
+    return UserModel(ET.tostring(xml, encoding="unicode"), feet, mass, servo)
+
+
+def _finish_xml(
+    xml: ET.Element,
+    robot: RobotFile,
+    feet: dict[str, FootPrint],
+    mass: float,
+    servo: IdealServoParams,
+    root: str,
+) -> None:
+    """Plates' geoms, floor, IMU site, sensors and servos, on the MJCF tree."""
+    bodies = {b.get("name"): b for b in xml.iter("body")}
+    h = robot.sole_height_m
+    for side, foot in feet.items():
+        plate = SolePlate(
+            foot.length_m,
+            foot.width_m,
+            h,
+            0.0,
+            max(_PLATE_MASS_FRACTION * mass, 1e-3),
+            _FLOOR_FRICTION,
+            _SOLREF,
+            _SOLIMP,
+        )
+        body = bodies[f"{side}_ft_plate"]
+        for site in list(body.iter("site")):
+            body.remove(site)
+        add_sole_plate(body, side, plate, centre_site=f"{side}_sole")
+    world = xml.find("worldbody")
+    assert world is not None
+    if not any(g.get("type") == "plane" for g in world.findall("geom")):
+        ET.SubElement(world, "geom", {"name": "floor", "type": "plane", "size": "5 5 0.1"})
+    imu = bodies[robot.imu or root]
+    ET.SubElement(imu, "site", {"name": "imu", "size": "0.01"})
+    for old in xml.findall("actuator") + xml.findall("sensor") + xml.findall("keyframe"):
+        xml.remove(old)
+    sensors = ET.SubElement(xml, "sensor")
+    for side in SIDES:
+        ET.SubElement(sensors, "force", {"name": f"{side}_ft_force", "site": f"{side}_ft"})
+        ET.SubElement(sensors, "torque", {"name": f"{side}_ft_torque", "site": f"{side}_ft"})
+    ET.SubElement(sensors, "gyro", {"name": "imu_gyro", "site": "imu"})
+    ET.SubElement(sensors, "accelerometer", {"name": "imu_accel", "site": "imu"})
+    ET.SubElement(sensors, "framequat", {"name": "imu_quat", "objtype": "site", "objname": "imu"})
+    minimum = servo.kp * robot.timestep_s**2 / STIFFNESS_STEPS**2
+    for joint in robot.leg_joints:
+        add_ideal_servo(xml, joint, servo)
+        element = next(j for j in xml.iter("joint") if j.get("name") == joint)
+        armature = max(float(element.get("armature", "0")), minimum)
+        element.set("armature", f"{armature:.9g}")

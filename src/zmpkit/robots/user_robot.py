@@ -1,0 +1,133 @@
+"""A :class:`~zmpkit.robots.robot.Robot` from a user's ``robot.yaml`` and MJCF or URDF.
+
+The simulator's description comes from :func:`~zmpkit.robots.user_model.user_model`; its
+truth is only what the file gives (the ideal servo's gains, sensor errors at their defaults):
+a user's robot has no motor, gear or flexibility values, so the effects M, I, G and F are
+refused rather than silently left out. Balance, walking and fit sections are not derived yet.
+"""
+
+from __future__ import annotations
+
+import copy
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from functools import cache
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+import mujoco
+
+from zmpkit.errors import ParameterError
+from zmpkit.robots.robot import Robot, TruthSpec
+from zmpkit.robots.robot_file import SIDES, RobotFile, read_robot_file
+from zmpkit.robots.user_model import UserModel, user_model
+from zmpkit.sim.description import FootSensor, RobotDescription
+from zmpkit.sim.effect_set import EffectSet
+from zmpkit.sim.effects import IdealServoParams, SensorParams
+from zmpkit.sim.servo import ServoLimits
+
+if TYPE_CHECKING:
+    from zmpkit.io.feet import FootMountEntry
+
+__all__ = ["CONTACT_WEIGHT_FRACTION", "UserTruth", "load_robot_file"]
+
+CONTACT_WEIGHT_FRACTION = 0.05
+"""Default contact threshold of a user's robot: this share of its weight [-]."""
+USER_SERVO_LIMITS = ServoLimits(max_velocity=6.0, max_acceleration=200.0)
+"""Setpoint limits of a user's robot's servos [rad/s, rad/s²] (typical hobby/kid-size servos)."""
+
+
+@dataclass(frozen=True)
+class UserTruth:
+    """The hidden parameters of a user's robot: the servo and the sensor errors.
+
+    Attributes:
+        servo: the ideal servo of every leg joint.
+        sensors: sensor errors (used with the S effect).
+        source: the robot file.
+    """
+
+    servo: IdealServoParams
+    sensors: SensorParams = field(default_factory=SensorParams)
+    source: str = ""
+
+
+def _check_effects(name: str, effects: EffectSet | str) -> EffectSet:
+    on = EffectSet.parse(effects)
+    missing = [
+        x
+        for x, flag in zip("MIGF", (on.motor, on.inductance, on.gear, on.flex), strict=True)
+        if flag
+    ]
+    if missing and effects != "all":
+        raise ParameterError(
+            f"robot {name!r} has no truth values for effects {', '.join(missing)}; give none or S"
+        )
+    return EffectSet.parse("S" if on.sensors else "none")
+
+
+def _feet_mounts(mjcf: str, height: float) -> dict[str, FootMountEntry]:
+    model = mujoco.MjModel.from_xml_string(mjcf)
+    data = mujoco.MjData(model)
+    mujoco.mj_forward(model, data)
+    return {
+        side: {
+            "position": [float(v) for v in data.site(f"{side}_ft").xpos],
+            "rpy": [0.0, 0.0, 0.0],
+            "sole_height": height,
+        }
+        for side in SIDES
+    }
+
+
+def _description(
+    file: RobotFile, built: UserModel, threshold: float
+) -> Any:  # the Robot's ``describe``
+    def describe(effects: EffectSet | str, truth: Any) -> RobotDescription:
+        on = _check_effects(file.name, effects)
+        sensors = truth.sensors if isinstance(truth, UserTruth) else SensorParams()
+        return RobotDescription(
+            name=file.name,
+            mjcf=built.mjcf,
+            driven_joints=file.leg_joints,
+            feet=tuple(FootSensor.named(side, file.sole_height_m) for side in SIDES),
+            effects=on,
+            servo_limits=USER_SERVO_LIMITS,
+            sensor_params=sensors,
+            contact_force_threshold_n=threshold,
+        )
+
+    return describe
+
+
+@cache
+def load_robot_file(path: str | Path) -> Robot:
+    """The robot a ``robot.yaml`` describes (see :mod:`zmpkit.robots.robot_file`).
+
+    Raises:
+        InputFileError: one line naming the file, the field and the valid names.
+    """
+    file = read_robot_file(path)
+    built = user_model(file)
+    threshold = file.contact_threshold_n or CONTACT_WEIGHT_FRACTION * built.mass_kg * 9.81
+    truth = UserTruth(built.servo, source=str(file.path))
+
+    def load(_: str | Path | None) -> UserTruth:
+        return truth
+
+    def from_doc(_: Mapping[str, Any], __: str | Path) -> UserTruth:
+        return truth
+
+    mounts = _feet_mounts(built.mjcf, file.sole_height_m)
+    return Robot(
+        name=file.name,
+        title=file.name,
+        summary=f"user robot from {file.path} ({file.model.name}), {built.mass_kg:.3g} kg",
+        source=str(file.path),
+        describe=_description(file, built, threshold),
+        driven_joints=file.leg_joints,
+        feet_mounts=lambda: copy.deepcopy(mounts),
+        truth=TruthSpec(file.path, load, from_doc, UserTruth),
+        servo_limits=USER_SERVO_LIMITS,
+        contact_force_threshold_n=threshold,
+    )

@@ -1,0 +1,164 @@
+"""A user's robot: robot.yaml + their MJCF, ``zmpkit robot init`` and ``robot check``."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+import yaml
+
+from zmpkit.cli import main
+from zmpkit.robots.registry import get_robot
+from zmpkit.robots.robot_check import check_robot
+
+
+def _leg(side: str, y: float) -> str:
+    p = side[0]
+    return f"""
+      <body name="{p}_thigh" pos="0 {y} -0.04">
+        <joint name="{p}_hip_roll" axis="1 0 0" range="-0.5 0.5"/>
+        <joint name="{p}_hip_pitch" axis="0 1 0" range="-1.5 1.5"/>
+        <geom type="capsule" fromto="0 0 0 0 0 -0.22" size="0.03" mass="0.8"/>
+        <body name="{p}_shank" pos="0 0 -0.22">
+          <joint name="{p}_knee" axis="0 1 0" range="-0.1 2.2"/>
+          <geom type="capsule" fromto="0 0 0 0 0 -0.22" size="0.025" mass="0.6"/>
+          <body name="{p}_foot" pos="0 0 -0.22">
+            <joint name="{p}_ankle_pitch" axis="0 1 0" range="-1 1"/>
+            <joint name="{p}_ankle_roll" axis="1 0 0" range="-0.5 0.5"/>
+            <geom type="box" pos="0.02 0 -0.04" size="0.07 0.04 0.01" mass="0.3"/>
+          </body>
+        </body>
+      </body>"""
+
+
+BIPED_MASS_KG = 2.0 + 3.0 + 2 * (0.8 + 0.6 + 0.3)
+"""The test biped's mass, plus zmpkit's two sole plates (0.2 % of it each) [kg]."""
+BIPED = f"""<mujoco model="biped">
+  <worldbody>
+    <body name="pelvis" pos="0 0 0.55">
+      <geom type="box" size="0.06 0.1 0.04" mass="2"/>
+      <body name="torso" pos="0 0 0.12"><geom type="box" size="0.06 0.09 0.08" mass="3"/></body>
+      {_leg("right", -0.06)}{_leg("left", 0.06)}
+    </body>
+  </worldbody>
+</mujoco>
+"""
+
+
+@pytest.fixture
+def biped(tmp_path: Path) -> Path:
+    (tmp_path / "model").mkdir()
+    path = tmp_path / "model" / "biped.xml"
+    path.write_text(BIPED, encoding="utf-8")
+    return path
+
+
+def test_init_guesses_feet_and_legs_and_check_stands_it(
+    biped: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    out = tmp_path / "robot" / "robot.yaml"
+    assert main(["robot", "init", str(biped), "--out", str(out)]) == 0
+    doc = yaml.safe_load(out.read_text(encoding="utf-8"))
+    assert doc["model"] == "../model/biped.xml"
+    assert doc["feet"] == {"right": "r_foot", "left": "l_foot"}
+    assert doc["legs"]["right"] == ["r_hip_roll", "r_hip_pitch", "r_knee", "r_ankle_pitch",
+                                    "r_ankle_roll"]  # fmt: skip
+    assert main(["robot", "check", str(out)]) == 0
+    assert "F-T vs contact" in capsys.readouterr().out
+
+
+def test_the_three_zmps_of_a_standing_biped_agree(biped: Path, tmp_path: Path) -> None:
+    out = tmp_path / "robot.yaml"
+    assert main(["robot", "init", str(biped), "--out", str(out)]) == 0
+    result = check_robot(get_robot(out))
+    assert result.mass_kg == pytest.approx(BIPED_MASS_KG * 1.004, rel=1e-3)
+    assert result.ft_vs_contact_m < 1e-3
+    assert result.ft_vs_com_m < 1e-3
+    assert result.feet["left"][2] == pytest.approx(0.005, abs=2e-4)  # on a 5 mm sole plate
+
+
+def _urdf_leg(p: str, y: float) -> str:
+    def link(name: str, mass: float, geom: str, z: float = 0.0) -> str:
+        inertia = 'ixx="1e-3" iyy="1e-3" izz="1e-3" ixy="0" ixz="0" iyz="0"'
+        return (
+            f'<link name="{name}"><inertial><origin xyz="0 0 {z}"/><mass value="{mass}"/>'
+            f'<inertia {inertia}/></inertial><collision><origin xyz="0 0 {z}"/>'
+            f"<geometry>{geom}</geometry></collision></link>"
+        )
+
+    def joint(name: str, parent: str, child: str, xyz: str, axis: str) -> str:
+        return (
+            f'<joint name="{name}" type="revolute"><parent link="{parent}"/>'
+            f'<child link="{child}"/><origin xyz="{xyz}"/><axis xyz="{axis}"/>'
+            '<limit lower="-1.5" upper="1.5" effort="100" velocity="10"/></joint>'
+        )
+
+    return "".join([
+        link(f"{p}_hip", 0.1, '<sphere radius="0.01"/>'),
+        link(f"{p}_thigh", 0.8, '<cylinder radius="0.03" length="0.22"/>', -0.11),
+        link(f"{p}_foot", 0.3, '<box size="0.14 0.08 0.02"/>', -0.04),
+        joint(f"{p}_hip_roll", "pelvis", f"{p}_hip", f"0 {y} -0.04", "1 0 0"),
+        joint(f"{p}_hip_pitch", f"{p}_hip", f"{p}_thigh", "0 0 0", "0 1 0"),
+        joint(f"{p}_ankle_pitch", f"{p}_thigh", f"{p}_foot", "0 0 -0.22", "0 1 0"),
+    ])  # fmt: skip
+
+
+def test_a_urdf_gets_a_free_joint_and_stands(tmp_path: Path) -> None:
+    pelvis = (
+        '<link name="pelvis"><inertial><mass value="5"/><inertia ixx="0.01" iyy="0.01" '
+        'izz="0.01" ixy="0" ixz="0" iyz="0"/></inertial><collision><geometry>'
+        '<box size="0.12 0.2 0.08"/></geometry></collision></link>'
+    )
+    urdf = tmp_path / "biped.urdf"
+    urdf.write_text(
+        f'<robot name="u">{pelvis}{_urdf_leg("r", -0.06)}{_urdf_leg("l", 0.06)}</robot>',
+        encoding="utf-8",
+    )
+    out = tmp_path / "robot.yaml"
+    assert main(["robot", "init", str(urdf), "--out", str(out)]) == 0
+    doc = yaml.safe_load(out.read_text(encoding="utf-8"))
+    assert doc["legs"]["left"] == ["l_hip_roll", "l_hip_pitch", "l_ankle_pitch"]
+    result = check_robot(get_robot(out))
+    assert result.mass_kg == pytest.approx((5.0 + 2 * 1.2) * 1.004, rel=1e-3)
+    assert result.ok
+
+
+@pytest.mark.parametrize(
+    ("change", "message"),
+    [
+        (("model", "nope.xml"), "model: no such file"),
+        (
+            ("feet", {"right": "r_fot", "left": "l_foot"}),
+            "feet.right: unknown body 'r_fot'; bodies:",
+        ),
+        (("legs", {"right": ["r_kne"], "left": ["l_knee"]}), "legs.right: unknown joint 'r_kne'"),
+        (("colour", "red"), "colour: unknown field; valid: name, model"),
+    ],
+)
+def test_bad_robot_files_get_one_line_naming_the_valid_names(
+    biped: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str], change, message: str
+) -> None:
+    doc = {
+        "model": "model/biped.xml",
+        "feet": {"right": "r_foot", "left": "l_foot"},
+        "legs": {"right": ["r_knee"], "left": ["l_knee"]},
+    }
+    doc[change[0]] = change[1]
+    path = tmp_path / "bad.yaml"
+    path.write_text(yaml.safe_dump(doc), encoding="utf-8")
+    assert main(["robot", "check", str(path)]) == 2
+    err = capsys.readouterr().err
+    assert message in err
+    assert len(err.strip().splitlines()) == 1
+
+
+def test_robot_list_names_the_built_in_robots(capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["robot", "list"]) == 0
+    names = [line.split(":")[0] for line in capsys.readouterr().out.splitlines()]
+    assert names == ["nao", "teo"]
+
+
+def test_unknown_robot_is_exit_2_with_one_line(capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["balance", "--robot", "atlas", "--out", "unused"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert err == ["zmpkit: error: robot must be one of teo; got 'atlas' (or a robot.yaml file)"]
