@@ -1,11 +1,12 @@
-"""Paper B Fig. 6: the 10 s, 0.2 m/s walk of the virtual NAO per effect set.
+"""Paper B Fig. 6: the 10 s, 0.2 m/s walk of the virtual NAO per effect set, per controller.
 
-Run: ``python examples/nao_walk_effects.py [OUT_DIR]`` (about 15 s).
+Run: ``python examples/nao_walk_effects.py [OUT_DIR] [--controller open|zmpip|dcm]``
+(about 15 s open loop, 60 s with feedback). A fallen walk's metrics are "-".
 """
 
 from __future__ import annotations
 
-import sys
+import argparse
 from pathlib import Path
 
 from zmpkit.analysis.walk_plots import plot_effect_comparison
@@ -15,22 +16,37 @@ from zmpkit.pipelines.walk import run_walk, write_walk
 EFFECT_SETS = ("none", "M", "M,I", "G", "F", "I,G,F", "M,G", "M,F", "M,G,F", "all")
 
 
-def main(out: Path) -> None:
+def _f(value: float | None, spec: str) -> str:
+    return "-" if value is None else format(value, spec)
+
+
+def main(out: Path, controller: str) -> None:
     runs = {}
     for effects in EFFECT_SETS:
-        config = WalkConfig(effects=effects, figures=effects in ("none", "all"))
+        config = WalkConfig(
+            effects=effects, controller=controller, figures=effects in ("none", "all")
+        )
         result = write_walk(run_walk(config), out / effects.replace(",", ""))
         s = result.summary
         runs[effects] = (result.record.time_s, result.record.trunk_pitch_rad)
+        fell = f"{s.fall_kind}@{s.fall_time_s:.2f}s" if s.fell else "no"
         print(
-            f"{effects:7s} fell={s.fell} v={s.mean_speed_mps:.4f} m/s "
-            f"peak={s.trunk_pitch_peak_hz:.2f} Hz A={s.trunk_pitch_peak_amplitude_rad:.4f} rad "
-            f"std={s.trunk_pitch_std_rad:.4f} rad ds={s.mean_double_support_foot_distance_m:.4f} m"
+            f"{controller:5s} {effects:7s} fell={fell} v={_f(s.mean_speed_mps, '.4f')} m/s "
+            f"peak={_f(s.trunk_pitch_peak_hz, '.2f')} Hz "
+            f"A={_f(s.trunk_pitch_peak_amplitude_rad, '.4f')} rad "
+            f"std={_f(s.trunk_pitch_std_rad, '.4f')} rad "
+            f"ds={_f(s.mean_double_support_foot_distance_m, '.4f')} m "
+            f"slip_x={_f(s.foot_slip_x_m, '+.4f')} m",
+            flush=True,
         )
     plot_effect_comparison(
-        runs, out / "fig6_effects.png", "NAO 0.2 m/s: trunk pitch per effect set"
+        runs, out / "fig6_effects.png", f"NAO 0.2 m/s, {controller}: trunk pitch per effect set"
     )
 
 
 if __name__ == "__main__":
-    main(Path(sys.argv[1] if len(sys.argv) > 1 else "walk_effects"))
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("out", nargs="?", default="walk_effects", type=Path)
+    parser.add_argument("--controller", default="open", choices=("open", "zmpip", "dcm"))
+    args = parser.parse_args()
+    main(args.out, args.controller)

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import dataclasses
+import re
 
 import numpy as np
 import pytest
@@ -12,6 +13,7 @@ from zmpkit.experiments.walk import run_walk_trial
 from zmpkit.experiments.walk_config import WalkConfig
 from zmpkit.experiments.walk_summary import stall_time, summarise_walk
 from zmpkit.experiments.walk_trial import Push
+from zmpkit.robots.registry import get_robot
 
 METRICS = (
     "mean_speed_mps", "planned_speed_mps", "trunk_pitch_peak_hz",
@@ -116,3 +118,30 @@ def test_zmpip_walks_where_the_open_loop_walk_falls(change) -> None:
     closed = run_walk_trial(WalkConfig(controller="zmpip", figures=False, **change)).summary
     assert open_loop.fell
     assert not closed.fell
+
+
+def _truth_with_gain_factor(tmp_path, factor: float):
+    """The shipped NAO truth with MoToFlex's fitted PID (p 319.47 V/rad, d 1.6356 V·s/rad)
+    scaled by ``factor`` (the shipped file is ×4 on p and ×6 on d)."""
+    text = get_robot("nao").truth.default_path.read_text(encoding="utf-8")
+    text, n_p = re.subn(r"(?m)^  p: [0-9.]+", f"  p: {319.47 * factor:.3f}", text)
+    text, n_d = re.subn(r"(?m)^  d: [0-9.]+", f"  d: {1.6356 * factor:.5f}", text)
+    assert (n_p, n_d) == (1, 1)
+    path = tmp_path / f"truth_x{factor:g}.yaml"
+    path.write_text(text, encoding="utf-8")
+    return str(path)
+
+
+@pytest.mark.slow
+def test_with_feedback_the_robot_walks_on_twice_motoflex_gains(tmp_path) -> None:
+    """The servo gains the open-loop replay needs (×4) are not needed with feedback: at ×2
+    zmpip walks 10 s where the open loop falls; at ×1.5 both fall (the lowest factor)."""
+    outcomes = {}
+    for factor in (1.5, 2.0):
+        truth = _truth_with_gain_factor(tmp_path, factor)
+        for controller in ("open", "zmpip"):
+            config = WalkConfig(controller=controller, truth=truth, figures=False)
+            outcomes[factor, controller] = run_walk_trial(config).summary.fell
+    assert outcomes == {
+        (1.5, "open"): True, (1.5, "zmpip"): True, (2.0, "open"): True, (2.0, "zmpip"): False,
+    }  # fmt: skip

@@ -138,6 +138,18 @@ def walk_group(
 @robot_option(DEFAULT_WALK_ROBOT, needs="walking")
 @click.option("--quick", is_flag=True, help="Fewer tuning walks (under 5 min on 2 cores).")
 @click.option("--speed", type=float, default=0.2, show_default=True, help="Tuning speed [m/s].")
+@click.option(
+    "--step-duration", type=float, default=0.5, show_default=True, help="Tuning step [s]."
+)
+@click.option(
+    "--controller",
+    type=click.Choice(CONTROLLERS),
+    default=CONTROLLERS[0],
+    show_default=True,
+    help="Walking controller of every walk. With feedback, tuning uses two speeds and two step "
+    "durations and validation walks differ from them in speed, step duration and robot; open "
+    "repeats paper B's open-loop simulation (alg2 needs open).",
+)
 @click.option("--effects", default="all", show_default=True, help="Simulated effects.")
 @click.option("--seed", type=int, default=0, show_default=True, help="Seed of the sensor noise.")
 @click.option("--workers", type=int, default=2, show_default=True, help="Parallel processes.")
@@ -149,6 +161,8 @@ def walk_compensate_command(
     robot: str,
     quick: bool,
     speed: float,
+    step_duration: float,
+    controller: str,
     effects: str,
     seed: int,
     workers: int,
@@ -160,6 +174,8 @@ def walk_compensate_command(
         robot=robot,
         quick=quick,
         speed_mps=speed,
+        step_duration_s=step_duration,
+        controller=controller,
         effects=effects,
         seed=seed,
         workers=workers,
@@ -176,6 +192,11 @@ def walk_compensate_command(
             f"oscillation std {s.std_reduction_pct:.1f} % lower on "
             f"{s.walks_compared} validation walks; compensated falls: "
             f"{s.compensated_falls}"
+        )
+    if s.rejected:
+        click.echo(
+            f"{s.method}: REJECTED: it made {s.walks_made_to_fall} validation walk(s) fall that "
+            "stand without it"
         )
     click.echo(f"summary: {Path(out_dir) / 'summary.json'}")
 

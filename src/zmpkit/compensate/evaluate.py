@@ -15,6 +15,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from zmpkit.errors import SimulationDivergedError
+from zmpkit.experiments.walk import make_controller
 from zmpkit.experiments.walk_config import WalkConfig
 from zmpkit.experiments.walk_summary import WalkSummary, summarise_walk
 from zmpkit.experiments.walk_trial import WalkRecord, simulate_walk
@@ -68,13 +69,19 @@ def oscillation_of(summary: WalkSummary | None) -> tuple[float, float, bool]:
 def simulate_with_offset(
     config: WalkConfig, zmp_offset: NDArray[np.float64] | None = None
 ) -> WalkOutcome:
-    """Plan ``config``'s walk with ``zmp_offset`` [m] (N, 2) on the reference and simulate it."""
+    """Plan ``config``'s walk with ``zmp_offset`` [m] (N, 2) on the reference and simulate it.
+
+    The walk runs with ``config.controller``: with feedback, the offset moves the reference
+    the controller tracks (paper B compensates its closed-loop walk this way).
+    """
     robot = get_robot(config.robot, needs="walking")
     pattern = generate_pattern(config.pattern_config(), zmp_offset)
-    trajectory = solve_walking_ik(pattern, robot.ik_model(), robot.ik_settings)
+    model, settings = robot.ik_model(), robot.ik_settings
+    trajectory = solve_walking_ik(pattern, model, settings)
     sim = robot.make_simulation(config.effects, config.truth, seed=config.seed)
+    controller = make_controller(config.controller, pattern, trajectory, model, settings, sim)
     try:
-        record = simulate_walk(sim, trajectory)
+        record = simulate_walk(sim, trajectory, controller=controller)
     except SimulationDivergedError:
         return WalkOutcome(config, pattern, trajectory, None, None, *oscillation_of(None))
     summary = summarise_walk(pattern, trajectory, record, config.effects, config.seed)

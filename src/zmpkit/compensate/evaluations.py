@@ -38,6 +38,11 @@ class WalkSpec:
         duration_s: walking time [s].
         effects: effect letters of the simulated robot.
         robot: the walking robot's registry name or ``robot.yaml`` path.
+        step_duration_s: one step [s].
+        controller: the walking controller.
+        truth: a truth file for the simulated robot (another robot than the shipped one),
+            or None.
+        truth_label: what that truth changes, e.g. ``gear stiffness x1.3`` (for reports).
     """
 
     speed_mps: float = 0.2
@@ -45,18 +50,28 @@ class WalkSpec:
     duration_s: float = 10.0
     effects: str = "all"
     robot: str = DEFAULT_WALK_ROBOT
+    step_duration_s: float = 0.5
+    controller: str = "open"
+    truth: str | None = None
+    truth_label: str = ""
 
     def walk_config(self) -> WalkConfig:
         """The walk as ``zmpkit walk`` runs it (no figures)."""
         return WalkConfig(
             speed_mps=self.speed_mps, seed=self.seed, duration_s=self.duration_s,
             effects=self.effects, figures=False, robot=self.robot,
+            step_duration_s=self.step_duration_s, controller=self.controller, truth=self.truth,
         )  # fmt: skip
 
     @property
     def label(self) -> str:
-        """Short name, e.g. ``0.2 m/s seed 1``."""
-        return f"{self.speed_mps:g} m/s seed {self.seed}"
+        """Short name, e.g. ``0.2 m/s seed 1`` or ``0.25 m/s 0.55 s gear stiffness x1.3``."""
+        text = f"{self.speed_mps:g} m/s"
+        if self.step_duration_s != 0.5:
+            text += f" {self.step_duration_s:g} s"
+        if self.truth_label:
+            text += f" {self.truth_label}"
+        return f"{text} seed {self.seed}"
 
 
 @dataclass(frozen=True)

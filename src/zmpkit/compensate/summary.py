@@ -30,9 +30,12 @@ SUMMARY_KEYS: tuple[str, ...] = (
     "validation_walks",
 )  # fmt: skip
 """Keys of ``summary.json`` (``alg1`` adds ``iteration_rms_m``)."""
-EXTRA_SUMMARY_KEYS: tuple[str, ...] = ("walks_compared", "compensated_falls")
-"""Keys zmpkit adds: how many validation walks the means cover (neither version fell), and
-how many compensated walks fell."""
+EXTRA_SUMMARY_KEYS: tuple[str, ...] = (
+    "walks_compared", "compensated_falls", "walks_made_to_fall", "rejected",
+)  # fmt: skip
+"""Keys zmpkit adds: how many validation walks the means cover (neither version fell), how
+many compensated walks fell, how many of those stood without the compensation, and whether
+the compensation is rejected for it (any such walk rejects it)."""
 
 
 def _reduction(before: float | None, after: float | None) -> float | None:
@@ -74,6 +77,9 @@ class ValidationWalkOutcome:
         std_reduction_pct: its reduction [%].
         baseline_fell: whether the uncompensated walk fell.
         compensated_fell: whether the compensated walk fell.
+        step_duration_s: step duration [s].
+        controller: the walking controller.
+        robot_change: what its robot changes from the shipped one ("" for none).
     """
 
     speed_mps: float
@@ -87,6 +93,9 @@ class ValidationWalkOutcome:
     std_reduction_pct: float | None
     baseline_fell: bool
     compensated_fell: bool
+    step_duration_s: float = 0.5
+    controller: str = "open"
+    robot_change: str = ""
 
     @classmethod
     def of(cls, base: CompensatedWalk, comp: CompensatedWalk) -> ValidationWalkOutcome:
@@ -95,7 +104,8 @@ class ValidationWalkOutcome:
         return cls(
             w.speed_mps, w.seed, w.duration_s, _peak(base), _peak(comp),
             _reduction(_peak(base), _peak(comp)), _std(base), _std(comp),
-            _reduction(_std(base), _std(comp)), base.fell, comp.fell,
+            _reduction(_std(base), _std(comp)), base.fell, comp.fell, w.step_duration_s,
+            w.controller, w.truth_label,
         )  # fmt: skip
 
     def as_dict(self) -> dict[str, object]:
@@ -118,6 +128,9 @@ class CompensationSummary:
         validation_walks: every validation walk, fallen ones included.
         walks_compared: walks the means cover (neither version fell) [-].
         compensated_falls: compensated walks that fell [-].
+        walks_made_to_fall: compensated walks that fell where the uncompensated one stood [-].
+        rejected: whether any validation walk was made to fall (the compensation is then not
+            to be used).
         iteration_rms_m: Algorithm 1's RMS ZMP error per iteration [m]; None for others.
     """
 
@@ -132,6 +145,8 @@ class CompensationSummary:
     walks_compared: int
     compensated_falls: int
     iteration_rms_m: tuple[float, ...] | None = None
+    walks_made_to_fall: int = 0
+    rejected: bool = False
 
     def as_dict(self) -> dict[str, object]:
         """Return the contents of ``summary.json``.
@@ -155,8 +170,9 @@ def summary_of(
     peaks = [_mean([_peak(w[k]) for w in both]) for k in (0, 1)]
     stds = [_mean([_std(w[k]) for w in both]) for k in (0, 1)]
     rms = tuple(compensated[0].iteration_rms_m) if method == "alg1" else None
+    made_to_fall = sum(c.fell and not b.fell for b, c in pairs)
     return CompensationSummary(
         method, peaks[0], peaks[1], _reduction(*peaks), stds[0], stds[1], _reduction(*stds),
         tuple(ValidationWalkOutcome.of(b, c) for b, c in pairs), len(both),
-        sum(c.fell for _, c in pairs), rms,
+        sum(c.fell for _, c in pairs), rms, made_to_fall, made_to_fall > 0,
     )  # fmt: skip

@@ -4,8 +4,13 @@ Methods: ``alg1`` (Algorithm 1, offline multibody-ZMP compensation on the design
 ``alg2`` (Algorithm 2, online on the measured ZMP), ``half-sine``, ``sawtooth``, ``fourier``
 (periodic offsets tuned over simulated walks, :mod:`zmpkit.compensate.tuning`), and ``auto``
 (tunes every shape, keeps the one with the lowest tuning objective). Every method is judged
-on validation walks that tuning never saw (other noise seeds; 0.15 and 0.25 m/s), against the
-same walks without compensation. "Peak" is the trunk-pitch spectrum's amplitude at the step
+on validation walks that tuning never saw, against the same walks without compensation:
+open loop (paper B's simulation), other noise seeds and 0.15 and 0.25 m/s; with feedback
+(``controller`` ``zmpip`` or ``dcm``, as paper B's robot walks), tuning scores each candidate
+on walks at two speeds and two step durations (a fall is a failure), and every validation
+walk differs from all of them in speed, step duration and robot (gear stiffness ±15–30 %,
+:data:`HELD_OUT_WALKS`). A compensation that makes a validation walk fall that stands without
+it is rejected (``rejected`` in ``summary.json``, and the report says so). "Peak" is the trunk-pitch spectrum's amplitude at the step
 frequency; "std" the trunk pitch's standard deviation over the steady walk; the summary's
 values are their means over the validation walks.
 
@@ -38,8 +43,10 @@ from zmpkit.compensate.summary import CompensationSummary, summary_of
 from zmpkit.compensate.tuning import TuningResult, prior_from_offset, tune_offset
 from zmpkit.errors import ParameterError
 from zmpkit.robots.registry import DEFAULT_WALK_ROBOT, get_robot
+from zmpkit.robots.truth_variant import truth_variant
 from zmpkit.sim.effect_set import EffectSet
 from zmpkit.walking import generate_pattern
+from zmpkit.walking.walk_controllers import CONTROLLERS
 
 __all__ = [
     "METHODS",
@@ -58,7 +65,15 @@ FULL_DURATION_S = 10.0
 QUICK_EVALUATIONS, FULL_EVALUATIONS = 4, 16
 """Tuning candidates per shape after the prior, with and without ``--quick`` [-]."""
 VALIDATION_SPEEDS_MPS = (0.15, 0.25)
-"""Speeds of the validation walks besides the tuning speed [m/s]."""
+"""Open loop: speeds of the validation walks besides the tuning speed [m/s]."""
+HELD_OUT_WALKS: tuple[tuple[float, float, float], ...] = (
+    (+0.05, +0.05, 1.3), (-0.08, -0.10, 0.7), (+0.02, -0.08, 0.85), (-0.03, +0.08, 1.15),
+)  # fmt: skip
+"""With feedback, the validation walks: (speed change [m/s], step-duration change [s], gear
+stiffness factor [-]) from the tuning walk; each differs from every tuning walk in speed,
+step duration and robot. ``--quick`` keeps the first two."""
+TRUTH_PARAMETER = "gear.stiffness"
+"""The truth value the held-out robots vary."""
 
 CompensateProgress = Callable[[str, int, int], None]
 """``progress(stage, finished, total)``."""
@@ -83,6 +98,11 @@ class CompensateConfig:
         evaluations: tuning candidates per shape, or None for the default of ``quick``.
         cache_dir: folder of cached walks, or None for ``OUT/cache``.
         figures: whether to draw the figures.
+        controller: the walking controller of every walk. ``open`` keeps paper B's
+            simulation: tuned on one walk, validated on other seeds and speeds. With feedback
+            (``zmpip``, ``dcm``) tuning scores every candidate on several walks (two speeds,
+            two step durations; a fall is a failure) and validation walks differ from all of
+            them in speed, step duration and robot (:data:`HELD_OUT_WALKS`).
     """
 
     method: str = "auto"
@@ -99,6 +119,7 @@ class CompensateConfig:
     evaluations: int | None = None
     cache_dir: str | None = None
     figures: bool = True
+    controller: str = "open"
 
     def __post_init__(self) -> None:
         if self.method not in METHODS:
@@ -113,6 +134,20 @@ class CompensateConfig:
                 )
         object.__setattr__(self, "effects", EffectSet.parse(self.effects).letters)
         self.algorithm2_parameters()
+        if self.controller not in CONTROLLERS:
+            raise ParameterError(
+                f"controller must be one of {', '.join(CONTROLLERS)}; got {self.controller!r}"
+            )
+        if self.controller != "open" and self.method == "alg2":
+            raise ParameterError(
+                "method alg2 replaces the walking controller's joint targets; run it with "
+                "controller open"
+            )
+        if self.held_out and self.speed_mps - 0.08 < 0.05:
+            raise ParameterError(
+                f"speed_mps must be >= 0.13 m/s with feedback (held-out walks go 0.08 m/s "
+                f"slower); got {self.speed_mps}"
+            )
 
     @property
     def duration_s(self) -> float:
@@ -130,18 +165,69 @@ class CompensateConfig:
         """α1 and α2 of Algorithm 2."""
         return Algorithm2Parameters(self.bias_gain, self.smoothing_gain)
 
-    def tuning_walks(self) -> tuple[WalkSpec, ...]:
-        """The walk the offsets are tuned on."""
-        return (WalkSpec(self.speed_mps, self.seed, self.duration_s, self.effects, self.robot),)
+    @property
+    def held_out(self) -> bool:
+        """Whether tuning and validation follow the held-out design (feedback walks)."""
+        return self.controller != "open"
 
-    def validation_walks(self) -> tuple[WalkSpec, ...]:
-        """Walks never used for tuning: other seeds at the tuning speed, and other speeds."""
+    def _walk(
+        self, speed: float, step: float, seed: int, truth: str | None = None,
+        truth_label: str = "",
+    ) -> WalkSpec:  # fmt: skip
+        return WalkSpec(
+            speed,
+            seed,
+            self.duration_s,
+            self.effects,
+            self.robot,
+            step,
+            self.controller,
+            truth,
+            truth_label,
+        )
+
+    def tuning_walks(self) -> tuple[WalkSpec, ...]:
+        """The walks the offsets are tuned on.
+
+        Open loop: the one walk at ``speed_mps``. With feedback: ``speed_mps`` and 0.05 m/s
+        slower, ``step_duration_s`` and 0.05 s shorter (``--quick``: the two diagonal ones).
+        """
+        v, t, s = self.speed_mps, self.step_duration_s, self.seed
+        if not self.held_out:
+            return (self._walk(v, t, s),)
+        pairs = [(v, t), (v - 0.05, t - 0.05)]
+        if not self.quick:
+            pairs += [(v - 0.05, t), (v, t - 0.05)]
+        return tuple(self._walk(speed, step, s) for speed, step in pairs)
+
+    def validation_walks(self, truth_folder: Path | None = None) -> tuple[WalkSpec, ...]:
+        """Walks never used for tuning (class docstring).
+
+        Args:
+            truth_folder: where the held-out robots' truth files are written (feedback walks
+                only); None: the shipped robot (for counting the walks).
+        """
+        if self.held_out:
+            robot = get_robot(self.robot, needs="walking")
+            walks = []
+            cases = HELD_OUT_WALKS[:2] if self.quick else HELD_OUT_WALKS
+            for k, (dv, dt, factor) in enumerate(cases):
+                truth = None
+                if truth_folder is not None:
+                    truth = str(truth_variant(robot, TRUTH_PARAMETER, factor, truth_folder))
+                label = f"{TRUTH_PARAMETER} x{factor:g}"
+                speed, step = self.speed_mps + dv, self.step_duration_s + dt
+                walks.append(
+                    self._walk(speed, step, self.seed + k + 1, truth=truth, truth_label=label)
+                )
+            return tuple(walks)
         d, e, s, r = self.duration_s, self.effects, self.seed, self.robot
-        other = [WalkSpec(v, s + 1, d, e, r) for v in VALIDATION_SPEEDS_MPS]
+        t = self.step_duration_s
+        other = [WalkSpec(v, s + 1, d, e, r, t) for v in VALIDATION_SPEEDS_MPS]
         if self.quick:
             return tuple(other)
-        return (WalkSpec(self.speed_mps, s + 1, d, e, r), WalkSpec(self.speed_mps, s + 2, d, e, r),
-                *other)  # fmt: skip
+        return (WalkSpec(self.speed_mps, s + 1, d, e, r, t),
+                WalkSpec(self.speed_mps, s + 2, d, e, r, t), *other)  # fmt: skip
 
 
 @dataclass(frozen=True)
@@ -194,8 +280,9 @@ def _tune_shapes(config: CompensateConfig, cache: Path, report) -> dict[str, Tun
     return results
 
 
-def _validation_jobs(config: CompensateConfig, offsets: dict[str, OffsetParameters]):
-    walks = config.validation_walks()
+def _validation_jobs(
+    config: CompensateConfig, offsets: dict[str, OffsetParameters], walks: tuple[WalkSpec, ...]
+):
     jobs: list[tuple[Callable, tuple]] = [(walk_with_offset, (w, None)) for w in walks]
     if config.method == "alg1":
         jobs += [(walk_with_algorithm1, (w, config.iterations)) for w in walks]
@@ -233,11 +320,12 @@ def run_walk_compensate(
         _tune_shapes(config, cache, report) if config.method in (*OFFSET_SHAPES, "auto") else {}
     )
     offsets = {shape: result.best for shape, result in tuning.items()}
-    jobs, labels = _validation_jobs(config, offsets)
+    walks_out = config.validation_walks(cache / "held_out_robots")
+    jobs, labels = _validation_jobs(config, offsets, walks_out)
     report("validation walks", 0, len(jobs))
     walks = _pool_map(jobs, config.workers)
     report("validation walks", len(jobs), len(jobs))
-    n = len(config.validation_walks())
+    n = len(walks_out)
     baseline = tuple(walks[:n])
     compensated = {label: tuple(walks[n * (i + 1) : n * (i + 2)]) for i, label in enumerate(labels)}
     chosen = min(tuning, key=lambda s: tuning[s].best_objective) if tuning else labels[0]

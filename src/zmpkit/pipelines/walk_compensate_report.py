@@ -63,14 +63,23 @@ def _report(result: CompensateResult, figures: dict[str, Path]) -> str:
     lines = [
         f"## Walking compensation: `{s.method}` (reported: {result.chosen})", "",
         f"Virtual {get_robot(result.config.robot).title}, effects {result.config.effects}; "
-        "validation walks not used for tuning.",
+        + ("validation walks not used for tuning."
+           if result.config.controller == "open" else
+           f"walking controller {result.config.controller}; tuned on "
+           f"{len(result.config.tuning_walks())} walks, validated on walks that differ from "
+           "all of them in speed, step duration and robot."),
         "Peak = trunk-pitch spectrum amplitude at the step frequency; std over the steady walk.",
         "", "| walk | peak before [rad] | peak after [rad] | peak cut [%] | std before [rad] "
         "| std after [rad] | std cut [%] |", "|---|---|---|---|---|---|---|",
     ]  # fmt: skip
     for w in s.validation_walks:
+        name = f"{w.speed_mps:g} m/s"
+        if w.step_duration_s != 0.5:
+            name += f", {w.step_duration_s:g} s steps"
+        if w.robot_change:
+            name += f", {w.robot_change}"
         lines.append(
-            f"| {w.speed_mps:g} m/s seed {w.seed} "
+            f"| {name} seed {w.seed} "
             f"| {_cell(w.baseline_peak_amplitude_rad, 4, w.baseline_fell)} "
             f"| {_cell(w.compensated_peak_amplitude_rad, 4, w.compensated_fell)} "
             f"| {_cell(w.peak_reduction_pct, 1)} "
@@ -81,6 +90,9 @@ def _report(result: CompensateResult, figures: dict[str, Path]) -> str:
     lines += ["", f"Mean over {s.walks_compared} walks where neither version fell: peak cut "
               f"{_cell(s.peak_reduction_pct, 1)} %, std cut {_cell(s.std_reduction_pct, 1)} "
               f"%; compensated walks that fell: {s.compensated_falls}.", ""]  # fmt: skip
+    if s.rejected:
+        lines += [f"**Rejected**: the compensation made {s.walks_made_to_fall} validation "
+                  "walk(s) fall that stand without it; do not use it.", ""]  # fmt: skip
     for shape, t in result.tuning.items():
         lines.append(f"- {shape}: tuned objective J = {t.best_objective:.3f} (2 = no change), "
                      f"offset {t.best.as_dict()}")  # fmt: skip
