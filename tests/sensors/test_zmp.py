@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 from hypothesis import assume, given, settings
 from hypothesis import strategies as st
+from hypothesis.extra.numpy import arrays
 
 from zmpkit.errors import ParameterError
 from zmpkit.sensors import (
@@ -18,6 +19,7 @@ from zmpkit.sensors import (
     rpy_to_matrix,
     zmp_series,
 )
+from zmpkit.sensors.zmp import zmp_in_world, zmp_in_world_now
 
 TOL_M = 1e-12  # [m] for ZMPs within a few metres of the origin: ~1e4 ulp of headroom
 
@@ -287,3 +289,20 @@ def test_threshold_and_foot_count_errors() -> None:
     )
     with pytest.raises(ParameterError, match=expected):
         combined_zmp([np.zeros((3, 6)), np.zeros((2, 6))], [right, left])
+
+
+@given(
+    wrench=arrays(np.float64, (2, 9), elements=st.floats(-200.0, 200.0)),
+    threshold=st.floats(1.0, 20.0),
+)
+@settings(max_examples=200, deadline=None)
+def test_the_control_loop_zmp_equals_the_vectorised_one(wrench, threshold) -> None:
+    """zmp_in_world_now (Python floats, one sample) == zmp_in_world (numpy, a series)."""
+    force, moment, origin = wrench[:, :3], wrench[:, 3:6], wrench[:, 6:] * 1e-3
+    expected = zmp_in_world(force[None], moment[None], origin[None], threshold)[0]
+    got = zmp_in_world_now(force, moment, origin, threshold)
+    if np.all(np.isnan(expected)):
+        assert got is None
+    else:
+        assert got is not None
+        np.testing.assert_allclose(got, expected, rtol=1e-12, atol=1e-12)

@@ -10,9 +10,10 @@ open loop (paper B's simulation), other noise seeds and 0.15 and 0.25 m/s; with 
 on walks at two speeds and two step durations (a fall is a failure), and every validation
 walk differs from all of them in speed, step duration and robot (gear stiffness ±15–30 %,
 :data:`HELD_OUT_WALKS`). A compensation that makes a validation walk fall that stands without
-it is rejected (``rejected`` in ``summary.json``, and the report says so). "Peak" is the trunk-pitch spectrum's amplitude at the step
-frequency; "std" the trunk pitch's standard deviation over the steady walk; the summary's
-values are their means over the validation walks.
+it is rejected (``rejected`` in ``summary.json``, and the report says so). "Peak" is the
+trunk-pitch spectrum's amplitude at the step frequency; "std" the trunk pitch's standard
+deviation over the steady walk; the summary's values are their means over the validation
+walks.
 
 Writes ``summary.json`` (exactly :data:`SUMMARY_KEYS`, plus ``iteration_rms_m`` for
 ``alg1``), ``compensation.json`` (tuned parameters and tuning history), ``report.md`` and

@@ -60,6 +60,7 @@ __all__ = [
     "foot_zmp",
     "moment_coefficients",
     "zmp_in_world",
+    "zmp_in_world_now",
     "zmp_series",
 ]
 
@@ -356,3 +357,36 @@ def zmp_in_world(
         zmp = np.column_stack([num_x / total, num_y / total])
     zmp[total <= 0.0] = np.nan
     return zmp
+
+
+def zmp_in_world_now(
+    force_in_world: NDArray[np.float64],
+    moment_in_world: NDArray[np.float64],
+    sensor_in_world: NDArray[np.float64],
+    contact_threshold_n: float,
+) -> tuple[float, float] | None:
+    """:func:`zmp_in_world` of one sample, in Python floats, for a control loop [m].
+
+    The same equations over the feet in contact, without numpy temporaries (a few
+    microseconds instead of a few hundred for two feet).
+
+    Args:
+        force_in_world: force of each foot [N], shape (F, 3).
+        moment_in_world: moment about each sensor origin [N·m], shape (F, 3).
+        sensor_in_world: sensor origins [m], shape (F, 3).
+        contact_threshold_n: minimum world F_z for contact [N], > 0 (not checked here).
+
+    Returns:
+        The ZMP (x, y) [m], or None when no foot is in contact.
+    """
+    total = num_x = num_y = 0.0
+    for (fx, fy, fz), (tx, ty, _), (ox, oy, oz) in zip(
+        force_in_world.tolist(), moment_in_world.tolist(), sensor_in_world.tolist(), strict=True
+    ):
+        if fz >= contact_threshold_n:
+            total += fz
+            num_x += ox * fz - (ty + oz * fx)
+            num_y += oy * fz + (tx - oz * fy)
+    if total <= 0.0:
+        return None
+    return num_x / total, num_y / total

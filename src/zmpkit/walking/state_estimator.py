@@ -16,7 +16,7 @@ contact-weighted anchor offset
 over the feet in contact (world ``F_z`` at least the contact threshold; weighting by force
 makes the estimate continuous through double support). The ZMP follows from the wrenches
 rotated into the world, ``R_i f_i`` and ``R_i τ_i``, about ``\hat o_i``
-(:func:`zmpkit.sensors.zmp.zmp_in_world`). The CoM velocity is the finite difference of
+(:func:`zmpkit.sensors.zmp.zmp_in_world_now`). The CoM velocity is the finite difference of
 ``\hat c`` low-passed with time constant ``τ_v``:
 
 .. math:: \hat v \leftarrow \hat v + \frac{T}{τ_v + T}\left(\frac{\hat c_k - \hat c_{k-1}}{T}
@@ -33,7 +33,7 @@ from numpy.typing import NDArray
 
 from zmpkit import _validate
 from zmpkit.errors import ModelError
-from zmpkit.sensors.zmp import zmp_in_world
+from zmpkit.sensors.zmp import zmp_in_world_now
 from zmpkit.walking.measurement import WalkMeasurement
 
 __all__ = ["KinematicStateEstimator"]
@@ -88,10 +88,12 @@ class KinematicStateEstimator:
         self._imu_in_base = np.empty(4)
         mujoco.mju_negQuat(self._imu_in_base, model.site_quat[imu])  # conjugate
         f = len(self.feet)
-        self._force = np.zeros((1, f, 3))
-        self._moment = np.zeros((1, f, 3))
-        self._origin = np.zeros((1, f, 3))
+        self._force = np.zeros((f, 3))
+        self._moment = np.zeros((f, 3))
+        self._origin = np.zeros((f, 3))
         self._offset = np.zeros(3)
+        self._anchor = np.zeros(3)
+        self._com = np.zeros(3)
         self.com_in_world = np.zeros(3)
         """Estimated CoM [m], shape (3,)."""
         self.com_velocity_in_world = np.zeros(3)
@@ -148,25 +150,32 @@ class KinematicStateEstimator:
         mujoco.mj_kinematics(model, data)
         mujoco.mj_comPos(model, data)
         total = 0.0
-        anchor = np.zeros(3)
+        anchor = self._anchor
+        anchor[:] = 0.0
+        force, moment = self._force, self._moment
         for i, (sole, sensor) in enumerate(zip(self._sole, self._sensor, strict=True)):
             rotation = data.site_xmat[sensor].reshape(3, 3)
-            self._force[0, i] = rotation @ measurement.force_in_sensor[i]
-            self._moment[0, i] = rotation @ measurement.moment_in_sensor[i]
-            fz = float(self._force[0, i, 2])
+            mujoco.mju_mulMatVec(force[i], rotation, measurement.force_in_sensor[i])
+            mujoco.mju_mulMatVec(moment[i], rotation, measurement.moment_in_sensor[i])
+            fz = float(force[i, 2])
             self.force_z_n[i] = fz
             if fz >= self.threshold_n:
                 anchor += fz * (planned_soles[i] - data.site_xpos[sole])
                 total += fz
         if total > 0.0:
-            self._offset[:] = anchor / total
-        self._origin[0] = data.site_xpos[self._sensor] + self._offset
-        com = data.subtree_com[1] + self._offset
+            np.multiply(anchor, 1.0 / total, out=self._offset)
+        np.add(data.site_xpos[self._sensor], self._offset, out=self._origin)
+        com = self._com
+        np.add(data.subtree_com[1], self._offset, out=com)
         if self._started:
-            rate = (com - self.com_in_world) / self.period_s
-            self.com_velocity_in_world += self._blend * (rate - self.com_velocity_in_world)
+            blend, velocity = self._blend, self.com_velocity_in_world
+            for axis in range(3):
+                rate = (com[axis] - self.com_in_world[axis]) / self.period_s
+                velocity[axis] += blend * (rate - velocity[axis])
         self._started = True
         self.com_in_world[:] = com
-        self.zmp_in_world[:] = zmp_in_world(
-            self._force, self._moment, self._origin, self.threshold_n
-        )[0]
+        zmp = zmp_in_world_now(force, moment, self._origin, self.threshold_n)
+        if zmp is None:
+            self.zmp_in_world[:] = np.nan
+        else:
+            self.zmp_in_world[0], self.zmp_in_world[1] = zmp
