@@ -160,16 +160,22 @@ class Census:
         )
 
 
-def reader_problems(read: Callable[[], object]) -> list[str]:
-    """Ways a reader call ends badly: any exception but a :class:`ZmpkitError`."""
+def reader_problems(read: Callable[[], object], tmp_root: Path) -> list[str]:
+    """Ways a reader call ends badly.
+
+    Any exception but a :class:`ZmpkitError`, or a message of several lines or longer than
+    :data:`MAX_MESSAGE_CHARS` (``tmp_root`` shortened to ``<tmp>``).
+    """
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         try:
             read()
         except ZmpkitError as exc:
-            message = str(exc)
-            if "\n" in message.strip():
+            message = str(exc).strip().replace(str(tmp_root), "<tmp>")
+            if "\n" in message:
                 return [f"multi-line message: {message[:120]}"]
+            if len(message) > MAX_MESSAGE_CHARS:
+                return [f"message of {len(message)} characters: {message[:80]}..."]
             return []
         except Exception as exc:
             return [f"exception {type(exc).__name__}: {exc}"[:300]]

@@ -12,7 +12,10 @@ import math
 
 import click
 
-__all__ = ["Bounded", "BoundedInt"]
+__all__ = ["MAX_WORKERS", "SEED", "WORKERS", "Bounded", "BoundedInt"]
+
+MAX_WORKERS = 256
+"""Most parallel processes or threads an option may ask for."""
 
 
 def _number(text: float | str) -> str:
@@ -75,3 +78,9 @@ class BoundedInt(click.ParamType):
         if n < self.low or (self.high is not None and n > self.high):
             self.fail(f"must lie in {valid}, got {n}", param, ctx)
         return n
+
+
+WORKERS = BoundedInt(1, MAX_WORKERS)
+"""``--workers``: 1 to :data:`MAX_WORKERS`."""
+SEED = BoundedInt(0, 2**63 - 1)
+"""``--seed``: a non-negative integer."""

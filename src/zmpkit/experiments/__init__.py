@@ -10,6 +10,9 @@
 
 from zmpkit.experiments.config import (
     DEFAULT_TARGETS_M,
+    MAX_HOLD_S,
+    MAX_PUSH_DURATION_S,
+    MAX_PUSH_FORCE_N,
     PUSH_POINTS,
     ROBOTS,
     PushConfig,
@@ -46,6 +49,9 @@ __all__ = [
     "DATASET_FORMAT",
     "DEFAULT_TARGETS_M",
     "DEFAULT_WORKERS",
+    "MAX_HOLD_S",
+    "MAX_PUSH_DURATION_S",
+    "MAX_PUSH_FORCE_N",
     "META_FILE",
     "PUSH_POINTS",
     "ROBOTS",

@@ -28,7 +28,12 @@ from zmpkit.experiments.dataset import (
     write_meta,
     write_trial_csv,
 )
-from zmpkit.experiments.lean import design_lean_model, lean_angle, lean_angle_joints
+from zmpkit.experiments.lean import (
+    design_lean_model,
+    design_support_interval,
+    lean_angle,
+    lean_angle_joints,
+)
 from zmpkit.experiments.trial import LeanController, StepTrialRecord, run_step_trial
 from zmpkit.robots.teo import TEO_DRIVEN_JOINTS, teo_feet_mounts, teo_robot
 
@@ -118,9 +123,24 @@ def _resume(folder: Path, meta: dict[str, Any]) -> list[dict[str, Any]]:
 
 
 def check_sweep(config: StepExperimentConfig) -> None:
-    """Fail before any work on a target out of reach or an unreadable truth file."""
+    """Fail before any work on a target out of reach or an unreadable truth file.
+
+    A target is in reach when it lies strictly inside the design model's support polygon
+    along the plane's axis (:func:`~zmpkit.experiments.lean.design_support_interval`) and a
+    lean reaches it.
+
+    Raises:
+        ParameterError: naming the first target out of reach and the reachable range.
+        InputFileError: on an unreadable truth file.
+    """
     length = design_lean_model(config.robot, config.plane).lean_length_m
+    low, high = design_support_interval(config.robot, config.plane)
     for target in config.targets_m:
+        if not low < target < high:
+            raise ParameterError(
+                f"ZMP target {target:g} m lies outside {config.robot}'s support polygon in the "
+                f"{config.plane} plane; reachable targets lie in ({low:g}, {high:g}) m"
+            )
         lean_angle(target, length)
     teo_robot(config.effects, config.truth)
 

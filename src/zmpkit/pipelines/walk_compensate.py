@@ -37,6 +37,7 @@ from zmpkit.compensate.offsets import OFFSET_SHAPES, OffsetParameters
 from zmpkit.compensate.summary import CompensationSummary, summary_of
 from zmpkit.compensate.tuning import TuningResult, prior_from_offset, tune_offset
 from zmpkit.errors import ParameterError
+from zmpkit.experiments.walk_config import STEP_DURATION_RANGE_S, max_walk_speed_mps
 from zmpkit.robots.nao import nao_ik_model
 from zmpkit.sim.effect_set import EffectSet
 from zmpkit.walking import generate_pattern
@@ -105,8 +106,15 @@ class CompensateConfig:
             raise ParameterError(f"method must be one of {', '.join(METHODS)}; got {self.method!r}")
         if self.robot != "nao":
             raise ParameterError(f"robot must be one of nao; got {self.robot!r}")
-        _validate.positive("CompensateConfig.speed_mps", self.speed_mps, "m/s")
-        _validate.positive("CompensateConfig.step_duration_s", self.step_duration_s, "s")
+        _validate.in_range(
+            "CompensateConfig.step_duration_s", self.step_duration_s, *STEP_DURATION_RANGE_S, "s"
+        )
+        fastest = round(max_walk_speed_mps(self.step_duration_s), 6)
+        if not 0.0 < _validate.finite("CompensateConfig.speed_mps", self.speed_mps) <= fastest:
+            raise ParameterError(
+                f"CompensateConfig.speed_mps must lie in (0, {fastest:g}] m/s, "
+                f"got {self.speed_mps:g} m/s"
+            )
         for name in ("workers", "iterations"):
             if getattr(self, name) < 1:
                 raise ParameterError(
