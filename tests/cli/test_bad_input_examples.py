@@ -232,6 +232,7 @@ def test_targets_off_the_feet_are_refused_naming_the_reach(
         (["identify", "sim", "--self-test", "--generations", "0"], "must lie in [1, 100000]"),
         (["walk", "--step-duration", "0.05"], "step_duration_s must lie in [0.2, 2.0] s"),
         (["walk", "compensate", "--speed", "1"], "speed_mps must lie in (0, 0.24] m/s"),
+        (["walk", "compensate", "--workers", "300"], "workers must lie in [1, 256]; got 300"),
     ],
 )
 def test_option_out_of_range_names_the_valid_range(

@@ -12,10 +12,9 @@ import math
 
 import click
 
-__all__ = ["MAX_WORKERS", "SEED", "WORKERS", "Bounded", "BoundedInt"]
+from zmpkit.experiments import MAX_WORKERS
 
-MAX_WORKERS = 256
-"""Most parallel processes or threads an option may ask for."""
+__all__ = ["MAX_WORKERS", "SEED", "WORKERS", "Bounded", "BoundedInt"]
 
 
 def _number(text: float | str) -> str:

@@ -36,7 +36,7 @@ from zmpkit.experiments.response import (
     trial_response,
     write_steady_state_csv,
 )
-from zmpkit.experiments.sweep import DEFAULT_WORKERS, run_step_sweep
+from zmpkit.experiments.sweep import DEFAULT_WORKERS, MAX_WORKERS, run_step_sweep
 from zmpkit.experiments.trial import (
     CONTROL_PERIOD_S,
     LeanController,
@@ -52,6 +52,7 @@ __all__ = [
     "MAX_HOLD_S",
     "MAX_PUSH_DURATION_S",
     "MAX_PUSH_FORCE_N",
+    "MAX_WORKERS",
     "META_FILE",
     "PUSH_POINTS",
     "ROBOTS",

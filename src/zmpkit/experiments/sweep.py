@@ -37,10 +37,19 @@ from zmpkit.experiments.lean import (
 from zmpkit.experiments.trial import LeanController, StepTrialRecord, run_step_trial
 from zmpkit.robots.teo import TEO_DRIVEN_JOINTS, teo_feet_mounts, teo_robot
 
-__all__ = ["DEFAULT_WORKERS", "ProgressCallback", "check_sweep", "new_meta", "run_step_sweep"]
+__all__ = [
+    "DEFAULT_WORKERS",
+    "MAX_WORKERS",
+    "ProgressCallback",
+    "check_sweep",
+    "new_meta",
+    "run_step_sweep",
+]
 
 DEFAULT_WORKERS = 2
 """Processes that run trials in parallel by default."""
+MAX_WORKERS = 256
+"""Most parallel processes or threads a run may ask for."""
 _CONSISTENT_FIELDS: tuple[str, ...]
 _CONSISTENT_FIELDS = ("format", "robot", "plane", "effects", "seed", "settings", "joint_names")
 _CONSISTENT_FIELDS += ("sensor_mounts", "lean_length_m", "controller")

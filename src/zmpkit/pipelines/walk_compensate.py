@@ -37,6 +37,7 @@ from zmpkit.compensate.offsets import OFFSET_SHAPES, OffsetParameters
 from zmpkit.compensate.summary import CompensationSummary, summary_of
 from zmpkit.compensate.tuning import TuningResult, prior_from_offset, tune_offset
 from zmpkit.errors import ParameterError
+from zmpkit.experiments import MAX_WORKERS
 from zmpkit.experiments.walk_config import STEP_DURATION_RANGE_S, max_walk_speed_mps
 from zmpkit.robots.nao import nao_ik_model
 from zmpkit.sim.effect_set import EffectSet
@@ -114,6 +115,10 @@ class CompensateConfig:
             raise ParameterError(
                 f"CompensateConfig.speed_mps must lie in (0, {fastest:g}] m/s, "
                 f"got {self.speed_mps:g} m/s"
+            )
+        if not 1 <= self.workers <= MAX_WORKERS:
+            raise ParameterError(
+                f"CompensateConfig.workers must lie in [1, {MAX_WORKERS}]; got {self.workers}"
             )
         for name in ("workers", "iterations"):
             if getattr(self, name) < 1:
