@@ -8,7 +8,7 @@ OUT    ?= out/demo
 # them too, as they fit its time.
 PYTEST_MARK := $(if $(CI),,-m "not slow")
 
-.PHONY: demo test test-slow bench lint format clean
+.PHONY: demo test test-slow test-lowest bench lint format clean
 
 $(BIN)/python:
 	$(PYTHON) -m venv $(VENV)
@@ -36,6 +36,10 @@ test: $(VENV)/.installed-test
 test-slow: $(VENV)/.installed-test
 	$(BIN)/python -m pytest -m slow -q
 
+# The dependency lower bounds are true: the lowest allowed versions pass the fast tests.
+test-lowest:
+	.ci/lowest
+
 bench: $(VENV)/.installed-test
 	@for b in benchmarks/bench_*.py; do echo "== $$b"; $(BIN)/python $$b || exit 1; done
 
@@ -48,4 +52,4 @@ format: $(VENV)/.installed-test
 	$(BIN)/ruff format .
 
 clean:
-	rm -rf $(VENV) out .pytest_cache .ruff_cache .hypothesis
+	rm -rf $(VENV) .venv-lowest out .pytest_cache .ruff_cache .hypothesis

@@ -25,3 +25,19 @@ def feet_yaml(tmp_path: Path) -> Path:
     path = tmp_path / "feet.yaml"
     path.write_text(FEET_YAML)
     return path
+
+
+def pytest_terminal_summary(terminalreporter) -> None:
+    """Print each fuzz test's case count and bad endings (the issue asks CI to show them)."""
+    from helpers.fuzz import CENSUSES
+
+    if not CENSUSES:
+        return
+    terminalreporter.section("fuzz census")
+    for census in CENSUSES:
+        terminalreporter.write_line(census.summary())
+        for cause, example in census.examples.items():
+            terminalreporter.write_line(f"  {cause}: {example}")
+    total = sum(c.cases for c in CENSUSES)
+    bad = sum(c.bad for c in CENSUSES)
+    terminalreporter.write_line(f"total: {total} fuzzed cases, {bad} ended badly")

@@ -7,13 +7,25 @@ value that came and what was expected.
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from zmpkit.errors import ParameterError
 
-__all__ = ["finite", "finite_array", "in_range", "non_negative", "positive"]
+__all__ = [
+    "finite",
+    "finite_array",
+    "in_range",
+    "list_some",
+    "non_negative",
+    "positive",
+    "shorten",
+]
+
+MAX_ECHO_CHARS = 40
+"""Longest piece of a user's input a message repeats (characters)."""
 
 
 def finite(name: str, value: float) -> float:
@@ -79,3 +91,20 @@ def finite_array(
         bad = tuple(int(i) for i in np.argwhere(~np.isfinite(arr))[0])
         raise ParameterError(f"{name} must be finite everywhere, got non-finite at index {bad}")
     return arr
+
+
+def shorten(value: object, limit: int = MAX_ECHO_CHARS) -> str:
+    """``repr(value)``, cut to ``limit`` characters with an ellipsis, for an error message."""
+    text = repr(value)
+    return text if len(text) <= limit else text[: limit - 3] + "..."
+
+
+def list_some(names: Sequence[object], shown: int = 5) -> str:
+    """The first ``shown`` of ``names`` joined by commas, then how many more there are.
+
+    Keeps a message that lists a file's columns (or any long choice) to one short line.
+    """
+    items = [str(n) if len(str(n)) <= MAX_ECHO_CHARS else shorten(n) for n in names]
+    head = ", ".join(items[:shown])
+    rest = len(items) - shown
+    return f"{head} and {rest} more" if rest > 0 else head

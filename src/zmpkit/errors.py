@@ -8,11 +8,14 @@ them as one line and exit with code 2 instead of a traceback.
 from __future__ import annotations
 
 __all__ = [
+    "FigureWarning",
     "InputFileError",
     "ModelError",
+    "NonFiniteResultError",
     "ParameterError",
     "SimulationDivergedError",
     "ZmpkitError",
+    "ZmpkitWarning",
 ]
 
 
@@ -26,6 +29,34 @@ class ParameterError(ZmpkitError, ValueError):
 
 class ModelError(ZmpkitError, ValueError):
     """A model cannot do what was asked, e.g. an unstable DLIPM where a stable one is needed."""
+
+
+class NonFiniteResultError(ZmpkitError, ValueError):
+    """A computed result is not finite; raised before it is written, naming the row.
+
+    Args:
+        what: the result, e.g. ``"zmp.csv"``.
+        row: 1-based row of the result (the header is row 1 in a CSV).
+        message: what was not finite.
+    """
+
+    def __init__(self, what: str, row: int, message: str) -> None:
+        self.what = what
+        self.row = row
+        self.detail = message
+        super().__init__(f"{what}, row {row}: {message}; nothing written")
+
+    def __reduce__(self) -> tuple[object, ...]:
+        """Pickle support (errors cross process pools): rebuild from the constructor args."""
+        return (NonFiniteResultError, (self.what, self.row, self.detail))
+
+
+class ZmpkitWarning(UserWarning):
+    """Base class of the warnings zmpkit issues: the run goes on, something is missing."""
+
+
+class FigureWarning(ZmpkitWarning):
+    """A figure could not be drawn; the data it would show were written all the same."""
 
 
 class InputFileError(ZmpkitError, ValueError):

@@ -26,6 +26,7 @@ from zmpkit.experiments import (
     trial_file_name,
 )
 from zmpkit.experiments import sweep as sweep_module
+from zmpkit.experiments.lean import design_support_interval, lean_angle
 from zmpkit.pipelines.sim_push import run_sim_push
 
 FAST = {"settle_s": 1.0, "startup_window_s": 0.3, "hold_s": 1.0}
@@ -75,7 +76,19 @@ def test_frontal_lean_closes_the_four_bar_and_keeps_the_feet_flat() -> None:
 
 def test_target_out_of_reach_is_refused() -> None:
     with pytest.raises(ParameterError, match="out of reach"):
+        lean_angle(0.9, 0.777)
+    message = (
+        r"^ZMP target 0.9 m lies outside teo's support polygon in the sagittal plane; "
+        r"reachable targets lie in \(-0.07, 0.175\) m$"
+    )
+    with pytest.raises(ParameterError, match=message):
         run_step_sweep(_config(targets_m=(0.9,)), "/nonexistent/never/created")
+
+
+def test_support_interval_is_teo_soles() -> None:
+    # Soles 0.245 m long, the ankle 0.07 m from the heel; 0.140 m wide, ankles at y = ±0.1285 m.
+    assert design_support_interval("teo", "sagittal") == pytest.approx((-0.07, 0.175))
+    assert design_support_interval("teo", "frontal") == pytest.approx((-0.1985, 0.1985))
 
 
 # --- config and parsing ----------------------------------------------------------------

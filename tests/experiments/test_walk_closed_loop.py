@@ -145,3 +145,13 @@ def test_with_feedback_the_robot_walks_on_twice_motoflex_gains(tmp_path) -> None
     assert outcomes == {
         (1.5, "open"): True, (1.5, "zmpip"): True, (2.0, "open"): True, (2.0, "zmpip"): False,
     }  # fmt: skip
+
+
+def test_a_command_past_the_longest_step_is_walked_shorter_and_says_so() -> None:
+    """0.3 m/s at 0.5 s steps asks 0.15 m steps of a robot whose limit is 0.12 m: accepted
+    (up to twice the limit) with the clamp named; three times the limit is refused."""
+    plan = WalkConfig(speed_mps=0.3).pattern_config().plan()
+    assert plan.clamped_limits == ("step_length",)
+    assert not WalkConfig(speed_mps=0.2).pattern_config().plan().clamped_limits
+    with pytest.raises(ParameterError, match=r"must lie in \[0\.0, 0\.48\] m/s"):
+        WalkConfig(speed_mps=0.72)

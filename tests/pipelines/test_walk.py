@@ -71,7 +71,10 @@ def test_series_and_figures_are_written(rigid_walk) -> None:
 @pytest.mark.parametrize(
     ("field", "value", "match"),
     [("robot", "teo", "robot must be one of nao"), ("effects", "X", "unknown effect 'X'"),
-     ("seed", -1, "seed must be an integer >= 0"), ("duration_s", 0.0, "must be > 0")],
+     ("seed", -1, "seed must be an integer >= 0"),
+     ("duration_s", 0.0, r"duration_s must lie in \[0.5, 3600.0\] s, got 0.0 s"),
+     ("speed_mps", -1.0, r"speed_mps \(forward\) must lie in \[0.0, 0.48\] m/s, got -1.0 m/s"),
+     ("step_duration_s", 0.05, r"step_duration_s must lie in \[0.2, 2.0\] s")],
 )  # fmt: skip
 def test_bad_config_is_named(field: str, value: object, match: str) -> None:
     with pytest.raises(ParameterError, match=match):

@@ -118,5 +118,6 @@ def test_accepts_lists_tuples_and_arrays() -> None:
 
 
 def test_threshold_validated() -> None:
-    with pytest.raises(ParameterError, match=r"^contact_threshold_n must be > 0 N, got -1.0 N$"):
+    message = r"^contact_threshold_n must lie in \[0.01, 10000.0\] N, got -1.0 N$"
+    with pytest.raises(ParameterError, match=message):
         DoubleSupportZmp(*teo_feet(), contact_threshold_n=-1.0)

@@ -280,7 +280,8 @@ def test_non_finite_values_rejected() -> None:
 
 def test_threshold_and_foot_count_errors() -> None:
     right, left = teo_feet()
-    with pytest.raises(ParameterError, match=r"^contact_threshold_n must be > 0 N, got 0.0 N$"):
+    message = r"^contact_threshold_n must lie in \[0.01, 10000.0\] N, got 0.0 N$"
+    with pytest.raises(ParameterError, match=message):
         zmp_series([0.0], np.zeros((1, 6)), np.zeros((1, 6)), right, left, contact_threshold_n=0)
     with pytest.raises(ParameterError, match=r"got 2 wrenches and 1 mounts$"):
         combined_zmp([np.zeros((1, 6))] * 2, [right])

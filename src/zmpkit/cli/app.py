@@ -8,13 +8,14 @@ one line on stderr and exit code 2.
 from __future__ import annotations
 
 import sys
+import warnings
 from collections.abc import Callable, Sequence
-from typing import Any, TypeVar
+from typing import Any, TextIO, TypeVar
 
 import click
 
 from zmpkit import __version__
-from zmpkit.errors import ZmpkitError
+from zmpkit.errors import ZmpkitError, ZmpkitWarning
 from zmpkit.robots.registry import get_robot, robot_names, robots_that
 
 __all__ = ["EXIT_USAGE", "cli", "format_or_undefined", "main", "robot_option"]
@@ -53,6 +54,9 @@ def robot_option(
     )
 
 
+_PYTHON_SHOWWARNING = warnings.showwarning
+
+
 @click.group(context_settings={"help_option_names": ["-h", "--help"]})
 @click.version_option(__version__, "--version", prog_name="zmpkit")
 def cli() -> None:
@@ -64,13 +68,47 @@ def format_or_undefined(value: float | None, spec: str) -> str:
     return "undefined" if value is None else format(value, spec)
 
 
+def _usage_line(exc: click.UsageError) -> str:
+    """A usage error as one line: the command, what was wrong, where the help is."""
+    message = " ".join(exc.format_message().split())
+    if exc.ctx is None:
+        return message
+    path = exc.ctx.command_path
+    return f"{path}: {message} (see '{path} --help')"
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     """Run the CLI and return its exit code (tests call this with ``argv``)."""
     args = list(sys.argv[1:] if argv is None else argv)
+    with warnings.catch_warnings():
+        warnings.simplefilter("always", ZmpkitWarning)
+        warnings.showwarning = _show_warning
+        return _run(args)
+
+
+def _show_warning(
+    message: Warning | str,
+    category: type[Warning],
+    filename: str,
+    lineno: int,
+    file: TextIO | None = None,
+    line: str | None = None,
+) -> None:
+    """Print a zmpkit warning as one line (``zmpkit: warning: ...``); others as Python does."""
+    if issubclass(category, ZmpkitWarning):
+        click.echo(f"zmpkit: warning: {message}", err=True)
+    else:
+        _PYTHON_SHOWWARNING(message, category, filename, lineno, file, line)
+
+
+def _run(args: list[str]) -> int:
     try:
         result = cli.main(args=args, prog_name="zmpkit", standalone_mode=False)
+    except click.UsageError as exc:
+        click.echo(f"zmpkit: error: {_usage_line(exc)}", err=True)
+        return EXIT_USAGE
     except click.ClickException as exc:
-        exc.show()
+        click.echo(f"zmpkit: error: {exc.format_message()}", err=True)
         return exc.exit_code
     except click.Abort:
         click.echo("zmpkit: aborted", err=True)

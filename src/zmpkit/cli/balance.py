@@ -8,6 +8,7 @@ from typing import Any
 import click
 
 from zmpkit.cli.app import cli, robot_option
+from zmpkit.cli.options import SEED, WORKERS
 from zmpkit.cli.progress import SweepProgress
 from zmpkit.control import PAPER_A_TIME_SCALE
 from zmpkit.pipelines.balance import BalanceConfig, run_balance
@@ -32,7 +33,7 @@ __all__ = ["balance_command"]
     type=click.Path(path_type=Path),
     help="Truth YAML replacing the virtual robot's shipped one.",
 )
-@click.option("--seed", type=int, default=0, show_default=True, help="Seed of the sensor noise.")
+@click.option("--seed", type=SEED, default=0, show_default=True, help="Seed of the sensor noise.")
 @click.option(
     "--effects",
     default="all",
@@ -46,7 +47,7 @@ __all__ = ["balance_command"]
     type=click.Choice(("sagittal", "frontal")),
     help="Plane(s) to run; default both.",
 )
-@click.option("--workers", type=int, default=2, show_default=True, help="Parallel processes.")
+@click.option("--workers", type=WORKERS, default=2, show_default=True, help="Parallel processes.")
 @click.option(
     "--dlipm-pace",
     type=click.Choice(("servo", "paper")),

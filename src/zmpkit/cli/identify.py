@@ -7,6 +7,7 @@ from pathlib import Path
 import click
 
 from zmpkit.cli.app import cli, robot_option
+from zmpkit.cli.options import SEED, WORKERS, Bounded, BoundedInt
 from zmpkit.cli.progress import GenerationProgress
 from zmpkit.pipelines.identify_balance import run_identify_balance
 from zmpkit.pipelines.identify_sim import IdentifySimConfig, run_identify_sim
@@ -14,6 +15,13 @@ from zmpkit.robots.registry import DEFAULT_FIT_ROBOT
 from zmpkit.simfit.optimizer import FitInterruptedError
 
 __all__ = ["identify_balance_command", "identify_group", "identify_sim_command"]
+
+MAX_MASS_KG = 1000.0
+"""Heaviest pendulum mass ``--mass`` takes [kg]: a tonne, beyond any humanoid."""
+MAX_LENGTH_M = 5.0
+"""Longest pendulum ``--length`` takes [m]: ankle to CoM of a humanoid is 0.2 to 1.2 m."""
+MAX_GENERATIONS = 100_000
+"""Most CMA-ES generations ``--generations`` takes."""
 
 
 @cli.group("identify")
@@ -26,10 +34,14 @@ def identify_group() -> None:
 @click.option(
     "--out", "out_dir", type=click.Path(path_type=Path), required=True, help="Output folder."
 )
-@click.option("--mass", type=float, help="Pendulum mass [kg] (default: the robot's design).")
+@click.option(
+    "--mass",
+    type=Bounded(0.0, MAX_MASS_KG, "kg", low_open=True),
+    help="Pendulum mass [kg] (default: the robot's design).",
+)
 @click.option(
     "--length",
-    type=float,
+    type=Bounded(0.0, MAX_LENGTH_M, "m", low_open=True),
     help="Pendulum length, ankle to CoM [m] (default: the dataset's lean length).",
 )
 def identify_balance_command(
@@ -73,11 +85,15 @@ def identify_balance_command(
     type=click.Path(path_type=Path),
     help="Continue the fit checkpointed in this folder.",
 )
-@click.option("--generations", type=int, help="CMA-ES generations (default 40; 30 quick).")
 @click.option(
-    "--workers", type=int, default=2, show_default=True, help="Local threads or processes."
+    "--generations",
+    type=BoundedInt(1, MAX_GENERATIONS),
+    help="CMA-ES generations (default 40; 30 quick).",
 )
-@click.option("--seed", type=int, default=1, show_default=True, help="Seed of the fit.")
+@click.option(
+    "--workers", type=WORKERS, default=2, show_default=True, help="Local threads or processes."
+)
+@click.option("--seed", type=SEED, default=1, show_default=True, help="Seed of the fit.")
 @click.option("--quick", is_flag=True, help="A small, fast fit (2-3 parameters).")
 @click.option(
     "--self-test",

@@ -7,7 +7,9 @@ from pathlib import Path
 import click
 
 from zmpkit.cli.app import cli, robot_option
+from zmpkit.cli.options import SEED, WORKERS, Bounded
 from zmpkit.cli.progress import TrialProgressBar
+from zmpkit.experiments import MAX_HOLD_S, MAX_PUSH_DURATION_S, MAX_PUSH_FORCE_N
 from zmpkit.pipelines.sim_push import run_sim_push, sim_push_config
 from zmpkit.robots.registry import DEFAULT_BALANCE_ROBOT
 
@@ -37,7 +39,7 @@ def sim_group() -> None:
     help="Simulated effects: all, none, or letters M,I,G,F,S (motor, inductance, gear, flex, "
     "sensors).",
 )
-@click.option("--seed", type=int, default=0, show_default=True, help="Seed of the sensor noise.")
+@click.option("--seed", type=SEED, default=0, show_default=True, help="Seed of the sensor noise.")
 @click.option(
     "--out",
     "out_dir",
@@ -48,10 +50,22 @@ def sim_group() -> None:
 @click.option(
     "--truth", type=click.Path(path_type=Path), help="Truth YAML replacing the shipped one."
 )
-@click.option("--push-force", type=float, help="Push at the CoM along the plane's axis [N].")
-@click.option("--push-duration", type=float, help="Duration of the push [s].")
-@click.option("--hold", type=float, help="Recorded time after the step [s] (default 15).")
-@click.option("--workers", type=int, default=2, show_default=True, help="Parallel processes.")
+@click.option(
+    "--push-force",
+    type=Bounded(-MAX_PUSH_FORCE_N, MAX_PUSH_FORCE_N, "N"),
+    help="Push at the CoM along the plane's axis [N].",
+)
+@click.option(
+    "--push-duration",
+    type=Bounded(0.0, MAX_PUSH_DURATION_S, "s", low_open=True),
+    help="Duration of the push [s].",
+)
+@click.option(
+    "--hold",
+    type=Bounded(0.0, MAX_HOLD_S, "s", low_open=True),
+    help="Recorded time after the step [s] (default 15).",
+)
+@click.option("--workers", type=WORKERS, default=2, show_default=True, help="Parallel processes.")
 def sim_push_command(
     robot: str,
     targets: str,

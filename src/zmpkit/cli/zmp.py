@@ -7,10 +7,11 @@ from pathlib import Path
 import click
 
 from zmpkit.cli.app import cli, robot_option
+from zmpkit.cli.options import Bounded
 from zmpkit.io import feet_from_mapping
 from zmpkit.pipelines.zmp_log import run_zmp_log
 from zmpkit.robots.registry import get_robot
-from zmpkit.sensors import CONTACT_FORCE_THRESHOLD_N
+from zmpkit.sensors import CONTACT_FORCE_THRESHOLD_N, CONTACT_THRESHOLD_RANGE_N
 
 __all__ = ["zmp_command"]
 
@@ -47,9 +48,10 @@ __all__ = ["zmp_command"]
 )
 @click.option(
     "--contact-threshold",
-    type=float,
+    type=Bounded(*CONTACT_THRESHOLD_RANGE_N, "N"),
     default=None,
-    help="Minimum normal force for a foot to be in contact [N] (default 10).",
+    help="Minimum normal force for a foot to be in contact [N] (default 10; "
+    f"{CONTACT_THRESHOLD_RANGE_N[0]:g} to {CONTACT_THRESHOLD_RANGE_N[1]:g}).",
 )
 @click.option(
     "--out", "out_dir", type=click.Path(path_type=Path), required=True, help="Output folder."

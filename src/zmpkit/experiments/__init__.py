@@ -10,6 +10,9 @@
 
 from zmpkit.experiments.config import (
     DEFAULT_TARGETS_M,
+    MAX_HOLD_S,
+    MAX_PUSH_DURATION_S,
+    MAX_PUSH_FORCE_N,
     PUSH_POINTS,
     PushConfig,
     StepExperimentConfig,
@@ -32,7 +35,7 @@ from zmpkit.experiments.response import (
     trial_response,
     write_steady_state_csv,
 )
-from zmpkit.experiments.sweep import DEFAULT_WORKERS, run_step_sweep
+from zmpkit.experiments.sweep import DEFAULT_WORKERS, MAX_WORKERS, run_step_sweep
 from zmpkit.experiments.trial import (
     CONTROL_PERIOD_S,
     LeanController,
@@ -45,6 +48,10 @@ __all__ = [
     "DATASET_FORMAT",
     "DEFAULT_TARGETS_M",
     "DEFAULT_WORKERS",
+    "MAX_HOLD_S",
+    "MAX_PUSH_DURATION_S",
+    "MAX_PUSH_FORCE_N",
+    "MAX_WORKERS",
     "META_FILE",
     "PUSH_POINTS",
     "STEADY_STATE_COLUMNS",

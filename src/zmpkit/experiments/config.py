@@ -14,7 +14,7 @@ from collections.abc import Iterable
 from dataclasses import asdict, dataclass
 from typing import Any
 
-from zmpkit._validate import finite, positive
+from zmpkit._validate import finite, in_range, positive
 from zmpkit.errors import ParameterError
 from zmpkit.robots.registry import DEFAULT_BALANCE_ROBOT, get_robot
 from zmpkit.signals import PLANES
@@ -22,6 +22,9 @@ from zmpkit.sim.effect_set import EffectSet
 
 __all__ = [
     "DEFAULT_TARGETS_M",
+    "MAX_HOLD_S",
+    "MAX_PUSH_DURATION_S",
+    "MAX_PUSH_FORCE_N",
     "PUSH_POINTS",
     "PushConfig",
     "StepExperimentConfig",
@@ -33,6 +36,12 @@ PUSH_POINTS = ("com", "trunk")
 """Where a push acts: the whole-body CoM, or the trunk body's CoM."""
 DEFAULT_TARGETS_M: tuple[float, ...] = tuple(round(0.01 * k, 10) for k in range(11))
 """Default ZMP targets, 0.00 … 0.10 m in 0.01 m steps (paper A Fig. 14–16) [m]."""
+MAX_HOLD_S = 600.0
+"""Longest recorded time after the step [s]: ten minutes, 40 times the settling of paper A."""
+MAX_PUSH_FORCE_N = 2000.0
+"""Largest |push force| [N]: three times the heaviest built-in robot's weight; more only throws."""
+MAX_PUSH_DURATION_S = 10.0
+"""Longest push [s]; a longer one is a lean, not a push."""
 _TARGET_DECIMALS = 9
 _RANGE = re.compile(r"^\s*([^:]+):([^:]+):([^:]+)\s*$")
 
@@ -42,8 +51,9 @@ class PushConfig:
     """A push applied at ``t_step`` in the plane of the experiment.
 
     Attributes:
-        force_n: force along +x (sagittal) or +y (frontal); negative pushes back [N].
-        duration_s: how long it acts [s], > 0.
+        force_n: force along +x (sagittal) or +y (frontal); negative pushes back [N], at
+            most :data:`MAX_PUSH_FORCE_N` in size.
+        duration_s: how long it acts [s], in (0, :data:`MAX_PUSH_DURATION_S`].
         point: ``"com"`` (the whole-body CoM) or ``"trunk"`` (the trunk body's CoM).
     """
 
@@ -52,8 +62,14 @@ class PushConfig:
     point: str = "com"
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "force_n", finite("push force_n", self.force_n))
-        object.__setattr__(self, "duration_s", positive("push duration_s", self.duration_s, "s"))
+        force = in_range("push force_n", self.force_n, -MAX_PUSH_FORCE_N, MAX_PUSH_FORCE_N, "N")
+        duration = positive("push duration_s", self.duration_s, "s")
+        if duration > MAX_PUSH_DURATION_S:
+            raise ParameterError(
+                f"push duration_s must lie in (0, {MAX_PUSH_DURATION_S:g}] s, got {duration:g} s"
+            )
+        object.__setattr__(self, "force_n", force)
+        object.__setattr__(self, "duration_s", duration)
         if self.point not in PUSH_POINTS:
             raise ParameterError(
                 f"push point must be one of {', '.join(PUSH_POINTS)}; got {self.point!r}"
@@ -73,7 +89,7 @@ class StepExperimentConfig:
         settle_s: time the robot stands before recording starts [s]; with every effect on
             the drives' integrators need about 3 s to settle.
         startup_window_s: recorded quiet standing before the step, used for the ZMP offset [s].
-        hold_s: recorded time after the step [s].
+        hold_s: recorded time after the step [s], in (0, :data:`MAX_HOLD_S`].
         push: optional push at ``t_step``.
         truth: path of a truth file replacing the shipped one, or ``None``.
     """
@@ -99,7 +115,8 @@ class StepExperimentConfig:
             raise ParameterError(f"seed must be an integer >= 0, got {self.seed!r}")
         positive("settle_s", self.settle_s, "s")
         positive("startup_window_s", self.startup_window_s, "s")
-        positive("hold_s", self.hold_s, "s")
+        if not 0.0 < positive("hold_s", self.hold_s, "s") <= MAX_HOLD_S:
+            raise ParameterError(f"hold_s must lie in (0, {MAX_HOLD_S:g}] s, got {self.hold_s:g} s")
         if self.truth is not None:
             object.__setattr__(self, "truth", str(self.truth))
 

@@ -48,11 +48,18 @@ from zmpkit.robots.robot import Robot
 from zmpkit.signals.steady_state import PLANES
 from zmpkit.sim.world import Simulation
 
-__all__ = ["LeanModel", "design_lean_model", "lean_angle", "lean_angle_joints"]
+__all__ = [
+    "LeanModel",
+    "design_lean_model",
+    "design_support_interval",
+    "lean_angle",
+    "lean_angle_joints",
+]
 
 _AXIS_INDEX = {"sagittal": 1, "frontal": 0}
 _LEVER_STEP_RAD = 1e-4
 _CLOSURE_BRACKET_RAD = 0.2
+_BOX = 6  # mujoco.mjtGeom.mjGEOM_BOX
 
 
 def _rotate(vec: NDArray[np.float64], angle: float) -> NDArray[np.float64]:
@@ -254,3 +261,32 @@ def _design_lean_model(source: str, plane: str) -> LeanModel:
 def lean_angle_joints(robot: str | Robot, plane: str) -> dict[str, float]:
     """:meth:`LeanModel.angle_joints` of ``robot``'s design model in ``plane``."""
     return design_lean_model(robot, plane).angle_joints()
+
+
+@cache
+def design_support_interval(robot: str, plane: str) -> tuple[float, float]:
+    """The support polygon of ``robot``'s design model standing, along ``plane``'s axis [m].
+
+    The extent of the soles (the box geoms that touch the floor, below the foot F-T sensors)
+    along x (sagittal) or y (frontal) in the world frame: a ZMP target outside it would lean
+    the robot off its feet.
+
+    Raises:
+        ParameterError: on an unknown robot or plane, naming the valid ones.
+    """
+    if plane not in PLANES:
+        raise ParameterError(f"plane must be one of {', '.join(PLANES)}; got {plane!r}")
+    sim = get_robot(robot, needs="balance").make_simulation("none")
+    m, d = sim.model, sim.data
+    column = 0 if plane == "sagittal" else 1
+    feet = set().union(
+        *(_subtree(m.body_parentid, int(m.site_bodyid[m.site(f.site).id])) for f in sim.robot.feet)
+    )
+    signs = np.array([[sx, sy, sz] for sx in (-1, 1) for sy in (-1, 1) for sz in (-1, 1)])
+    reach = []
+    for g in range(m.ngeom):
+        touches = m.geom_contype[g] or m.geom_conaffinity[g]
+        if int(m.geom_bodyid[g]) in feet and touches and m.geom_type[g] == _BOX:
+            corners = d.geom_xpos[g] + (signs * m.geom_size[g]) @ d.geom_xmat[g].reshape(3, 3).T
+            reach.extend(corners[:, column])
+    return float(min(reach)), float(max(reach))

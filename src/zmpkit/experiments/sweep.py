@@ -28,14 +28,28 @@ from zmpkit.experiments.dataset import (
     write_meta,
     write_trial_csv,
 )
-from zmpkit.experiments.lean import design_lean_model, lean_angle, lean_angle_joints
+from zmpkit.experiments.lean import (
+    design_lean_model,
+    design_support_interval,
+    lean_angle,
+    lean_angle_joints,
+)
 from zmpkit.experiments.trial import LeanController, StepTrialRecord, run_step_trial
 from zmpkit.robots.registry import get_robot
 
-__all__ = ["DEFAULT_WORKERS", "ProgressCallback", "check_sweep", "new_meta", "run_step_sweep"]
+__all__ = [
+    "DEFAULT_WORKERS",
+    "MAX_WORKERS",
+    "ProgressCallback",
+    "check_sweep",
+    "new_meta",
+    "run_step_sweep",
+]
 
 DEFAULT_WORKERS = 2
 """Processes that run trials in parallel by default."""
+MAX_WORKERS = 256
+"""Most parallel processes or threads a run may ask for."""
 _CONSISTENT_FIELDS: tuple[str, ...]
 _CONSISTENT_FIELDS = ("format", "robot", "plane", "effects", "seed", "settings", "joint_names")
 _CONSISTENT_FIELDS += ("sensor_mounts", "lean_length_m", "controller")
@@ -119,9 +133,24 @@ def _resume(folder: Path, meta: dict[str, Any]) -> list[dict[str, Any]]:
 
 
 def check_sweep(config: StepExperimentConfig) -> None:
-    """Fail before any work on a target out of reach or an unreadable truth file."""
+    """Fail before any work on a target out of reach or an unreadable truth file.
+
+    A target is in reach when it lies strictly inside the design model's support polygon
+    along the plane's axis (:func:`~zmpkit.experiments.lean.design_support_interval`) and a
+    lean reaches it.
+
+    Raises:
+        ParameterError: naming the first target out of reach and the reachable range.
+        InputFileError: on an unreadable truth file.
+    """
     length = design_lean_model(config.robot, config.plane).lean_length_m
+    low, high = design_support_interval(config.robot, config.plane)
     for target in config.targets_m:
+        if not low < target < high:
+            raise ParameterError(
+                f"ZMP target {target:g} m lies outside {config.robot}'s support polygon in the "
+                f"{config.plane} plane; reachable targets lie in ({low:g}, {high:g}) m"
+            )
         lean_angle(target, length)
     get_robot(config.robot).description(config.effects, config.truth)
 

@@ -12,7 +12,31 @@ from zmpkit.sim.effect_set import EffectSet
 from zmpkit.walking import GaitParameters, PatternConfig, WalkCommand
 from zmpkit.walking.walk_controllers import CONTROLLERS
 
-__all__ = ["WalkConfig"]
+__all__ = [
+    "CLAMPED_SPEED_FACTOR",
+    "MAX_WALK_DURATION_S",
+    "STEP_DURATION_RANGE_S",
+    "WalkConfig",
+    "max_walk_speed_mps",
+]
+
+STEP_DURATION_RANGE_S = (0.2, 2.0)
+"""Step durations a walk takes [s]: a small robot's fastest steps to a slow, deliberate gait."""
+MAX_WALK_DURATION_S = 3600.0
+"""Longest walking time [s]."""
+CLAMPED_SPEED_FACTOR = 2.0
+"""Commands up to this times the fastest unclamped speed are walked with shortened steps (a
+warning and ``clamped_step_limits``); faster ones are refused [-]."""
+
+
+def max_walk_speed_mps(step_duration_s: float, max_step_length_m: float) -> float:
+    """Fastest forward speed without clamping [m/s]: the longest step once per step [s].
+
+    A step of a walk at ``v`` [m/s] lands ``v * T`` ahead of the stance foot; beyond
+    ``max_step_length_m / T`` the planner shortens every step and the robot walks slower
+    than commanded.
+    """
+    return max_step_length_m / step_duration_s
 
 
 @dataclass(frozen=True)
@@ -21,9 +45,11 @@ class WalkConfig:
 
     Attributes:
         robot: the robot's registry name or ``robot.yaml`` path (it needs walking defaults).
-        speed_mps: commanded forward speed [m/s].
-        step_duration_s: one step [s].
-        duration_s: walking time [s] (plus standing before and after).
+        speed_mps: commanded forward speed [m/s], from 0 to :data:`CLAMPED_SPEED_FACTOR` times
+            :func:`max_walk_speed_mps` (beyond it once, steps are shortened: a warning).
+        step_duration_s: one step [s], in :data:`STEP_DURATION_RANGE_S`.
+        duration_s: walking time [s] (plus standing before and after), from one step to
+            :data:`MAX_WALK_DURATION_S`.
         effects: ``"all"``, ``"none"`` or letters such as ``"M,I,G,F"``.
         seed: seed of the sensor noise.
         com_height_m: CoM height of the pattern [m]; None: the robot's walking default.
@@ -56,17 +82,25 @@ class WalkConfig:
         walking = get_robot(self.robot, needs="walking").require_walking()
         if self.com_height_m is None:
             object.__setattr__(self, "com_height_m", walking.com_height_m)
-        _validate.finite("WalkConfig.speed_mps", self.speed_mps)
-        _validate.finite("WalkConfig.lateral_speed_mps", self.lateral_speed_mps)
-        _validate.finite("WalkConfig.turn_rate_rps", self.turn_rate_rps)
+        _validate.in_range(
+            "WalkConfig.step_duration_s", self.step_duration_s, *STEP_DURATION_RANGE_S, "s"
+        )
+        fastest = max_walk_speed_mps(self.step_duration_s, walking.max_step_length_m)
+        limit = round(CLAMPED_SPEED_FACTOR * fastest, 6)
+        _validate.in_range("WalkConfig.speed_mps (forward)", self.speed_mps, 0.0, limit, "m/s")
+        _validate.in_range(
+            "WalkConfig.lateral_speed_mps", self.lateral_speed_mps, -limit, limit, "m/s"
+        )
+        _validate.in_range("WalkConfig.turn_rate_rps", self.turn_rate_rps, -2.0, 2.0, "rad/s")
+        _validate.in_range(
+            "WalkConfig.duration_s", self.duration_s, self.step_duration_s, MAX_WALK_DURATION_S, "s"
+        )
         if self.controller not in CONTROLLERS:
             raise ParameterError(
                 f"controller must be one of {', '.join(CONTROLLERS)}; got {self.controller!r}"
             )
         object.__setattr__(self, "pushes", tuple(self.pushes))
         object.__setattr__(self, "faults", tuple(self.faults))
-        _validate.positive("WalkConfig.step_duration_s", self.step_duration_s, "s")
-        _validate.positive("WalkConfig.duration_s", self.duration_s, "s")
         _validate.positive("WalkConfig.com_height_m", self.com_height_m or 0.0, "m")
         if isinstance(self.seed, bool) or not isinstance(self.seed, int) or self.seed < 0:
             raise ParameterError(f"WalkConfig.seed must be an integer >= 0; got {self.seed!r}")

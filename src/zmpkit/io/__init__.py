@@ -3,8 +3,11 @@
 from zmpkit.io.feet import FOOT_NAMES, feet_from_mapping, read_feet_yaml
 from zmpkit.io.ft_log import (
     FT_LOG_COLUMNS,
+    MAX_PLAUSIBLE_FORCE_N,
+    MAX_PLAUSIBLE_MOMENT_NM,
     WRENCH_AXES,
     FtLog,
+    check_plausible,
     read_column_map,
     read_ft_log_csv,
 )
@@ -24,7 +27,7 @@ from zmpkit.io.yarp import (
 )
 from zmpkit.io.yarp_datalog import YarpDump, read_yarp_dump
 from zmpkit.io.yarp_imu import read_yarp_imu
-from zmpkit.io.zmp_csv import ZMP_CSV_COLUMNS, write_zmp_csv
+from zmpkit.io.zmp_csv import ZMP_CSV_COLUMNS, check_zmp_finite, write_zmp_csv
 
 __all__ = [
     "DEFAULT_MAX_GAP_PERIODS",
@@ -32,6 +35,8 @@ __all__ = [
     "FT_LOG_COLUMNS",
     "JR3_LEFT_FOOT_PORT",
     "JR3_RIGHT_FOOT_PORT",
+    "MAX_PLAUSIBLE_FORCE_N",
+    "MAX_PLAUSIBLE_MOMENT_NM",
     "SOURCE_KINDS",
     "TIME_SOURCES",
     "WRENCH_AXES",
@@ -43,6 +48,8 @@ __all__ = [
     "LogUnits",
     "RobotLog",
     "YarpDump",
+    "check_plausible",
+    "check_zmp_finite",
     "detect_source_kind",
     "feet_from_mapping",
     "find_yarp_dumps",

@@ -14,19 +14,30 @@ from __future__ import annotations
 
 import csv
 import math
+import re
 import warnings
 from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
-from typing import NoReturn
 
 import numpy as np
 from numpy.typing import NDArray
 
+from zmpkit._validate import list_some, shorten
 from zmpkit.errors import InputFileError
 from zmpkit.io.yaml_file import read_yaml_mapping
 
-__all__ = ["FT_LOG_COLUMNS", "WRENCH_AXES", "FtLog", "read_column_map", "read_ft_log_csv"]
+__all__ = [
+    "FT_LOG_COLUMNS",
+    "MAX_PLAUSIBLE_FORCE_N",
+    "MAX_PLAUSIBLE_MOMENT_NM",
+    "WRENCH_AXES",
+    "FtLog",
+    "check_plausible",
+    "column_names",
+    "read_column_map",
+    "read_ft_log_csv",
+]
 
 WRENCH_AXES = ("fx", "fy", "fz", "tx", "ty", "tz")
 FT_LOG_COLUMNS: tuple[str, ...] = (
@@ -34,6 +45,16 @@ FT_LOG_COLUMNS: tuple[str, ...] = (
     *(f"right_{a}" for a in WRENCH_AXES),
     *(f"left_{a}" for a in WRENCH_AXES),
 )
+MAX_PLAUSIBLE_FORCE_N = 1.0e5
+"""Largest force component a foot F-T sensor can plausibly report [N]: 100 kN, some 50
+times the range of a humanoid's ankle sensor (a JR3 reads up to ~2 kN). Beyond it a value is
+a unit, scaling or logging error, and a ZMP computed from it would be meaningless."""
+MAX_PLAUSIBLE_MOMENT_NM = 1.0e4
+"""Largest moment component a foot F-T sensor can plausibly report [N·m]: 10 kN·m (a JR3
+reads up to ~200 N·m)."""
+_ENCODING = "utf-8-sig"  # UTF-8, with or without the byte-order mark spreadsheets write
+_NUMBER = re.compile(r"^[+-]?(\d+(\.\d*)?|\.\d+)([eE][+-]?\d+)?$")
+_NON_FINITE = re.compile(r"^[+-]?(nan|inf|infinity)$", re.IGNORECASE)
 
 
 @dataclass(frozen=True)
@@ -58,11 +79,37 @@ class FtLog:
         return int(self.time.shape[0])
 
 
+def check_plausible(log: FtLog) -> FtLog:
+    """Return ``log`` if every force and moment lies within the plausible limits, else raise.
+
+    The limits are :data:`MAX_PLAUSIBLE_FORCE_N` and :data:`MAX_PLAUSIBLE_MOMENT_NM`, on
+    values in SI units (after any units file is applied).
+
+    Raises:
+        InputFileError: naming the log, the column, the sample (1-based) and its time.
+    """
+    for foot, wrench in (("right", log.right_wrench), ("left", log.left_wrench)):
+        for j, axis in enumerate(WRENCH_AXES):
+            force = j < 3
+            limit = MAX_PLAUSIBLE_FORCE_N if force else MAX_PLAUSIBLE_MOMENT_NM
+            bad = np.flatnonzero(~(np.abs(wrench[:, j]) <= limit))
+            if bad.size:
+                k, unit = int(bad[0]), "N" if force else "N·m"
+                raise InputFileError(
+                    log.source,
+                    f"{wrench[k, j]:.4g} {unit} at sample {k + 1} (t = {log.time[k]:g} s) is "
+                    f"beyond the plausible ±{limit:g} {unit} of a foot F-T sensor",
+                    column=f"{foot}_{axis}",
+                )
+    return log
+
+
 def read_column_map(path: str | Path) -> dict[str, str]:
     """Read a column-map YAML: ``canonical_name: header_in_file`` per line.
 
     Raises:
-        InputFileError: an unknown canonical name (the valid ones are listed) or a non-string.
+        InputFileError: an unknown canonical name (the valid ones are listed), a non-string,
+            or two names sent to one header (naming both).
     """
     path = Path(path)
     data = read_yaml_mapping(path)
@@ -70,30 +117,58 @@ def read_column_map(path: str | Path) -> dict[str, str]:
     for key, value in data.items():
         if key not in FT_LOG_COLUMNS:
             raise InputFileError(
-                path, f"unknown column {key!r}; valid names: {', '.join(FT_LOG_COLUMNS)}"
+                path,
+                f"unknown column {shorten(key)}; valid names: {list_some(FT_LOG_COLUMNS, 4)}",
             )
         if not isinstance(value, str) or not value:
-            raise InputFileError(path, f"column {key!r} must map to a header name, got {value!r}")
+            raise InputFileError(
+                path, f"column {key!r} must map to a header name, got {shorten(value)}"
+            )
         mapping[key] = value
+    column_names(mapping, path)
     return mapping
+
+
+def column_names(column_map: Mapping[str, str] | None, source: str | Path) -> dict[str, str]:
+    """The header name of every canonical column: ``column_map``'s, else its own.
+
+    Raises:
+        InputFileError: two canonical columns would read one header (naming ``source``,
+            both columns and the header): the map is ambiguous.
+    """
+    names = {c: (column_map or {}).get(c, c) for c in FT_LOG_COLUMNS}
+    seen: dict[str, str] = {}
+    for canonical, header in names.items():
+        if header in seen:
+            raise InputFileError(
+                source,
+                f"ambiguous column map: both '{seen[header]}' and '{canonical}' read the "
+                f"header {shorten(header)}; each column needs its own header",
+            )
+        seen[header] = canonical
+    return names
 
 
 def read_ft_log_csv(path: str | Path, column_map: Mapping[str, str] | None = None) -> FtLog:
     """Read an F-T log CSV into an :class:`FtLog`.
+
+    The file may start with a UTF-8 byte-order mark (as spreadsheet programs write it) and
+    may quote its cells (``"0.5"``).
 
     Args:
         path: the CSV file, comma separated, one header line.
         column_map: ``{canonical: header}`` for columns whose header differs.
 
     Raises:
-        InputFileError: empty file, missing column, short row, non-numeric or non-finite cell,
-            or time not strictly increasing — naming the line and column.
+        InputFileError: empty file, missing or duplicated column, ambiguous column map,
+            short row, non-numeric or non-finite cell, or time not strictly increasing —
+            naming the line and column.
     """
     path = Path(path)
     header = _read_header(path)
-    names = {c: (column_map or {}).get(c, c) for c in FT_LOG_COLUMNS}
+    names = column_names(column_map, path)
     index = _column_indices(path, header, names)
-    values = _load_numeric(path, header, index, names)
+    values = _load_numeric(path, header, index)
     _check_time(path, values[:, 0], names["time"])
     return FtLog(
         time=values[:, 0].copy(),
@@ -105,17 +180,33 @@ def read_ft_log_csv(path: str | Path, column_map: Mapping[str, str] | None = Non
 
 def _read_header(path: Path) -> list[str]:
     try:
-        with path.open(newline="", encoding="utf-8") as f:
+        with path.open(newline="", encoding=_ENCODING) as f:
             first = next(csv.reader(f), None)
     except FileNotFoundError:
         raise InputFileError(path, "file not found") from None
-    except (OSError, UnicodeDecodeError) as exc:
-        raise InputFileError(path, f"cannot be read as UTF-8 text ({exc})") from None
+    except (OSError, UnicodeDecodeError, csv.Error) as exc:
+        raise InputFileError(path, f"cannot be read as UTF-8 CSV text ({exc})") from None
     if not first or not any(cell.strip() for cell in first):
         raise InputFileError(
-            path, f"empty file; expected a header line with columns {', '.join(FT_LOG_COLUMNS)}"
+            path,
+            f"empty file; expected a header line with columns {list_some(FT_LOG_COLUMNS, 4)}",
         )
-    return [cell.strip() for cell in first]
+    header = [cell.strip() for cell in first]
+    _check_unique(path, header)
+    return header
+
+
+def _check_unique(path: Path, header: list[str]) -> None:
+    seen: dict[str, int] = {}
+    for k, name in enumerate(header, start=1):
+        if name and name in seen:
+            raise InputFileError(
+                path,
+                f"the header names {shorten(name)} twice (columns {seen[name]} and {k}); "
+                "each column needs its own name",
+                row=1,
+            )
+        seen[name] = k
 
 
 def _column_indices(path: Path, header: list[str], names: Mapping[str, str]) -> list[int]:
@@ -126,16 +217,15 @@ def _column_indices(path: Path, header: list[str], names: Mapping[str, str]) -> 
             renamed = f" (mapped from '{canonical}')" if wanted != canonical else ""
             raise InputFileError(
                 path,
-                f"missing column '{wanted}'{renamed}; the header has: {', '.join(header)}",
+                f"missing column {shorten(wanted)}{renamed}; the header has: "
+                f"{list_some(header, 4)}",
                 row=1,
             )
         index.append(header.index(wanted))
     return index
 
 
-def _load_numeric(
-    path: Path, header: list[str], index: list[int], names: Mapping[str, str]
-) -> NDArray[np.float64]:
+def _load_numeric(path: Path, header: list[str], index: list[int]) -> NDArray[np.float64]:
     """Parse the selected columns; on any problem, rescan row by row to name it exactly."""
     try:
         with warnings.catch_warnings():
@@ -148,48 +238,60 @@ def _load_numeric(
                 dtype=np.float64,
                 ndmin=2,
                 comments=None,
+                quotechar='"',
+                encoding=_ENCODING,
             )
-    except (ValueError, IndexError):
+    except (ValueError, IndexError, UnicodeDecodeError):
         values = None
     if values is None or values.shape[1] != len(index) or not np.all(np.isfinite(values)):
-        _raise_first_bad_cell(path, header, index)
+        values = _parse_rows(path, header, index)
     if values.shape[0] == 0:
         raise InputFileError(path, "no data rows after the header; expected at least one sample")
     return values
 
 
-def _raise_first_bad_cell(path: Path, header: list[str], index: list[int]) -> NoReturn:
-    with path.open(newline="", encoding="utf-8") as f:
-        reader = csv.reader(f)
-        next(reader)
-        for line_no, row in enumerate(reader, start=2):
-            if not row or not any(cell.strip() for cell in row):
-                continue
-            if len(row) < len(header):
-                raise InputFileError(
-                    path, f"row has {len(row)} cells, the header has {len(header)}", row=line_no
-                )
-            for i in index:
-                _check_cell(path, line_no, header[i], row[i])
-    raise InputFileError(path, "could not be parsed as numeric CSV")
-
-
-def _check_cell(path: Path, line_no: int, column: str, cell: str) -> None:
+def _parse_rows(path: Path, header: list[str], index: list[int]) -> NDArray[np.float64]:
+    """Parse row by row with the csv module; raise at the first bad row or cell."""
+    rows: list[list[float]] = []
     try:
-        x = float(cell)
+        with path.open(newline="", encoding=_ENCODING) as f:
+            reader = csv.reader(f)
+            next(reader)
+            for line_no, row in enumerate(reader, start=2):
+                if not row or not any(cell.strip() for cell in row):
+                    continue
+                if len(row) < len(header):
+                    raise InputFileError(
+                        path,
+                        f"row has {len(row)} cells, the header has {len(header)}",
+                        row=line_no,
+                    )
+                rows.append([_cell(path, line_no, header[i], row[i]) for i in index])
+    except (UnicodeDecodeError, csv.Error) as exc:
+        raise InputFileError(path, f"cannot be read as UTF-8 CSV text ({exc})") from None
+    return np.array(rows, dtype=np.float64).reshape(len(rows), len(index))
+
+
+def _cell(path: Path, line_no: int, column: str, cell: str) -> float:
+    text = cell.strip()
+    try:
+        x = float(text) if _NUMBER.match(text) or _NON_FINITE.match(text) else None
     except ValueError:
+        x = None
+    if x is None:
         raise InputFileError(
-            path, f"expected a number, got {cell.strip()!r}", row=line_no, column=column
-        ) from None
+            path, f"expected a number, got {shorten(text)}", row=line_no, column=column
+        )
     if not math.isfinite(x):
         raise InputFileError(
-            path, f"expected a finite number, got {cell.strip()!r}", row=line_no, column=column
+            path, f"expected a finite number, got {shorten(text)}", row=line_no, column=column
         )
+    return x
 
 
 def _check_time(path: Path, time: NDArray[np.float64], column: str) -> None:
     steps = np.diff(time)
-    bad = np.flatnonzero(steps <= 0.0)
+    bad = np.flatnonzero(~(steps > 0.0))
     if bad.size:
         k = int(bad[0]) + 1
         raise InputFileError(

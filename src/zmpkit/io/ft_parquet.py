@@ -16,8 +16,9 @@ import pyarrow as pa
 import pyarrow.parquet as pq
 from numpy.typing import NDArray
 
+from zmpkit._validate import list_some, shorten
 from zmpkit.errors import InputFileError
-from zmpkit.io.ft_log import FT_LOG_COLUMNS, FtLog
+from zmpkit.io.ft_log import FT_LOG_COLUMNS, FtLog, column_names
 
 __all__ = ["read_ft_log_parquet"]
 
@@ -35,7 +36,7 @@ def read_ft_log_parquet(path: str | Path, column_map: Mapping[str, str] | None =
             and row.
     """
     path = Path(path)
-    names = {c: (column_map or {}).get(c, c) for c in FT_LOG_COLUMNS}
+    names = column_names(column_map, path)
     table = _read_table(path)
     _check_columns(path, table.column_names, names)
     values = np.column_stack(
@@ -67,7 +68,8 @@ def _check_columns(path: Path, present: list[str], names: Mapping[str, str]) -> 
         if wanted not in present:
             renamed = f" (mapped from '{canonical}')" if wanted != canonical else ""
             raise InputFileError(
-                path, f"missing column '{wanted}'{renamed}; the file has: {', '.join(present)}"
+                path,
+                f"missing column {shorten(wanted)}{renamed}; the file has: {list_some(present, 4)}",
             )
         if present.count(wanted) > 1:
             raise InputFileError(path, f"column '{wanted}' appears {present.count(wanted)} times")
@@ -78,7 +80,7 @@ def _column(path: Path, column: pa.ChunkedArray, name: str) -> NDArray[np.float6
     if not (pa.types.is_integer(kind) or pa.types.is_floating(kind)):
         first = next((v for v in column.to_pylist() if v is not None), None)
         raise InputFileError(
-            path, f"expected a number, got {first!r} (column type {kind})", column=name
+            path, f"expected a number, got {shorten(first)} (column type {kind})", column=name
         )
     if column.null_count:
         row = column.to_pylist().index(None) + 1

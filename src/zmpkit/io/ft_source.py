@@ -22,7 +22,7 @@ from collections.abc import Mapping, Sequence
 from pathlib import Path
 
 from zmpkit.errors import InputFileError, ParameterError
-from zmpkit.io.ft_log import FtLog, read_column_map, read_ft_log_csv
+from zmpkit.io.ft_log import FtLog, check_plausible, read_column_map, read_ft_log_csv
 from zmpkit.io.ft_parquet import read_ft_log_parquet
 from zmpkit.io.log_units import LogUnits, read_log_units
 from zmpkit.io.robot_log import RobotLog
@@ -99,7 +99,8 @@ def read_robot_source(
         max_gap_s: longest gap [s] interpolated across when streams are joined on one clock.
 
     Raises:
-        InputFileError: anything wrong with the file, naming file and line/topic/column.
+        InputFileError: anything wrong with the file, naming file and line/topic/column, or
+            a force or moment beyond the plausible limits of :func:`~zmpkit.io.check_plausible`.
         ParameterError: an option that does not apply to this kind of source.
     """
     path = Path(path)
@@ -130,9 +131,10 @@ def read_robot_source(
         log = _read_bag(
             path, right_topic, left_topic, joint_topic, imu_topic, time_source, max_gap_s
         )
-    if units is None:
-        return log
-    return (units if isinstance(units, LogUnits) else read_log_units(units)).apply(log)
+    if units is not None:
+        log = (units if isinstance(units, LogUnits) else read_log_units(units)).apply(log)
+    check_plausible(log.ft)
+    return log
 
 
 def read_ft_source(

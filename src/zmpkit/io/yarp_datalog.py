@@ -188,8 +188,8 @@ def _parse_lines(
         if stamps and line_stamps[pick] <= stamps[-1]:
             raise InputFileError(
                 path,
-                f"stamps must be strictly increasing, but {line_stamps[pick]:.6f} s follows "
-                f"{stamps[-1]:.6f} s",
+                f"stamps must be strictly increasing, but {_stamp(line_stamps[pick])} s "
+                f"follows {_stamp(stamps[-1])} s",
                 row=no,
             )
         if not rows:
@@ -262,8 +262,13 @@ def _number(path: Path, no: int, what: str, token: str) -> float:
             path, f"{what}: expected a number, got {token[:30]!r}", row=no
         ) from None
     if not math.isfinite(x):
-        raise InputFileError(path, f"{what}: expected a finite number, got {token!r}", row=no)
+        raise InputFileError(path, f"{what}: expected a finite number, got {token[:30]!r}", row=no)
     return x
+
+
+def _stamp(seconds: float) -> str:
+    """A stamp [s] for a message: microseconds shown, but never hundreds of digits."""
+    return f"{seconds:.6f}" if abs(seconds) < 1e12 else f"{seconds:.6g}"
 
 
 def _flatten(path: Path, no: int, line: str) -> list[str]:

@@ -245,10 +245,12 @@ def run_identify_sim(
         FitInterruptedError: on Ctrl-C, naming the checkpoint to resume from.
     """
     out = Path(out_dir)
-    out.mkdir(parents=True, exist_ok=True)
     params = config.fit_parameters()
     base_doc = load_truth_doc(base_truth_path(config.robot, config.truth))
-    fit_exps, held_exps, truth = _experiments(config, base_doc, params, out)
+    # Recorded experiments are read before the output folder exists: bad input leaves none.
+    recorded = None if config.self_test else _experiments(config, base_doc, params, out)
+    out.mkdir(parents=True, exist_ok=True)
+    fit_exps, held_exps, truth = recorded or _experiments(config, base_doc, params, out)
     problem = FitProblem(
         config.robot, config.sim_effects, params, base_doc, tuple(fit_exps), config.weights
     )

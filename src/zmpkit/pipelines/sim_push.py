@@ -15,6 +15,9 @@ from zmpkit.analysis.zmp_steps_plot import ZmpStepCurve, plot_zmp_steps
 from zmpkit.errors import ParameterError
 from zmpkit.experiments import (
     DEFAULT_WORKERS,
+    MAX_HOLD_S,
+    MAX_PUSH_DURATION_S,
+    MAX_PUSH_FORCE_N,
     PushConfig,
     StepDataset,
     StepExperimentConfig,
@@ -107,10 +110,19 @@ def _effects(text: str) -> str:
 def _push(force: float | None, duration: float | None) -> PushConfig | None:
     if force is None and duration is None:
         return None
-    if force is None or duration is None or not duration > 0:
+    if force is None or duration is None:
         raise ParameterError(
-            "--push-force N and --push-duration S go together, with S > 0 [s]; "
+            "--push-force N and --push-duration S go together; "
             f"got --push-force {force} --push-duration {duration}"
+        )
+    if not abs(force) <= MAX_PUSH_FORCE_N:
+        raise ParameterError(
+            f"--push-force expects a force in [-{MAX_PUSH_FORCE_N:g}, {MAX_PUSH_FORCE_N:g}] N; "
+            f"got {force}"
+        )
+    if not 0 < duration <= MAX_PUSH_DURATION_S:
+        raise ParameterError(
+            f"--push-duration expects a duration in (0, {MAX_PUSH_DURATION_S:g}] s; got {duration}"
         )
     return PushConfig(force, duration)
 
@@ -133,8 +145,8 @@ def sim_push_config(
         ParameterError: naming the option and the form it expects.
     """
     extra = {} if hold is None else {"hold_s": hold}
-    if hold is not None and not hold > 0:
-        raise ParameterError(f"--hold expects a duration > 0 [s]; got {hold}")
+    if hold is not None and not 0 < hold <= MAX_HOLD_S:
+        raise ParameterError(f"--hold expects a duration in (0, {MAX_HOLD_S:g}] s; got {hold}")
     if seed < 0:
         raise ParameterError(f"--seed expects an integer >= 0; got {seed}")
     config = StepExperimentConfig(

@@ -43,6 +43,12 @@ from zmpkit.compensate.offsets import OFFSET_SHAPES, OffsetParameters
 from zmpkit.compensate.summary import CompensationSummary, summary_of
 from zmpkit.compensate.tuning import TuningResult, prior_from_offset, tune_offset
 from zmpkit.errors import ParameterError
+from zmpkit.experiments import MAX_WORKERS
+from zmpkit.experiments.walk_config import (
+    CLAMPED_SPEED_FACTOR,
+    STEP_DURATION_RANGE_S,
+    max_walk_speed_mps,
+)
 from zmpkit.robots.registry import DEFAULT_WALK_ROBOT, get_robot
 from zmpkit.robots.truth_variant import truth_variant
 from zmpkit.sim.effect_set import EffectSet
@@ -125,9 +131,21 @@ class CompensateConfig:
     def __post_init__(self) -> None:
         if self.method not in METHODS:
             raise ParameterError(f"method must be one of {', '.join(METHODS)}; got {self.method!r}")
-        get_robot(self.robot, needs="walking")
-        _validate.positive("CompensateConfig.speed_mps", self.speed_mps, "m/s")
-        _validate.positive("CompensateConfig.step_duration_s", self.step_duration_s, "s")
+        walking = get_robot(self.robot, needs="walking").require_walking()
+        _validate.in_range(
+            "CompensateConfig.step_duration_s", self.step_duration_s, *STEP_DURATION_RANGE_S, "s"
+        )
+        fastest = max_walk_speed_mps(self.step_duration_s, walking.max_step_length_m)
+        limit = round(CLAMPED_SPEED_FACTOR * fastest, 6)
+        if not 0.0 < _validate.finite("CompensateConfig.speed_mps", self.speed_mps) <= limit:
+            raise ParameterError(
+                f"CompensateConfig.speed_mps must lie in (0, {limit:g}] m/s, "
+                f"got {self.speed_mps:g} m/s"
+            )
+        if not 1 <= self.workers <= MAX_WORKERS:
+            raise ParameterError(
+                f"CompensateConfig.workers must lie in [1, {MAX_WORKERS}]; got {self.workers}"
+            )
         for name in ("workers", "iterations"):
             if getattr(self, name) < 1:
                 raise ParameterError(

@@ -7,7 +7,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from zmpkit.analysis.zmp_plot import plot_zmp_series
-from zmpkit.io import read_feet_yaml, read_ft_source, write_zmp_csv
+from zmpkit.io import check_zmp_finite, read_feet_yaml, read_ft_source, write_zmp_csv
 from zmpkit.sensors import CONTACT_FORCE_THRESHOLD_N, SensorMount, ZmpSeries, zmp_series
 
 __all__ = ["ZmpRunResult", "run_zmp_log"]
@@ -51,12 +51,17 @@ def run_zmp_log(
         feet: sensor mounts per foot; or give ``feet_path`` (FEET.yaml) instead.
         feet_path: FEET.yaml with both feet's sensor poses.
         columns_path: optional column-map YAML ``{canonical: header}`` (CSV, Parquet).
-        contact_threshold_n: minimum world F_z for a foot to count as in contact [N].
+        contact_threshold_n: minimum world F_z for a foot to count as in contact [N], in
+            :data:`zmpkit.sensors.CONTACT_THRESHOLD_RANGE_N`.
         right_topic: the right foot's WrenchStamped topic (bags) or port (YARP).
         left_topic: the left foot's WrenchStamped topic (bags) or port (YARP).
         units_path: optional units YAML (:func:`zmpkit.io.read_log_units`): axis order,
             signs, units and mounting rotation of each sensor.
         time_source: "header" (sensor stamps, default) or "receive" (bags, YARP).
+
+    Every input is read and the ZMP computed (and checked finite) before ``out_dir`` is
+    created, so a run that fails on its inputs leaves nothing behind. A figure that cannot be
+    drawn is a :class:`~zmpkit.errors.FigureWarning` and a placeholder image, not an error.
     """
     if (feet is None) == (feet_path is None):
         raise ValueError("give exactly one of feet and feet_path")
@@ -81,6 +86,7 @@ def run_zmp_log(
         mounts["left"],
         contact_threshold_n=contact_threshold_n,
     )
+    check_zmp_finite(series)
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     csv_path = write_zmp_csv(series, out / "zmp.csv")

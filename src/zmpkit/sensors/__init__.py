@@ -23,10 +23,12 @@ from zmpkit.sensors.fast import DoubleSupportZmp
 from zmpkit.sensors.mount import ROTATION_TOLERANCE, SensorMount, rpy_to_matrix
 from zmpkit.sensors.zmp import (
     CONTACT_FORCE_THRESHOLD_N,
+    CONTACT_THRESHOLD_RANGE_N,
     CombinedZmp,
     FootZmp,
     ZmpSeries,
     combined_zmp,
+    contact_threshold,
     foot_zmp,
     moment_coefficients,
     zmp_series,
@@ -34,6 +36,7 @@ from zmpkit.sensors.zmp import (
 
 __all__ = [
     "CONTACT_FORCE_THRESHOLD_N",
+    "CONTACT_THRESHOLD_RANGE_N",
     "FORCE_UNIT_SCALE",
     "MOMENT_UNIT_SCALE",
     "ROTATION_TOLERANCE",
@@ -44,6 +47,7 @@ __all__ = [
     "WrenchCalibration",
     "ZmpSeries",
     "combined_zmp",
+    "contact_threshold",
     "foot_zmp",
     "moment_coefficients",
     "remove_zmp_offset",

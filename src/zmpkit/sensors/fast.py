@@ -25,9 +25,8 @@ from typing import cast
 import numpy as np
 from numpy.typing import NDArray
 
-from zmpkit._validate import positive
 from zmpkit.sensors.mount import SensorMount
-from zmpkit.sensors.zmp import CONTACT_FORCE_THRESHOLD_N, moment_coefficients
+from zmpkit.sensors.zmp import CONTACT_FORCE_THRESHOLD_N, contact_threshold, moment_coefficients
 
 __all__ = ["DoubleSupportZmp"]
 
@@ -103,7 +102,8 @@ class DoubleSupportZmp:
     Args:
         right: right sensor mount.
         left: left sensor mount.
-        contact_threshold_n: minimum world F_z for a foot to be in contact [N], > 0.
+        contact_threshold_n: minimum world F_z for a foot to be in contact [N], in
+            :data:`~zmpkit.sensors.zmp.CONTACT_THRESHOLD_RANGE_N`.
 
     Attributes:
         compute: the generated function behind ``__call__``; bind it to a local in a hot loop
@@ -123,7 +123,7 @@ class DoubleSupportZmp:
     _contacts: ContactsFunction = field(init=False, repr=False)
 
     def __post_init__(self) -> None:
-        threshold_n = positive("contact_threshold_n", self.contact_threshold_n, "N")
+        threshold_n = contact_threshold(self.contact_threshold_n)
         object.__setattr__(self, "contact_threshold_n", threshold_n)
         # Each coefficient becomes a literal in generated code (LOAD_CONST) instead of an
         # attribute or array lookup: an attribute lookup costs ~30 ns, a numpy element access

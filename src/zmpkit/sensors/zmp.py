@@ -47,16 +47,18 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from zmpkit._validate import finite_array, positive
+from zmpkit._validate import finite_array, in_range
 from zmpkit.errors import ParameterError
 from zmpkit.sensors.mount import SensorMount
 
 __all__ = [
     "CONTACT_FORCE_THRESHOLD_N",
+    "CONTACT_THRESHOLD_RANGE_N",
     "CombinedZmp",
     "FootZmp",
     "ZmpSeries",
     "combined_zmp",
+    "contact_threshold",
     "foot_zmp",
     "moment_coefficients",
     "zmp_in_world",
@@ -66,6 +68,21 @@ __all__ = [
 
 CONTACT_FORCE_THRESHOLD_N = 10.0
 """A foot is in contact when its world-frame vertical force is at least this [N]."""
+CONTACT_THRESHOLD_RANGE_N = (0.01, 10_000.0)
+"""Sane contact thresholds [N]: from 1 gram-force (a small robot's lightest touch) to 10 kN.
+
+Below it an F-T sensor's noise would decide contact (and a ZMP divides by a vanishing
+``F_z``); above it no humanoid's foot would ever touch."""
+
+
+def contact_threshold(value: float, name: str = "contact_threshold_n") -> float:
+    """``value`` as a float if it is a sane contact threshold [N], else raise naming ``name``.
+
+    Raises:
+        ParameterError: a value outside :data:`CONTACT_THRESHOLD_RANGE_N` or non-finite.
+    """
+    low, high = CONTACT_THRESHOLD_RANGE_N
+    return in_range(name, value, low, high, "N")
 
 
 def moment_coefficients(mount: SensorMount) -> NDArray[np.float64]:
@@ -220,12 +237,13 @@ def foot_zmp(
         wrench: sensor-frame wrench (F_x, F_y, F_z, τ_x, τ_y, τ_z) [N, N·m], shape (N, 6),
             or (6,) for one sample (the results then have no sample axis).
         mount: the sensor's pose and height above the sole.
-        contact_threshold_n: minimum world F_z for contact [N], > 0.
+        contact_threshold_n: minimum world F_z for contact [N], in
+            :data:`CONTACT_THRESHOLD_RANGE_N`.
 
     Returns:
         The CoP, NaN where not in contact, with ``fz`` and the ``contact`` mask.
     """
-    threshold_n = positive("contact_threshold_n", contact_threshold_n, "N")
+    threshold_n = contact_threshold(contact_threshold_n)
     arr = _float_array("wrench", wrench)
     single = arr.shape == (6,)
     if not single and (arr.ndim != 2 or arr.shape[1] != 6):
@@ -263,12 +281,13 @@ def combined_zmp(
     Args:
         wrenches: per foot, the sensor-frame wrench [N, N·m], each of shape (N, 6).
         mounts: per foot, its sensor mount; same length as ``wrenches``.
-        contact_threshold_n: minimum world F_z for contact [N], > 0.
+        contact_threshold_n: minimum world F_z for contact [N], in
+            :data:`CONTACT_THRESHOLD_RANGE_N`.
 
     Returns:
         ZMP (NaN where undefined), the ``defined`` mask, and each foot's F_z and contact.
     """
-    threshold_n = positive("contact_threshold_n", contact_threshold_n, "N")
+    threshold_n = contact_threshold(contact_threshold_n)
     if len(wrenches) != len(mounts) or len(mounts) == 0:
         raise ParameterError(
             "wrenches and mounts must have the same length >= 1, "
@@ -300,15 +319,17 @@ def zmp_series(
         left_wrench: left sensor-frame wrench [N, N·m], shape (N, 6).
         right: right sensor mount.
         left: left sensor mount.
-        contact_threshold_n: minimum world F_z for a foot to be in contact [N], > 0.
+        contact_threshold_n: minimum world F_z for a foot to be in contact [N], in
+            :data:`CONTACT_THRESHOLD_RANGE_N`.
 
     Returns:
         The series; ``zmp`` is NaN exactly where ``defined`` is False (no foot in contact).
 
     Raises:
-        ParameterError: on a wrong shape, a non-finite value or a threshold <= 0.
+        ParameterError: on a wrong shape, a non-finite value or a threshold outside
+            :data:`CONTACT_THRESHOLD_RANGE_N`.
     """
-    threshold_n = positive("contact_threshold_n", contact_threshold_n, "N")
+    threshold_n = contact_threshold(contact_threshold_n)
     time_s = finite_array("time", time, (None,))
     n = time_s.shape[0]
     wrenches = [
@@ -340,12 +361,13 @@ def zmp_in_world(
         force_in_world: force of each foot [N], shape (N, F, 3).
         moment_in_world: moment about each sensor origin [N·m], shape (N, F, 3).
         sensor_in_world: sensor origins [m], shape (N, F, 3).
-        contact_threshold_n: minimum world F_z for contact [N], > 0.
+        contact_threshold_n: minimum world F_z for contact [N], in
+            :data:`CONTACT_THRESHOLD_RANGE_N`.
 
     Returns:
         The ZMP [m], shape (N, 2); NaN where no foot is in contact.
     """
-    threshold_n = positive("contact_threshold_n", contact_threshold_n, "N")
+    threshold_n = contact_threshold(contact_threshold_n)
     fx, fy, fz = (force_in_world[..., i] for i in range(3))
     tx, ty = moment_in_world[..., 0], moment_in_world[..., 1]
     ox, oy, oz = (sensor_in_world[..., i] for i in range(3))

@@ -15,6 +15,7 @@ from typing import Any, TypeVar
 import yaml
 
 from zmpkit.errors import InputFileError, ZmpkitError
+from zmpkit.io.yaml_file import load_yaml, yaml_error
 from zmpkit.sim.effects import FlexJoint
 
 __all__ = ["flex_joint", "parse_truth_doc", "read_truth_file", "section", "vector3"]
@@ -30,9 +31,13 @@ def read_truth_file(path: Path, parse: Callable[[Mapping[str, Any], Path], T]) -
             invalid (the parser's error, with the file named).
     """
     try:
-        doc = yaml.safe_load(path.read_text(encoding="utf-8"))
-    except (OSError, yaml.YAMLError) as exc:
-        raise InputFileError(path, f"cannot read the truth file: {exc}") from None
+        doc = load_yaml(path.read_text(encoding="utf-8"))
+    except FileNotFoundError:
+        raise InputFileError(path, "truth file not found") from None
+    except (OSError, UnicodeDecodeError) as exc:
+        raise InputFileError(path, f"cannot read the truth file as UTF-8 text ({exc})") from None
+    except yaml.YAMLError as exc:
+        raise yaml_error(path, exc) from None
     return parse_truth_doc(doc, path, parse)
 
 

@@ -22,6 +22,7 @@ from typing import Any, TypeAlias
 import yaml
 
 from zmpkit.errors import InputFileError, ParameterError
+from zmpkit.io.yaml_file import load_yaml, yaml_error
 from zmpkit.robots.registry import get_robot
 from zmpkit.simfit.parameters import FitParameter, ParameterValues
 
@@ -122,9 +123,13 @@ def load_truth_doc(path: str | Path) -> dict[str, Any]:
         InputFileError: if it cannot be read or is not a mapping.
     """
     try:
-        doc = yaml.safe_load(Path(path).read_text(encoding="utf-8"))
-    except (OSError, yaml.YAMLError) as exc:
-        raise InputFileError(path, f"cannot read the truth file: {exc}") from None
+        doc = load_yaml(Path(path).read_text(encoding="utf-8"))
+    except FileNotFoundError:
+        raise InputFileError(path, "truth file not found") from None
+    except (OSError, UnicodeDecodeError) as exc:
+        raise InputFileError(path, f"cannot read the truth file as UTF-8 text ({exc})") from None
+    except yaml.YAMLError as exc:
+        raise yaml_error(Path(path), exc) from None
     if not isinstance(doc, dict):
         raise InputFileError(path, "expected a mapping of sections at the top level")
     return doc
