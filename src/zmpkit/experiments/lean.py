@@ -37,18 +37,21 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 from functools import cache
+from typing import Protocol
 
 import numpy as np
 from numpy.typing import NDArray
 from scipy.optimize import brentq
 
 from zmpkit.errors import ParameterError
+from zmpkit.experiments.whole_body_lean import whole_body_lean
 from zmpkit.robots.registry import get_robot
 from zmpkit.robots.robot import Robot
 from zmpkit.signals.steady_state import PLANES
 from zmpkit.sim.world import Simulation
 
 __all__ = [
+    "Lean",
     "LeanModel",
     "design_lean_model",
     "design_support_interval",
@@ -60,6 +63,28 @@ _AXIS_INDEX = {"sagittal": 1, "frontal": 0}
 _LEVER_STEP_RAD = 1e-4
 _CLOSURE_BRACKET_RAD = 0.2
 _BOX = 6  # mujoco.mjtGeom.mjGEOM_BOX
+
+
+class Lean(Protocol):
+    """A robot's static lean in one plane: :class:`LeanModel` or a whole-body IK lean."""
+
+    @property
+    def plane(self) -> str:
+        """``"sagittal"`` or ``"frontal"``."""
+        ...
+
+    @property
+    def lean_length_m(self) -> float:
+        """The lean's pendulum length l_lean [m]."""
+        ...
+
+    def joint_targets(self, angle_rad: float) -> dict[str, float]:
+        """Joint angles [rad] that lean the design robot by ``angle_rad`` [rad]."""
+        ...
+
+    def angle_joints(self) -> dict[str, float]:
+        """The pivot joints and the signs that measure the lean angle [-]."""
+        ...
 
 
 def _rotate(vec: NDArray[np.float64], angle: float) -> NDArray[np.float64]:
@@ -221,10 +246,12 @@ def _anchors(sim: Simulation, joints: tuple[str, str], plane: str) -> NDArray[np
     return np.array([[d.xanchor[i, column], d.xanchor[i, 2]] for i in ids])
 
 
-def design_lean_model(robot: str | Robot, plane: str) -> LeanModel:
+def design_lean_model(robot: str | Robot, plane: str) -> Lean:
     """The lean of ``robot``'s design model in ``plane``: joints, linkage, lean length (cached).
 
     The design model is the rigid MJCF (effects ``"none"``, shipped parameters) standing upright.
+    A robot whose balance model says ``lean="whole_body"`` gets the whole-body IK lean of
+    :mod:`zmpkit.experiments.whole_body_lean`; the others the ankle strategy (:class:`LeanModel`).
 
     Args:
         robot: a robot, or its name or ``robot.yaml`` path.
@@ -240,9 +267,11 @@ def design_lean_model(robot: str | Robot, plane: str) -> LeanModel:
 
 
 @cache
-def _design_lean_model(source: str, plane: str) -> LeanModel:
+def _design_lean_model(source: str, plane: str) -> Lean:
     robot = get_robot(source)
     balance = robot.require_balance()
+    if balance.lean == "whole_body":
+        return whole_body_lean(robot, plane)
     pivots, hip_rolls = balance.lean_joints[plane], balance.hip_roll_joints
     sim = robot.make_simulation("none")
     m, d = sim.model, sim.data

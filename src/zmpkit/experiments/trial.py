@@ -25,7 +25,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from zmpkit.experiments.config import PushConfig, StepExperimentConfig
-from zmpkit.experiments.lean import LeanModel, design_lean_model, lean_angle
+from zmpkit.experiments.lean import Lean, design_lean_model, lean_angle
 from zmpkit.robots.registry import get_robot
 from zmpkit.signals import PLANES
 from zmpkit.signals.time_series import Signal, TimeSeries
@@ -125,11 +125,16 @@ class _LeanStream:
 
     The joint targets are tabulated over ``±angle_range_rad`` once; the lean angle follows
     its target through the servo's velocity and acceleration limits, scaled so no leaning
-    joint exceeds them.
+    joint exceeds them (or through the robot's own lean limits, when it gives them).
     """
 
     def __init__(
-        self, lean: LeanModel, angle_range_rad: float, limits: ServoLimits, dt: float
+        self,
+        lean: Lean,
+        angle_range_rad: float,
+        limits: ServoLimits,
+        dt: float,
+        lean_limits: ServoLimits | None = None,
     ) -> None:
         grid = np.linspace(-angle_range_rad, angle_range_rad, 2 * _TABLE_POINTS - 1)
         table = [lean.joint_targets(float(a)) for a in grid]
@@ -137,7 +142,9 @@ class _LeanStream:
         self._grid = grid
         self._values = [np.array([row[j] for row in table]) for j in self.joints]
         gain = max(abs(table[-1][j]) for j in self.joints) / angle_range_rad
-        scaled = ServoLimits(limits.max_velocity / gain, limits.max_acceleration / gain)
+        scaled = lean_limits or ServoLimits(
+            limits.max_velocity / gain, limits.max_acceleration / gain
+        )
         self._limiter = TrajectoryLimiter([0.0], scaled, dt)
 
     def set_target(self, angle_rad: float) -> None:
@@ -212,7 +219,11 @@ def run_step_trial(
     balance = robot.require_balance()
     command = _command(angle, target_m, controller, sim.dt, balance.control_period_s)
     reach = lean_angle(_MAX_REACH_FRACTION * lean.lean_length_m, lean.lean_length_m)
-    stream = _LeanStream(lean, reach, sim.robot.servo_limits, sim.dt) if command else None
+    stream = (
+        _LeanStream(lean, reach, sim.robot.servo_limits, sim.dt, balance.lean_limits)
+        if command
+        else None
+    )
     pusher = _Pusher(sim, config.push, config.plane, balance.push_bodies) if config.push else None
     data = _record(sim, config, stream, command, pusher)
     j = len(sim.joint_names)

@@ -10,6 +10,7 @@ from zmpkit.experiments.walk_trial import Push, SensorFault
 from zmpkit.robots.registry import DEFAULT_WALK_ROBOT, get_robot
 from zmpkit.sim.effect_set import EffectSet
 from zmpkit.walking import GaitParameters, PatternConfig, WalkCommand
+from zmpkit.walking.gait import FootShape, StepLimits
 from zmpkit.walking.walk_controllers import CONTROLLERS
 
 __all__ = [
@@ -107,12 +108,25 @@ class WalkConfig:
         object.__setattr__(self, "effects", EffectSet.parse(self.effects).letters)
 
     def pattern_config(self) -> PatternConfig:
-        """The walking pattern this walk plays."""
+        """The walking pattern this walk plays, with the robot's walking defaults.
+
+        The robot gives the foot separation, the step length limit, the sole and the motion
+        frame (:class:`~zmpkit.robots.robot.WalkingDefaults`).
+        """
+        walking = get_robot(self.robot, needs="walking").require_walking()
+        length, width = walking.sole_size_m
         return PatternConfig(
             command=WalkCommand(
                 v_x=self.speed_mps, v_y=self.lateral_speed_mps, omega=self.turn_rate_rps
             ),
             duration_s=self.duration_s,
-            gait=GaitParameters(step_duration_s=self.step_duration_s),
+            gait=GaitParameters(
+                step_duration_s=self.step_duration_s,
+                foot_separation_m=walking.foot_separation_m,
+            ),
+            limits=StepLimits(
+                max_step_length_m=walking.max_step_length_m, foot=FootShape(length, width)
+            ),
+            control_period_s=walking.control_period_s,
             com_height_m=self.com_height_m,  # type: ignore[arg-type]  # set in __post_init__
         )

@@ -10,6 +10,7 @@ force [N]; the torso position [m] and the planned CoM [m].
 from __future__ import annotations
 
 import json
+from collections.abc import Sequence
 from dataclasses import asdict
 from pathlib import Path
 
@@ -28,6 +29,7 @@ __all__ = [
     "SERIES_FILE",
     "SUMMARY_FILE",
     "read_series",
+    "series_columns",
     "walk_time_series",
     "write_series",
     "write_summary",
@@ -50,15 +52,32 @@ SERIES_COLUMNS: tuple[str, ...] = (
 )  # fmt: skip
 
 
-def walk_time_series(pattern: WalkingPattern, record: WalkRecord) -> TimeSeries:
-    """The signals of :data:`SERIES_COLUMNS` as a time series (world frame; joints' own axes).
+def series_columns(joints: Sequence[str] = PITCH_JOINTS) -> tuple[str, ...]:
+    """:data:`SERIES_COLUMNS` with the columns of ``joints`` (a robot's ``series_joints``)."""
+    return (
+        "time_s",
+        *(f"{j}_{q}" for j in joints for q in ("cmd_rad", "meas_rad", "torque_nm")),
+        *SERIES_COLUMNS[1 + 3 * len(PITCH_JOINTS) :],
+    )
+
+
+def walk_time_series(
+    pattern: WalkingPattern, record: WalkRecord, joints: Sequence[str] = PITCH_JOINTS
+) -> TimeSeries:
+    """The signals of :func:`series_columns` as a time series (world frame; joints' own axes).
 
     The planned ZMP and CoM are cut to the record's length (a record stops at a fall).
+
+    Args:
+        pattern: the planned walk.
+        record: the simulated walk.
+        joints: the joints kept (the robot's ``series_joints``; default: the built-in
+            walking robot's hip, knee and ankle pitch).
     """
     n = record.time_s.size
     world = [Signal("trunk_pitch", "rad", "world"), Signal("trunk_roll", "rad", "world")]
     columns: list[tuple[Signal, NDArray[np.float64]]] = []
-    for joint in PITCH_JOINTS:
+    for joint in joints:
         j = record.joint(joint)
         columns += [
             (Signal(f"{joint}_cmd", "rad", "joint"), record.q_cmd_rad[:, j]),
@@ -79,12 +98,14 @@ def walk_time_series(pattern: WalkingPattern, record: WalkRecord) -> TimeSeries:
         columns.append((Signal(f"torso_{axis}", "m", "world"), record.torso_in_world[:, k]))
     columns += [(Signal(f"com_ref_{a}", "m", "world"), com_ref[:, k]) for k, a in enumerate("xy")]
     series = TimeSeries.from_columns(record.time_s, columns)
-    return series.select(SERIES_COLUMNS[1:])
+    return series.select(series_columns(joints)[1:])
 
 
-def write_series(path: Path, pattern: WalkingPattern, record: WalkRecord) -> Path:
-    """Write :data:`SERIES_COLUMNS` as CSV (7 significant digits); an undefined ZMP is empty."""
-    return walk_time_series(pattern, record).write_csv(path, digits=7)
+def write_series(
+    path: Path, pattern: WalkingPattern, record: WalkRecord, joints: Sequence[str] = PITCH_JOINTS
+) -> Path:
+    """Write :func:`series_columns` as CSV (7 significant digits); an undefined ZMP is empty."""
+    return walk_time_series(pattern, record, joints).write_csv(path, digits=7)
 
 
 def write_summary(path: Path, summary: WalkSummary) -> Path:

@@ -18,7 +18,7 @@ from zmpkit.experiments.walk_config import WalkConfig
 from zmpkit.experiments.walk_dataset import SERIES_FILE, SUMMARY_FILE, write_series, write_summary
 from zmpkit.experiments.walk_summary import WalkSummary
 from zmpkit.experiments.walk_trial import ProgressCallback, WalkRecord
-from zmpkit.pipelines.walk_report import write_figures
+from zmpkit.pipelines.walk_report import series_joints, write_figures
 from zmpkit.walking.ik import JointTrajectory
 from zmpkit.walking.pattern import WalkingPattern
 
@@ -74,7 +74,9 @@ def write_walk(result: WalkResult, out_dir: str | Path) -> WalkResult:
     out.mkdir(parents=True, exist_ok=True)
     files = {
         "summary": write_summary(out / SUMMARY_FILE, result.summary),
-        "series": write_series(out / SERIES_FILE, result.pattern, result.record),
+        "series": write_series(
+            out / SERIES_FILE, result.pattern, result.record, series_joints(result.config)
+        ),
     }
     if result.config.figures:
         files.update(

@@ -9,11 +9,17 @@ import numpy as np
 from zmpkit.analysis import walk_plots as plots
 from zmpkit.experiments.walk_config import WalkConfig
 from zmpkit.experiments.walk_trial import WalkRecord
+from zmpkit.robots.registry import get_robot
 from zmpkit.signals.contact_phases import double_support_distance
 from zmpkit.signals.spectra import amplitude_spectrum
 from zmpkit.walking.pattern import WalkingPattern
 
-__all__ = ["write_figures"]
+__all__ = ["series_joints", "write_figures"]
+
+
+def series_joints(config: WalkConfig) -> tuple[str, ...]:
+    """The walking robot's hip, knee and ankle pitch joints, left leg then right leg."""
+    return get_robot(config.robot, needs="walking").require_walking().series_joints
 
 
 def write_figures(
@@ -56,7 +62,8 @@ def write_figures(
         t, double_support_distance(sole_x, contact), step_length,
         out / "feet_distance.png", label,
     )  # fmt: skip
-    for joint in ("RAnklePitch", "RKneePitch", "RHipPitch"):
+    right_leg = series_joints(config)[3:]
+    for joint in right_leg[::-1]:
         j = record.joint(joint)
         files[joint] = plots.plot_joint_tracking(
             t, record.q_cmd_rad[:, j], record.q_meas_rad[:, j], record.torque_nm[:, j],

@@ -55,6 +55,12 @@ class BalanceModel:
         hip_roll_joints: ``(right, left)`` hip roll joints that close the frontal lean's chain.
         push_bodies: push point (``"com"``, ``"trunk"``) → body the push acts on.
         control_period_s: period at which a lean controller is stepped [s].
+        lean: how the robot leans: ``"ankle"`` (the ankle strategy, the frontal lean's
+            legs and pelvis solved as a closed four-bar chain, :mod:`zmpkit.experiments.lean`)
+            or ``"whole_body"`` (whole-body IK: soles fixed, CoM moved,
+            :mod:`zmpkit.experiments.whole_body_lean`).
+        lean_limits: velocity [rad/s] and acceleration [rad/s²] limits of the lean angle
+            itself; None: the servo limits, scaled so no leaning joint exceeds them.
     """
 
     mass_kg: float
@@ -64,6 +70,8 @@ class BalanceModel:
     hip_roll_joints: tuple[str, str]
     push_bodies: Mapping[str, str]
     control_period_s: float = 0.01
+    lean: str = "ankle"
+    lean_limits: ServoLimits | None = None
 
 
 @dataclass(frozen=True, eq=False)
@@ -78,6 +86,8 @@ class WalkingDefaults:
         sole_size_m: sole ``(length, width)`` [m].
         ik_settings: the IK's joints, frames (sole sites, torso) and nominal posture.
         ik_mjcf: builds the rigid kinematic model's MJCF (the design, no actuators).
+        series_joints: the hip, knee and ankle pitch joints of the left then the right leg,
+            whose angles and torques the walk's time series and figures keep.
     """
 
     com_height_m: float
@@ -87,6 +97,7 @@ class WalkingDefaults:
     sole_size_m: tuple[float, float]
     ik_settings: IkSettings
     ik_mjcf: Callable[[], str]
+    series_joints: tuple[str, ...] = ()
 
     @property
     def leg_joints(self) -> tuple[str, ...]:

@@ -16,6 +16,13 @@ Layout (lengths in m; every path relative to the YAML's folder)::
     servo: {kp: 2000.0, ki: 2000.0, kd: 10.0}         # default: scaled from weight × CoM height
     contact_threshold_n: 2.5         # default: 5 % of the robot's weight [N]
     timestep: 0.001                  # physics step [s]
+    walking:                         # every key optional; defaults derived from the model
+      com_height: 0.45               # CoM height of the walk [m]; default: the crouch's
+      crouch: 0.08                   # the crouch lowers the hips by this share of the leg [-]
+      posture: {r_knee: 0.6}         # joint → angle [rad] of the crouch, instead of the IK's
+      foot_separation: 0.12          # default: the feet's distance at the initial pose [m]
+      max_step_length: 0.15          # default: 0.4 × leg length (hip to sole) [m]
+      control_period: 0.01           # motion frame [s]
 
 zmpkit adds a 6-axis F-T sensor under each foot: a thin sole plate ``sole.height`` thick,
 the only part of the foot that touches the floor, whose wrench on the foot the sensor at its
@@ -33,7 +40,7 @@ from typing import Any
 from zmpkit.errors import InputFileError
 from zmpkit.io.yaml_file import read_yaml_mapping
 
-__all__ = ["SIDES", "RobotFile", "read_robot_file"]
+__all__ = ["SIDES", "WALKING_FIELDS", "RobotFile", "WalkingOverrides", "read_robot_file"]
 
 SIDES: tuple[str, str] = ("right", "left")
 """The feet a robot file names."""
@@ -52,7 +59,38 @@ _FIELDS = (
     "servo",
     "contact_threshold_n",
     "timestep",
+    "walking",
 )
+WALKING_FIELDS = (
+    "com_height",
+    "crouch",
+    "posture",
+    "foot_separation",
+    "max_step_length",
+    "control_period",
+)
+"""The keys of ``walking:`` in a robot file."""
+
+
+@dataclass(frozen=True)
+class WalkingOverrides:
+    """What a robot file's ``walking:`` gives; None: derived from the model.
+
+    Attributes:
+        com_height_m: CoM height of the walk [m].
+        crouch: the crouch lowers the hips by this share of the leg length [-].
+        posture_rad: joint → crouch angle [rad] (replaces the IK's crouch).
+        foot_separation_m: lateral distance between the foot centres [m].
+        max_step_length_m: largest forward step [m].
+        control_period_s: motion frame [s].
+    """
+
+    com_height_m: float | None = None
+    crouch: float | None = None
+    posture_rad: Mapping[str, float] | None = None
+    foot_separation_m: float | None = None
+    max_step_length_m: float | None = None
+    control_period_s: float | None = None
 
 
 @dataclass(frozen=True)
@@ -73,6 +111,7 @@ class RobotFile:
         servo: ideal-servo gains ``kp``, ``ki``, ``kd`` given (others derived).
         contact_threshold_n: contact threshold, or None for 5 % of the weight [N].
         timestep_s: physics step [s].
+        walking: the ``walking:`` values given (others derived from the model).
     """
 
     path: Path
@@ -88,6 +127,7 @@ class RobotFile:
     servo: Mapping[str, float]
     contact_threshold_n: float | None
     timestep_s: float
+    walking: WalkingOverrides = WalkingOverrides()
 
     @property
     def leg_joints(self) -> tuple[str, ...]:
@@ -141,6 +181,40 @@ def _model_path(path: Path, doc: Mapping[str, Any]) -> Path:
     return file
 
 
+def _posture(path: Path, value: Any) -> Mapping[str, float] | None:
+    if value is None:
+        return None
+    if not isinstance(value, Mapping) or not all(
+        isinstance(v, int | float) and not isinstance(v, bool) for v in value.values()
+    ):
+        raise _fail(path, "walking.posture", f"expected joint: angle [rad] pairs, got {value!r}")
+    return {str(k): float(v) for k, v in value.items()}
+
+
+def _walking(path: Path, value: Any) -> WalkingOverrides:
+    if value is None:
+        return WalkingOverrides()
+    if not isinstance(value, Mapping):
+        raise _fail(path, "walking", f"expected a mapping, got {value!r}")
+    unknown = sorted(set(value) - set(WALKING_FIELDS))
+    if unknown:
+        raise _fail(
+            path, f"walking.{unknown[0]}", f"unknown key; valid: {', '.join(WALKING_FIELDS)}"
+        )
+
+    def number(key: str) -> float | None:
+        return _number(path, f"walking.{key}", value.get(key), None)
+
+    return WalkingOverrides(
+        com_height_m=number("com_height"),
+        crouch=number("crouch"),
+        posture_rad=_posture(path, value.get("posture")),
+        foot_separation_m=number("foot_separation"),
+        max_step_length_m=number("max_step_length"),
+        control_period_s=number("control_period"),
+    )
+
+
 def read_robot_file(path: str | Path) -> RobotFile:
     """Read and check the layout of a ``robot.yaml`` (module docstring).
 
@@ -176,4 +250,5 @@ def read_robot_file(path: str | Path) -> RobotFile:
         ),
         timestep_s=_number(file, "timestep", doc.get("timestep"), DEFAULT_TIMESTEP_S)
         or DEFAULT_TIMESTEP_S,
+        walking=_walking(file, doc.get("walking")),
     )

@@ -3,14 +3,16 @@
 The simulator's description comes from :func:`~zmpkit.robots.user_model.user_model`; its
 truth is only what the file gives (the ideal servo's gains, sensor errors at their defaults):
 a user's robot has no motor, gear or flexibility values, so the effects M, I, G and F are
-refused rather than silently left out. Balance, walking and fit sections are not derived yet.
+refused rather than silently left out. The balance model
+(:mod:`~zmpkit.robots.user_balance`) and the walking defaults
+(:mod:`~zmpkit.robots.user_walking`) are derived from the model; there is no fit catalogue.
 """
 
 from __future__ import annotations
 
 import copy
 from collections.abc import Mapping
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from functools import cache
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -20,7 +22,9 @@ import mujoco
 from zmpkit.errors import ParameterError
 from zmpkit.robots.robot import Robot, TruthSpec
 from zmpkit.robots.robot_file import SIDES, RobotFile, read_robot_file
+from zmpkit.robots.user_balance import user_balance
 from zmpkit.robots.user_model import UserModel, user_model
+from zmpkit.robots.user_walking import user_walking
 from zmpkit.sim.description import FootSensor, RobotDescription
 from zmpkit.sim.effect_set import EffectSet
 from zmpkit.sim.effects import IdealServoParams, SensorParams
@@ -43,13 +47,32 @@ class UserTruth:
 
     Attributes:
         servo: the ideal servo of every leg joint.
-        sensors: sensor errors (used with the S effect).
+        sensors: sensor errors (used with the S effect); default for a user's robot: the
+            default errors scaled by its weight (:func:`scaled_sensor_params`).
         source: the robot file.
     """
 
     servo: IdealServoParams
     sensors: SensorParams = field(default_factory=SensorParams)
     source: str = ""
+
+
+SENSOR_REFERENCE_WEIGHT_N = 600.0
+"""The default sensor errors (:class:`~zmpkit.sim.effects.SensorParams`) are sized for a
+robot of this weight (an 8 N F_z offset is 1.3 % of it); a user's robot gets them scaled by
+its weight over this [N]."""
+
+
+def scaled_sensor_params(mass_kg: float) -> SensorParams:
+    """The default F-T errors scaled to a robot of ``mass_kg`` [kg] (forces and moments)."""
+    ratio = mass_kg * 9.81 / SENSOR_REFERENCE_WEIGHT_N
+    base = SensorParams()
+    return replace(
+        base,
+        ft_offset=tuple(ratio * v for v in base.ft_offset),
+        ft_noise_std=tuple(ratio * v for v in base.ft_noise_std),
+        ft_quantisation=tuple(ratio * v for v in base.ft_quantisation),
+    )
 
 
 def _check_effects(name: str, effects: EffectSet | str) -> EffectSet:
@@ -83,9 +106,11 @@ def _feet_mounts(mjcf: str, height: float) -> dict[str, FootMountEntry]:
 def _description(
     file: RobotFile, built: UserModel, threshold: float
 ) -> Any:  # the Robot's ``describe``
+    mass = built.mass_kg
+
     def describe(effects: EffectSet | str, truth: Any) -> RobotDescription:
         on = _check_effects(file.name, effects)
-        sensors = truth.sensors if isinstance(truth, UserTruth) else SensorParams()
+        sensors = truth.sensors if isinstance(truth, UserTruth) else scaled_sensor_params(mass)
         return RobotDescription(
             name=file.name,
             mjcf=built.mjcf,
@@ -110,7 +135,7 @@ def load_robot_file(path: str | Path) -> Robot:
     file = read_robot_file(path)
     built = user_model(file)
     threshold = file.contact_threshold_n or CONTACT_WEIGHT_FRACTION * built.mass_kg * 9.81
-    truth = UserTruth(built.servo, source=str(file.path))
+    truth = UserTruth(built.servo, scaled_sensor_params(built.mass_kg), source=str(file.path))
 
     def load(_: str | Path | None) -> UserTruth:
         return truth
@@ -130,4 +155,6 @@ def load_robot_file(path: str | Path) -> Robot:
         truth=TruthSpec(file.path, load, from_doc, UserTruth),
         servo_limits=USER_SERVO_LIMITS,
         contact_force_threshold_n=threshold,
+        balance=user_balance(file, built),
+        walking=user_walking(file, built),
     )

@@ -28,7 +28,7 @@ from zmpkit.robots.nao.robot import (
 from zmpkit.robots.nao.truth import DEFAULT_TRUTH_PATH, NaoTruth, load_truth, truth_from_doc
 from zmpkit.robots.robot import FitSpec, Robot, TruthSpec, WalkingDefaults
 
-__all__ = ["NAO", "NAO_CONTROL_PERIOD_S", "NAO_CROUCH_POSTURE_RAD"]
+__all__ = ["NAO", "NAO_CONTROL_PERIOD_S", "NAO_CROUCH_POSTURE_RAD", "NAO_PLANNER_SOLE_M"]
 
 NAO_CROUCH_POSTURE_RAD: Mapping[str, float] = {
     f"{side}{joint}": angle
@@ -38,6 +38,10 @@ NAO_CROUCH_POSTURE_RAD: Mapping[str, float] = {
 """Walking crouch whose CoM is 0.26 m high (nao-parameters.md §1) [rad]."""
 NAO_CONTROL_PERIOD_S = 0.01
 """NAO's motion frame (DCM cycle) [s] (paper B footnote 5)."""
+
+NAO_PLANNER_SOLE_M = (0.16, 0.09)
+"""The footstep planner's NAO sole [m]: its 0.158 × 0.088 m outline (geometry) rounded up,
+which keeps a little clearance between the feet."""
 
 NAO = Robot(
     name="nao",
@@ -55,11 +59,14 @@ NAO = Robot(
         control_period_s=NAO_CONTROL_PERIOD_S,
         foot_separation_m=2.0 * geo.HIP_OFFSET_Y_M,
         max_step_length_m=0.12,
-        sole_size_m=(geo.SOLE_LENGTH_M, geo.SOLE_WIDTH_M),
+        sole_size_m=NAO_PLANNER_SOLE_M,
         ik_settings=IkSettings(
             joint_names=NAO_LEG_JOINTS, posture_rad=dict(NAO_CROUCH_POSTURE_RAD)
         ),
         ik_mjcf=nao_ik_mjcf,
+        series_joints=tuple(
+            f"{s}{j}" for s in ("L", "R") for j in ("HipPitch", "KneePitch", "AnklePitch")
+        ),
     ),
     fit=FitSpec(fit_catalogue.FIT_CATALOGUE, fit_catalogue.QUICK_FIT_PARAMETERS, "walk"),
 )

@@ -1,0 +1,140 @@
+"""A user's own biped, MJCF and URDF: robot init, robot check, a balance sweep and a walk.
+
+The models are built here, in a temporary folder: a 8.4 kg biped with hip roll and pitch,
+knee, ankle pitch and roll on each leg, written once as MJCF and once as URDF.
+"""
+
+from __future__ import annotations
+
+import csv
+import json
+from pathlib import Path
+
+import pytest
+
+from zmpkit.cli import main
+from zmpkit.robots.registry import get_robot
+
+LEG_M = 0.22
+"""Thigh and shank length of the test biped [m]."""
+
+
+def _mjcf_leg(p: str, y: float) -> str:
+    return f"""
+      <body name="{p}_thigh" pos="0 {y} -0.04">
+        <joint name="{p}_hip_roll" axis="1 0 0" range="-0.5 0.5"/>
+        <joint name="{p}_hip_pitch" axis="0 1 0" range="-1.5 1.5"/>
+        <geom type="capsule" fromto="0 0 0 0 0 -{LEG_M}" size="0.03" mass="0.8"/>
+        <body name="{p}_shank" pos="0 0 -{LEG_M}">
+          <joint name="{p}_knee" axis="0 1 0" range="-0.1 2.2"/>
+          <geom type="capsule" fromto="0 0 0 0 0 -{LEG_M}" size="0.025" mass="0.6"/>
+          <body name="{p}_foot" pos="0 0 -{LEG_M}">
+            <joint name="{p}_ankle_pitch" axis="0 1 0" range="-1 1"/>
+            <joint name="{p}_ankle_roll" axis="1 0 0" range="-0.5 0.5"/>
+            <geom type="box" pos="0.02 0 -0.04" size="0.07 0.04 0.01" mass="0.3"/>
+          </body>
+        </body>
+      </body>"""
+
+
+BIPED_MJCF = f"""<mujoco model="biped">
+  <compiler angle="radian"/>
+  <worldbody>
+    <body name="pelvis" pos="0 0 0.55">
+      <geom type="box" size="0.06 0.1 0.04" mass="2"/>
+      <body name="torso" pos="0 0 0.12"><geom type="box" size="0.06 0.09 0.08" mass="3"/></body>
+      {_mjcf_leg("r", -0.06)}{_mjcf_leg("l", 0.06)}
+    </body>
+  </worldbody>
+</mujoco>
+"""
+
+
+def _link(name: str, mass: float, geom: str = "", z: float = 0.0) -> str:
+    inertia = 'ixx="2e-3" iyy="2e-3" izz="1e-3" ixy="0" ixz="0" iyz="0"'
+    collision = f'<collision><origin xyz="0 0 {z}"/><geometry>{geom}</geometry></collision>'
+    return (
+        f'<link name="{name}"><inertial><origin xyz="0 0 {z}"/><mass value="{mass}"/>'
+        f"<inertia {inertia}/></inertial>{collision if geom else ''}</link>"
+    )
+
+
+def _joint(name: str, parent: str, child: str, xyz: str, axis: str) -> str:
+    return (
+        f'<joint name="{name}" type="revolute"><parent link="{parent}"/><child link="{child}"/>'
+        f'<origin xyz="{xyz}"/><axis xyz="{axis}"/>'
+        '<limit lower="-1.5" upper="2.2" effort="100" velocity="10"/></joint>'
+    )
+
+
+def _urdf_leg(p: str, y: float) -> str:
+    down = f"0 0 -{LEG_M}"
+    return "".join([
+        _link(f"{p}_hip", 0.05), _link(f"{p}_ankle", 0.05),
+        _link(f"{p}_thigh", 0.8, f'<cylinder radius="0.03" length="{LEG_M}"/>', -LEG_M / 2),
+        _link(f"{p}_shank", 0.6, f'<cylinder radius="0.025" length="{LEG_M}"/>', -LEG_M / 2),
+        _link(f"{p}_foot", 0.3, '<box size="0.14 0.08 0.02"/>', -0.04),
+        _joint(f"{p}_hip_roll", "pelvis", f"{p}_hip", f"0 {y} -0.04", "1 0 0"),
+        _joint(f"{p}_hip_pitch", f"{p}_hip", f"{p}_thigh", "0 0 0", "0 1 0"),
+        _joint(f"{p}_knee", f"{p}_thigh", f"{p}_shank", down, "0 1 0"),
+        _joint(f"{p}_ankle_pitch", f"{p}_shank", f"{p}_ankle", down, "0 1 0"),
+        _joint(f"{p}_ankle_roll", f"{p}_ankle", f"{p}_foot", "0 0 0", "1 0 0"),
+    ])  # fmt: skip
+
+
+BIPED_URDF = (
+    '<robot name="ubiped">'
+    + _link("pelvis", 5.0, '<box size="0.12 0.2 0.08"/>')
+    + _urdf_leg("r", -0.06)
+    + _urdf_leg("l", 0.06)
+    + "</robot>"
+)
+
+
+@pytest.fixture(params=["mjcf", "urdf"])
+def robot_yaml(request: pytest.FixtureRequest, tmp_path: Path) -> Path:
+    """``robot init`` on the biped's model; the written robot.yaml."""
+    model = tmp_path / ("biped.xml" if request.param == "mjcf" else "biped.urdf")
+    model.write_text(BIPED_MJCF if request.param == "mjcf" else BIPED_URDF, encoding="utf-8")
+    out = tmp_path / "robot.yaml"
+    assert main(["robot", "init", str(model), "--out", str(out)]) == 0
+    return out
+
+
+def test_the_walking_defaults_and_balance_model_come_from_the_model(robot_yaml: Path) -> None:
+    robot = get_robot(robot_yaml)
+    walking, balance = robot.require_walking(), robot.require_balance()
+    leg = 2 * LEG_M + 0.05 + 0.005  # hip above the sole plate's bottom [m]
+    assert walking.foot_separation_m == pytest.approx(0.12, abs=1e-9)
+    assert walking.max_step_length_m == pytest.approx(0.4 * leg, abs=2e-3)
+    assert walking.sole_size_m == pytest.approx((0.14, 0.08), abs=1e-6)
+    posture = walking.ik_settings.posture_rad
+    assert posture["r_knee"] > 0.5  # a crouch: knees bent the human way
+    assert posture["r_hip_pitch"] < 0.0
+    assert posture["r_ankle_pitch"] < 0.0
+    assert walking.series_joints[:3] == ("l_hip_pitch", "l_knee", "l_ankle_pitch")
+    standing = balance.com_height_m
+    assert walking.com_height_m == pytest.approx(standing - 0.08 * leg, abs=2e-3)
+    assert balance.lean_joints["sagittal"] == ("r_ankle_pitch", "l_ankle_pitch")
+    assert balance.hip_roll_joints == ("r_hip_roll", "l_hip_roll")
+    assert balance.support_polygon_m["frontal"] == pytest.approx((-0.1, 0.1), abs=1e-6)
+
+
+def test_init_check_balance_sweep_and_walk(
+    robot_yaml: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    assert main(["robot", "check", str(robot_yaml)]) == 0
+    assert "F-T vs contact" in capsys.readouterr().out
+    push = tmp_path / "push"
+    args = ["--robot", str(robot_yaml), "--targets", "0,0.02,0.04", "--hold", "3"]
+    assert main(["sim", "push", *args, "--out", str(push), "--workers", "1"]) == 0
+    with (push / "steady_state.csv").open(encoding="utf-8") as f:
+        rows = {float(r["zmp_ref"]): r for r in csv.DictReader(f)}
+    for target in (0.02, 0.04):  # the static ZMP reaches the target within 5 %
+        assert float(rows[target]["zmp_measured"]) == pytest.approx(target, rel=0.05)
+    walk = tmp_path / "walk"
+    args = ["--robot", str(robot_yaml), "--controller", "open", "--duration", "3"]
+    assert main(["walk", *args, "--out", str(walk)]) == 0
+    summary = json.loads((walk / "summary.json").read_text(encoding="utf-8"))
+    assert not summary["fell"]
+    assert summary["mean_speed_mps"] == pytest.approx(0.2, rel=0.15)
