@@ -11,7 +11,10 @@ from functools import cache
 from pathlib import Path
 
 from zmpkit.errors import ParameterError
+from zmpkit.robots.nao.preset import NAO
 from zmpkit.robots.robot import Robot
+from zmpkit.robots.teo.preset import TEO
+from zmpkit.robots.user_robot import load_robot_file
 
 __all__ = [
     "DEFAULT_BALANCE_ROBOT",
@@ -33,9 +36,6 @@ ROBOT_FILE_SUFFIXES = (".yaml", ".yml")
 
 @cache
 def _builtin() -> dict[str, Robot]:
-    from zmpkit.robots.nao.preset import NAO
-    from zmpkit.robots.teo.preset import TEO
-
     return {robot.name: robot for robot in (NAO, TEO)}
 
 
@@ -92,6 +92,4 @@ def get_robot(name_or_path: str | Path | Robot, needs: str | None = None) -> Rob
 
 @cache
 def _robot_file(path: str) -> Robot:
-    from zmpkit.robots.user_robot import load_robot_file
-
     return load_robot_file(path)
