@@ -29,6 +29,7 @@ _SETTINGS = {
 }
 TEO_SOLES_M = {"sagittal": (-0.07, 0.175), "frontal": (-0.1985, 0.1985)}  # heel/toe, outer edges
 NAO_MAX_STEP_M = 0.12  # the walking pattern's longest step (StepLimits)
+CLAMPED_SPEED_FACTOR = 2.0  # commands up to twice the longest step per step walk shortened
 
 
 class StubReachedError(Exception):
@@ -107,13 +108,22 @@ def physical(command: str, options: dict[str, str]) -> bool:
     o = options.get
     if command == "walk":
         step = _float(o("--step-duration", "0.5"))
+        fastest = CLAMPED_SPEED_FACTOR * NAO_MAX_STEP_M / step
         return (
             _in(o("--step-duration"), 0.2, 2.0, 0.5)
-            and _in(o("--speed"), 0.0, NAO_MAX_STEP_M / step, 0.2)
+            and _in(o("--speed"), 0.0, fastest, 0.2)
+            and _in(o("--lateral-speed"), -fastest, fastest, 0.0)
+            and _in(o("--turn-rate"), -2.0, 2.0, 0.0)
             and _in(o("--duration"), step, 3600.0, 10.0)
         )
     if command == "walk compensate":
-        return _in(o("--speed"), 0.0, 0.24, 0.2, open_low=True) and _in(o("--workers"), 1, 256, 2)
+        step = _float(o("--step-duration", "0.5"))
+        fastest = CLAMPED_SPEED_FACTOR * NAO_MAX_STEP_M / step
+        return (
+            _in(o("--step-duration"), 0.2, 2.0, 0.5)
+            and _in(o("--speed"), 0.0, fastest, 0.2, open_low=True)
+            and _in(o("--workers"), 1, 256, 2)
+        )
     if command == "sim push":
         push = (o("--push-force") is None) == (o("--push-duration") is None)
         return (
@@ -134,7 +144,14 @@ def physical(command: str, options: dict[str, str]) -> bool:
 
 
 COMMANDS: dict[str, tuple[str, ...]] = {
-    "walk": ("--speed", "--step-duration", "--duration", "--seed"),
+    "walk": (
+        "--speed",
+        "--step-duration",
+        "--lateral-speed",
+        "--turn-rate",
+        "--duration",
+        "--seed",
+    ),
     "walk compensate": ("--speed", "--workers", "--seed"),
     "sim push": ("--targets", "--hold", "--push-force", "--push-duration", "--workers", "--seed"),
     "identify balance": ("--mass", "--length"),

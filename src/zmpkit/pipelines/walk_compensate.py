@@ -217,7 +217,7 @@ class CompensateConfig:
         pairs = [(v, t), (v - 0.05, t - 0.05)]
         if not self.quick:
             pairs += [(v - 0.05, t), (v, t - 0.05)]
-        return tuple(self._walk(speed, step, s) for speed, step in pairs)
+        return tuple(self._walk(round(v_, 6), round(t_, 6), s) for v_, t_ in pairs)
 
     def validation_walks(self, truth_folder: Path | None = None) -> tuple[WalkSpec, ...]:
         """Walks never used for tuning (class docstring).
@@ -235,7 +235,8 @@ class CompensateConfig:
                 if truth_folder is not None:
                     truth = str(truth_variant(robot, TRUTH_PARAMETER, factor, truth_folder))
                 label = f"{TRUTH_PARAMETER} x{factor:g}"
-                speed, step = self.speed_mps + dv, self.step_duration_s + dt
+                speed = round(self.speed_mps + dv, 6)
+                step = round(self.step_duration_s + dt, 6)
                 walks.append(
                     self._walk(speed, step, self.seed + k + 1, truth=truth, truth_label=label)
                 )
