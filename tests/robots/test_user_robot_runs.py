@@ -138,3 +138,17 @@ def test_init_check_balance_sweep_and_walk(
     summary = json.loads((walk / "summary.json").read_text(encoding="utf-8"))
     assert not summary["fell"]
     assert summary["mean_speed_mps"] == pytest.approx(0.2, rel=0.15)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("controller", ["zmpip", "dcm"])
+def test_the_feedback_walks_stand_on_a_users_robot(
+    robot_yaml: Path, tmp_path: Path, controller: str
+) -> None:
+    """6 s with feedback on the generated biped (a robot the controllers were not tuned on)."""
+    walk = tmp_path / f"walk_{controller}"
+    args = ["--robot", str(robot_yaml), "--controller", controller, "--duration", "6"]
+    assert main(["walk", *args, "--effects", "none", "--out", str(walk)]) == 0
+    summary = json.loads((walk / "summary.json").read_text(encoding="utf-8"))
+    assert not summary["fell"], summary["fall_kind"]
+    assert summary["mean_speed_mps"] == pytest.approx(0.2, rel=0.15)

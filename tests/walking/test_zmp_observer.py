@@ -88,3 +88,17 @@ def test_a_constant_zmp_offset_is_estimated_and_removed() -> None:
 def test_noise_levels_must_be_positive() -> None:
     with pytest.raises(ValueError, match="zmp_noise_m"):
         ZmpObserverParameters(zmp_noise_m=0.0)
+
+
+def test_a_zmp_spike_moves_the_estimate_no_more_than_the_clip() -> None:
+    """Robust correction: a ZMP 1 m off acts as one max_zmp_innovation_m off."""
+    gains = compute_preview_gains(PreviewParameters(sampling_period_s=T, com_height_m=ZC))
+    reference = np.zeros((10, 2))
+    parameters = ZmpObserverParameters()
+    spiked = ObservedPreviewControl(gains, reference, np.zeros((2, 3)), parameters)
+    clipped = ObservedPreviewControl(gains, reference, np.zeros((2, 3)), parameters)
+    spiked.update(0, np.zeros(2), np.array([1.0, -1.0]))
+    clip = parameters.max_zmp_innovation_m
+    clipped.update(0, np.zeros(2), np.array([clip, -clip]))
+    np.testing.assert_array_equal(spiked.state, clipped.state)
+    assert 0.0 < spiked.offset_in_world[0] < clip

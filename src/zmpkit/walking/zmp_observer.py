@@ -61,6 +61,9 @@ class ZmpObserverParameters:
         jerk_noise_mps3: σ_u, unmodelled CoM jerk per period [m/s³].
         offset_drift_m: σ_d, change of the ZMP offset per period [m].
         max_offset_m: the estimated offset is clamped to ±this [m].
+        max_zmp_innovation_m: a measured ZMP further than this from the observer's prediction
+            counts as this far (a robust correction: a foot rocking heel to toe, a spike,
+            must not throw the CoM plan) [m].
     """
 
     com_noise_m: float = 0.03
@@ -68,11 +71,15 @@ class ZmpObserverParameters:
     jerk_noise_mps3: float = 0.5
     offset_drift_m: float = 0.0005
     max_offset_m: float = 0.03
+    max_zmp_innovation_m: float = 0.03
 
     def __post_init__(self) -> None:
         for name in ("com_noise_m", "zmp_noise_m", "jerk_noise_mps3", "offset_drift_m"):
             _validate.positive(f"ZmpObserverParameters.{name}", getattr(self, name))
         _validate.positive("ZmpObserverParameters.max_offset_m", self.max_offset_m, "m")
+        _validate.positive(
+            "ZmpObserverParameters.max_zmp_innovation_m", self.max_zmp_innovation_m, "m"
+        )
 
 
 def observer_matrices(
@@ -174,6 +181,7 @@ class ObservedPreviewControl:
             The CoM (x, y) of period ``k + 1`` [m], a view of the prediction.
         """
         limit, k = self.parameters.max_offset_m, min(k, self._n - 1)
+        clip = self.parameters.max_zmp_innovation_m
         size, l_gain, g_x, zc_g = self._gp.size, self._l, self._g_x, self._zc_over_g
         (a00, a01, a02), (_, a11, a12), (_, _, a22) = self._a3
         b0, b1, b2 = self._b3
@@ -184,6 +192,7 @@ class ObservedPreviewControl:
             if math.isfinite(zmp):
                 e_c = float(com_in_world[axis]) - c
                 e_p = zmp - (c - zc_g * a + d)
+                e_p = min(max(e_p, -clip), clip)
                 c += l_gain[0][0] * e_c + l_gain[0][1] * e_p
                 v += l_gain[1][0] * e_c + l_gain[1][1] * e_p
                 a += l_gain[2][0] * e_c + l_gain[2][1] * e_p
