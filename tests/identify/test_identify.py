@@ -67,15 +67,38 @@ def test_steady_state_of_a_noisy_step_excludes_the_transient() -> None:
     assert result.std_error == pytest.approx(naive, rel=0.35)  # white noise: n_eff ≈ n
 
 
-def test_steady_state_with_slow_drift_is_honest() -> None:
+def test_steady_state_with_slow_drift_is_honest_when_the_creep_check_is_off() -> None:
     rng = np.random.default_rng(2)
     trial, clean = synthetic_trial(PAPER_A, 0.05, rng, drift_m_per_s=1e-4, duration_s=8.0)
-    result = steady_state(trial)
+    result = steady_state(trial, creep_horizon_s=None)
     inside = (trial.time >= result.window[0]) & (trial.time <= result.window[1])
     assert result.settled
     assert result.drift_rate == pytest.approx(1e-4, rel=0.3)
     assert abs(result.value - clean[inside].mean()) < 3.0 * result.std_error
     assert result.std_error > 2.0 * NOISE_M / math.sqrt(result.n_samples)  # drift is correlated
+
+
+def test_a_creep_beyond_tolerance_is_drifting_with_its_rate() -> None:
+    # 0.1 mm/s moves the ZMP 1 mm in the 10 s creep horizon: 2 % of a 0.05 m step, beyond
+    # the 0.5 % tolerance; a creep of 0.01 mm/s (0.1 mm, inside the 0.2 mm floor) is not
+    rng = np.random.default_rng(2)
+    trial, _ = synthetic_trial(PAPER_A, 0.05, rng, drift_m_per_s=1e-4, duration_s=8.0)
+    result = steady_state(trial)
+    assert not result.settled
+    assert result.status == "drifting"
+    assert result.value is None
+    assert result.drift_rate_mm_s == pytest.approx(0.1, rel=0.3)
+    assert "still creeps at" in result.reason
+    slow, _ = synthetic_trial(PAPER_A, 0.05, rng, drift_m_per_s=1e-5, duration_s=8.0)
+    assert steady_state(slow).settled
+
+
+def test_a_ramp_that_never_enters_the_band_is_drifting_not_oscillating() -> None:
+    rng = np.random.default_rng(5)
+    trial, _ = synthetic_trial(PAPER_A, 0.05, rng, drift_m_per_s=2e-3, duration_s=8.0)
+    result = steady_state(trial)
+    assert (result.settled, result.status) == (False, "drifting")
+    assert result.drift_rate_mm_s == pytest.approx(2.0, rel=0.1)
 
 
 def test_persistent_oscillation_is_not_settled() -> None:
@@ -86,6 +109,7 @@ def test_persistent_oscillation_is_not_settled() -> None:
     assert result.value is None
     assert result.std_error is None
     assert "oscillation that has not died out" in result.reason
+    assert result.status == "oscillating"
 
 
 def test_short_hold_is_not_settled() -> None:
@@ -95,6 +119,7 @@ def test_short_hold_is_not_settled() -> None:
     assert not result.settled
     assert result.value is None
     assert "of its final median for only" in result.reason
+    assert result.status == "short"
 
 
 def test_effective_sample_size_of_white_and_ar1_noise() -> None:

@@ -1,4 +1,10 @@
-"""Writing paper A's Table 1 (LIPM vs DLIPM per target) as CSV and as a Markdown table."""
+"""Writing paper A's Table 1 (LIPM vs DLIPM per target) as CSV and as a Markdown table.
+
+The first columns are those of earlier versions, unchanged; then, per controller, how its
+trial ended (:data:`STATUS_COLUMNS`): its status (``settled``, ``drifting``,
+``oscillating``, ``short``, ``tipping``), its hold [s], its drift rate at the end if
+unsettled [mm/s] and the error over its last second [%].
+"""
 
 from __future__ import annotations
 
@@ -9,9 +15,17 @@ from pathlib import Path
 
 from zmpkit.analysis.balance_validation import ControllerOutcome
 
-__all__ = ["TABLE1_COLUMNS", "Table1Row", "table1_markdown", "write_table1_csv"]
+__all__ = [
+    "BASE_COLUMNS",
+    "STATUS_COLUMNS",
+    "TABLE1_COLUMNS",
+    "Table1Row",
+    "table1_markdown",
+    "unsettled_lines",
+    "write_table1_csv",
+]
 
-TABLE1_COLUMNS = (
+TABLE1_COLUMNS: tuple[str, ...] = (
     "plane",
     "zmp_ref",
     "lipm_zmp",
@@ -30,6 +44,12 @@ TABLE1_COLUMNS = (
     "dlipm_rms_oscillation_m",
     "fitted_on",
 )
+_CONTROLLERS = ("lipm", "dlipm", "linear")
+_STATUS_FIELDS = ("status", "hold_s", "drift_mm_s", "end_error_pct")
+STATUS_COLUMNS = tuple(f"{c}_{name}" for c in _CONTROLLERS for name in _STATUS_FIELDS)
+"""Columns after :data:`BASE_COLUMNS`: how each controller's trial ended."""
+BASE_COLUMNS = TABLE1_COLUMNS
+TABLE1_COLUMNS = BASE_COLUMNS + STATUS_COLUMNS
 
 
 @dataclass(frozen=True)
@@ -64,7 +84,21 @@ class Table1Row:
             "lipm_rms_oscillation_m": _fmt(lipm.rms_oscillation_m),
             "dlipm_rms_oscillation_m": _fmt(dlipm.rms_oscillation_m),
             "fitted_on": "1" if self.fitted_on else "0",
+            **self._status_cells(),
         }
+
+    def outcomes(self) -> dict[str, ControllerOutcome]:
+        """The outcomes by controller name."""
+        return {"lipm": self.lipm, "dlipm": self.dlipm, "linear": self.linear}
+
+    def _status_cells(self) -> dict[str, str]:
+        cells = {}
+        for name, o in self.outcomes().items():
+            cells[f"{name}_status"] = o.status
+            cells[f"{name}_hold_s"] = _fmt(o.hold_s)
+            cells[f"{name}_drift_mm_s"] = _fmt(o.drift_mm_s)
+            cells[f"{name}_end_error_pct"] = _fmt(o.end_error_pct)
+        return cells
 
 
 def _fmt(value: float | None) -> str:
@@ -102,6 +136,16 @@ def table1_markdown(rows: Sequence[Table1Row]) -> str:
             f"| {_fixed(c['lipm_settling_s'], 2)} | {_fixed(c['dlipm_settling_s'], 2)} |"
         )
     return "\n".join(lines) + "\n\n\\* validation target, not used in the fit.\n"
+
+
+def unsettled_lines(rows: Sequence[Table1Row]) -> list[str]:
+    """One line per trial that did not settle: target, controller and why (empty if none)."""
+    return [
+        f"{row.zmp_ref:g} m, {name.upper()}: {o.unsettled_text()}"
+        for row in rows
+        for name, o in row.outcomes().items()
+        if not o.steady.settled
+    ]
 
 
 def _pct(cell: str) -> str:

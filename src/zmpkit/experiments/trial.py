@@ -3,7 +3,10 @@ r"""One step / push trial on a virtual robot, recorded as a real robot's experim
 Timeline (simulated time): the robot starts upright in double support and stands for
 ``settle_s``; recording starts; after ``startup_window_s`` of quiet standing (the start-up
 window, for the ZMP offset) the lean to the target begins at ``t_step``; it is held for
-``hold_s``. The lean angle :math:`\theta_{ref} = \arcsin(x_{ref} / l_{lean})` (design lean
+``hold_s`` — or, with ``max_hold_s``, until the measured ZMP has settled, and in any case
+only until a creep carries it toward the edge of the feet
+(:class:`~zmpkit.experiments.hold.HoldMonitor`, which reads only the recorded F-T sensors).
+The lean angle :math:`\theta_{ref} = \arcsin(x_{ref} / l_{lean})` (design lean
 length, :mod:`zmpkit.experiments.lean`) is not applied as a raw step, which would tip a
 0.9 m, 62 kg pendulum over: it passes through the robot's servo trajectory limits (velocity
 and acceleration, :class:`~zmpkit.sim.servo.TrajectoryLimiter`), scaled so no leaning joint
@@ -25,8 +28,10 @@ import numpy as np
 from numpy.typing import NDArray
 
 from zmpkit.experiments.config import PushConfig, StepExperimentConfig
+from zmpkit.experiments.hold import HoldMonitor, support_polygon
 from zmpkit.experiments.lean import LeanModel, design_lean_model, lean_angle
-from zmpkit.robots.teo import make_teo
+from zmpkit.io import feet_from_mapping
+from zmpkit.robots.teo import make_teo, teo_feet_mounts
 from zmpkit.signals import PLANES
 from zmpkit.signals.time_series import Signal, TimeSeries
 from zmpkit.sim.servo import ServoLimits, TrajectoryLimiter
@@ -78,6 +83,8 @@ class StepTrialRecord:
         encoders: joint encoders [rad], (N, J).
         commanded: commanded joint setpoints [rad], (N, J).
         imu: gyro x, y, z [rad/s], accelerometer x, y, z [m/s²], quaternion w, x, y, z [-], (N, 10).
+        hold_end: how the hold ended, one of :data:`~zmpkit.experiments.hold.HOLD_ENDS`.
+        hold_note: what the hold monitor saw, in words; empty for a fixed hold.
     """
 
     plane: str
@@ -92,6 +99,8 @@ class StepTrialRecord:
     encoders: NDArray[np.float64]
     commanded: NDArray[np.float64]
     imu: NDArray[np.float64]
+    hold_end: str = "hold"
+    hold_note: str = ""
 
     def as_time_series(self) -> TimeSeries:
         """The trial's samples as one time series (sensor-frame wrenches, joints, IMU)."""
@@ -210,7 +219,9 @@ def run_step_trial(
     reach = lean_angle(_MAX_REACH_FRACTION * lean.lean_length_m, lean.lean_length_m)
     stream = _LeanStream(lean, reach, sim.robot.servo_limits, sim.dt) if command else None
     pusher = _Pusher(sim, config.push, config.plane) if config.push else None
-    data = _record(sim, config, stream, command, pusher)
+    monitor = _monitor(config, target_m, sim.dt)
+    data = _record(sim, config, stream, command, pusher, monitor)
+    end = monitor.finish(float(data[-1, 0]))
     j = len(sim.joint_names)
     return StepTrialRecord(
         plane=config.plane,
@@ -225,6 +236,22 @@ def run_step_trial(
         encoders=data[:, 13 : 13 + j],
         commanded=data[:, 13 + j : 13 + 2 * j],
         imu=data[:, 13 + 2 * j :],
+        hold_end=end.kind,
+        hold_note=end.note,
+    )
+
+
+def _monitor(config: StepExperimentConfig, target_m: float, dt: float) -> HoldMonitor:
+    """The hold monitor of one trial, from the design's sensor mounts and support polygon."""
+    return HoldMonitor(
+        config.plane,
+        target_m,
+        round(config.t_step_s / dt) * dt,
+        config.startup_window_s,
+        config.hold_s,
+        config.max_hold_s,
+        feet_from_mapping(teo_feet_mounts()),
+        support_polygon(config.plane),
     )
 
 
@@ -246,8 +273,12 @@ def _record(
     stream: _LeanStream | None,
     command: Callable[[int], float | None] | None,
     pusher: _Pusher | None,
+    monitor: HoldMonitor,
 ) -> NDArray[np.float64]:
-    """Step ``sim`` through the trial's timeline; one row per F-T sample after settling."""
+    """Step ``sim`` through the trial's timeline; one row per F-T sample after settling.
+
+    The trial ends when ``monitor`` says so, at the latest at its end time.
+    """
     dt, names = sim.dt, list(sim.joint_names)
     every = max(1, round(1.0 / (sim.robot.sensor_params.ft_rate_hz * dt)))
     n_settle, n_step = round(config.settle_s / dt), round(config.t_step_s / dt)
@@ -255,7 +286,7 @@ def _record(
     index = [names.index(j) for j in stream.joints] if stream else []
     setpoints = list(sim.servo.position)
     rows: list[NDArray[np.float64]] = []
-    for k in range(round(config.duration_s / dt)):
+    for k in range(round(monitor.end_time_s / dt)):
         if stream is not None and command is not None and k >= n_step:
             target = command(k - n_step)
             if target is not None:
@@ -267,5 +298,8 @@ def _record(
             pusher.apply(n_step <= k < n_push_end)
         sim.step(1)
         if (k + 1) % every == 0 and k + 1 > n_settle:
-            rows.append(np.concatenate(_sample(sim, setpoints)))
+            row = np.concatenate(_sample(sim, setpoints))
+            rows.append(row)
+            if monitor.update(float(row[0]), row[1:7], row[7:13]):
+                break
     return np.vstack(rows)

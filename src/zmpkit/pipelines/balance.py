@@ -34,10 +34,10 @@ from zmpkit.experiments import (
     run_step_sweep,
     trial_response,
 )
+from zmpkit.experiments.hold import support_polygon
 from zmpkit.identify import BalanceIdentification, BalanceParams, ErrorModel, identify_balance
 from zmpkit.pipelines.balance_controllers import LeanControllerFactory
-from zmpkit.robots.teo import TEO_BALANCE_MASS_KG, TEO_SERVO_LIMITS, teo_feet_mounts
-from zmpkit.robots.teo.geometry import ANKLE_TO_TOE_M, HEEL_TO_ANKLE_M, SOLE_WIDTH_M
+from zmpkit.robots.teo import TEO_BALANCE_MASS_KG, TEO_SERVO_LIMITS
 from zmpkit.signals import StepTrial
 
 __all__ = [
@@ -69,7 +69,9 @@ class BalanceConfig:
         fit_targets_m: targets whose LIPM steps the identification uses [m].
         effects: effects of the virtual robot (``"all"``, ``"none"``, letters).
         seed: sensor-noise seed.
-        hold_s: recorded time after each step [s].
+        hold_s: recorded time after each step [s], the shortest hold.
+        max_hold_s: holds are extended until the measured ZMP settles (creep included), up
+            to this [s]; None: fixed holds of ``hold_s``.
         zeta: damping ratio of the scheduled DLIPM [-].
         time_scale: the DLIPM's (minimum) time scale [-]; paper A ran √(180/π)
             (:data:`~zmpkit.control.PAPER_A_TIME_SCALE`).
@@ -86,6 +88,7 @@ class BalanceConfig:
     effects: str = "all"
     seed: int = 0
     hold_s: float = 20.0
+    max_hold_s: float | None = 60.0
     zeta: float = _ZETA
     time_scale: float = 1.0
     servo_paced: bool = True
@@ -105,7 +108,7 @@ class BalanceConfig:
     @classmethod
     def quick(cls, **changes: Any) -> BalanceConfig:
         """Fewer targets and shorter holds; still fits on even targets, validates on all."""
-        return replace(cls(targets_m=QUICK_TARGETS_M, hold_s=14.0), **changes)
+        return replace(cls(targets_m=QUICK_TARGETS_M, hold_s=14.0, max_hold_s=45.0), **changes)
 
 
 @dataclass(frozen=True, eq=False)
@@ -180,10 +183,11 @@ def _run_plane(
         effects=config.effects,
         seed=config.seed,
         hold_s=config.hold_s,
+        max_hold_s=config.max_hold_s,
         truth=config.truth,
     )
     lean_length = design_lean_model(config.robot, plane).lean_length_m
-    lipm = _outcomes(config, experiment, plane, "lipm", out, progress, None)
+    lipm, lipm_ends = _outcomes(config, experiment, plane, "lipm", out, progress, None)
     fit_set = {round(x, 6) for x in config.fit_targets_m}
     fit_trials = [t for t in lipm if round(t.zmp_ref, 6) in fit_set]
     identification = identify_balance(fit_trials, mass=TEO_BALANCE_MASS_KG, com_height=lean_length)
@@ -199,9 +203,9 @@ def _run_plane(
         Table1Row(
             plane=plane,
             zmp_ref=trial.zmp_ref,
-            lipm=evaluate_trial("lipm", trial),
-            dlipm=evaluate_trial("dlipm", runs["dlipm"][k]),
-            linear=evaluate_trial("linear", runs["linear"][k]),
+            lipm=evaluate_trial("lipm", trial, *lipm_ends[k]),
+            dlipm=evaluate_trial("dlipm", runs["dlipm"][0][k], *runs["dlipm"][1][k]),
+            linear=evaluate_trial("linear", runs["linear"][0][k], *runs["linear"][1][k]),
             fitted_on=round(trial.zmp_ref, 6) in fit_set,
         )
         for k, trial in enumerate(lipm)
@@ -217,7 +221,8 @@ def _outcomes(
     out: Path,
     progress: _ProgressFactory | None,
     factory: LeanControllerFactory | None,
-) -> list[StepTrial]:
+) -> tuple[list[StepTrial], list[tuple[str, str]]]:
+    """The sweep's trials, and how each one's hold ended (kind, note)."""
     callback = progress(f"{plane} {kind.upper()}", len(experiment.targets_m)) if progress else None
     dataset = run_step_sweep(
         experiment,
@@ -226,15 +231,7 @@ def _outcomes(
         progress=callback,
         controller=factory,
     )
-    return dataset_trials(dataset)
-
-
-def support_polygon(plane: str) -> tuple[float, float]:
-    """Double-support extent of TEO's soles in ``plane``, from the design [m]."""
-    if plane == "sagittal":
-        return (-HEEL_TO_ANKLE_M, ANKLE_TO_TOE_M)
-    half_width = abs(teo_feet_mounts()["left"]["position"][1]) + SOLE_WIDTH_M / 2
-    return (-half_width, half_width)
+    return dataset_trials(dataset), [(r.hold_end, r.hold_note) for r in dataset.trials]
 
 
 def _factory(

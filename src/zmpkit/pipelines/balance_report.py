@@ -16,7 +16,7 @@ from zmpkit.analysis.balance_plots import (
 )
 from zmpkit.analysis.balance_targets import BalanceTargets, balance_targets
 from zmpkit.analysis.step_plot import Curve, plot_step_responses
-from zmpkit.analysis.table1 import table1_markdown, write_table1_csv
+from zmpkit.analysis.table1 import table1_markdown, unsettled_lines, write_table1_csv
 from zmpkit.experiments import CONTROL_PERIOD_S
 from zmpkit.identify import TERMS
 from zmpkit.pipelines.balance import BalanceResult, PlaneResult
@@ -128,6 +128,15 @@ def _identification_text(plane: PlaneResult) -> str:
     )
 
 
+def _hold(config) -> str:
+    if config.max_hold_s is None:
+        return f"hold {config.hold_s} s"
+    return (
+        f"hold {config.hold_s} s, extended until settled (creep included) up to "
+        f"{config.max_hold_s} s"
+    )
+
+
 def _pace(config) -> str:
     if config.servo_paced:
         return (
@@ -137,11 +146,18 @@ def _pace(config) -> str:
     return f"fixed time scale {config.time_scale:.3f}"
 
 
+def _unsettled_text(plane: PlaneResult) -> str:
+    lines = unsettled_lines(plane.rows)
+    if not lines:
+        return "\nEvery trial settled (creep check included).\n"
+    return "\n### Trials that did not settle\n\n" + "".join(f"- {line}\n" for line in lines)
+
+
 def _write_report(result: BalanceResult, out: Path, figures: list[Path]) -> Path:
     c = result.config
     parts = [
         "# zmpkit balance: LIPM vs gain-scheduled DLIPM (paper A §4)\n",
-        f"Robot `{c.robot}` (virtual), effects `{c.effects}`, seed {c.seed}, hold {c.hold_s} s, "
+        f"Robot `{c.robot}` (virtual), effects `{c.effects}`, seed {c.seed}, {_hold(c)}, "
         f"DLIPM ζ = {c.zeta}, {_pace(c)}. Fit on targets "
         f"{', '.join(f'{x:g}' for x in c.fit_targets_m)} m (LIPM steps); validated on "
         f"{', '.join(f'{x:g}' for x in c.targets_m)} m.\n",
@@ -153,6 +169,7 @@ def _write_report(result: BalanceResult, out: Path, figures: list[Path]) -> Path
             _identification_text(plane),
             "\n### Table 1\n\n",
             table1_markdown(plane.rows),
+            _unsettled_text(plane),
             "\n### Against the targets\n\n",
             "".join(f"- {line}\n" for line in balance_targets(name, plane.rows).lines()),
             "\n### Figures\n\n",
