@@ -21,6 +21,7 @@ from zmpkit.identify import (
     identify_balance,
     second_order_step,
 )
+from zmpkit.identify.error_fit import SCATTER_FLOOR_M
 from zmpkit.signals import StepTrial, effective_sample_size, steady_state
 
 PAPER_A = ErrorModel("quadratic", (0.834, 1.024, -0.0004))  # paper A eq. 13
@@ -409,3 +410,76 @@ def test_transient_fit_survives_an_overshoot_beyond_100_percent() -> None:
     assert fit.metrics.overshoot_pct is not None
     assert fit.metrics.overshoot_pct > 100.0
     assert isinstance(fit.ok, bool)
+
+
+# --- weights: trial-to-trial scatter ----------------------------------------------------------
+
+
+def _scattered(seed: int, tau: float) -> tuple[np.ndarray, np.ndarray]:
+    """Paper A's model at TARGETS_M with quiet trials near 0 and a relative between-trial scatter.
+
+    Within-trial standard errors 0.01 mm at 0 to 0.06 mm at 0.10 m; between trials a scatter
+    of ``tau`` × sqrt(x² + SCATTER_FLOOR_M²) (``tau`` = 0.02: ±2 % of the target).
+    """
+    rng = np.random.default_rng(seed)
+    se = 1e-5 + 5e-5 * TARGETS_M / 0.1
+    scatter = tau * np.sqrt(TARGETS_M**2 + SCATTER_FLOOR_M**2)
+    y = PAPER_A.predict(TARGETS_M) + rng.normal(0.0, se) + rng.normal(0.0, scatter)
+    return y, se
+
+
+def test_between_trial_scatter_is_the_dersimonian_laird_closed_form() -> None:
+    # equal within-trial σ: Q = RSS/σ², tr(PG) = Σ (1 - h_ii) g_i / σ², so
+    # τ² = (RSS - (n - p) σ²) / Σ (1 - h_ii) g_i
+    rng = np.random.default_rng(7)
+    sigma = 1e-4
+    y = PAPER_A.predict(TARGETS_M) + rng.normal(0.0, 1e-3, TARGETS_M.size)
+    fit = fit_error_model(TARGETS_M, y, std_errors=np.full(TARGETS_M.size, sigma), model="linear")
+    X = np.column_stack([TARGETS_M, np.ones_like(TARGETS_M)])
+    hat = X @ np.linalg.solve(X.T @ X, X.T)
+    rss = float(np.sum((y - hat @ y) ** 2))
+    g = TARGETS_M**2 + SCATTER_FLOOR_M**2
+    tau2 = (rss - (TARGETS_M.size - 2) * sigma**2) / float(np.sum((1.0 - np.diag(hat)) * g))
+    assert fit.scatter == pytest.approx(math.sqrt(tau2), rel=1e-9)
+    np.testing.assert_allclose(fit.weights, 1.0 / (sigma**2 + tau2 * g), rtol=1e-9)
+    assert fit.weighting == "random_effects"
+
+
+@settings(max_examples=40, deadline=None)
+@given(seed=st.integers(0, 2**31), tau=st.floats(0.0, 0.05))
+def test_weights_are_inverse_variance_without_excess_scatter_and_never_exceed_them(
+    seed: int, tau: float
+) -> None:
+    y, se = _scattered(seed, tau)
+    fit = fit_error_model(TARGETS_M, y, std_errors=se, model="quadratic")
+    assert fit.scatter >= 0.0
+    assert np.all(fit.weights <= 1.0 / se**2 * (1.0 + 1e-12))
+    if fit.scatter == 0.0:
+        np.testing.assert_allclose(fit.weights, 1.0 / se**2)
+    assert fit.weight_shares.sum() == pytest.approx(1.0)
+
+
+def test_scatter_takes_the_weight_off_the_quiet_trials_near_zero() -> None:
+    y, se = _scattered(3, 0.03)
+    inverse = fit_error_model(TARGETS_M, y, std_errors=se, weighting="inverse_variance")
+    random = fit_error_model(TARGETS_M, y, std_errors=se)
+    near_zero = TARGETS_M <= 0.02
+    assert random.scatter > 0.0
+    assert random.weight_shares[near_zero].sum() < inverse.weight_shares[near_zero].sum()
+    assert inverse.scatter == 0.0
+
+
+def test_confidence_intervals_stay_honest_under_trial_to_trial_scatter() -> None:
+    hits, n_runs = np.zeros(3), 400
+    for seed in range(n_runs):
+        y, se = _scattered(seed, 0.02)
+        fit = fit_error_model(TARGETS_M, y, std_errors=se, model="quadratic")
+        hits += [fit.interval(n)[0] < v < fit.interval(n)[1] for n, v in PAPER_A.as_dict().items()]
+    # binomial standard deviation at p = 0.95, n = 400: 1.1 % (inverse-variance weights
+    # ignore the scatter and cover c in about 91.5 % of the draws)
+    assert np.all((hits / n_runs > 0.91) & (hits / n_runs < 0.985))
+
+
+def test_unknown_weighting_is_refused() -> None:
+    with pytest.raises(ParameterError, match="weighting must be one of"):
+        fit_error_model(TARGETS_M, TARGETS_M, std_errors=np.ones(11), weighting="relative")
