@@ -3,7 +3,9 @@
 The first columns are those of earlier versions, unchanged; then, per controller, how its
 trial ended (:data:`STATUS_COLUMNS`): its status (``settled``, ``drifting``,
 ``oscillating``, ``short``, ``tipping``), its hold [s], its drift rate at the end if
-unsettled [mm/s] and the error over its last second [%].
+unsettled [mm/s] and the error over its last second [%]; and ``extrapolated`` (1: the
+target lies outside the range of measured ZMPs the error model was fitted on, so the
+controllers ran the model beyond its data).
 """
 
 from __future__ import annotations
@@ -46,15 +48,28 @@ TABLE1_COLUMNS: tuple[str, ...] = (
 )
 _CONTROLLERS = ("lipm", "dlipm", "linear")
 _STATUS_FIELDS = ("status", "hold_s", "drift_mm_s", "end_error_pct")
-STATUS_COLUMNS = tuple(f"{c}_{name}" for c in _CONTROLLERS for name in _STATUS_FIELDS)
-"""Columns after :data:`BASE_COLUMNS`: how each controller's trial ended."""
+STATUS_COLUMNS = (
+    *(f"{c}_{name}" for c in _CONTROLLERS for name in _STATUS_FIELDS),
+    "extrapolated",
+)
+"""Columns after :data:`BASE_COLUMNS`: how each controller's trial ended, extrapolation."""
 BASE_COLUMNS = TABLE1_COLUMNS
 TABLE1_COLUMNS = BASE_COLUMNS + STATUS_COLUMNS
 
 
 @dataclass(frozen=True)
 class Table1Row:
-    """One target: the three controllers' outcomes and whether the fit used this target."""
+    """One target: the three controllers' outcomes and whether the fit used this target.
+
+    Attributes:
+        plane: ``"sagittal"`` or ``"frontal"``.
+        zmp_ref: the target [m].
+        lipm: the classic LIPM step's outcome.
+        dlipm: the scheduled DLIPM's outcome.
+        linear: the single linear correction's outcome.
+        fitted_on: whether the fit used this target's LIPM step.
+        fit_range_m: range of measured ZMPs the error model was fitted on [m]; None: unknown.
+    """
 
     plane: str
     zmp_ref: float
@@ -62,6 +77,15 @@ class Table1Row:
     dlipm: ControllerOutcome
     linear: ControllerOutcome
     fitted_on: bool
+    fit_range_m: tuple[float, float] | None = None
+
+    @property
+    def extrapolated(self) -> bool:
+        """Whether the target lies outside :attr:`fit_range_m` (beyond 1 µm)."""
+        if self.fit_range_m is None:
+            return False
+        low, high = self.fit_range_m
+        return not low - 1e-6 <= self.zmp_ref <= high + 1e-6
 
     def cells(self) -> dict[str, str]:
         """The row as CSV cells; undefined values are empty cells."""
@@ -98,6 +122,7 @@ class Table1Row:
             cells[f"{name}_hold_s"] = _fmt(o.hold_s)
             cells[f"{name}_drift_mm_s"] = _fmt(o.drift_mm_s)
             cells[f"{name}_end_error_pct"] = _fmt(o.end_error_pct)
+        cells["extrapolated"] = "1" if self.extrapolated else "0"
         return cells
 
 
@@ -126,7 +151,7 @@ def table1_markdown(rows: Sequence[Table1Row]) -> str:
     lines = [head]
     for row in rows:
         c = row.cells()
-        mark = "" if row.fitted_on else " *"
+        mark = ("" if row.fitted_on else " *") + (" †" if row.extrapolated else "")
         lines.append(
             f"| {c['plane']} | {c['zmp_ref']}{mark} | {_fixed(c['lipm_zmp'], 5)} "
             f"| {_pct(c['lipm_error_pct'])} "
@@ -135,7 +160,11 @@ def table1_markdown(rows: Sequence[Table1Row]) -> str:
             f"| {_pct(c['lipm_overshoot_pct'])} | {_pct(c['dlipm_overshoot_pct'])} "
             f"| {_fixed(c['lipm_settling_s'], 2)} | {_fixed(c['dlipm_settling_s'], 2)} |"
         )
-    return "\n".join(lines) + "\n\n\\* validation target, not used in the fit.\n"
+    return (
+        "\n".join(lines)
+        + "\n\n\\* validation target, not used in the fit. † outside the range the error "
+        "model was fitted on: the controllers extrapolate it.\n"
+    )
 
 
 def unsettled_lines(rows: Sequence[Table1Row]) -> list[str]:

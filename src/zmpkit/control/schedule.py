@@ -37,6 +37,12 @@ mass explicit, :class:`~zmpkit.models.Dlipm`) then gets, for the damping ratio �
 
 A few coefficients (those of f, m, l, g, ζ) define the whole surface: no lookup table.
 
+Fitted range. f is known only over the measured ZMPs it was fitted on
+(:attr:`GainSchedule.fitted_range`). Beyond it the schedule *extrapolates* the fitted
+polynomial as it is (the rule: no clamping, so a target keeps its meaning; a clamp would
+silently move it); :meth:`GainSchedule.extrapolates` says which targets do, so a caller can
+warn about them.
+
 How this differs from TEO's coded law (``robots/teo-parameters.md`` §8,
 :func:`teo_coded_gains`): TEO sets :math:`k_a = g + (k_{a,const}(r) - g)\,f(r)/r` with
 k_a per kg and an ad-hoc :math:`k_{a,const}(r) = 0.25 r + 9.95`, i.e. it *evaluates* f at
@@ -100,6 +106,7 @@ class GainSchedule:
         length: pendulum length, ankle to CoM [m].
         zeta: damping ratio of the scheduled DLIPM [-].
         g: gravitational acceleration [m/s²].
+        fitted_range: range of measured ZMPs f was fitted on (low, high) [m]; None: unknown.
         theta_offset: :math:`\theta_0 = \arcsin(f^{-1}(0)/l)`, the constant feed-forward [rad].
     """
 
@@ -108,6 +115,7 @@ class GainSchedule:
     length: float
     zeta: float = DEFAULT_ZETA
     g: float = STANDARD_GRAVITY_MPS2
+    fitted_range: tuple[float, float] | None = None
     theta_offset: float = field(init=False)
     _u0: float = field(init=False, repr=False)
 
@@ -137,6 +145,13 @@ class GainSchedule:
                 f"{np.abs(u).max():.6g} m, not below the pendulum length {self.length} m"
             )
         return u
+
+    def extrapolates(self, x_ref: float) -> bool:
+        """Whether target ``x_ref`` [m] lies outside :attr:`fitted_range` (beyond 1 µm)."""
+        if self.fitted_range is None:
+            return False
+        low, high = self.fitted_range
+        return not low - 1e-6 <= x_ref <= high + 1e-6
 
     def commanded_zmp(self, x_ref: ArrayLike) -> float | FloatArray:
         """The commanded (LIPM-expected) ZMP whose measured ZMP is ``x_ref`` [m] → [m]."""

@@ -192,8 +192,10 @@ def _run_plane(
     fit_trials = [t for t in lipm if round(t.zmp_ref, 6) in fit_set]
     identification = identify_balance(fit_trials, mass=TEO_BALANCE_MASS_KG, com_height=lean_length)
     model = identification.params.plane(plane).error_model
+    fit_range = identification.planes[plane].error_fit.fitted_range
     factories = {
-        kind: _factory(kind, model, lean_length, plane, config) for kind in ("dlipm", "linear")
+        kind: _factory(kind, model, lean_length, plane, config, fit_range)
+        for kind in ("dlipm", "linear")
     }
     runs = {
         kind: _outcomes(config, experiment, plane, kind, out, progress, factories[kind])
@@ -207,6 +209,7 @@ def _run_plane(
             dlipm=evaluate_trial("dlipm", runs["dlipm"][0][k], *runs["dlipm"][1][k]),
             linear=evaluate_trial("linear", runs["linear"][0][k], *runs["linear"][1][k]),
             fitted_on=round(trial.zmp_ref, 6) in fit_set,
+            fit_range_m=fit_range,
         )
         for k, trial in enumerate(lipm)
     )
@@ -235,7 +238,12 @@ def _outcomes(
 
 
 def _factory(
-    kind: str, model: ErrorModel, lean_length: float, plane: str, config: BalanceConfig
+    kind: str,
+    model: ErrorModel,
+    lean_length: float,
+    plane: str,
+    config: BalanceConfig,
+    fit_range: tuple[float, float],
 ) -> LeanControllerFactory:
     return LeanControllerFactory(
         kind=kind,
@@ -248,6 +256,7 @@ def _factory(
         rate_limit_rad_s=TEO_SERVO_LIMITS.max_velocity,
         support_polygon=support_polygon(plane),
         max_acceleration_rad_s2=_lean_acceleration_limit(plane) if config.servo_paced else None,
+        fitted_range=fit_range,
     )
 
 
