@@ -28,6 +28,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from zmpkit.experiments.config import PushConfig, StepExperimentConfig
+from zmpkit.experiments.history import previous_target, replay_previous_lean, stance_offsets
 from zmpkit.experiments.hold import HoldMonitor, support_polygon
 from zmpkit.experiments.lean import LeanModel, design_lean_model, lean_angle
 from zmpkit.io import feet_from_mapping
@@ -215,18 +216,24 @@ def run_step_trial(
     angle = lean_angle(target_m, lean.lean_length_m)
     seed = trial_seed(config.seed, config.plane, target_m)
     sim = make_teo(config.effects, config.truth, seed=seed)
-    command = _command(angle, target_m, controller, sim.dt)
     reach = lean_angle(_MAX_REACH_FRACTION * lean.lean_length_m, lean.lean_length_m)
-    stream = _LeanStream(lean, reach, sim.robot.servo_limits, sim.dt) if command else None
+
+    def make_stream() -> _LeanStream:
+        return _LeanStream(lean, reach, sim.robot.servo_limits, sim.dt)
+
+    offsets = _carry_in(sim, config, target_m, lean, make_stream, seed)
+    t_step = sim.time + round(config.t_step_s / sim.dt) * sim.dt
+    command = _command(angle, target_m, controller, sim.dt)
+    stream = make_stream() if command else None
     pusher = _Pusher(sim, config.push, config.plane) if config.push else None
-    monitor = _monitor(config, target_m, sim.dt)
-    data = _record(sim, config, stream, command, pusher, monitor)
+    monitor = _monitor(config, target_m, t_step)
+    data = _record(sim, config, (stream, command, offsets), pusher, monitor)
     end = monitor.finish(float(data[-1, 0]))
     j = len(sim.joint_names)
     return StepTrialRecord(
         plane=config.plane,
         target_m=target_m,
-        t_step_s=round(config.t_step_s / sim.dt) * sim.dt,
+        t_step_s=t_step,
         lean_angle_rad=angle,
         lean_length_m=lean.lean_length_m,
         joint_names=tuple(sim.joint_names),
@@ -241,12 +248,32 @@ def run_step_trial(
     )
 
 
-def _monitor(config: StepExperimentConfig, target_m: float, dt: float) -> HoldMonitor:
+def _carry_in(
+    sim: Simulation,
+    config: StepExperimentConfig,
+    target_m: float,
+    lean: LeanModel,
+    make_stream: Callable[[], _LeanStream],
+    seed: int,
+) -> NDArray[np.float64]:
+    """Stance offsets [rad] and the previous lean, if the truth asks (:mod:`.history`)."""
+    variability = sim.robot.variability
+    leaning = tuple(lean.joint_targets(0.0))
+    offsets = stance_offsets(variability, sim.joint_names, leaning, seed)
+    previous = previous_target(config.targets_m, target_m) if variability.sequence else None
+    if previous is not None:
+        replay_previous_lean(sim, lean, make_stream, previous, offsets)
+    elif np.any(offsets):
+        sim.servo.reset(list(np.asarray(sim.servo.position) + offsets))
+    return offsets
+
+
+def _monitor(config: StepExperimentConfig, target_m: float, t_step_s: float) -> HoldMonitor:
     """The hold monitor of one trial, from the design's sensor mounts and support polygon."""
     return HoldMonitor(
         config.plane,
         target_m,
-        round(config.t_step_s / dt) * dt,
+        t_step_s,
         config.startup_window_s,
         config.hold_s,
         config.max_hold_s,
@@ -270,15 +297,18 @@ def _command(
 def _record(
     sim: Simulation,
     config: StepExperimentConfig,
-    stream: _LeanStream | None,
-    command: Callable[[int], float | None] | None,
+    lean: tuple[_LeanStream | None, Callable[[int], float | None] | None, NDArray[np.float64]],
     pusher: _Pusher | None,
     monitor: HoldMonitor,
 ) -> NDArray[np.float64]:
     """Step ``sim`` through the trial's timeline; one row per F-T sample after settling.
 
-    The trial ends when ``monitor`` says so, at the latest at its end time.
+    ``lean`` is the lean stream, its command per tick and the stance offsets [rad]. The
+    timeline starts at the simulation's current time; the trial ends when ``monitor`` says
+    so, at the latest at its end time.
     """
+    stream, command, offsets = lean
+    t0 = sim.time
     dt, names = sim.dt, list(sim.joint_names)
     every = max(1, round(1.0 / (sim.robot.sensor_params.ft_rate_hz * dt)))
     n_settle, n_step = round(config.settle_s / dt), round(config.t_step_s / dt)
@@ -286,13 +316,13 @@ def _record(
     index = [names.index(j) for j in stream.joints] if stream else []
     setpoints = list(sim.servo.position)
     rows: list[NDArray[np.float64]] = []
-    for k in range(round(monitor.end_time_s / dt)):
+    for k in range(round((monitor.end_time_s - t0) / dt)):
         if stream is not None and command is not None and k >= n_step:
             target = command(k - n_step)
             if target is not None:
                 stream.set_target(target)
             for i, q in zip(index, stream.tick(), strict=True):
-                setpoints[i] = q
+                setpoints[i] = q + float(offsets[i])
             sim.servo.reset(setpoints)
         if pusher is not None:
             pusher.apply(n_step <= k < n_push_end)

@@ -11,6 +11,9 @@ truth file that ``zmpkit balance --truth FILE`` reads:
 ``payload_plus3``  3 kg more at the trunk payload
 ``ft_offsets``     other F-T offsets (mirrored, Fz offsets of the opposite sign, 1.5 × size)
 ``combined``       soft flex, backlash × 3, +3 kg and the other offsets together
+``variability``    the shipped robot with trial-to-trial variability (:data:`VARIABILITY`):
+                   trials in sequence without reset, stance differences, F-T offset drift,
+                   per-sensor per-axis F-T gain errors
 =================  ==========================================================================
 
 A compliance scale :math:`\kappa` divides the base stiffness :math:`k_0` of the softening
@@ -30,7 +33,13 @@ import yaml
 from zmpkit.errors import ParameterError
 from zmpkit.robots.teo.truth import DEFAULT_TRUTH_PATH
 
-__all__ = ["TRUTH_VARIANTS", "truth_variant", "write_truth_variant", "write_truth_variants"]
+__all__ = [
+    "TRUTH_VARIANTS",
+    "VARIABILITY",
+    "truth_variant",
+    "write_truth_variant",
+    "write_truth_variants",
+]
 
 Doc = dict[str, Any]
 
@@ -69,6 +78,28 @@ def _offsets(doc: Doc) -> Doc:
     return doc
 
 
+VARIABILITY: Mapping[str, Any] = {
+    "variability": {"sequence": True, "previous_hold_s": 5.0, "stance_std_rad": 0.003},
+    "ft_offset_drift_std": [0.02, 0.02, 0.05, 0.01, 0.01, 0.001],
+    "ft_gain_error": {
+        "right": [0.01, 0.012, 0.008, 0.02, 0.015, 0.01],
+        "left": [0.012, 0.008, 0.01, -0.005, 0.005, 0.01],
+    },
+}
+"""ASSUMED trial-to-trial variability, sized so repeated LIPM steps at 0.06 m scatter by
+about paper A's ±3 points of percent (std ≈ 1.8 points over seeds 0-5): stance offsets of
+0.003 rad (0.17°) per leaning joint, F-T offset drift rates of std (0.02, 0.02, 0.05 N/s,
+0.01, 0.01, 0.001 N·m/s), each sensor's gains within ±2 % per axis, and each trial after
+the previous target's lean held 5 s."""
+
+
+def _variability(doc: Doc) -> Doc:
+    doc["variability"] = dict(VARIABILITY["variability"])
+    doc["sensors"]["ft_offset_drift_std"] = list(VARIABILITY["ft_offset_drift_std"])
+    doc["sensors"]["ft_gain_error"] = copy.deepcopy(dict(VARIABILITY["ft_gain_error"]))
+    return doc
+
+
 def _combined(doc: Doc) -> Doc:
     return _offsets(_payload(_backlash(_scale_compliance(doc, 1.6))))
 
@@ -80,6 +111,7 @@ TRUTH_VARIANTS: Mapping[str, Callable[[Doc], Doc]] = {
     "payload_plus3": _payload,
     "ft_offsets": _offsets,
     "combined": _combined,
+    "variability": _variability,
 }
 """Variant name → change applied to a copy of the shipped truth document."""
 
