@@ -16,6 +16,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from zmpkit.analysis.balance_validation import ControllerOutcome
+from zmpkit.control.schedule import EXTRAPOLATION_TOLERANCE_M
 
 __all__ = [
     "BASE_COLUMNS",
@@ -81,11 +82,15 @@ class Table1Row:
 
     @property
     def extrapolated(self) -> bool:
-        """Whether the target lies outside :attr:`fit_range_m` (beyond 1 µm)."""
+        """Whether the target lies outside :attr:`fit_range_m` by more than 1 mm.
+
+        (:data:`zmpkit.control.schedule.EXTRAPOLATION_TOLERANCE_M`, the controllers' rule).
+        """
         if self.fit_range_m is None:
             return False
         low, high = self.fit_range_m
-        return not low - 1e-6 <= self.zmp_ref <= high + 1e-6
+        tol = EXTRAPOLATION_TOLERANCE_M
+        return not low - tol <= self.zmp_ref <= high + tol
 
     def cells(self) -> dict[str, str]:
         """The row as CSV cells; undefined values are empty cells."""

@@ -72,12 +72,16 @@ from zmpkit.identify.params import BalanceParams
 from zmpkit.models.dlipm import Dlipm
 from zmpkit.models.pendulum import STANDARD_GRAVITY_MPS2
 
-__all__ = ["DEFAULT_ZETA", "GainSchedule", "teo_coded_gains"]
+__all__ = ["DEFAULT_ZETA", "EXTRAPOLATION_TOLERANCE_M", "GainSchedule", "teo_coded_gains"]
 
 FloatArray = NDArray[np.float64]
 
 DEFAULT_ZETA = 0.8
 """Damping ratio of the scheduled DLIPM, paper A §4.4 [-]."""
+
+EXTRAPOLATION_TOLERANCE_M = 1e-3
+"""A target within this of the fitted range counts as inside it (the measured ZMP of the
+trial at 0 is not exactly 0) [m]."""
 
 _ASIN_SERIES_LIMIT = 1e-4
 """Below this |z|, asin(z)/z = 1 + z²/6 + 3z⁴/40 (error < 1e-25) [-]."""
@@ -147,11 +151,15 @@ class GainSchedule:
         return u
 
     def extrapolates(self, x_ref: float) -> bool:
-        """Whether target ``x_ref`` [m] lies outside :attr:`fitted_range` (beyond 1 µm)."""
+        """Whether ``x_ref`` [m] lies outside :attr:`fitted_range` by more than 1 mm.
+
+        (:data:`EXTRAPOLATION_TOLERANCE_M`).
+        """
         if self.fitted_range is None:
             return False
         low, high = self.fitted_range
-        return not low - 1e-6 <= x_ref <= high + 1e-6
+        tol = EXTRAPOLATION_TOLERANCE_M
+        return not low - tol <= x_ref <= high + tol
 
     def commanded_zmp(self, x_ref: ArrayLike) -> float | FloatArray:
         """The commanded (LIPM-expected) ZMP whose measured ZMP is ``x_ref`` [m] → [m]."""

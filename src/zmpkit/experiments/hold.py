@@ -7,7 +7,8 @@ both feet's F-T wrenches and the sensor mounts — and from design data (the sup
 
 - **settled**: from ``hold_s`` on, every :data:`CHECK_PERIOD_S`, the post-step ZMP (start-up
   offset removed) goes through :func:`~zmpkit.signals.steady_state`; once it is settled
-  (including its creep check) the trial ends. At ``max_hold_s`` it ends unsettled, with
+  (including its creep check, with :data:`MONITOR_CREEP_MARGIN` of its tolerance) the trial
+  ends. At ``max_hold_s`` it ends unsettled, with
   the detector's status and drift rate: "did not settle within H s (drift X mm/s)".
 - **tipping**: the mean over the last :data:`TIP_AVERAGE_S` of the ZMP passes
   :data:`TIP_EDGE_FRACTION` of the way from the polygon's centre to its edge, or a foot
@@ -35,11 +36,13 @@ from zmpkit.robots.teo import teo_feet_mounts
 from zmpkit.robots.teo.geometry import ANKLE_TO_TOE_M, HEEL_TO_ANKLE_M, SOLE_WIDTH_M
 from zmpkit.sensors import SensorMount, zmp_series
 from zmpkit.signals import PLANES, SteadyState, StepTrial, steady_state
+from zmpkit.signals.steady_state import CREEP_MIN_M, CREEP_TOLERANCE_FRACTION
 
 __all__ = [
     "CHECK_PERIOD_S",
     "HOLD_ENDS",
     "LIFT_LOAD_FRACTION",
+    "MONITOR_CREEP_MARGIN",
     "TIP_AVERAGE_S",
     "TIP_CHECK_PERIOD_S",
     "TIP_EDGE_FRACTION",
@@ -58,6 +61,10 @@ TIP_EDGE_FRACTION = 0.85
 """A ZMP this far from the polygon's centre to its edge ends the trial [-]."""
 LIFT_LOAD_FRACTION = 0.02
 """A foot carrying less than this fraction of the weight is about to lift [-]."""
+MONITOR_CREEP_MARGIN = 0.8
+"""The monitor ends a hold only on a creep within this fraction of the detector's tolerance,
+so a trial it ends as settled is settled for the evaluation too, whose offset and window
+differ by rounding [-]."""
 HOLD_ENDS = ("hold", "settled", "hold_limit", "tipping")
 """How a trial's hold ended: fixed hold over, settled, extended to its limit, or tipping."""
 
@@ -212,7 +219,12 @@ class HoldMonitor:
     def _steady(self) -> SteadyState:
         t = np.asarray(self._time[: len(self._zmp)])
         z = self._zmp - (self._offset or 0.0)
-        return steady_state(StepTrial(t, z, self._target, self._t_step, self._plane))
+        trial = StepTrial(t, z, self._target, self._t_step, self._plane)
+        return steady_state(
+            trial,
+            creep_fraction=MONITOR_CREEP_MARGIN * CREEP_TOLERANCE_FRACTION,
+            creep_min_m=MONITOR_CREEP_MARGIN * CREEP_MIN_M,
+        )
 
     def _stop(self, kind: str, note: str, time: float) -> bool:
         self.end = HoldEnd(kind, note, time - self._t_step)
