@@ -4,13 +4,23 @@ from __future__ import annotations
 
 import csv
 import math
+import re
 from pathlib import Path
 
 import numpy as np
 import pytest
 
 from zmpkit.analysis.balance_validation import evaluate_trial, percent_error
-from zmpkit.analysis.table1 import TABLE1_COLUMNS, Table1Row, table1_markdown, write_table1_csv
+from zmpkit.analysis.balance_verdict import plane_verdict
+from zmpkit.analysis.table1 import (
+    BASE_COLUMNS,
+    STATUS_COLUMNS,
+    TABLE1_COLUMNS,
+    Table1Row,
+    table1_markdown,
+    unsettled_lines,
+    write_table1_csv,
+)
 from zmpkit.signals import StepTrial
 
 ZETA, OMEGA_N = 0.3, 6.0  # [-], [rad/s]
@@ -68,3 +78,90 @@ def test_table1_csv_has_the_contract_columns(tmp_path: Path) -> None:
     assert float(got[2]["lipm_error_pct"]) == pytest.approx(10.0, abs=0.05)
     assert float(got[2]["dlipm_error_pct"]) == pytest.approx(0.0, abs=0.05)
     assert "| sagittal | 0.05 * |" in table1_markdown(rows)
+
+
+# --- creep, extrapolation and the verdict -------------------------------------------------------
+
+ORIGINAL_COLUMNS = (
+    "plane", "zmp_ref", "lipm_zmp", "lipm_error_pct", "dlipm_zmp", "dlipm_error_pct",
+    "lipm_overshoot_pct", "dlipm_overshoot_pct", "lipm_settling_s", "dlipm_settling_s",
+    "linear_zmp", "linear_error_pct", "linear_overshoot_pct", "linear_settling_s",
+    "lipm_rms_oscillation_m", "dlipm_rms_oscillation_m", "fitted_on",
+)  # fmt: skip
+
+
+def _creeping(target: float, final: float, rate_m_s: float) -> StepTrial:
+    """:func:`_trial` with a creep of ``rate_m_s`` [m/s] after the step."""
+    trial = _trial(target, final)
+    creep = rate_m_s * np.clip(trial.time - 1.0, 0.0, None)
+    return StepTrial(trial.time, trial.zmp_measured + creep, target, 1.0)
+
+
+def _rows(dlipm_far: float, lipm_far_rate: float = 0.0, fit_high: float = 0.1) -> list[Table1Row]:
+    rows = []
+    for k, x in enumerate((0.0, 0.05, 0.1)):
+        lipm = _creeping(x, 1.1 * x, lipm_far_rate if x == 0.1 else 0.0)
+        dlipm = _trial(x, dlipm_far * x if x == 0.1 else 1.01 * x)
+        rows.append(
+            Table1Row(
+                "frontal",
+                x,
+                evaluate_trial("lipm", lipm),
+                evaluate_trial("dlipm", dlipm),
+                evaluate_trial("linear", _trial(x, 1.02 * x)),
+                fitted_on=k % 2 == 0,
+                fit_range_m=(0.0, fit_high),
+            )
+        )
+    return rows
+
+
+def test_earlier_columns_are_kept_and_the_new_ones_follow() -> None:
+    assert BASE_COLUMNS == ORIGINAL_COLUMNS
+    assert TABLE1_COLUMNS[: len(ORIGINAL_COLUMNS)] == ORIGINAL_COLUMNS
+    assert TABLE1_COLUMNS[len(ORIGINAL_COLUMNS) :] == STATUS_COLUMNS
+    assert "lipm_drift_mm_s" in STATUS_COLUMNS
+    assert STATUS_COLUMNS[-1] == "extrapolated"
+
+
+def test_a_creeping_trial_reports_its_drift_instead_of_an_error(tmp_path: Path) -> None:
+    rows = _rows(1.0, lipm_far_rate=2e-4)  # 0.2 mm/s: 2 mm in the 10 s creep horizon
+    far = rows[-1].lipm
+    assert far.error_pct is None
+    assert far.status == "drifting"
+    assert far.drift_mm_s == pytest.approx(0.2, rel=0.2)
+    assert far.end_error_pct == pytest.approx(10.0 + 100 * 2e-4 * 6.5 / 0.1, abs=0.3)
+    cells = rows[-1].cells()
+    assert cells["lipm_error_pct"] == ""
+    assert cells["lipm_status"] == "drifting"
+    assert float(cells["lipm_drift_mm_s"]) == pytest.approx(0.2, rel=0.2)
+    assert cells["dlipm_status"] == "settled"
+    assert cells["dlipm_drift_mm_s"] == ""
+    (line,) = unsettled_lines(rows)
+    assert re.match(
+        r"0\.1 m, LIPM: did not settle within 7 s \(drift 0\.(19|2)\d* mm/s, drifting", line
+    )
+
+
+def test_targets_beyond_the_fitted_range_are_flagged() -> None:
+    rows = _rows(1.0, fit_high=0.08)
+    assert [r.extrapolated for r in rows] == [False, False, True]
+    assert rows[-1].cells()["extrapolated"] == "1"
+    assert "| frontal | 0.1 †" in table1_markdown(rows)
+    warnings = plane_verdict("frontal", rows).warnings
+    assert warnings[0].startswith("targets 0.1 m lie outside the fitted range [0, 0.08] m")
+
+
+def test_verdict_met_missed_and_undefined_with_its_reason() -> None:
+    met = plane_verdict("frontal", _rows(1.0))
+    assert met.met
+    assert [b.state for b in met.bars] == ["met", "met"]
+    assert met.bars[0].value == pytest.approx(0.0, abs=0.01)
+    missed = plane_verdict("frontal", _rows(1.05))  # far: 5 % against 10 %: ratio 0.5
+    assert [b.state for b in missed.bars] == ["missed", "met"]
+    assert missed.bars[0].value == pytest.approx(0.5, abs=0.01)
+    undefined = plane_verdict("frontal", _rows(1.0, lipm_far_rate=2e-4))
+    assert [b.state for b in undefined.bars] == ["undefined", "undefined"]
+    assert undefined.bars[0].why.startswith("LIPM at 0.1 m did not settle within 7 s")
+    assert "undefined: LIPM at 0.1 m did not settle" in undefined.lines()[1]
+    assert not undefined.met

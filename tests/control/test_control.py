@@ -353,3 +353,18 @@ def test_servo_paced_plan_stays_within_the_acceleration_limit(target: float) -> 
     assert np.max(np.abs(acceleration)) <= limit * 1.01
     assert np.max(np.abs(acceleration)) >= limit * 0.9  # no slower than it needs to be
     assert angles[-1] == pytest.approx(schedule.steady_angle(target), rel=1e-6)
+
+
+def test_schedule_knows_its_fitted_range_and_extrapolates_beyond_it_unchanged() -> None:
+    from zmpkit.control import GainSchedule
+    from zmpkit.control.schedule import EXTRAPOLATION_TOLERANCE_M
+
+    fitted = GainSchedule(PAPER_A, 62.6, 0.893, fitted_range=(0.0, 0.08))
+    free = GainSchedule(PAPER_A, 62.6, 0.893)
+    assert not fitted.extrapolates(0.0)
+    assert not fitted.extrapolates(0.08 + 0.5 * EXTRAPOLATION_TOLERANCE_M)
+    assert fitted.extrapolates(0.1)
+    assert fitted.extrapolates(-0.01)
+    assert not free.extrapolates(0.1)  # no range known: nothing flagged
+    # the documented rule: beyond the range the fitted polynomial is used as it is
+    assert fitted.commanded_zmp(0.1) == free.commanded_zmp(0.1) == PAPER_A.invert(0.1)

@@ -21,6 +21,7 @@ from zmpkit.identify import (
     identify_balance,
     second_order_step,
 )
+from zmpkit.identify.error_fit import SCATTER_FLOOR_M
 from zmpkit.signals import StepTrial, effective_sample_size, steady_state
 
 PAPER_A = ErrorModel("quadratic", (0.834, 1.024, -0.0004))  # paper A eq. 13
@@ -67,15 +68,38 @@ def test_steady_state_of_a_noisy_step_excludes_the_transient() -> None:
     assert result.std_error == pytest.approx(naive, rel=0.35)  # white noise: n_eff ≈ n
 
 
-def test_steady_state_with_slow_drift_is_honest() -> None:
+def test_steady_state_with_slow_drift_is_honest_when_the_creep_check_is_off() -> None:
     rng = np.random.default_rng(2)
     trial, clean = synthetic_trial(PAPER_A, 0.05, rng, drift_m_per_s=1e-4, duration_s=8.0)
-    result = steady_state(trial)
+    result = steady_state(trial, creep_horizon_s=None)
     inside = (trial.time >= result.window[0]) & (trial.time <= result.window[1])
     assert result.settled
     assert result.drift_rate == pytest.approx(1e-4, rel=0.3)
     assert abs(result.value - clean[inside].mean()) < 3.0 * result.std_error
     assert result.std_error > 2.0 * NOISE_M / math.sqrt(result.n_samples)  # drift is correlated
+
+
+def test_a_creep_beyond_tolerance_is_drifting_with_its_rate() -> None:
+    # 0.1 mm/s moves the ZMP 1 mm in the 10 s creep horizon: 2 % of a 0.05 m step, beyond
+    # the 0.5 % tolerance; a creep of 0.01 mm/s (0.1 mm, inside the 0.2 mm floor) is not
+    rng = np.random.default_rng(2)
+    trial, _ = synthetic_trial(PAPER_A, 0.05, rng, drift_m_per_s=1e-4, duration_s=8.0)
+    result = steady_state(trial)
+    assert not result.settled
+    assert result.status == "drifting"
+    assert result.value is None
+    assert result.drift_rate_mm_s == pytest.approx(0.1, rel=0.3)
+    assert "still creeps at" in result.reason
+    slow, _ = synthetic_trial(PAPER_A, 0.05, rng, drift_m_per_s=1e-5, duration_s=8.0)
+    assert steady_state(slow).settled
+
+
+def test_a_ramp_that_never_enters_the_band_is_drifting_not_oscillating() -> None:
+    rng = np.random.default_rng(5)
+    trial, _ = synthetic_trial(PAPER_A, 0.05, rng, drift_m_per_s=2e-3, duration_s=8.0)
+    result = steady_state(trial)
+    assert (result.settled, result.status) == (False, "drifting")
+    assert result.drift_rate_mm_s == pytest.approx(2.0, rel=0.1)
 
 
 def test_persistent_oscillation_is_not_settled() -> None:
@@ -86,6 +110,7 @@ def test_persistent_oscillation_is_not_settled() -> None:
     assert result.value is None
     assert result.std_error is None
     assert "oscillation that has not died out" in result.reason
+    assert result.status == "oscillating"
 
 
 def test_short_hold_is_not_settled() -> None:
@@ -95,6 +120,7 @@ def test_short_hold_is_not_settled() -> None:
     assert not result.settled
     assert result.value is None
     assert "of its final median for only" in result.reason
+    assert result.status == "short"
 
 
 def test_effective_sample_size_of_white_and_ar1_noise() -> None:
@@ -384,3 +410,76 @@ def test_transient_fit_survives_an_overshoot_beyond_100_percent() -> None:
     assert fit.metrics.overshoot_pct is not None
     assert fit.metrics.overshoot_pct > 100.0
     assert isinstance(fit.ok, bool)
+
+
+# --- weights: trial-to-trial scatter ----------------------------------------------------------
+
+
+def _scattered(seed: int, tau: float) -> tuple[np.ndarray, np.ndarray]:
+    """Paper A's model at TARGETS_M with quiet trials near 0 and a relative between-trial scatter.
+
+    Within-trial standard errors 0.01 mm at 0 to 0.06 mm at 0.10 m; between trials a scatter
+    of ``tau`` × sqrt(x² + SCATTER_FLOOR_M²) (``tau`` = 0.02: ±2 % of the target).
+    """
+    rng = np.random.default_rng(seed)
+    se = 1e-5 + 5e-5 * TARGETS_M / 0.1
+    scatter = tau * np.sqrt(TARGETS_M**2 + SCATTER_FLOOR_M**2)
+    y = PAPER_A.predict(TARGETS_M) + rng.normal(0.0, se) + rng.normal(0.0, scatter)
+    return y, se
+
+
+def test_between_trial_scatter_is_the_dersimonian_laird_closed_form() -> None:
+    # equal within-trial σ: Q = RSS/σ², tr(PG) = Σ (1 - h_ii) g_i / σ², so
+    # τ² = (RSS - (n - p) σ²) / Σ (1 - h_ii) g_i
+    rng = np.random.default_rng(7)
+    sigma = 1e-4
+    y = PAPER_A.predict(TARGETS_M) + rng.normal(0.0, 1e-3, TARGETS_M.size)
+    fit = fit_error_model(TARGETS_M, y, std_errors=np.full(TARGETS_M.size, sigma), model="linear")
+    X = np.column_stack([TARGETS_M, np.ones_like(TARGETS_M)])
+    hat = X @ np.linalg.solve(X.T @ X, X.T)
+    rss = float(np.sum((y - hat @ y) ** 2))
+    g = TARGETS_M**2 + SCATTER_FLOOR_M**2
+    tau2 = (rss - (TARGETS_M.size - 2) * sigma**2) / float(np.sum((1.0 - np.diag(hat)) * g))
+    assert fit.scatter == pytest.approx(math.sqrt(tau2), rel=1e-9)
+    np.testing.assert_allclose(fit.weights, 1.0 / (sigma**2 + tau2 * g), rtol=1e-9)
+    assert fit.weighting == "random_effects"
+
+
+@settings(max_examples=40, deadline=None)
+@given(seed=st.integers(0, 2**31), tau=st.floats(0.0, 0.05))
+def test_weights_are_inverse_variance_without_excess_scatter_and_never_exceed_them(
+    seed: int, tau: float
+) -> None:
+    y, se = _scattered(seed, tau)
+    fit = fit_error_model(TARGETS_M, y, std_errors=se, model="quadratic")
+    assert fit.scatter >= 0.0
+    assert np.all(fit.weights <= 1.0 / se**2 * (1.0 + 1e-12))
+    if fit.scatter == 0.0:
+        np.testing.assert_allclose(fit.weights, 1.0 / se**2)
+    assert fit.weight_shares.sum() == pytest.approx(1.0)
+
+
+def test_scatter_takes_the_weight_off_the_quiet_trials_near_zero() -> None:
+    y, se = _scattered(3, 0.03)
+    inverse = fit_error_model(TARGETS_M, y, std_errors=se, weighting="inverse_variance")
+    random = fit_error_model(TARGETS_M, y, std_errors=se)
+    near_zero = TARGETS_M <= 0.02
+    assert random.scatter > 0.0
+    assert random.weight_shares[near_zero].sum() < inverse.weight_shares[near_zero].sum()
+    assert inverse.scatter == 0.0
+
+
+def test_confidence_intervals_stay_honest_under_trial_to_trial_scatter() -> None:
+    hits, n_runs = np.zeros(3), 400
+    for seed in range(n_runs):
+        y, se = _scattered(seed, 0.02)
+        fit = fit_error_model(TARGETS_M, y, std_errors=se, model="quadratic")
+        hits += [fit.interval(n)[0] < v < fit.interval(n)[1] for n, v in PAPER_A.as_dict().items()]
+    # binomial standard deviation at p = 0.95, n = 400: 1.1 % (inverse-variance weights
+    # ignore the scatter and cover c in about 91.5 % of the draws)
+    assert np.all((hits / n_runs > 0.91) & (hits / n_runs < 0.985))
+
+
+def test_unknown_weighting_is_refused() -> None:
+    with pytest.raises(ParameterError, match="weighting must be one of"):
+        fit_error_model(TARGETS_M, TARGETS_M, std_errors=np.ones(11), weighting="relative")

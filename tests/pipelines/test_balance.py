@@ -121,3 +121,32 @@ def test_nothing_is_tuned_to_the_shipped_truth(tmp_path: Path) -> None:
     for row in result.planes["sagittal"].rows:
         if row.zmp_ref > 0:
             assert abs(row.dlipm.error_pct) < abs(row.lipm.error_pct)
+
+
+def test_report_and_artifacts_carry_the_verdict(balance_run) -> None:
+    _, _, artifacts = balance_run
+    verdict = artifacts.verdicts["sagittal"]
+    assert [b.name for b in verdict.bars] == ["far error ratio", "mean error ratio"]
+    assert all(b.state in ("met", "missed", "undefined") for b in verdict.bars)
+    assert artifacts.met == verdict.met
+    report = artifacts.report.read_text()
+    assert "## Verdict (paper A's bars)" in report
+    assert verdict.bars[0].line() in report
+    assert "- fitted range (measured ZMP):" in report
+
+
+@pytest.mark.parametrize(
+    ("met", "strict", "code", "says"),
+    [
+        (True, True, 0, "every bar met: exit 0"),
+        (False, False, 0, "exit 0 (--strict exits 1)"),
+        (False, True, 1, "--strict: a bar is missed or undefined: exit 1"),
+    ],
+)
+def test_only_strict_turns_a_missed_bar_into_a_failing_exit(
+    met: bool, strict: bool, code: int, says: str, capsys: pytest.CaptureFixture[str]
+) -> None:
+    from zmpkit.cli.balance import _exit_code
+
+    assert _exit_code(met, strict) == code
+    assert says in capsys.readouterr().out

@@ -287,6 +287,44 @@ def test_ft_offset_and_gain_show_in_a_noise_free_reading() -> None:
     np.testing.assert_allclose(out, 1.05 * wrench + np.array(params.ft_offset))
 
 
+def test_ft_per_axis_gain_and_offset_drift_in_a_noise_free_reading() -> None:
+    drift_std = (0.1, 0.1, 0.2, 0.01, 0.01, 0.005)
+    params = SensorParams(
+        ft_offset=(1, 2, 3, 0.1, 0.2, 0.3),
+        ft_noise_std=(0,) * 6,
+        ft_quantisation=(0,) * 6,
+        ft_cutoff_hz=0.0,
+        ft_rate_hz=100.0,
+        ft_offset_drift_std=drift_std,
+    )
+    gains = (0.01, -0.02, 0.03, 0.0, 0.05, -0.01)
+    channel = FtChannel(params, params.ft_offset, np.random.default_rng(3), gains)
+    rate = np.asarray(drift_std) * np.random.default_rng(3).standard_normal(6)  # its draw
+    wrench = np.array([10.0, -4.0, 300.0, 1.0, -2.0, 0.5])
+    for k in range(5):
+        out = channel.sample(wrench)
+        expected = (1.0 + np.asarray(gains)) * wrench + np.asarray(params.ft_offset)
+        np.testing.assert_allclose(out, expected + rate * k / 100.0, rtol=1e-12, atol=1e-12)
+
+
+def test_ft_with_drift_and_gains_batched_is_repeated_sampling() -> None:
+    import copy
+
+    from zmpkit.sim.sensing import sample_series
+
+    params = SensorParams(ft_offset_drift_std=(0.1, 0.1, 0.2, 0.01, 0.01, 0.005))
+    gains = [(0.01, -0.02, 0.03, 0.0, 0.05, -0.01), (0.0,) * 6]
+    channels = [FtChannel(params, params.ft_offset, np.random.default_rng(s), g) for s, g in
+                zip((1, 2), gains, strict=True)]  # fmt: skip
+    channels[0].sample(np.ones(6))  # one already started
+    reference = [copy.deepcopy(c) for c in channels]
+    wrenches = 100.0 * np.random.default_rng(0).standard_normal((2, 30, 6))
+    expected = np.array(
+        [[c.sample(w) for w in ws] for c, ws in zip(reference, wrenches, strict=True)]
+    )
+    np.testing.assert_array_equal(sample_series(channels, wrenches), expected)
+
+
 def test_ft_same_seed_same_samples() -> None:
     params = SensorParams()
     a = FtChannel(params, params.ft_offset, np.random.default_rng(7))

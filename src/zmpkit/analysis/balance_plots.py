@@ -49,9 +49,14 @@ def plot_error_fit(
 
 
 def plot_zmp_ref_vs_measured(rows: Sequence[Table1Row], path: str | Path, *, plane: str) -> Path:
-    """Fig. 20: measured steady-state ZMP against its target for each controller [m]."""
+    """Fig. 20: measured steady-state ZMP against its target for each controller [m].
+
+    Targets outside the range the error model was fitted on are shaded: there the
+    controllers extrapolated it.
+    """
     fig, ax = new_figure(width_in=7.0, height_in=5.5)
     ref = np.array([r.zmp_ref for r in rows])
+    _shade_extrapolated(ax, rows, ref)
     for name, style in (("lipm", "o-"), ("linear", "^-"), ("dlipm", "s-")):
         values = [getattr(r, name).zmp_measured for r in rows]
         y = np.array([np.nan if v is None else v for v in values])  # plotted gaps only
@@ -62,6 +67,21 @@ def plot_zmp_ref_vs_measured(rows: Sequence[Table1Row], path: str | Path, *, pla
     ax.grid(True, alpha=0.3)
     ax.legend(loc="best")
     return save_figure(fig, path)
+
+
+def _shade_extrapolated(ax, rows: Sequence[Table1Row], ref: np.ndarray) -> None:
+    """Shade the targets beyond the fitted range on ``ax`` (x axis: targets [m])."""
+    fit_range = next((r.fit_range_m for r in rows if r.fit_range_m is not None), None)
+    if fit_range is None:
+        return
+    low, high = fit_range
+    span = max(float(ref.max() - ref.min()), 1e-3)
+    label = "outside the fitted range (extrapolated)"
+    if ref.max() > high + 1e-6:
+        ax.axvspan(high, float(ref.max()) + 0.05 * span, color="C3", alpha=0.12, label=label)
+        label = "_nolegend_"
+    if ref.min() < low - 1e-6:
+        ax.axvspan(float(ref.min()) - 0.05 * span, low, color="C3", alpha=0.12, label=label)
 
 
 def plot_step_responses_by_target(

@@ -1,4 +1,12 @@
-"""Writing paper A's Table 1 (LIPM vs DLIPM per target) as CSV and as a Markdown table."""
+"""Writing paper A's Table 1 (LIPM vs DLIPM per target) as CSV and as a Markdown table.
+
+The first columns are those of earlier versions, unchanged; then, per controller, how its
+trial ended (:data:`STATUS_COLUMNS`): its status (``settled``, ``drifting``,
+``oscillating``, ``short``, ``tipping``), its hold [s], its drift rate at the end if
+unsettled [mm/s] and the error over its last second [%]; and ``extrapolated`` (1: the
+target lies outside the range of measured ZMPs the error model was fitted on, so the
+controllers ran the model beyond its data).
+"""
 
 from __future__ import annotations
 
@@ -8,10 +16,19 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from zmpkit.analysis.balance_validation import ControllerOutcome
+from zmpkit.control.schedule import EXTRAPOLATION_TOLERANCE_M
 
-__all__ = ["TABLE1_COLUMNS", "Table1Row", "table1_markdown", "write_table1_csv"]
+__all__ = [
+    "BASE_COLUMNS",
+    "STATUS_COLUMNS",
+    "TABLE1_COLUMNS",
+    "Table1Row",
+    "table1_markdown",
+    "unsettled_lines",
+    "write_table1_csv",
+]
 
-TABLE1_COLUMNS = (
+TABLE1_COLUMNS: tuple[str, ...] = (
     "plane",
     "zmp_ref",
     "lipm_zmp",
@@ -30,11 +47,30 @@ TABLE1_COLUMNS = (
     "dlipm_rms_oscillation_m",
     "fitted_on",
 )
+_CONTROLLERS = ("lipm", "dlipm", "linear")
+_STATUS_FIELDS = ("status", "hold_s", "drift_mm_s", "end_error_pct")
+STATUS_COLUMNS = (
+    *(f"{c}_{name}" for c in _CONTROLLERS for name in _STATUS_FIELDS),
+    "extrapolated",
+)
+"""Columns after :data:`BASE_COLUMNS`: how each controller's trial ended, extrapolation."""
+BASE_COLUMNS = TABLE1_COLUMNS
+TABLE1_COLUMNS = BASE_COLUMNS + STATUS_COLUMNS
 
 
 @dataclass(frozen=True)
 class Table1Row:
-    """One target: the three controllers' outcomes and whether the fit used this target."""
+    """One target: the three controllers' outcomes and whether the fit used this target.
+
+    Attributes:
+        plane: ``"sagittal"`` or ``"frontal"``.
+        zmp_ref: the target [m].
+        lipm: the classic LIPM step's outcome.
+        dlipm: the scheduled DLIPM's outcome.
+        linear: the single linear correction's outcome.
+        fitted_on: whether the fit used this target's LIPM step.
+        fit_range_m: range of measured ZMPs the error model was fitted on [m]; None: unknown.
+    """
 
     plane: str
     zmp_ref: float
@@ -42,6 +78,19 @@ class Table1Row:
     dlipm: ControllerOutcome
     linear: ControllerOutcome
     fitted_on: bool
+    fit_range_m: tuple[float, float] | None = None
+
+    @property
+    def extrapolated(self) -> bool:
+        """Whether the target lies outside :attr:`fit_range_m` by more than 1 mm.
+
+        (:data:`zmpkit.control.schedule.EXTRAPOLATION_TOLERANCE_M`, the controllers' rule).
+        """
+        if self.fit_range_m is None:
+            return False
+        low, high = self.fit_range_m
+        tol = EXTRAPOLATION_TOLERANCE_M
+        return not low - tol <= self.zmp_ref <= high + tol
 
     def cells(self) -> dict[str, str]:
         """The row as CSV cells; undefined values are empty cells."""
@@ -64,7 +113,22 @@ class Table1Row:
             "lipm_rms_oscillation_m": _fmt(lipm.rms_oscillation_m),
             "dlipm_rms_oscillation_m": _fmt(dlipm.rms_oscillation_m),
             "fitted_on": "1" if self.fitted_on else "0",
+            **self._status_cells(),
         }
+
+    def outcomes(self) -> dict[str, ControllerOutcome]:
+        """The outcomes by controller name."""
+        return {"lipm": self.lipm, "dlipm": self.dlipm, "linear": self.linear}
+
+    def _status_cells(self) -> dict[str, str]:
+        cells = {}
+        for name, o in self.outcomes().items():
+            cells[f"{name}_status"] = o.status
+            cells[f"{name}_hold_s"] = _fmt(o.hold_s)
+            cells[f"{name}_drift_mm_s"] = _fmt(o.drift_mm_s)
+            cells[f"{name}_end_error_pct"] = _fmt(o.end_error_pct)
+        cells["extrapolated"] = "1" if self.extrapolated else "0"
+        return cells
 
 
 def _fmt(value: float | None) -> str:
@@ -92,7 +156,7 @@ def table1_markdown(rows: Sequence[Table1Row]) -> str:
     lines = [head]
     for row in rows:
         c = row.cells()
-        mark = "" if row.fitted_on else " *"
+        mark = ("" if row.fitted_on else " *") + (" †" if row.extrapolated else "")
         lines.append(
             f"| {c['plane']} | {c['zmp_ref']}{mark} | {_fixed(c['lipm_zmp'], 5)} "
             f"| {_pct(c['lipm_error_pct'])} "
@@ -101,7 +165,21 @@ def table1_markdown(rows: Sequence[Table1Row]) -> str:
             f"| {_pct(c['lipm_overshoot_pct'])} | {_pct(c['dlipm_overshoot_pct'])} "
             f"| {_fixed(c['lipm_settling_s'], 2)} | {_fixed(c['dlipm_settling_s'], 2)} |"
         )
-    return "\n".join(lines) + "\n\n\\* validation target, not used in the fit.\n"
+    return (
+        "\n".join(lines)
+        + "\n\n\\* validation target, not used in the fit. † outside the range the error "
+        "model was fitted on: the controllers extrapolate it.\n"
+    )
+
+
+def unsettled_lines(rows: Sequence[Table1Row]) -> list[str]:
+    """One line per trial that did not settle: target, controller and why (empty if none)."""
+    return [
+        f"{row.zmp_ref:g} m, {name.upper()}: {o.unsettled_text()}"
+        for row in rows
+        for name, o in row.outcomes().items()
+        if not o.steady.settled
+    ]
 
 
 def _pct(cell: str) -> str:

@@ -15,7 +15,10 @@ from zmpkit.pipelines.balance import BalanceConfig, run_balance
 from zmpkit.pipelines.balance_report import write_balance_outputs
 from zmpkit.robots.registry import DEFAULT_BALANCE_ROBOT
 
-__all__ = ["balance_command"]
+__all__ = ["EXIT_BARS_NOT_MET", "balance_command"]
+
+EXIT_BARS_NOT_MET = 1
+"""Exit code of ``balance --strict`` when a bar is missed or undefined."""
 
 
 @cli.command("balance")
@@ -27,7 +30,9 @@ __all__ = ["balance_command"]
     required=True,
     help="Output folder (resumed: finished trials are kept).",
 )
-@click.option("--quick", is_flag=True, help="Fewer targets and shorter holds (under 2 min).")
+@click.option(
+    "--quick", is_flag=True, help="Fewer targets and shorter holds (a few minutes on 2 cores)."
+)
 @click.option(
     "--truth",
     type=click.Path(path_type=Path),
@@ -56,6 +61,19 @@ __all__ = ["balance_command"]
     help="servo: the fastest DLIPM the servos' acceleration limit allows, per target; "
     "paper: paper A's fixed time scale sqrt(180/pi).",
 )
+@click.option(
+    "--max-hold",
+    type=float,
+    default=None,
+    help="Longest hold [s]: a hold is extended until the ZMP settles (creep included); "
+    "default 60 (quick: 45). 0: fixed holds.",
+)
+@click.option(
+    "--strict",
+    is_flag=True,
+    help=f"Exit with code {EXIT_BARS_NOT_MET} when a bar of paper A is missed or undefined "
+    "(default: the verdict is printed and the exit code is 0).",
+)
 def balance_command(
     robot: str,
     out_dir: Path,
@@ -66,7 +84,9 @@ def balance_command(
     planes: tuple[str, ...],
     workers: int,
     dlipm_pace: str,
-) -> None:
+    max_hold: float | None,
+    strict: bool,
+) -> int:
     """Paper A end to end: LIPM steps, DLIPM identification, scheduled controller, Table 1."""
     changes: dict[str, Any] = {
         "robot": robot,
@@ -79,8 +99,27 @@ def balance_command(
         changes["planes"] = planes
     if dlipm_pace == "paper":
         changes.update(time_scale=PAPER_A_TIME_SCALE, servo_paced=False)
+    if max_hold is not None:
+        changes["max_hold_s"] = max_hold if max_hold > 0.0 else None
     config = BalanceConfig.quick(**changes) if quick else BalanceConfig(**changes)
     with SweepProgress() as progress:
         result = run_balance(config, out_dir, progress=progress, echo=click.echo)
     artifacts = write_balance_outputs(result, out_dir)
     click.echo(f"report: {artifacts.report}")
+    click.echo("verdict (paper A's bars):")
+    for verdict in artifacts.verdicts.values():
+        for line in verdict.lines():
+            click.echo(f"  {line}")
+    return _exit_code(artifacts.met, strict)
+
+
+def _exit_code(met: bool, strict: bool) -> int:
+    """0, or :data:`EXIT_BARS_NOT_MET` under ``--strict`` when a bar is not met; says which."""
+    if met:
+        click.echo("every bar met: exit 0")
+        return 0
+    if strict:
+        click.echo(f"--strict: a bar is missed or undefined: exit {EXIT_BARS_NOT_MET}")
+        return EXIT_BARS_NOT_MET
+    click.echo(f"a bar is missed or undefined; exit 0 (--strict exits {EXIT_BARS_NOT_MET})")
+    return 0

@@ -37,6 +37,12 @@ mass explicit, :class:`~zmpkit.models.Dlipm`) then gets, for the damping ratio �
 
 A few coefficients (those of f, m, l, g, ζ) define the whole surface: no lookup table.
 
+Fitted range. f is known only over the measured ZMPs it was fitted on
+(:attr:`GainSchedule.fitted_range`). Beyond it the schedule *extrapolates* the fitted
+polynomial as it is (the rule: no clamping, so a target keeps its meaning; a clamp would
+silently move it); :meth:`GainSchedule.extrapolates` says which targets do, so a caller can
+warn about them.
+
 How this differs from paper A's coded law (the robot's parameter notes §8,
 :func:`paper_a_coded_gains`): its code sets :math:`k_a = g + (k_{a,const}(r) - g)\,f(r)/r` with
 k_a per kg and an ad-hoc :math:`k_{a,const}(r) = 0.25 r + 9.95`, i.e. it *evaluates* f at
@@ -66,12 +72,16 @@ from zmpkit.identify.params import BalanceParams
 from zmpkit.models.dlipm import Dlipm
 from zmpkit.models.pendulum import STANDARD_GRAVITY_MPS2
 
-__all__ = ["DEFAULT_ZETA", "GainSchedule", "paper_a_coded_gains"]
+__all__ = ["DEFAULT_ZETA", "EXTRAPOLATION_TOLERANCE_M", "GainSchedule", "paper_a_coded_gains"]
 
 FloatArray = NDArray[np.float64]
 
 DEFAULT_ZETA = 0.8
 """Damping ratio of the scheduled DLIPM, paper A §4.4 [-]."""
+
+EXTRAPOLATION_TOLERANCE_M = 1e-3
+"""A target within this of the fitted range counts as inside it (the measured ZMP of the
+trial at 0 is not exactly 0) [m]."""
 
 _ASIN_SERIES_LIMIT = 1e-4
 """Below this |z|, asin(z)/z = 1 + z²/6 + 3z⁴/40 (error < 1e-25) [-]."""
@@ -100,6 +110,7 @@ class GainSchedule:
         length: pendulum length, ankle to CoM [m].
         zeta: damping ratio of the scheduled DLIPM [-].
         g: gravitational acceleration [m/s²].
+        fitted_range: range of measured ZMPs f was fitted on (low, high) [m]; None: unknown.
         theta_offset: :math:`\theta_0 = \arcsin(f^{-1}(0)/l)`, the constant feed-forward [rad].
     """
 
@@ -108,6 +119,7 @@ class GainSchedule:
     length: float
     zeta: float = DEFAULT_ZETA
     g: float = STANDARD_GRAVITY_MPS2
+    fitted_range: tuple[float, float] | None = None
     theta_offset: float = field(init=False)
     _u0: float = field(init=False, repr=False)
 
@@ -137,6 +149,17 @@ class GainSchedule:
                 f"{np.abs(u).max():.6g} m, not below the pendulum length {self.length} m"
             )
         return u
+
+    def extrapolates(self, x_ref: float) -> bool:
+        """Whether ``x_ref`` [m] lies outside :attr:`fitted_range` by more than 1 mm.
+
+        (:data:`EXTRAPOLATION_TOLERANCE_M`).
+        """
+        if self.fitted_range is None:
+            return False
+        low, high = self.fitted_range
+        tol = EXTRAPOLATION_TOLERANCE_M
+        return not low - tol <= x_ref <= high + tol
 
     def commanded_zmp(self, x_ref: ArrayLike) -> float | FloatArray:
         """The commanded (LIPM-expected) ZMP whose measured ZMP is ``x_ref`` [m] → [m]."""

@@ -89,7 +89,11 @@ class StepExperimentConfig:
         settle_s: time the robot stands before recording starts [s]; with every effect on
             the drives' integrators need about 3 s to settle.
         startup_window_s: recorded quiet standing before the step, used for the ZMP offset [s].
-        hold_s: recorded time after the step [s], in (0, :data:`MAX_HOLD_S`].
+        hold_s: recorded time after the step [s], in (0, :data:`MAX_HOLD_S`]; with
+            ``max_hold_s``, the shortest hold.
+        max_hold_s: if set, the hold is extended, a second at a time, until the measured ZMP
+            has settled (creep included, :mod:`zmpkit.experiments.hold`), up to this [s], at
+            most :data:`MAX_HOLD_S`.
         push: optional push at ``t_step``.
         truth: path of a truth file replacing the shipped one, or ``None``.
     """
@@ -102,6 +106,7 @@ class StepExperimentConfig:
     settle_s: float = 3.0
     startup_window_s: float = 0.5
     hold_s: float = 15.0
+    max_hold_s: float | None = None
     push: PushConfig | None = None
     truth: str | None = None
 
@@ -117,6 +122,13 @@ class StepExperimentConfig:
         positive("startup_window_s", self.startup_window_s, "s")
         if not 0.0 < positive("hold_s", self.hold_s, "s") <= MAX_HOLD_S:
             raise ParameterError(f"hold_s must lie in (0, {MAX_HOLD_S:g}] s, got {self.hold_s:g} s")
+        if self.max_hold_s is not None and not (
+            self.hold_s <= positive("max_hold_s", self.max_hold_s, "s") <= MAX_HOLD_S
+        ):
+            raise ParameterError(
+                f"max_hold_s must lie in [hold_s = {self.hold_s:g}, {MAX_HOLD_S:g}] s, "
+                f"got {self.max_hold_s:g} s"
+            )
         if self.truth is not None:
             object.__setattr__(self, "truth", str(self.truth))
 
@@ -127,7 +139,7 @@ class StepExperimentConfig:
 
     @property
     def duration_s(self) -> float:
-        """Simulated length of one trial [s]."""
+        """Simulated length of one trial with the shortest hold [s]."""
         return self.t_step_s + self.hold_s
 
     def settings(self) -> dict[str, Any]:

@@ -12,7 +12,9 @@ Trial CSV columns (units in ``meta.json["units"]``): ``time`` [s]; the 12 wrench
 ``imu_gyro_{x,y,z}`` [rad/s], ``imu_acc_{x,y,z}`` [m/s²], ``imu_quat_{w,x,y,z}`` [-].
 
 ``meta.json["trials"]`` lists each finished trial: file, ``target_m``, ``t_step_s``,
-``lean_angle_rad`` and ``startup_window_s`` (the quiet-standing window for the ZMP offset).
+``lean_angle_rad`` and ``startup_window_s`` (the quiet-standing window for the ZMP offset),
+and optionally how its hold ended: ``hold_end`` (:data:`~zmpkit.experiments.hold.HOLD_ENDS`,
+default ``"hold"``) and ``hold_note``.
 ``meta.json["sensor_mounts"]`` is the content of a FEET.yaml file.
 
 :func:`read_step_dataset` is the single entry point for reading one back — a simulated sweep
@@ -231,6 +233,8 @@ def read_trial_csv(path: str | Path, meta: Mapping[str, Any], index: int) -> Ste
         encoders=table[:, 13 : 13 + j],
         commanded=table[:, 13 + j : 13 + 2 * j],
         imu=table[:, 13 + 2 * j :],
+        hold_end=str(entry.get("hold_end", "hold")),
+        hold_note=str(entry.get("hold_note", "")),
     )
 
 

@@ -101,6 +101,9 @@ def _trial_entry(config: StepExperimentConfig, record: StepTrialRecord) -> dict[
         "t_step_s": record.t_step_s,
         "lean_angle_rad": record.lean_angle_rad,
         "startup_window_s": [record.t_step_s - config.startup_window_s, record.t_step_s],
+        "hold_end": record.hold_end,
+        "hold_note": record.hold_note,
+        "hold_s": float(record.time[-1] - record.t_step_s),
     }
 
 

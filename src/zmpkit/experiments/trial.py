@@ -3,7 +3,10 @@ r"""One step / push trial on a virtual robot, recorded as a real robot's experim
 Timeline (simulated time): the robot starts upright in double support and stands for
 ``settle_s``; recording starts; after ``startup_window_s`` of quiet standing (the start-up
 window, for the ZMP offset) the lean to the target begins at ``t_step``; it is held for
-``hold_s``. The lean angle :math:`\theta_{ref} = \arcsin(x_{ref} / l_{lean})` (design lean
+``hold_s`` — or, with ``max_hold_s``, until the measured ZMP has settled, and in any case
+only until a creep carries it toward the edge of the feet
+(:class:`~zmpkit.experiments.hold.HoldMonitor`, which reads only the recorded F-T sensors).
+The lean angle :math:`\theta_{ref} = \arcsin(x_{ref} / l_{lean})` (design lean
 length, :mod:`zmpkit.experiments.lean`) is not applied as a raw step, which would tip a
 0.9 m, 62 kg pendulum over: it passes through the robot's servo trajectory limits (velocity
 and acceleration, :class:`~zmpkit.sim.servo.TrajectoryLimiter`), scaled so no leaning joint
@@ -25,8 +28,12 @@ import numpy as np
 from numpy.typing import NDArray
 
 from zmpkit.experiments.config import PushConfig, StepExperimentConfig
+from zmpkit.experiments.history import previous_target, replay_previous_lean, stance_offsets
+from zmpkit.experiments.hold import HoldMonitor
 from zmpkit.experiments.lean import Lean, design_lean_model, lean_angle
+from zmpkit.io import feet_from_mapping
 from zmpkit.robots.registry import get_robot
+from zmpkit.robots.robot import Robot
 from zmpkit.signals import PLANES
 from zmpkit.signals.time_series import Signal, TimeSeries
 from zmpkit.sim.servo import ServoLimits, TrajectoryLimiter
@@ -78,6 +85,8 @@ class StepTrialRecord:
         encoders: joint encoders [rad], (N, J).
         commanded: commanded joint setpoints [rad], (N, J).
         imu: gyro x, y, z [rad/s], accelerometer x, y, z [m/s²], quaternion w, x, y, z [-], (N, 10).
+        hold_end: how the hold ended, one of :data:`~zmpkit.experiments.hold.HOLD_ENDS`.
+        hold_note: what the hold monitor saw, in words; empty for a fixed hold.
     """
 
     plane: str
@@ -92,6 +101,8 @@ class StepTrialRecord:
     encoders: NDArray[np.float64]
     commanded: NDArray[np.float64]
     imu: NDArray[np.float64]
+    hold_end: str = "hold"
+    hold_note: str = ""
 
     def as_time_series(self) -> TimeSeries:
         """The trial's samples as one time series (sensor-frame wrenches, joints, IMU)."""
@@ -217,20 +228,24 @@ def run_step_trial(
     robot = get_robot(config.robot)
     sim = robot.make_simulation(config.effects, config.truth, seed=seed)
     balance = robot.require_balance()
-    command = _command(angle, target_m, controller, sim.dt, balance.control_period_s)
     reach = lean_angle(_MAX_REACH_FRACTION * lean.lean_length_m, lean.lean_length_m)
-    stream = (
-        _LeanStream(lean, reach, sim.robot.servo_limits, sim.dt, balance.lean_limits)
-        if command
-        else None
-    )
+
+    def make_stream() -> _LeanStream:
+        return _LeanStream(lean, reach, sim.robot.servo_limits, sim.dt, balance.lean_limits)
+
+    offsets = _carry_in(sim, config, target_m, lean, make_stream, seed)
+    t_step = sim.time + round(config.t_step_s / sim.dt) * sim.dt
+    command = _command(angle, target_m, controller, sim.dt, balance.control_period_s)
+    stream = make_stream() if command else None
     pusher = _Pusher(sim, config.push, config.plane, balance.push_bodies) if config.push else None
-    data = _record(sim, config, stream, command, pusher)
+    monitor = _monitor(config, target_m, t_step, robot)
+    data = _record(sim, config, (stream, command, offsets), pusher, monitor)
+    end = monitor.finish(float(data[-1, 0]))
     j = len(sim.joint_names)
     return StepTrialRecord(
         plane=config.plane,
         target_m=target_m,
-        t_step_s=round(config.t_step_s / sim.dt) * sim.dt,
+        t_step_s=t_step,
         lean_angle_rad=angle,
         lean_length_m=lean.lean_length_m,
         joint_names=tuple(sim.joint_names),
@@ -240,6 +255,44 @@ def run_step_trial(
         encoders=data[:, 13 : 13 + j],
         commanded=data[:, 13 + j : 13 + 2 * j],
         imu=data[:, 13 + 2 * j :],
+        hold_end=end.kind,
+        hold_note=end.note,
+    )
+
+
+def _carry_in(
+    sim: Simulation,
+    config: StepExperimentConfig,
+    target_m: float,
+    lean: Lean,
+    make_stream: Callable[[], _LeanStream],
+    seed: int,
+) -> NDArray[np.float64]:
+    """Stance offsets [rad] and the previous lean, if the truth asks (:mod:`.history`)."""
+    variability = sim.robot.variability
+    leaning = tuple(lean.joint_targets(0.0))
+    offsets = stance_offsets(variability, sim.joint_names, leaning, seed)
+    previous = previous_target(config.targets_m, target_m) if variability.sequence else None
+    if previous is not None:
+        replay_previous_lean(sim, lean, make_stream, previous, offsets)
+    elif np.any(offsets):
+        sim.servo.reset(list(np.asarray(sim.servo.position) + offsets))
+    return offsets
+
+
+def _monitor(
+    config: StepExperimentConfig, target_m: float, t_step_s: float, robot: Robot
+) -> HoldMonitor:
+    """The hold monitor of one trial, from the design's sensor mounts and support polygon."""
+    return HoldMonitor(
+        config.plane,
+        target_m,
+        t_step_s,
+        config.startup_window_s,
+        config.hold_s,
+        config.max_hold_s,
+        feet_from_mapping(robot.feet_mounts()),
+        robot.require_balance().support_polygon_m[config.plane],
     )
 
 
@@ -262,11 +315,18 @@ def _command(
 def _record(
     sim: Simulation,
     config: StepExperimentConfig,
-    stream: _LeanStream | None,
-    command: Callable[[int], float | None] | None,
+    lean: tuple[_LeanStream | None, Callable[[int], float | None] | None, NDArray[np.float64]],
     pusher: _Pusher | None,
+    monitor: HoldMonitor,
 ) -> NDArray[np.float64]:
-    """Step ``sim`` through the trial's timeline; one row per F-T sample after settling."""
+    """Step ``sim`` through the trial's timeline; one row per F-T sample after settling.
+
+    ``lean`` is the lean stream, its command per tick and the stance offsets [rad]. The
+    timeline starts at the simulation's current time; the trial ends when ``monitor`` says
+    so, at the latest at its end time.
+    """
+    stream, command, offsets = lean
+    t0 = sim.time
     dt, names = sim.dt, list(sim.joint_names)
     every = max(1, round(1.0 / (sim.robot.sensor_params.ft_rate_hz * dt)))
     n_settle, n_step = round(config.settle_s / dt), round(config.t_step_s / dt)
@@ -274,17 +334,20 @@ def _record(
     index = [names.index(j) for j in stream.joints] if stream else []
     setpoints = list(sim.servo.position)
     rows: list[NDArray[np.float64]] = []
-    for k in range(round(config.duration_s / dt)):
+    for k in range(round((monitor.end_time_s - t0) / dt)):
         if stream is not None and command is not None and k >= n_step:
             target = command(k - n_step)
             if target is not None:
                 stream.set_target(target)
             for i, q in zip(index, stream.tick(), strict=True):
-                setpoints[i] = q
+                setpoints[i] = q + float(offsets[i])
             sim.servo.reset(setpoints)
         if pusher is not None:
             pusher.apply(n_step <= k < n_push_end)
         sim.step(1)
         if (k + 1) % every == 0 and k + 1 > n_settle:
-            rows.append(np.concatenate(_sample(sim, setpoints)))
+            row = np.concatenate(_sample(sim, setpoints))
+            rows.append(row)
+            if monitor.update(float(row[0]), row[1:7], row[7:13]):
+                break
     return np.vstack(rows)

@@ -69,7 +69,9 @@ class BalanceConfig:
         fit_targets_m: targets whose LIPM steps the identification uses [m].
         effects: effects of the virtual robot (``"all"``, ``"none"``, letters).
         seed: sensor-noise seed.
-        hold_s: recorded time after each step [s].
+        hold_s: recorded time after each step [s], the shortest hold.
+        max_hold_s: holds are extended until the measured ZMP settles (creep included), up
+            to this [s]; None: fixed holds of ``hold_s``.
         zeta: damping ratio of the scheduled DLIPM [-].
         time_scale: the DLIPM's (minimum) time scale [-]; paper A ran √(180/π)
             (:data:`~zmpkit.control.PAPER_A_TIME_SCALE`).
@@ -86,6 +88,7 @@ class BalanceConfig:
     effects: str = "all"
     seed: int = 0
     hold_s: float = 20.0
+    max_hold_s: float | None = 60.0
     zeta: float = _ZETA
     time_scale: float = 1.0
     servo_paced: bool = True
@@ -106,7 +109,7 @@ class BalanceConfig:
     @classmethod
     def quick(cls, **changes: Any) -> BalanceConfig:
         """Fewer targets and shorter holds; still fits on even targets, validates on all."""
-        return replace(cls(targets_m=QUICK_TARGETS_M, hold_s=14.0), **changes)
+        return replace(cls(targets_m=QUICK_TARGETS_M, hold_s=14.0, max_hold_s=45.0), **changes)
 
 
 @dataclass(frozen=True, eq=False)
@@ -181,17 +184,20 @@ def _run_plane(
         effects=config.effects,
         seed=config.seed,
         hold_s=config.hold_s,
+        max_hold_s=config.max_hold_s,
         truth=config.truth,
     )
     lean_length = design_lean_model(config.robot, plane).lean_length_m
-    lipm = _outcomes(config, experiment, plane, "lipm", out, progress, None)
+    lipm, lipm_ends = _outcomes(config, experiment, plane, "lipm", out, progress, None)
     fit_set = {round(x, 6) for x in config.fit_targets_m}
     fit_trials = [t for t in lipm if round(t.zmp_ref, 6) in fit_set]
     mass = get_robot(config.robot, needs="balance").require_balance().mass_kg
     identification = identify_balance(fit_trials, mass=mass, com_height=lean_length)
     model = identification.params.plane(plane).error_model
+    fit_range = identification.planes[plane].error_fit.fitted_range
     factories = {
-        kind: _factory(kind, model, lean_length, plane, config) for kind in ("dlipm", "linear")
+        kind: _factory(kind, model, lean_length, plane, config, fit_range)
+        for kind in ("dlipm", "linear")
     }
     runs = {
         kind: _outcomes(config, experiment, plane, kind, out, progress, factories[kind])
@@ -201,10 +207,11 @@ def _run_plane(
         Table1Row(
             plane=plane,
             zmp_ref=trial.zmp_ref,
-            lipm=evaluate_trial("lipm", trial),
-            dlipm=evaluate_trial("dlipm", runs["dlipm"][k]),
-            linear=evaluate_trial("linear", runs["linear"][k]),
+            lipm=evaluate_trial("lipm", trial, *lipm_ends[k]),
+            dlipm=evaluate_trial("dlipm", runs["dlipm"][0][k], *runs["dlipm"][1][k]),
+            linear=evaluate_trial("linear", runs["linear"][0][k], *runs["linear"][1][k]),
             fitted_on=round(trial.zmp_ref, 6) in fit_set,
+            fit_range_m=fit_range,
         )
         for k, trial in enumerate(lipm)
     )
@@ -219,7 +226,8 @@ def _outcomes(
     out: Path,
     progress: _ProgressFactory | None,
     factory: LeanControllerFactory | None,
-) -> list[StepTrial]:
+) -> tuple[list[StepTrial], list[tuple[str, str]]]:
+    """The sweep's trials, and how each one's hold ended (kind, note)."""
     callback = progress(f"{plane} {kind.upper()}", len(experiment.targets_m)) if progress else None
     dataset = run_step_sweep(
         experiment,
@@ -228,7 +236,7 @@ def _outcomes(
         progress=callback,
         controller=factory,
     )
-    return dataset_trials(dataset)
+    return dataset_trials(dataset), [(r.hold_end, r.hold_note) for r in dataset.trials]
 
 
 def support_polygon(plane: str, robot: str | Robot = DEFAULT_BALANCE_ROBOT) -> tuple[float, float]:
@@ -238,7 +246,12 @@ def support_polygon(plane: str, robot: str | Robot = DEFAULT_BALANCE_ROBOT) -> t
 
 
 def _factory(
-    kind: str, model: ErrorModel, lean_length: float, plane: str, config: BalanceConfig
+    kind: str,
+    model: ErrorModel,
+    lean_length: float,
+    plane: str,
+    config: BalanceConfig,
+    fit_range: tuple[float, float],
 ) -> LeanControllerFactory:
     robot = get_robot(config.robot, needs="balance")
     return LeanControllerFactory(
@@ -252,6 +265,7 @@ def _factory(
         rate_limit_rad_s=robot.servo_limits.max_velocity,
         support_polygon=support_polygon(plane, robot),
         max_acceleration_rad_s2=_lean_acceleration_limit(robot) if config.servo_paced else None,
+        fitted_range=fit_range,
     )
 
 

@@ -46,6 +46,7 @@ class LeanControllerFactory:
         max_acceleration_rad_s2: if set, the DLIPM slows per target so its planned angular
             acceleration stays within this (the servos' limit) [rad/s²].
         g: gravitational acceleration [m/s²].
+        fitted_range: range of measured ZMPs the error model was fitted on [m]; None: unknown.
     """
 
     kind: str
@@ -59,6 +60,13 @@ class LeanControllerFactory:
     support_polygon: tuple[float, float]
     max_acceleration_rad_s2: float | None = None
     g: float = STANDARD_GRAVITY_MPS2
+    fitted_range: tuple[float, float] | None = None
+
+    def schedule(self) -> GainSchedule:
+        """The gain schedule of this plane, with its fitted range."""
+        return GainSchedule(
+            self.error_model, self.mass_kg, self.lean_length_m, self.zeta, self.g, self.fitted_range
+        )
 
     def __call__(self) -> LeanController:
         """A new controller at rest on target 0."""
@@ -71,11 +79,8 @@ class LeanControllerFactory:
             return LinearCorrectionController.from_error_model(
                 self.error_model, self.lean_length_m, CONTROL_PERIOD_S, **limits
             )
-        schedule = GainSchedule(
-            self.error_model, self.mass_kg, self.lean_length_m, self.zeta, self.g
-        )
         controller = DlipmController(
-            schedule,
+            self.schedule(),
             CONTROL_PERIOD_S,
             time_scale=self.time_scale,
             max_acceleration_rad_s2=self.max_acceleration_rad_s2,
@@ -101,4 +106,5 @@ class LeanControllerFactory:
             "support_polygon_m": list(self.support_polygon),
             "max_acceleration_rad_s2": self.max_acceleration_rad_s2,
             "control_period_s": CONTROL_PERIOD_S,
+            "fitted_range_m": None if self.fitted_range is None else list(self.fitted_range),
         }

@@ -15,8 +15,9 @@ from zmpkit.analysis.balance_plots import (
     plot_zmp_ref_vs_measured,
 )
 from zmpkit.analysis.balance_targets import BalanceTargets, balance_targets
+from zmpkit.analysis.balance_verdict import PlaneVerdict, plane_verdict
 from zmpkit.analysis.step_plot import Curve, plot_step_responses
-from zmpkit.analysis.table1 import table1_markdown, write_table1_csv
+from zmpkit.analysis.table1 import table1_markdown, unsettled_lines, write_table1_csv
 from zmpkit.experiments import CONTROL_PERIOD_S
 from zmpkit.identify import TERMS
 from zmpkit.pipelines.balance import BalanceResult, PlaneResult
@@ -29,13 +30,19 @@ _PLANNED_DURATION_S = 15.0
 
 @dataclass(frozen=True)
 class BalanceArtifacts:
-    """Paths written by :func:`write_balance_outputs`, and each plane's acceptance figures."""
+    """Paths written by :func:`write_balance_outputs`, each plane's figures and verdict."""
 
     report: Path
     table1: Path
     params: Path
     figures: tuple[Path, ...]
     targets: dict[str, BalanceTargets]
+    verdicts: dict[str, PlaneVerdict]
+
+    @property
+    def met(self) -> bool:
+        """Whether every bar of every plane was met."""
+        return all(v.met for v in self.verdicts.values())
 
 
 def write_balance_outputs(result: BalanceResult, out_dir: str | Path) -> BalanceArtifacts:
@@ -47,9 +54,10 @@ def write_balance_outputs(result: BalanceResult, out_dir: str | Path) -> Balance
     figures: list[Path] = []
     for plane in result.planes.values():
         figures += _plane_figures(plane, out)
-    report = _write_report(result, out, figures)
+    verdicts = {name: plane_verdict(name, plane.rows) for name, plane in result.planes.items()}
+    report = _write_report(result, out, figures, verdicts)
     targets = {name: balance_targets(name, plane.rows) for name, plane in result.planes.items()}
-    return BalanceArtifacts(report, table1, params, tuple(figures), targets)
+    return BalanceArtifacts(report, table1, params, tuple(figures), targets, verdicts)
 
 
 def _write_params(result: BalanceResult, out: Path) -> Path:
@@ -103,6 +111,9 @@ def _planned_angles(plane: PlaneResult, path: Path) -> Path:
 def _identification_text(plane: PlaneResult) -> str:
     ident = plane.identification.planes[plane.plane]
     fit = ident.error_fit
+    shares = fit.weight_shares
+    near = sum(float(w) for u, w in zip(fit.x_cmd, shares, strict=True) if abs(u) <= 0.0201)
+    low, high = fit.fitted_range
     terms = ", ".join(
         f"{name} = {value:.4g} (95 % CI {lo:.4g} … {hi:.4g})"
         for name, value, (lo, hi) in zip(
@@ -122,9 +133,22 @@ def _identification_text(plane: PlaneResult) -> str:
     return (
         f"- error model: **{fit.kind}**, {fit.model.equation}: {terms}; R² = {fit.r_squared:.5f}\n"
         f"- why: {fit.reason}\n- leave-one-out RMSE: {loo}\n"
+        f"- weights: {fit.weighting}, between-trial scatter τ = {fit.scatter:.3g}; the trials "
+        f"at |x_cmd| ≤ 0.02 m hold {100 * near:.1f} % of the weight\n"
+        f"- fitted range (measured ZMP): {low:.4g} … {high:.4g} m; beyond it the controllers "
+        "extrapolate the model (marked † in Table 1, shaded in Fig. 20)\n"
         f"- mean transient of the LIPM steps: {transient}\n"
         f"- trials left out of the fit: {excluded}\n"
         f"- pendulum: design lean length {plane.lean_length_m:.4f} m (ankle pivot to CoM)\n"
+    )
+
+
+def _hold(config) -> str:
+    if config.max_hold_s is None:
+        return f"hold {config.hold_s} s"
+    return (
+        f"hold {config.hold_s} s, extended until settled (creep included) up to "
+        f"{config.max_hold_s} s"
     )
 
 
@@ -137,14 +161,25 @@ def _pace(config) -> str:
     return f"fixed time scale {config.time_scale:.3f}"
 
 
-def _write_report(result: BalanceResult, out: Path, figures: list[Path]) -> Path:
+def _unsettled_text(plane: PlaneResult) -> str:
+    lines = unsettled_lines(plane.rows)
+    if not lines:
+        return "\nEvery trial settled (creep check included).\n"
+    return "\n### Trials that did not settle\n\n" + "".join(f"- {line}\n" for line in lines)
+
+
+def _write_report(
+    result: BalanceResult, out: Path, figures: list[Path], verdicts: dict[str, PlaneVerdict]
+) -> Path:
     c = result.config
     parts = [
         "# zmpkit balance: LIPM vs gain-scheduled DLIPM (paper A §4)\n",
-        f"Robot `{c.robot}` (virtual), effects `{c.effects}`, seed {c.seed}, hold {c.hold_s} s, "
+        f"Robot `{c.robot}` (virtual), effects `{c.effects}`, seed {c.seed}, {_hold(c)}, "
         f"DLIPM ζ = {c.zeta}, {_pace(c)}. Fit on targets "
         f"{', '.join(f'{x:g}' for x in c.fit_targets_m)} m (LIPM steps); validated on "
         f"{', '.join(f'{x:g}' for x in c.targets_m)} m.\n",
+        "\n## Verdict (paper A's bars)\n\n",
+        "".join(f"    {line}\n" for v in verdicts.values() for line in v.lines()),
     ]
     for plane in result.planes.values():
         name = plane.plane
@@ -153,6 +188,7 @@ def _write_report(result: BalanceResult, out: Path, figures: list[Path]) -> Path
             _identification_text(plane),
             "\n### Table 1\n\n",
             table1_markdown(plane.rows),
+            _unsettled_text(plane),
             "\n### Against the targets\n\n",
             "".join(f"- {line}\n" for line in balance_targets(name, plane.rows).lines()),
             "\n### Figures\n\n",

@@ -15,10 +15,26 @@ ankle F-T sensors while the robot answers a step of its ZMP target at :math:`t_{
    standard error rule (MSER, :func:`_mser_truncation`) then trims from its start what is
    left of the transient inside the band, at most half of it;
 4. it is *settled* if it lasts at least ``min_duration_s`` and ``min_samples`` and its
-   linear trend moves less than :math:`w` across it (slow drift is accepted, a ramp is not),
-   and — when there are samples before the step — it does not still oscillate: not both
+   linear trend moves less than :math:`w` across it (a ramp is not settled), and — when there
+   are samples before the step — it does not still oscillate: not both
    :math:`\hat\sigma` above ``max_noise_ratio`` times their noise and
-   :math:`k_\sigma\hat\sigma` above the settling band :math:`\max(f_\Delta|m - y_0|, w_{min})`.
+   :math:`k_\sigma\hat\sigma` above the settling band :math:`\max(f_\Delta|m - y_0|, w_{min})`;
+5. and it does not *creep*: the slope :math:`\dot y_{end}` of a line through the last
+   ``drift_window_s`` of the window, if significant (:math:`|\dot y_{end}| > 3\,SE`, its
+   standard error from the effective sample size), must not move the signal by more than the
+   creep tolerance within the creep horizon :math:`H`:
+
+   .. math:: |\dot y_{end}|\,H \le \max(f_c |m - y_0|,\; c_{min})
+
+   A creep too slow to be significant over ``drift_window_s`` of a noisy record passes:
+   the check can only be as sharp as the record is long and quiet.
+   A slow creep (a structure or a gear train yielding under a constant load) stays inside
+   the band for seconds while the value it reads is still minutes from its end.
+
+An unsettled signal is classified (:attr:`SteadyState.status`): ``"drifting"`` — a steady
+creep or ramp, whose rate :attr:`SteadyState.drift_rate` is that of the last
+``drift_window_s`` — ``"oscillating"`` (an oscillation that has not died out) or ``"short"``
+(too little of the record inside the band, and neither of the two).
 
 The value is the window mean; its standard error uses the effective sample size of the
 autocorrelated residuals (:func:`effective_sample_size`),
@@ -39,7 +55,18 @@ from zmpkit._validate import finite, finite_array, in_range, positive
 from zmpkit.errors import ParameterError
 from zmpkit.models.lti import _increasing_times
 
-__all__ = ["PLANES", "SteadyState", "StepTrial", "effective_sample_size", "steady_state"]
+__all__ = [
+    "CREEP_HORIZON_S",
+    "CREEP_MIN_M",
+    "CREEP_TOLERANCE_FRACTION",
+    "DRIFT_WINDOW_S",
+    "PLANES",
+    "STATUSES",
+    "SteadyState",
+    "StepTrial",
+    "effective_sample_size",
+    "steady_state",
+]
 
 FloatArray = NDArray[np.float64]
 
@@ -48,6 +75,18 @@ PLANES = ("sagittal", "frontal")
 
 MAD_TO_SIGMA = 1.4826
 """Scale from the median absolute deviation to the standard deviation of a Gaussian [-]."""
+
+STATUSES = ("settled", "drifting", "oscillating", "short")
+"""Values of :attr:`SteadyState.status`."""
+CREEP_HORIZON_S = 10.0
+"""Time ahead over which a creep at the end rate must stay within tolerance [s]."""
+CREEP_TOLERANCE_FRACTION = 0.005
+"""Creep tolerance over the horizon, a fraction of the step: 0.5 % [-]."""
+CREEP_MIN_M = 2e-4
+"""Smallest creep tolerance over the horizon, whatever the step: 0.2 mm [m]."""
+DRIFT_WINDOW_S = 5.0
+"""Length of the end of the record whose line gives the end drift rate [s]."""
+_SIGNIFICANT_SLOPE_SE = 3.0  # a drift rate counts only beyond this many standard errors
 
 
 @dataclass(frozen=True, eq=False)
@@ -113,9 +152,11 @@ class SteadyState:
         settled: whether a window meeting the minimum length and drift criteria exists.
         band: half-width of the band around the final median [m].
         noise_std: robust standard deviation of the last part about its trend [m].
-        drift_rate: slope of a line fitted over the window [m/s].
+        drift_rate: slope of a line fitted over the window [m/s]; for a ``"drifting"``
+            signal, over the last ``drift_window_s`` of the record (the rate at its end).
         effective_samples: the effective sample size of the window [-].
         reason: why the signal is not settled; empty when it is.
+        status: one of :data:`STATUSES` (module docstring).
     """
 
     value: float | None
@@ -128,6 +169,12 @@ class SteadyState:
     drift_rate: float
     effective_samples: float
     reason: str = ""
+    status: str = "settled"
+
+    @property
+    def drift_rate_mm_s(self) -> float:
+        """:attr:`drift_rate` in [mm/s]."""
+        return 1e3 * self.drift_rate
 
 
 def effective_sample_size(residuals: ArrayLike) -> float:
@@ -183,6 +230,10 @@ def steady_state(
     min_samples: int = 20,
     max_noise_ratio: float = 3.0,
     spike_samples: int = 5,
+    creep_horizon_s: float | None = CREEP_HORIZON_S,
+    creep_fraction: float = CREEP_TOLERANCE_FRACTION,
+    creep_min_m: float = CREEP_MIN_M,
+    drift_window_s: float = DRIFT_WINDOW_S,
 ) -> SteadyState:
     """Detect the settled window of ``trial.zmp_measured`` and estimate its value.
 
@@ -201,10 +252,15 @@ def steady_state(
             ±``band_sigmas`` σ is wider than the settling band (``band_step_fraction`` of the
             step, at least ``min_band``) is an oscillation that has not died out [-].
         spike_samples: length of the running median that ignores isolated spikes (1: none).
+        creep_horizon_s: the creep horizon H [s]; None: no creep check (slow drift within
+            the band is accepted).
+        creep_fraction: creep tolerance over H as a fraction of the step [-].
+        creep_min_m: smallest creep tolerance over H [m].
+        drift_window_s: end of the record whose line gives the end drift rate [s].
 
     Returns:
-        The :class:`SteadyState`; ``settled=False`` with a reason, and no value, when no
-        window meets the criteria.
+        The :class:`SteadyState`; ``settled=False`` with a reason, a status and no value,
+        when no window meets the criteria.
     """
     fraction = in_range("tail_fraction", tail_fraction, 1e-6, 1.0)
     k_sigma = positive("band_sigmas", band_sigmas)
@@ -212,6 +268,8 @@ def steady_state(
     floor = positive("min_band", min_band, "m")
     ratio = positive("max_noise_ratio", max_noise_ratio)
     limits = (positive("min_duration_s", min_duration_s, "s"), min_samples)
+    creep = _Creep.checked(creep_horizon_s, creep_fraction, creep_min_m)
+    drift_window = positive("drift_window_s", drift_window_s, "s")
     if min_samples < 3 or spike_samples < 1:
         raise ParameterError(
             f"min_samples must be >= 3 and spike_samples >= 1, got {min_samples} and "
@@ -242,8 +300,116 @@ def steady_state(
             f"{ratio:g}, and ±{k_sigma:g}σ wider than the settling band ±{step_band:.3g} m): "
             "an oscillation that has not died out"
         )
-        return dataclasses.replace(result, value=None, std_error=None, settled=False, reason=reason)
+        return _unsettled(result, "oscillating", reason)
+    if not result.settled:
+        return _classify(result, _end_drift(times, values, drift_window), band, drift_window)
+    if creep is not None:
+        inside = times >= result.window[0]
+        end = _end_drift(times[inside], values[inside], drift_window)
+        return creep.judge(result, end, abs(centre - y0))
     return result
+
+
+@dataclass(frozen=True)
+class _EndDrift:
+    """The line through the end of a record: slope [m/s], its standard error [m/s], span [s]."""
+
+    slope: float
+    std_error: float
+    span_s: float
+    residual_sigma: float
+
+    @property
+    def significant(self) -> bool:
+        return abs(self.slope) > _SIGNIFICANT_SLOPE_SE * self.std_error
+
+
+def _end_drift(times: FloatArray, values: FloatArray, window_s: float) -> _EndDrift:
+    r"""Least-squares line over the last ``window_s`` of ``(times, values)``.
+
+    The slope's standard error uses the effective sample size of the residuals,
+    :math:`SE = s\,\sqrt{n/n_{eff}} / \sqrt{\sum (t - \bar t)^2}`.
+    """
+    keep = times >= times[-1] - window_s
+    t, y = times[keep], values[keep]
+    if t.size < 3:
+        return _EndDrift(0.0, math.inf, 0.0, 0.0)
+    slope, intercept = np.polyfit(t, y, 1)
+    residual = y - (slope * t + intercept)
+    n_eff = effective_sample_size(residual)
+    spread = float(np.sum((t - t.mean()) ** 2))
+    s = float(np.std(residual, ddof=2))
+    se = s * math.sqrt(t.size / n_eff) / math.sqrt(spread)
+    return _EndDrift(float(slope), se, float(t[-1] - t[0]), s)
+
+
+def _unsettled(
+    result: SteadyState, status: str, reason: str, drift_rate: float | None = None
+) -> SteadyState:
+    rate = result.drift_rate if drift_rate is None else drift_rate
+    return dataclasses.replace(
+        result,
+        value=None,
+        std_error=None,
+        settled=False,
+        reason=reason,
+        status=status,
+        drift_rate=rate,
+    )
+
+
+def _classify(result: SteadyState, end: _EndDrift, band: float, window_s: float) -> SteadyState:
+    """Status of an unsettled window: a creep or ramp (the end line explains it) or short."""
+    moves = abs(end.slope) * end.span_s
+    full = end.span_s >= 0.99 * window_s  # a shorter record may still be its transient
+    if result.reason.startswith("the signal drifts") or (
+        full and end.significant and moves > band and end.residual_sigma < 0.5 * moves
+    ):
+        reason = (
+            f"{result.reason}; it drifts at {1e3 * end.slope:.3g} mm/s over the last "
+            f"{end.span_s:.3g} s"
+        )
+        return _unsettled(result, "drifting", reason, drift_rate=end.slope)
+    return _unsettled(result, "short", result.reason)
+
+
+@dataclass(frozen=True)
+class _Creep:
+    """The creep check (module docstring, step 5)."""
+
+    horizon_s: float
+    fraction: float
+    min_m: float
+
+    @classmethod
+    def checked(cls, horizon: float | None, fraction: float, min_m: float) -> _Creep | None:
+        if horizon is None:
+            return None
+        return cls(
+            positive("creep_horizon_s", horizon, "s"),
+            in_range("creep_fraction", fraction, 0.0, 1.0),
+            positive("creep_min_m", min_m, "m"),
+        )
+
+    def judge(self, result: SteadyState, end: _EndDrift, step: float) -> SteadyState:
+        """Unsettle ``result`` [m] if its end creeps beyond tolerance over the horizon.
+
+        Args:
+            result: a settled window.
+            end: the line through its end.
+            step: the step's size [m].
+        """
+        tolerance = max(self.fraction * step, self.min_m)
+        ahead = abs(end.slope) * self.horizon_s
+        if not (end.significant and ahead > tolerance):
+            return result
+        reason = (
+            f"the signal still creeps at {1e3 * end.slope:.3g} ± {1e3 * end.std_error:.3g} mm/s "
+            f"over the last {end.span_s:.3g} s: {1e3 * ahead:.3g} mm in the next "
+            f"{self.horizon_s:g} s, more than the creep tolerance {1e3 * tolerance:.3g} mm "
+            f"(max({self.fraction:g} of the step, {1e3 * self.min_m:g} mm))"
+        )
+        return _unsettled(result, "drifting", reason, drift_rate=end.slope)
 
 
 def _mser_truncation(y: FloatArray) -> int:
@@ -284,7 +450,7 @@ def _window_result(
             f"({slope:.3g} m/s over {duration:.3g} s), more than the band ±{band:.3g} m"
         )
     if reason:
-        return SteadyState(None, None, window, n, False, band, sigma, slope, n_eff, reason)
+        return SteadyState(None, None, window, n, False, band, sigma, slope, n_eff, reason, "short")
     std = float(np.std(y, ddof=1))
     return SteadyState(
         float(np.mean(y)), std / math.sqrt(n_eff), window, n, True, band, sigma, slope, n_eff

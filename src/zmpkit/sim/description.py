@@ -13,7 +13,7 @@ from dataclasses import dataclass, field
 
 from zmpkit.sensors.zmp import CONTACT_FORCE_THRESHOLD_N
 from zmpkit.sim.effect_set import EffectSet
-from zmpkit.sim.effects import SensorParams
+from zmpkit.sim.effects import SensorParams, TrialVariability
 from zmpkit.sim.servo import ServoLimits
 
 __all__ = ["FootSensor", "ImuSensors", "RobotDescription"]
@@ -72,6 +72,9 @@ class RobotDescription:
         sensor_params: sensor errors (used when ``effects.sensors``).
         ft_offsets: foot → F-T offset (Fx, Fy, Fz, Tx, Ty, Tz); defaults to
             ``sensor_params.ft_offset`` for feet not listed.
+        ft_gain_errors: foot → relative gain error per axis (6,) [-]; defaults to
+            ``sensor_params.ft_gain_error`` on every axis for feet not listed.
+        variability: what makes one trial differ from the next.
         contact_force_threshold_n: a foot touches the floor while its world-frame vertical
             force is at least this [N] (the ZMP's contact rule, :mod:`zmpkit.sensors.zmp`).
     """
@@ -86,7 +89,13 @@ class RobotDescription:
     sensor_params: SensorParams = field(default_factory=SensorParams)
     ft_offsets: Mapping[str, tuple[float, ...]] = field(default_factory=dict)
     contact_force_threshold_n: float = CONTACT_FORCE_THRESHOLD_N
+    ft_gain_errors: Mapping[str, tuple[float, ...]] = field(default_factory=dict)
+    variability: TrialVariability = field(default_factory=TrialVariability)
 
     def ft_offset(self, foot: str) -> tuple[float, ...]:
         """The F-T offset of one foot's sensor [N, N·m]."""
         return tuple(self.ft_offsets.get(foot, self.sensor_params.ft_offset))
+
+    def ft_gain_error(self, foot: str) -> tuple[float, ...]:
+        """The relative gain error of each axis of one foot's sensor [-]."""
+        return tuple(self.ft_gain_errors.get(foot, (self.sensor_params.ft_gain_error,) * 6))

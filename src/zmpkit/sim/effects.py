@@ -27,6 +27,7 @@ __all__ = [
     "InductanceParams",
     "MotorParams",
     "SensorParams",
+    "TrialVariability",
 ]
 
 
@@ -254,7 +255,12 @@ class SensorParams:
     Attributes:
         ft_offset: per-sensor offset, shape (6,) [N, N·m]; the same for every sensor unless
             a robot gives one per sensor.
-        ft_gain_error: relative gain error, so the gain is ``1 + ft_gain_error`` [-].
+        ft_gain_error: relative gain error, so the gain is ``1 + ft_gain_error`` [-]; the
+            same on every axis of every sensor (it cancels in the ZMP) unless a robot gives
+            per-sensor, per-axis gains.
+        ft_offset_drift_std: standard deviation of each channel's offset drift rate, drawn
+            once per sensor and run from the sensor's seeded stream (temperature drift)
+            [N/s, N·m/s]; zeros: none (and nothing drawn).
         ft_noise_std: white-noise standard deviation per channel, shape (6,) [N, N·m].
         ft_quantisation: output step per channel, shape (6,) [N, N·m]; 0 = none.
         ft_cutoff_hz: first-order low-pass cutoff [Hz]; 0 = no filter.
@@ -273,17 +279,45 @@ class SensorParams:
     encoder_resolution: float = 2.0e-5
     gyro_noise_std: float = 0.005
     accel_noise_std: float = 0.05
+    ft_offset_drift_std: tuple[float, ...] = (0.0,) * 6
 
     def __post_init__(self) -> None:
-        for name in ("ft_offset", "ft_noise_std", "ft_quantisation"):
+        for name in ("ft_offset", "ft_noise_std", "ft_quantisation", "ft_offset_drift_std"):
             arr = finite_array(f"SensorParams.{name}", getattr(self, name), (6,))
             object.__setattr__(self, name, tuple(float(x) for x in arr))
-        if np.any(np.asarray(self.ft_noise_std) < 0) or np.any(
-            np.asarray(self.ft_quantisation) < 0
+        if any(
+            np.any(np.asarray(getattr(self, name)) < 0)
+            for name in ("ft_noise_std", "ft_quantisation", "ft_offset_drift_std")
         ):
-            raise ParameterError("SensorParams: ft_noise_std and ft_quantisation must be >= 0")
+            raise ParameterError(
+                "SensorParams: ft_noise_std, ft_quantisation and ft_offset_drift_std must be >= 0"
+            )
         finite("SensorParams.ft_gain_error", self.ft_gain_error)
         non_negative("SensorParams.ft_cutoff_hz", self.ft_cutoff_hz, "Hz")
         positive("SensorParams.ft_rate_hz", self.ft_rate_hz, "Hz")
         for name in ("encoder_resolution", "gyro_noise_std", "accel_noise_std"):
             non_negative(f"SensorParams.{name}", getattr(self, name))
+
+
+@dataclass(frozen=True)
+class TrialVariability:
+    """What makes one trial of a virtual robot differ from the next (beyond sensor noise).
+
+    Each is off by default, so a truth without it repeats itself exactly.
+
+    Attributes:
+        sequence: trials run in sequence without a reset, as on a real robot: before its
+            trial the robot leans to the previous target of the sweep, holds it and comes
+            back, so backlash and friction leave it in that lean's state (hysteresis).
+        previous_hold_s: how long the previous lean is held [s].
+        stance_std_rad: standard deviation of a per-trial offset of each leaning joint's
+            setpoint at the start (small differences in the initial stance) [rad].
+    """
+
+    sequence: bool = False
+    previous_hold_s: float = 5.0
+    stance_std_rad: float = 0.0
+
+    def __post_init__(self) -> None:
+        positive("TrialVariability.previous_hold_s", self.previous_hold_s, "s")
+        non_negative("TrialVariability.stance_std_rad", self.stance_std_rad, "rad")

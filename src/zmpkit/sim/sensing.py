@@ -3,10 +3,12 @@ r"""The sensor effects (S): what a real F-T sensor, encoder and IMU make of the 
 An F-T sample, taken every ``1 / ft_rate_hz`` seconds, is
 
 .. math::
-    y_k = Q\big(y_{k-1} + \alpha\,((1 + g)\,w_k + o + n_k - y_{k-1})\big),
+    y_k = Q\big(y_{k-1} + \alpha\,((1 + g) \circ w_k + o + \dot o\,t_k + n_k - y_{k-1})\big),
     \qquad \alpha = 1 - e^{-2 \pi f_c / f_s},
 
-with gain error ``g``, offset ``o``, white noise ``n_k`` and a first-order low-pass filter
+with gain error ``g`` (per axis), offset ``o``, an offset drift at the rate :math:`\dot o`
+(drawn once per sensor from its stream when the truth gives a drift, :math:`t_k = k / f_s`
+the time since the sensor started), white noise ``n_k`` and a first-order low-pass filter
 (cutoff ``f_c``); ``Q`` rounds to the output quantum (applied to the output, the filter
 state stays continuous). Noise comes from numpy Generators seeded per stream, so the same
 seed gives identical readings.
@@ -37,14 +39,25 @@ class FtChannel:
     Args:
         params: the sensor errors.
         offset: this sensor's offset (Fx, Fy, Fz, Tx, Ty, Tz) [N, N·m].
-        rng: the Generator of this sensor's noise.
+        rng: the Generator of this sensor's noise (and of its drift rate).
+        gain_error: this sensor's relative gain error per axis [-]; None: ``params``'s on
+            every axis.
     """
 
     def __init__(
-        self, params: SensorParams, offset: Sequence[float], rng: np.random.Generator
+        self,
+        params: SensorParams,
+        offset: Sequence[float],
+        rng: np.random.Generator,
+        gain_error: Sequence[float] | None = None,
     ) -> None:
-        self._gain = 1.0 + params.ft_gain_error
+        gain = (params.ft_gain_error,) * 6 if gain_error is None else gain_error
+        self._gain = 1.0 + np.asarray(gain, dtype=np.float64)
         self._offset = np.asarray(offset, dtype=np.float64)
+        drift_std = np.asarray(params.ft_offset_drift_std, dtype=np.float64)
+        drift = drift_std * rng.standard_normal(6) if np.any(drift_std) else np.zeros(6)
+        self._drift_step = drift / params.ft_rate_hz  # offset change per sample [N, N·m]
+        self._count = 0
         self._noise = np.asarray(params.ft_noise_std, dtype=np.float64)
         self._quantum = np.asarray(params.ft_quantisation, dtype=np.float64)
         cutoff, rate = params.ft_cutoff_hz, params.ft_rate_hz
@@ -55,7 +68,9 @@ class FtChannel:
 
     def sample(self, wrench_true: NDArray[np.float64]) -> NDArray[np.float64]:
         """Take one sample of the true wrench [N, N·m] and return the measured one."""
-        raw = self._gain * wrench_true + self._offset + self._noise * self._rng.standard_normal(6)
+        offset = self._offset + self._drift_step * float(self._count)
+        self._count += 1
+        raw = self._gain * wrench_true + offset + self._noise * self._rng.standard_normal(6)
         if self._state is None:
             self._state = raw
         else:
@@ -85,8 +100,10 @@ def sample_series(
     out = np.empty_like(wrenches_true)
     if n == 0:
         return out
-    gain = np.array([[c._gain] for c in channels])
+    gain = np.array([c._gain for c in channels])
     offset = np.array([c._offset for c in channels])
+    drift = np.array([c._drift_step for c in channels])
+    count = np.array([[float(c._count)] for c in channels])
     noise = np.array([c._noise * np.ones(6) for c in channels])
     quantum = np.array([c._quantum * np.ones(6) for c in channels])
     alpha = np.array([[c._alpha] for c in channels])
@@ -94,11 +111,14 @@ def sample_series(
     fresh = np.array([c._state is None for c in channels])
     state = np.array([np.zeros(6) if c._state is None else c._state for c in channels])
     for k in range(n):
-        raw = gain * wrenches_true[:, k] + offset + noise * draws[:, k]
+        raw = (
+            gain * wrenches_true[:, k] + (offset + drift * (count + float(k))) + noise * draws[:, k]
+        )
         state = np.where(fresh[:, None], raw, state + alpha * (raw - state))
         fresh[:] = False
         out[:, k] = quantise(state, quantum)
     for i, c in enumerate(channels):
+        c._count += n
         c._state = state[i].copy()
         c.output = out[i, -1].copy()
     return out

@@ -61,7 +61,12 @@ class Simulation:
         self._imu_rng = np.random.default_rng(streams[-1])
         params = robot.sensor_params
         self._ft = {
-            f.foot: FtChannel(params, robot.ft_offset(f.foot), np.random.default_rng(s))
+            f.foot: FtChannel(
+                params,
+                robot.ft_offset(f.foot),
+                np.random.default_rng(s),
+                robot.ft_gain_error(f.foot),
+            )
             for f, s in zip(robot.feet, streams[:-1], strict=True)
         }
         self._ft_every = max(1, round(1.0 / (params.ft_rate_hz * self.dt)))

@@ -80,6 +80,8 @@ def teo_robot(
         servo_limits=TEO_SERVO_LIMITS,
         sensor_params=params.sensors,
         ft_offsets=params.ft_offsets,
+        ft_gain_errors=params.ft_gain_errors,
+        variability=params.variability,
     )
 
 

@@ -9,7 +9,7 @@ file and the field.
 from __future__ import annotations
 
 from collections.abc import Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
@@ -20,6 +20,7 @@ from zmpkit.sim.effects import (
     InductanceParams,
     MotorParams,
     SensorParams,
+    TrialVariability,
 )
 from zmpkit.sim.truth_file import flex_joint, parse_truth_doc, read_truth_file, section, vector3
 
@@ -46,6 +47,10 @@ class TeoTruth:
         payload_mass_kg: point mass reconciling the manual with the paper [kg].
         payload_position_m: its position in the trunk (frontal waist) frame [m].
         source: the file it came from.
+        ft_gain_errors: foot side → relative gain error per axis [-], when the file gives
+            ``sensors.ft_gain_error`` per sensor (``{right: [6], left: [6]}``); empty when
+            it gives one number for all.
+        variability: the optional ``variability`` section (trial-to-trial differences).
     """
 
     servo_rate_hz: float
@@ -59,6 +64,8 @@ class TeoTruth:
     payload_mass_kg: float
     payload_position_m: tuple[float, float, float]
     source: str = str(DEFAULT_TRUTH_PATH)
+    ft_gain_errors: Mapping[str, tuple[float, ...]] = field(default_factory=dict)
+    variability: TrialVariability = field(default_factory=TrialVariability)
 
 
 def _motor(name: str, entry: Mapping[str, Any], doc: Mapping[str, Any], path: Path) -> MotorParams:
@@ -96,6 +103,14 @@ def _parse(doc: Mapping[str, Any], path: Path) -> TeoTruth:
     }
     sensors = dict(section(doc, "sensors", path))
     offsets = {side: tuple(float(v) for v in vec) for side, vec in sensors.pop("ft_offset").items()}
+    gains = sensors.pop("ft_gain_error", 0.0)
+    per_sensor = isinstance(gains, Mapping)
+    if per_sensor:
+        gains = {side: tuple(float(v) for v in vec) for side, vec in gains.items()}
+        if sorted(gains) != ["left", "right"] or any(len(g) != 6 for g in gains.values()):
+            raise ValueError(
+                "sensors.ft_gain_error per sensor must be {right: [6 values], left: [6 values]}"
+            )
     payload = section(doc, "payload", path)
     gear = dict(section(doc, "gear", path))
     gear_joints = tuple(gear.pop("joints", joints))
@@ -111,8 +126,14 @@ def _parse(doc: Mapping[str, Any], path: Path) -> TeoTruth:
         gear=GearParams(**gear),
         gear_joints=gear_joints,
         flex=tuple(flex_joint(e) for e in section(doc, "flex", path)),
-        sensors=SensorParams(ft_offset=offsets["right"], **sensors),
+        sensors=SensorParams(
+            ft_offset=offsets["right"],
+            ft_gain_error=float(gains["right"][0]) if per_sensor else float(gains),
+            **sensors,
+        ),
         ft_offsets=offsets,
+        ft_gain_errors=gains if per_sensor else {},
+        variability=TrialVariability(**doc.get("variability", {})),
         payload_mass_kg=float(payload["mass_kg"]),
         payload_position_m=vector3(payload["position_m"]),
         source=str(path),
