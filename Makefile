@@ -5,7 +5,8 @@ VENV   := .venv
 BIN    := $(VENV)/bin
 OUT    ?= out/demo
 # Locally `make test` skips the slow simulation tests (~10 min budget); CI (CI=true) runs
-# them too, as they fit its time.
+# them too, as they fit its time, and then the fast tests again on the lowest dependency
+# versions pyproject.toml allows (.ci/lowest).
 PYTEST_MARK := $(if $(CI),,-m "not slow")
 
 .PHONY: demo test test-slow test-lowest bench lint format clean
@@ -32,6 +33,7 @@ test: $(VENV)/.installed-test
 	$(BIN)/lint-imports
 	$(BIN)/mypy
 	$(BIN)/python -m pytest $(PYTEST_MARK) -q
+	$(if $(CI),.ci/lowest,@echo "dependency lower bounds: checked in CI (make test-lowest)")
 
 test-slow: $(VENV)/.installed-test
 	$(BIN)/python -m pytest -m slow -q

@@ -122,7 +122,7 @@ def test_figure_that_cannot_be_drawn_is_a_warning_and_a_placeholder(tmp_path: Pa
     ax.plot([0.0, 0.01], [0.0, -1.7e308])
     with (
         np.errstate(over="ignore"),
-        pytest.warns(FigureWarning, match=r"could not draw zmp.png \('ValueError: arange"),
+        pytest.warns(FigureWarning, match=r"could not draw zmp.png \("),
     ):
         path = save_figure(fig, tmp_path / "zmp.png")
     assert path.stat().st_size > 1000  # the placeholder that says why

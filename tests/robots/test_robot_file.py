@@ -7,49 +7,17 @@ from pathlib import Path
 import pytest
 import yaml
 
+from helpers.biped import BIPED_MASS_KG, BIPED_MJCF
 from zmpkit.cli import main
 from zmpkit.robots.registry import get_robot
 from zmpkit.robots.robot_check import check_robot
-
-
-def _leg(side: str, y: float) -> str:
-    p = side[0]
-    return f"""
-      <body name="{p}_thigh" pos="0 {y} -0.04">
-        <joint name="{p}_hip_roll" axis="1 0 0" range="-0.5 0.5"/>
-        <joint name="{p}_hip_pitch" axis="0 1 0" range="-1.5 1.5"/>
-        <geom type="capsule" fromto="0 0 0 0 0 -0.22" size="0.03" mass="0.8"/>
-        <body name="{p}_shank" pos="0 0 -0.22">
-          <joint name="{p}_knee" axis="0 1 0" range="-0.1 2.2"/>
-          <geom type="capsule" fromto="0 0 0 0 0 -0.22" size="0.025" mass="0.6"/>
-          <body name="{p}_foot" pos="0 0 -0.22">
-            <joint name="{p}_ankle_pitch" axis="0 1 0" range="-1 1"/>
-            <joint name="{p}_ankle_roll" axis="1 0 0" range="-0.5 0.5"/>
-            <geom type="box" pos="0.02 0 -0.04" size="0.07 0.04 0.01" mass="0.3"/>
-          </body>
-        </body>
-      </body>"""
-
-
-BIPED_MASS_KG = 2.0 + 3.0 + 2 * (0.8 + 0.6 + 0.3)
-"""The test biped's mass, plus zmpkit's two sole plates (0.2 % of it each) [kg]."""
-BIPED = f"""<mujoco model="biped">
-  <worldbody>
-    <body name="pelvis" pos="0 0 0.55">
-      <geom type="box" size="0.06 0.1 0.04" mass="2"/>
-      <body name="torso" pos="0 0 0.12"><geom type="box" size="0.06 0.09 0.08" mass="3"/></body>
-      {_leg("right", -0.06)}{_leg("left", 0.06)}
-    </body>
-  </worldbody>
-</mujoco>
-"""
 
 
 @pytest.fixture
 def biped(tmp_path: Path) -> Path:
     (tmp_path / "model").mkdir()
     path = tmp_path / "model" / "biped.xml"
-    path.write_text(BIPED, encoding="utf-8")
+    path.write_text(BIPED_MJCF, encoding="utf-8")
     return path
 
 

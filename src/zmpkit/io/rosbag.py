@@ -43,6 +43,12 @@ TIME_SOURCES = ("header", "receive")
 """``header``: ``header.stamp`` of each message; ``receive``: the bag's receive time."""
 
 
+def _one_line(exc: BaseException, limit: int = 120) -> str:
+    """A library's error as one short line: whitespace collapsed, cut to ``limit`` characters."""
+    text = " ".join(str(exc).split()) or type(exc).__name__
+    return text if len(text) <= limit else text[: limit - 3] + "..."
+
+
 def read_ros2_bag(
     path: str | Path,
     *,
@@ -107,7 +113,7 @@ def _open(path: Path) -> Reader:
             path, "not found; expected a ROS 2 bag folder, .db3 or .mcap file"
         ) from None
     except Exception as exc:  # rosbags raises many kinds on a damaged bag
-        raise InputFileError(path, f"cannot be opened as a ROS 2 bag ({exc})") from None
+        raise InputFileError(path, f"cannot be opened as a ROS 2 bag ({_one_line(exc)})") from None
     return reader
 
 
@@ -172,7 +178,7 @@ def _collect(
             data[connection.topic].append(ns, msg)
     except Exception as exc:  # corrupt storage or message bytes
         raise InputFileError(
-            path, f"cannot read its messages ({exc}); the bag may be truncated"
+            path, f"cannot read its messages ({_one_line(exc)}); the bag may be truncated"
         ) from None
     for topic, d in data.items():
         if not d.messages:

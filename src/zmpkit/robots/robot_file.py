@@ -32,11 +32,13 @@ top measures (site ``{side}_ft``; ``{side}_sole`` marks the sole centre). Every 
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+from zmpkit._validate import shorten
 from zmpkit.errors import InputFileError
 from zmpkit.io.yaml_file import read_yaml_mapping
 
@@ -135,6 +137,10 @@ class RobotFile:
         return (*self.legs["right"], *self.legs["left"])
 
 
+SERVO_KEYS = ("kp", "ki", "kd")
+"""The ideal servo's gains a robot file may give."""
+
+
 def _fail(path: Path, field: str, message: str) -> InputFileError:
     return InputFileError(path, f"{field}: {message}", column=field)
 
@@ -143,8 +149,17 @@ def _number(path: Path, field: str, value: Any, default: float | None) -> float 
     if value is None:
         return default
     if isinstance(value, bool) or not isinstance(value, int | float) or not value > 0:
-        raise _fail(path, field, f"expected a number > 0, got {value!r}")
+        raise _fail(path, field, f"expected a number > 0, got {shorten(value)}")
     return float(value)
+
+
+def _servo_gain(path: Path, key: str, value: Any) -> float:
+    if key not in SERVO_KEYS:
+        raise _fail(path, f"servo.{key}", f"unknown gain; valid: {', '.join(SERVO_KEYS)}")
+    number = _number(path, f"servo.{key}", value, None)
+    if number is None or not math.isfinite(number):
+        raise _fail(path, f"servo.{key}", f"expected a finite number > 0, got {shorten(value)}")
+    return number
 
 
 def _names(path: Path, field: str, value: Any) -> tuple[str, ...]:
@@ -244,7 +259,7 @@ def read_robot_file(path: str | Path) -> RobotFile:
         sole_width_m=_number(file, "sole.width", sole.get("width"), None),
         sole_height_m=_number(file, "sole.height", sole.get("height"), DEFAULT_SOLE_HEIGHT_M)
         or DEFAULT_SOLE_HEIGHT_M,
-        servo={k: float(v) for k, v in servo.items()},
+        servo={str(k): _servo_gain(file, str(k), v) for k, v in servo.items()},
         contact_threshold_n=_number(
             file, "contact_threshold_n", doc.get("contact_threshold_n"), None
         ),

@@ -26,6 +26,7 @@ import mujoco
 import numpy as np
 from numpy.typing import NDArray
 
+from zmpkit._validate import list_some, shorten
 from zmpkit.errors import InputFileError
 from zmpkit.robots.robot_file import SIDES, RobotFile
 from zmpkit.sim.builder import add_ideal_servo
@@ -165,12 +166,16 @@ def foot_body(robot: RobotFile, model: mujoco.MjModel, side: str) -> str:
         sites = [model.site(s).name for s in range(model.nsite)]
         if name not in sites:
             raise InputFileError(
-                robot.path, f"feet.{side}: unknown site {name!r}; sites: {sites}", column="feet"
+                robot.path,
+                f"feet.{side}: unknown site {shorten(name)}; sites: {list_some(sites)}",
+                column="feet",
             )
         return str(model.body(int(model.site_bodyid[model.site(name).id])).name)
     if name not in names:
         raise InputFileError(
-            robot.path, f"feet.{side}: unknown body {name!r}; bodies: {names}", column="feet"
+            robot.path,
+            f"feet.{side}: unknown body {shorten(name)}; bodies: {list_some(names)}",
+            column="feet",
         )
     return name
 
@@ -189,7 +194,8 @@ def check_names(robot: RobotFile, model: mujoco.MjModel) -> None:
             if name not in hinges:
                 raise InputFileError(
                     robot.path,
-                    f"legs.{side}: unknown joint {name!r}; hinge joints: {hinges}",
+                    f"legs.{side}: unknown joint {shorten(name)}; "
+                    f"hinge joints: {list_some(hinges)}",
                     column="legs",
                 )
     bodies = [model.body(b).name for b in range(1, model.nbody)]
@@ -197,7 +203,9 @@ def check_names(robot: RobotFile, model: mujoco.MjModel) -> None:
         name = getattr(robot, field)
         if name is not None and name not in bodies:
             raise InputFileError(
-                robot.path, f"{field}: unknown body {name!r}; bodies: {bodies}", column=field
+                robot.path,
+                f"{field}: unknown body {shorten(name)}; bodies: {list_some(bodies)}",
+                column=field,
             )
 
 

@@ -41,6 +41,10 @@ def read_truth_file(path: Path, parse: Callable[[Mapping[str, Any], Path], T]) -
     return parse_truth_doc(doc, path, parse)
 
 
+_MAX_REASON_CHARS = 120
+"""Longest reason quoted in a truth file's error, so the line stays short [characters]."""
+
+
 def parse_truth_doc(doc: Any, path: Path, parse: Callable[[Mapping[str, Any], Path], T]) -> T:
     """``parse(doc, path)`` of a truth document already in memory (``path`` names it).
 
@@ -53,8 +57,10 @@ def parse_truth_doc(doc: Any, path: Path, parse: Callable[[Mapping[str, Any], Pa
         return parse(doc, path)
     except InputFileError:
         raise
-    except (KeyError, TypeError, ValueError, AttributeError, ZmpkitError) as exc:
-        raise InputFileError(path, f"invalid truth: {exc}") from None
+    except (KeyError, TypeError, ValueError, AttributeError, OverflowError, ZmpkitError) as exc:
+        text = str(exc)
+        text = text if len(text) <= _MAX_REASON_CHARS else text[: _MAX_REASON_CHARS - 3] + "..."
+        raise InputFileError(path, f"invalid truth: {text}") from None
 
 
 def section(doc: Mapping[str, Any], key: str, path: Path) -> Any:
