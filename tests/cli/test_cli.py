@@ -3,14 +3,18 @@
 from __future__ import annotations
 
 import csv
+import subprocess
+import sys
 from pathlib import Path
 
+import click
 import numpy as np
 import pytest
 
 from helpers.ft_data import wrench_in_sensor, write_log
 from zmpkit import __version__
 from zmpkit.cli import main
+from zmpkit.cli.app import COMMANDS, cli
 from zmpkit.io import read_feet_yaml
 
 pytestmark = pytest.mark.filterwarnings("error")
@@ -101,3 +105,22 @@ def test_zmp_with_builtin_teo_mounts(tmp_path: Path) -> None:
         (out_row,) = list(csv.DictReader(f))
     assert float(out_row["zmp_x"]) == pytest.approx(point_x, abs=1e-12)
     assert float(out_row["zmp_y"]) == pytest.approx(0.0, abs=1e-12)
+
+
+def test_the_root_help_lists_each_command_with_its_own_help() -> None:
+    """The lazy group's one-line helps are the commands' own (no drift)."""
+    ctx = click.Context(cli)
+    for name, (_, short_help) in COMMANDS.items():
+        command = cli.get_command(ctx, name)
+        assert command is not None
+        assert command.get_short_help_str(limit=300) == short_help
+
+
+def test_the_root_help_imports_no_physics() -> None:
+    """``zmpkit --help`` answers without importing the pipelines or MuJoCo (lazy subcommands)."""
+    code = (
+        "import sys; from zmpkit.cli import main; main(['--help']); "
+        "print(sorted(m for m in ('mujoco', 'zmpkit.pipelines', 'scipy') if m in sys.modules))"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert out.stdout.strip().splitlines()[-1] == "[]"

@@ -7,57 +7,90 @@ one line on stderr and exit code 2.
 
 from __future__ import annotations
 
+import importlib
 import sys
 import warnings
-from collections.abc import Callable, Sequence
-from typing import Any, TextIO, TypeVar
+from collections.abc import Sequence
+from typing import TextIO
 
 import click
 
 from zmpkit import __version__
 from zmpkit.errors import ZmpkitError, ZmpkitWarning
-from zmpkit.robots.registry import get_robot, robot_names, robots_that
 
-__all__ = ["EXIT_USAGE", "cli", "format_or_undefined", "main", "robot_option"]
+__all__ = ["COMMANDS", "EXIT_USAGE", "LazyGroup", "cli", "format_or_undefined", "main"]
 
 EXIT_USAGE = 2
-_F = TypeVar("_F", bound=Callable[..., Any])
-_NEEDS_TEXT = {
-    None: "",
-    "balance": " with a balance model",
-    "walking": " that walks",
-    "fit": " with a fit catalogue",
-}
-
-
-def robot_option(
-    default: str | None, needs: str | None = None, help_text: str = "Robot"
-) -> Callable[[_F], _F]:
-    """The ``--robot NAME|PATH/robot.yaml`` option; its choices come from the registry.
-
-    An unknown robot, or one without what the command ``needs`` (``"balance"``,
-    ``"walking"``, ``"fit"``), ends the command with exit 2 and one line naming the valid ones.
-    """
-    valid = robots_that(needs) if needs else robot_names()
-
-    def check(ctx: click.Context, param: click.Parameter, value: str | None) -> str | None:
-        if value is not None:
-            get_robot(value, needs=needs)
-        return value
-
-    return click.option(
-        "--robot",
-        default=default,
-        show_default=default is not None,
-        callback=check,
-        help=f"{help_text}: {', '.join(valid)}, or PATH/robot.yaml (a robot{_NEEDS_TEXT[needs]}).",
-    )
-
-
 _PYTHON_SHOWWARNING = warnings.showwarning
 
 
-@click.group(context_settings={"help_option_names": ["-h", "--help"]})
+COMMANDS: dict[str, tuple[str, str]] = {
+    "balance": (
+        "zmpkit.cli.balance:balance_command",
+        "Paper A end to end: LIPM steps, DLIPM identification, scheduled controller, Table 1.",
+    ),
+    "demo": (
+        "zmpkit.cli.demo:demo_command",
+        "Run the main job on the built-in virtual robot and write a report to --out.",
+    ),
+    "identify": (
+        "zmpkit.cli.identify:identify_group",
+        "Identify models of the robot from recorded data.",
+    ),
+    "robot": (
+        "zmpkit.cli.robot:robot_group",
+        "Robots: the built-in ones, and your own MJCF or URDF through a robot.yaml.",
+    ),
+    "sim": (
+        "zmpkit.cli.sim:sim_group",
+        "Run experiments on a virtual robot and write their datasets and analyses.",
+    ),
+    "walk": (
+        "zmpkit.cli.walk:walk_group",
+        "Walk the virtual robot with the 3D-LIPM pattern (paper B) and analyse the walk.",
+    ),
+    "zmp": (
+        "zmpkit.cli.zmp:zmp_command",
+        "ZMP of a recorded force-torque LOG; writes zmp.csv and zmp.png.",
+    ),
+}
+"""Subcommand -> ("module:attribute", one-line help). The module is imported only when the
+subcommand runs (or shows its own help), so ``zmpkit --help`` needs no physics engine."""
+
+
+class LazyGroup(click.Group):
+    """A group whose subcommands live in modules imported on first use (:data:`COMMANDS`)."""
+
+    def __init__(self, *args: object, lazy: dict[str, tuple[str, str]], **kwargs: object) -> None:
+        super().__init__(*args, **kwargs)  # type: ignore[arg-type]
+        self.lazy = lazy
+
+    def list_commands(self, ctx: click.Context) -> list[str]:
+        """Every subcommand's name, without importing any."""
+        return sorted({*super().list_commands(ctx), *self.lazy})
+
+    def get_command(self, ctx: click.Context, cmd_name: str) -> click.Command | None:
+        """The subcommand ``cmd_name``, importing its module the first time."""
+        if cmd_name not in self.lazy:
+            return super().get_command(ctx, cmd_name)
+        module, attribute = self.lazy[cmd_name][0].split(":")
+        command = getattr(importlib.import_module(module), attribute)
+        if not isinstance(command, click.Command):
+            raise TypeError(f"{module}:{attribute} is not a click command")
+        return command
+
+    def format_commands(self, ctx: click.Context, formatter: click.HelpFormatter) -> None:
+        """The help's command list, from the one-line helps of :data:`COMMANDS`."""
+        rows = [(name, self.lazy[name][1]) for name in sorted(self.lazy)]
+        with formatter.section("Commands"):
+            formatter.write_dl(rows)
+
+
+@click.group(
+    cls=LazyGroup,
+    lazy=COMMANDS,
+    context_settings={"help_option_names": ["-h", "--help"]},
+)
 @click.version_option(__version__, "--version", prog_name="zmpkit")
 def cli() -> None:
     """zmpkit: measure, model and compensate the gap between the LIPM and the real robot."""

@@ -7,9 +7,9 @@ from typing import Any
 
 import click
 
-from zmpkit.cli.app import cli, robot_option
 from zmpkit.cli.options import SEED, WORKERS
 from zmpkit.cli.progress import SweepProgress
+from zmpkit.cli.robot_option import robot_option
 from zmpkit.control import PAPER_A_TIME_SCALE
 from zmpkit.pipelines.balance import BalanceConfig, run_balance
 from zmpkit.pipelines.balance_report import write_balance_outputs
@@ -21,7 +21,7 @@ EXIT_BARS_NOT_MET = 1
 """Exit code of ``balance --strict`` when a bar is missed or undefined."""
 
 
-@cli.command("balance")
+@click.command("balance")
 @robot_option(DEFAULT_BALANCE_ROBOT, needs="balance")
 @click.option(
     "--out",

@@ -6,14 +6,13 @@ from pathlib import Path
 
 import click
 
-from zmpkit.cli.app import cli
 from zmpkit.cli.progress import RichDisplays
 from zmpkit.pipelines.demo import run_demo
 
 __all__ = ["demo_command"]
 
 
-@cli.command("demo")
+@click.command("demo")
 @click.option(
     "--out", "out_dir", type=click.Path(path_type=Path), default=Path("out/demo"), show_default=True
 )

@@ -6,9 +6,9 @@ from pathlib import Path
 
 import click
 
-from zmpkit.cli.app import cli, robot_option
 from zmpkit.cli.options import SEED, WORKERS, Bounded, BoundedInt
 from zmpkit.cli.progress import GenerationProgress
+from zmpkit.cli.robot_option import robot_option
 from zmpkit.pipelines.identify_balance import run_identify_balance
 from zmpkit.pipelines.identify_sim import IdentifySimConfig, run_identify_sim
 from zmpkit.robots.registry import DEFAULT_FIT_ROBOT
@@ -24,7 +24,7 @@ MAX_GENERATIONS = 100_000
 """Most CMA-ES generations ``--generations`` takes."""
 
 
-@cli.group("identify")
+@click.group("identify")
 def identify_group() -> None:
     """Identify models of the robot from recorded data."""
 

@@ -6,7 +6,6 @@ from pathlib import Path
 
 import click
 
-from zmpkit.cli.app import cli
 from zmpkit.robots.registry import get_robot, robot_names
 from zmpkit.robots.robot_check import check_robot
 from zmpkit.robots.robot_init import write_robot_file
@@ -14,7 +13,7 @@ from zmpkit.robots.robot_init import write_robot_file
 __all__ = ["robot_check_command", "robot_group", "robot_init_command", "robot_list_command"]
 
 
-@cli.group("robot")
+@click.group("robot")
 def robot_group() -> None:
     """Robots: the built-in ones, and your own MJCF or URDF through a robot.yaml."""
 

@@ -6,9 +6,9 @@ from pathlib import Path
 
 import click
 
-from zmpkit.cli.app import cli, robot_option
 from zmpkit.cli.options import SEED, WORKERS, Bounded
 from zmpkit.cli.progress import TrialProgressBar
+from zmpkit.cli.robot_option import robot_option
 from zmpkit.experiments import MAX_HOLD_S, MAX_PUSH_DURATION_S, MAX_PUSH_FORCE_N
 from zmpkit.pipelines.sim_push import run_sim_push, sim_push_config
 from zmpkit.robots.registry import DEFAULT_BALANCE_ROBOT
@@ -16,7 +16,7 @@ from zmpkit.robots.registry import DEFAULT_BALANCE_ROBOT
 __all__ = ["sim_group", "sim_push_command"]
 
 
-@cli.group("sim")
+@click.group("sim")
 def sim_group() -> None:
     """Run experiments on a virtual robot and write their datasets and analyses."""
 

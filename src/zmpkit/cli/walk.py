@@ -6,8 +6,9 @@ from pathlib import Path
 
 import click
 
-from zmpkit.cli.app import cli, format_or_undefined, robot_option
+from zmpkit.cli.app import format_or_undefined
 from zmpkit.cli.progress import SimTimeProgress, StageProgress
+from zmpkit.cli.robot_option import robot_option
 from zmpkit.experiments.walk_config import WalkConfig
 from zmpkit.experiments.walk_trial import Push
 from zmpkit.pipelines.walk import run_walk, write_walk
@@ -20,7 +21,7 @@ from zmpkit.walking.walk_controllers import CONTROLLERS
 __all__ = ["walk_compensate_command", "walk_group", "walk_sweep_command"]
 
 
-@cli.group("walk", invoke_without_command=True)
+@click.group("walk", invoke_without_command=True)
 @robot_option(DEFAULT_WALK_ROBOT, needs="walking")
 @click.option("--speed", type=float, default=0.2, show_default=True, help="Forward speed [m/s].")
 @click.option(

@@ -6,8 +6,8 @@ from pathlib import Path
 
 import click
 
-from zmpkit.cli.app import cli, robot_option
 from zmpkit.cli.options import Bounded
+from zmpkit.cli.robot_option import robot_option
 from zmpkit.io import feet_from_mapping
 from zmpkit.pipelines.zmp_log import run_zmp_log
 from zmpkit.robots.registry import get_robot
@@ -16,7 +16,7 @@ from zmpkit.sensors import CONTACT_FORCE_THRESHOLD_N, CONTACT_THRESHOLD_RANGE_N
 __all__ = ["zmp_command"]
 
 
-@cli.command("zmp")
+@click.command("zmp")
 @click.argument("log", type=click.Path(path_type=Path))
 @click.option("--right-topic", help="ROS 2 bag: WrenchStamped topic of the right foot.")
 @click.option("--left-topic", help="ROS 2 bag: WrenchStamped topic of the left foot.")
