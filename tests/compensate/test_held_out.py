@@ -15,7 +15,7 @@ from zmpkit.errors import ParameterError
 from zmpkit.pipelines.walk_compensate import CompensateConfig, CompensateResult
 from zmpkit.pipelines.walk_compensate_report import write_walk_compensate
 from zmpkit.robots.registry import get_robot
-from zmpkit.robots.truth_variant import truth_variant
+from zmpkit.robots.truth_variant import scaled_truth_file
 
 
 @pytest.mark.parametrize("quick", [True, False])
@@ -48,12 +48,12 @@ def test_algorithm_2_with_feedback_is_refused_with_its_remedy() -> None:
 
 def test_a_held_out_robot_has_the_varied_value_and_nothing_else_changed(tmp_path) -> None:
     robot = get_robot("nao")
-    path = truth_variant(robot, "gear.stiffness", 1.3, tmp_path)
+    path = scaled_truth_file(robot, "gear.stiffness", 1.3, tmp_path)
     shipped, varied = robot.truth.load(None), robot.truth.load(path)
     assert varied.gear.stiffness == pytest.approx(1.3 * shipped.gear.stiffness)
     assert dataclasses.replace(varied, gear=shipped.gear, source=shipped.source) == shipped
     with pytest.raises(ParameterError, match=r"no gear\.stifness"):
-        truth_variant(robot, "gear.stifness", 1.3, tmp_path)
+        scaled_truth_file(robot, "gear.stifness", 1.3, tmp_path)
 
 
 def _walk(fell: bool, walk: WalkSpec) -> CompensatedWalk:

@@ -420,9 +420,10 @@ def simulate_walk(
         q_frames = q_frames.copy()
     for k in range(1, len(q_frames)):
         if controller is not None:
-            read_measurement(sim, measurement)
-            for fault in faults:
-                fault.apply(measurement, frame_s)
+            if controller.reads_sensors:
+                read_measurement(sim, measurement)
+                for fault in faults:
+                    fault.apply(measurement, frame_s)
             q_frames[k] = controller.step(k, measurement)[columns]
         if frame_hook is not None:
             online = frame_hook(k, recorder.reading())

@@ -50,7 +50,7 @@ from zmpkit.experiments.walk_config import (
     max_walk_speed_mps,
 )
 from zmpkit.robots.registry import DEFAULT_WALK_ROBOT, get_robot
-from zmpkit.robots.truth_variant import truth_variant
+from zmpkit.robots.truth_variant import scaled_truth_file
 from zmpkit.sim.effect_set import EffectSet
 from zmpkit.walking import generate_pattern
 from zmpkit.walking.walk_controllers import CONTROLLERS
@@ -233,7 +233,7 @@ class CompensateConfig:
             for k, (dv, dt, factor) in enumerate(cases):
                 truth = None
                 if truth_folder is not None:
-                    truth = str(truth_variant(robot, TRUTH_PARAMETER, factor, truth_folder))
+                    truth = str(scaled_truth_file(robot, TRUTH_PARAMETER, factor, truth_folder))
                 label = f"{TRUTH_PARAMETER} x{factor:g}"
                 speed = round(self.speed_mps + dv, 6)
                 step = round(self.step_duration_s + dt, 6)

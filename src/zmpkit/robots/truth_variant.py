@@ -18,7 +18,7 @@ from zmpkit import _validate
 from zmpkit.errors import ParameterError
 from zmpkit.robots.robot import Robot
 
-__all__ = ["truth_variant"]
+__all__ = ["scaled_truth_file"]
 
 
 def _scaled(node: Any, path: Sequence[str], factor: float, name: str) -> Any:
@@ -35,7 +35,7 @@ def _scaled(node: Any, path: Sequence[str], factor: float, name: str) -> Any:
     return {**node, path[0]: _scaled(node[path[0]], path[1:], factor, name)}
 
 
-def truth_variant(robot: Robot, parameter: str, factor: float, folder: Path) -> Path:
+def scaled_truth_file(robot: Robot, parameter: str, factor: float, folder: Path) -> Path:
     """Write the robot's shipped truth with ``parameter`` (dotted path) times ``factor``.
 
     Args:

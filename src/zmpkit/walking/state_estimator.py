@@ -127,12 +127,6 @@ class KinematicStateEstimator:
                 coupled.append((follower, leader, c0, c1))
         return coupled
 
-    def reset(self) -> None:
-        """Forget the velocity and the last anchor (a new walk)."""
-        self._started = False
-        self.com_velocity_in_world[:] = 0.0
-        self._offset[:] = 0.0
-
     def update(self, measurement: WalkMeasurement, planned_soles: NDArray[np.float64]) -> None:
         """Estimate from one tick's measurement.
 

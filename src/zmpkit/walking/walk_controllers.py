@@ -66,9 +66,13 @@ CONTROLLERS: tuple[str, ...] = ("zmpip", "dcm", "open")
 
 
 class WalkController(Protocol):
-    """A walking controller (module docstring)."""
+    """A walking controller (module docstring).
+
+    ``reads_sensors`` False lets the loop skip filling the measurement (open loop).
+    """
 
     name: str
+    reads_sensors: bool
 
     def step(self, frame: int, measurement: WalkMeasurement) -> NDArray[np.float64]:
         """Joint targets of ``frame`` [rad] (trajectory order) from the readings of ``frame-1``."""
@@ -96,6 +100,7 @@ class OpenLoopWalk:
     """Plays the planned trajectory; reads no sensor (``open``)."""
 
     name = "open"
+    reads_sensors = False
 
     def __init__(self, trajectory: JointTrajectory) -> None:
         self.trajectory = trajectory
@@ -117,6 +122,7 @@ class _OnlineWalk:
     """A feedback walk: estimate, correct the CoM of the next frame, solve the IK for it."""
 
     name = "online"
+    reads_sensors = True
 
     def __init__(
         self,
