@@ -1,0 +1,167 @@
+"""What made a run: zmpkit version, command line, robot, truth file and its hash, seed, time.
+
+A report a researcher can trust says how to make it again. :func:`capture` is called when a
+run ends, with the robot and settings it ran with and the time it started; it fills in the
+rest from the process (``sys.argv``, package versions, the git commit of a source checkout).
+The truth file is hashed (SHA-256 of its bytes), so two reports made from truth files of the
+same name but different contents can be told apart.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import shlex
+import subprocess
+import sys
+import time
+from dataclasses import dataclass
+from datetime import UTC, datetime
+from importlib.metadata import PackageNotFoundError, version
+from pathlib import Path
+
+import zmpkit
+from zmpkit.errors import ZmpkitError
+from zmpkit.robots.registry import get_robot
+
+__all__ = ["Provenance", "capture", "file_sha256"]
+
+
+@dataclass(frozen=True)
+class Provenance:
+    """Where a run came from.
+
+    Attributes:
+        zmpkit_version: the installed version, and the git commit of a source checkout.
+        command: the command line that ran, as a shell would take it.
+        robot: the robot's name or robot file.
+        truth_file: the virtual robot's truth file (the shipped one when none was given),
+            or "" for a run on recorded data.
+        truth_sha256: SHA-256 of the truth file's bytes [hex], or "".
+        effects: the simulator's effect set, or "".
+        seed: the random seed, or None.
+        started_utc: when the run started (ISO 8601, UTC).
+        wall_time_s: how long it ran [s].
+        libraries: versions of the libraries that shape the numbers (MuJoCo, NumPy, SciPy).
+        extra: further settings worth stating, as (name, value) pairs.
+    """
+
+    zmpkit_version: str
+    command: str
+    robot: str
+    truth_file: str
+    truth_sha256: str
+    effects: str
+    seed: int | None
+    started_utc: str
+    wall_time_s: float
+    libraries: tuple[tuple[str, str], ...]
+    extra: tuple[tuple[str, str], ...] = ()
+
+    def rows(self) -> tuple[tuple[str, str], ...]:
+        """The provenance as (field, value) rows, in the order a reader wants them."""
+        rows = [
+            ("zmpkit", self.zmpkit_version),
+            ("command", self.command),
+            ("robot", self.robot),
+            ("truth file", self.truth_file or "none (recorded data)"),
+            ("truth SHA-256", self.truth_sha256 or "–"),
+            ("effects", self.effects or "–"),
+            ("seed", "–" if self.seed is None else str(self.seed)),
+            ("started (UTC)", self.started_utc),
+            ("wall time", f"{self.wall_time_s:.1f} s"),
+            ("libraries", ", ".join(f"{name} {v}" for name, v in self.libraries)),
+        ]
+        return tuple(rows) + self.extra
+
+
+def capture(
+    *,
+    robot: str,
+    started_s: float,
+    truth: str | Path | None = None,
+    simulated: bool = True,
+    effects: str = "",
+    seed: int | None = None,
+    extra: tuple[tuple[str, str], ...] = (),
+) -> Provenance:
+    """The provenance of a run that started at ``started_s`` (``time.time()``) and ends now.
+
+    Args:
+        robot: the robot's name or robot file.
+        started_s: the run's start [s since the epoch].
+        truth: the truth file given, or None for the robot's shipped one.
+        simulated: False for a run on recorded data (no truth file is stated).
+        effects: the simulator's effect set.
+        seed: the random seed.
+        extra: further (name, value) settings.
+    """
+    truth_file = ""
+    if simulated:
+        truth_path = Path(truth) if truth is not None else _shipped_truth(robot)
+        truth_file = str(truth_path) if truth_path is not None else ""
+    return Provenance(
+        zmpkit_version=_zmpkit_version(),
+        command=shlex.join(["zmpkit", *sys.argv[1:]]) if _is_cli() else shlex.join(sys.argv),
+        robot=robot,
+        truth_file=truth_file,
+        truth_sha256=file_sha256(Path(truth_file)) if truth_file else "",
+        effects=effects,
+        seed=seed,
+        started_utc=datetime.fromtimestamp(started_s, UTC).isoformat(timespec="seconds"),
+        wall_time_s=time.time() - started_s,
+        libraries=tuple((name, _version(name)) for name in ("mujoco", "numpy", "scipy")),
+        extra=extra,
+    )
+
+
+def file_sha256(path: Path) -> str:
+    """SHA-256 of the file's bytes [hex], or "" when it cannot be read."""
+    try:
+        return hashlib.sha256(path.read_bytes()).hexdigest()
+    except OSError:
+        return ""
+
+
+def _shipped_truth(robot: str) -> Path | None:
+    try:
+        return get_robot(robot).truth.default_path
+    except ZmpkitError:  # a robot file that cannot be read here: nothing to state
+        return None
+
+
+def _is_cli() -> bool:
+    return Path(sys.argv[0]).name in {"zmpkit", "__main__.py"} if sys.argv else False
+
+
+def _zmpkit_version() -> str:
+    commit = _git_commit(Path(zmpkit.__file__).resolve().parent)
+    return f"{zmpkit.__version__} (git {commit})" if commit else zmpkit.__version__
+
+
+def _git_commit(folder: Path) -> str:
+    """The checkout's short commit, with ``+dirty`` for local changes; "" outside git."""
+    try:
+        commit = subprocess.run(
+            ["git", "-C", str(folder), "rev-parse", "--short", "HEAD"],
+            capture_output=True,
+            text=True,
+            timeout=5,
+            check=True,
+        ).stdout.strip()
+        dirty = subprocess.run(
+            ["git", "-C", str(folder), "status", "--porcelain", "--untracked-files=no"],
+            capture_output=True,
+            text=True,
+            timeout=5,
+            check=True,
+        ).stdout.strip()
+    except (OSError, subprocess.SubprocessError):
+        return ""
+    return f"{commit}+dirty" if dirty else commit
+
+
+def _version(package: str) -> str:
+    try:
+        return version(package)
+    except PackageNotFoundError:
+        return "?"
