@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import csv
 import pickle
+import re
+from html import escape as html_escape
 from pathlib import Path
 
 import pytest
@@ -12,6 +14,7 @@ from zmpkit.analysis.table1 import TABLE1_COLUMNS
 from zmpkit.cli import main
 from zmpkit.identify import BalanceParams
 from zmpkit.pipelines.balance import BalanceConfig, run_balance
+from zmpkit.pipelines.balance_document import balance_checks
 from zmpkit.pipelines.balance_report import write_balance_outputs
 
 CONFIG = BalanceConfig(
@@ -48,7 +51,14 @@ def test_artefacts_follow_their_contracts(balance_run) -> None:
         assert [row["zmp_ref"] for row in reader] == ["0", "0.02", "0.04", "0.05", "0.06", "0.08"]
     params = BalanceParams.from_yaml(out / "params_sagittal.yaml")
     assert params.mass == pytest.approx(62.6)
-    assert "### Table 1" in artifacts.report.read_text()
+    html = artifacts.report.read_text()
+    assert artifacts.report.name == "report.html"
+    assert 'id="verdict"' in html
+    assert "Table 1 (paper A)" in html
+    # every empty cell of Table 1 points to a note that says why it is empty
+    marks = set(re.findall(r"– \((\d+)\)", html))
+    assert marks
+    assert all(f"({k}) " in html for k in marks)
     assert all(p.exists() for p in artifacts.figures)
 
 
@@ -130,9 +140,13 @@ def test_report_and_artifacts_carry_the_verdict(balance_run) -> None:
     assert all(b.state in ("met", "missed", "undefined") for b in verdict.bars)
     assert artifacts.met == verdict.met
     report = artifacts.report.read_text()
-    assert "## Verdict (paper A's bars)" in report
-    assert verdict.bars[0].line() in report
-    assert "- fitted range (measured ZMP):" in report
+    assert 'id="verdict"' in report
+    checks = balance_checks(balance_run[1], artifacts.verdicts)
+    bars = [c for c in checks if c.status != "info"]
+    assert [c.status for c in bars] == [b.state for b in verdict.bars]
+    assert "a fitted target" in bars[0].name or "a held out target" in bars[0].name
+    assert all(html_escape(c.detail) in report for c in checks)
+    assert "fitted range (measured ZMP):" in report
 
 
 @pytest.mark.parametrize(

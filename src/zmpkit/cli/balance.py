@@ -7,7 +7,7 @@ from typing import Any
 
 import click
 
-from zmpkit.cli.options import SEED, WORKERS
+from zmpkit.cli.options import SEED, WORKERS, report_option
 from zmpkit.cli.progress import SweepProgress
 from zmpkit.cli.robot_option import robot_option
 from zmpkit.control import PAPER_A_TIME_SCALE
@@ -74,6 +74,7 @@ EXIT_BARS_NOT_MET = 1
     help=f"Exit with code {EXIT_BARS_NOT_MET} when a bar of paper A is missed or undefined "
     "(default: the verdict is printed and the exit code is 0).",
 )
+@report_option
 def balance_command(
     robot: str,
     out_dir: Path,
@@ -86,6 +87,7 @@ def balance_command(
     dlipm_pace: str,
     max_hold: float | None,
     strict: bool,
+    report_format: str,
 ) -> int:
     """Paper A end to end: LIPM steps, DLIPM identification, scheduled controller, Table 1."""
     changes: dict[str, Any] = {
@@ -104,7 +106,7 @@ def balance_command(
     config = BalanceConfig.quick(**changes) if quick else BalanceConfig(**changes)
     with SweepProgress() as progress:
         result = run_balance(config, out_dir, progress=progress, echo=click.echo)
-    artifacts = write_balance_outputs(result, out_dir)
+    artifacts = write_balance_outputs(result, out_dir, report_format)
     click.echo(f"report: {artifacts.report}")
     click.echo("verdict (paper A's bars):")
     for verdict in artifacts.verdicts.values():

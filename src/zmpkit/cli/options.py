@@ -12,9 +12,17 @@ import math
 
 import click
 
+from zmpkit.analysis.report_files import DEFAULT_REPORT_FORMAT, REPORT_FORMATS
 from zmpkit.experiments import MAX_WORKERS
 
-__all__ = ["MAX_WORKERS", "SEED", "WORKERS", "Bounded", "BoundedInt"]
+__all__ = [
+    "MAX_WORKERS",
+    "SEED",
+    "WORKERS",
+    "Bounded",
+    "BoundedInt",
+    "report_option",
+]
 
 
 def _number(text: float | str) -> str:
@@ -83,3 +91,15 @@ WORKERS = BoundedInt(1, MAX_WORKERS)
 """``--workers``: 1 to :data:`MAX_WORKERS`."""
 SEED = BoundedInt(0, 2**63 - 1)
 """``--seed``: a non-negative integer."""
+
+
+def report_option(function):
+    """``--report html|md|both``: the report's format (html: one self-contained page)."""
+    return click.option(
+        "--report",
+        "report_format",
+        type=click.Choice(REPORT_FORMATS),
+        default=DEFAULT_REPORT_FORMAT,
+        show_default=True,
+        help="Report format: html (report.html, one self-contained page), md (report.md), both.",
+    )(function)

@@ -6,11 +6,12 @@ from pathlib import Path
 
 import click
 
-from zmpkit.cli.options import SEED, WORKERS, Bounded
+from zmpkit.cli.options import SEED, WORKERS, Bounded, report_option
 from zmpkit.cli.progress import TrialProgressBar
 from zmpkit.cli.robot_option import robot_option
 from zmpkit.experiments import MAX_HOLD_S, MAX_PUSH_DURATION_S, MAX_PUSH_FORCE_N
 from zmpkit.pipelines.sim_push import run_sim_push, sim_push_config
+from zmpkit.pipelines.sim_push_document import write_sim_push_report
 from zmpkit.robots.registry import DEFAULT_BALANCE_ROBOT
 
 __all__ = ["sim_group", "sim_push_command"]
@@ -66,6 +67,7 @@ def sim_group() -> None:
     help="Recorded time after the step [s] (default 15).",
 )
 @click.option("--workers", type=WORKERS, default=2, show_default=True, help="Parallel processes.")
+@report_option
 def sim_push_command(
     robot: str,
     targets: str,
@@ -78,6 +80,7 @@ def sim_push_command(
     push_duration: float | None,
     hold: float | None,
     workers: int,
+    report_format: str,
 ) -> None:
     """ZMP step / push sweep (paper A Fig. 14): dataset, steady_state.csv and steps.png."""
     config = sim_push_config(
@@ -100,3 +103,4 @@ def sim_push_command(
         f"{len(result.dataset.trials)} trials in {out_dir}; wrote "
         f"{result.steady_state_path} and {result.figure_path}"
     )
+    click.echo(f"report: {write_sim_push_report(result, config, out_dir, report_format)}")

@@ -7,6 +7,7 @@ from pathlib import Path
 import click
 
 from zmpkit.cli.app import format_or_undefined
+from zmpkit.cli.options import report_option
 from zmpkit.cli.progress import SimTimeProgress, StageProgress
 from zmpkit.cli.robot_option import robot_option
 from zmpkit.experiments.walk_config import WalkConfig
@@ -14,6 +15,7 @@ from zmpkit.experiments.walk_trial import Push
 from zmpkit.pipelines.walk import run_walk, write_walk
 from zmpkit.pipelines.walk_compensate import CompensateConfig, run_walk_compensate
 from zmpkit.pipelines.walk_compensate_report import write_walk_compensate
+from zmpkit.pipelines.walk_document import write_walk_report
 from zmpkit.pipelines.walk_sweep import SweepConfig, run_walk_sweep, write_walk_sweep
 from zmpkit.robots.registry import DEFAULT_WALK_ROBOT
 from zmpkit.walking.walk_controllers import CONTROLLERS
@@ -71,6 +73,7 @@ __all__ = ["walk_compensate_command", "walk_group", "walk_sweep_command"]
     type=click.Path(path_type=Path),
     help="Output folder (required when walking).",
 )
+@report_option
 @click.pass_context
 def walk_group(
     ctx: click.Context,
@@ -86,6 +89,7 @@ def walk_group(
     seed: int,
     truth: Path | None,
     out_dir: Path | None,
+    report_format: str,
 ) -> None:
     """Walk the virtual robot with the 3D-LIPM pattern (paper B) and analyse the walk."""
     if ctx.invoked_subcommand is not None:
@@ -108,7 +112,8 @@ def walk_group(
     )
     with SimTimeProgress(f"walk ({config.effects or 'none'})") as progress:
         result = run_walk(config, progress=progress)
-    write_walk(result, out_dir)
+    result = write_walk(result, out_dir)
+    report = write_walk_report(result, out_dir, report_format)
     s = result.summary
     speed_text = format_or_undefined(s.mean_speed_mps, ".4f")
     peak_hz = format_or_undefined(s.trunk_pitch_peak_hz, ".2f")
@@ -125,6 +130,7 @@ def walk_group(
         f"(commanded {s.commanded_speed_mps:.4f}); trunk pitch peak {peak_hz} Hz, {peak_rad} rad"
     )
     click.echo(f"summary: {Path(out_dir) / 'summary.json'}")
+    click.echo(f"report: {report}")
 
 
 @walk_group.command("compensate")

@@ -18,6 +18,7 @@ no finished trial. Nothing here reads the robot's truth: only recorded sensors a
 from __future__ import annotations
 
 import math
+import time
 from collections.abc import Callable
 from dataclasses import dataclass, field, replace
 from pathlib import Path
@@ -129,6 +130,7 @@ class BalanceResult:
 
     config: BalanceConfig
     planes: dict[str, PlaneResult] = field(default_factory=dict)
+    started_s: float = field(default_factory=time.time)
 
     def params(self, plane: str) -> BalanceParams:
         """The identified parameters of ``plane`` (pendulum length: its lean length)."""
@@ -165,13 +167,14 @@ def run_balance(
     Writes datasets, ``params.yaml``, ``table1.csv``, figures and ``report.md`` into
     ``out_dir`` (created if missing).
     """
+    started_s = time.time()
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     planes = {}
     for plane in config.planes:
         echo(f"{plane} plane: LIPM steps, identification, DLIPM and linear validation")
         planes[plane] = _run_plane(config, plane, out, progress)
-    return BalanceResult(config=config, planes=planes)
+    return BalanceResult(config=config, planes=planes, started_s=started_s)
 
 
 def _run_plane(

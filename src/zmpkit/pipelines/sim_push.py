@@ -8,7 +8,8 @@ expected ZMP of every target, like paper A Fig. 14).
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+import time
+from dataclasses import dataclass, field
 from pathlib import Path
 
 from zmpkit.analysis.zmp_steps_plot import ZmpStepCurve, plot_zmp_steps
@@ -54,12 +55,14 @@ class SimPushResult:
         responses: measured / expected ZMP and steady-state figures per trial.
         steady_state_path: ``steady_state.csv``.
         figure_path: ``steps.png``.
+        started_s: when the run started [s since the epoch].
     """
 
     dataset: StepDataset
     responses: tuple[TrialResponse, ...]
     steady_state_path: Path
     figure_path: Path
+    started_s: float = field(default_factory=time.time)
 
     @property
     def warnings(self) -> tuple[str, ...]:
@@ -181,6 +184,7 @@ def run_sim_push(
     progress: ProgressCallback | None = None,
 ) -> SimPushResult:
     """Run (or resume) the sweep of ``config`` into ``out_dir`` and write its analysis."""
+    started_s = time.time()
     out = Path(out_dir)
     dataset = run_step_sweep(config, out, workers=workers, progress=progress)
     responses = step_responses(dataset)
@@ -192,4 +196,4 @@ def run_sim_push(
     figure = plot_zmp_steps(
         curves, out / STEPS_FIGURE_FILE, title=_title(config), axis_label=_AXIS_LABEL[config.plane]
     )
-    return SimPushResult(dataset, responses, csv_path, figure)
+    return SimPushResult(dataset, responses, csv_path, figure, started_s)

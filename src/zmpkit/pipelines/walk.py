@@ -10,6 +10,7 @@ the second step to one step before the last one ends (or the fall).
 
 from __future__ import annotations
 
+import time
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 
@@ -36,6 +37,7 @@ class WalkResult:
         trajectory: the IK's joint angles and errors.
         record: the simulated signals.
         files: every file written, by role (empty until :func:`write_walk`).
+        started_s: when the run started [s since the epoch].
     """
 
     config: WalkConfig
@@ -44,6 +46,7 @@ class WalkResult:
     trajectory: JointTrajectory
     record: WalkRecord
     files: dict[str, Path] = field(default_factory=dict)
+    started_s: float = field(default_factory=time.time)
 
 
 def run_walk(config: WalkConfig, progress: ProgressCallback | None = None) -> WalkResult:
@@ -56,8 +59,11 @@ def run_walk(config: WalkConfig, progress: ProgressCallback | None = None) -> Wa
     Returns:
         The summary and the signals; nothing is written.
     """
+    started_s = time.time()
     trial = run_walk_trial(config, progress)
-    return WalkResult(config, trial.summary, trial.pattern, trial.trajectory, trial.record)
+    return WalkResult(
+        config, trial.summary, trial.pattern, trial.trajectory, trial.record, started_s=started_s
+    )
 
 
 def write_walk(result: WalkResult, out_dir: str | Path) -> WalkResult:

@@ -1,0 +1,299 @@
+"""The report of ``zmpkit balance``: paper A's bars per plane, identification, Table 1, figures.
+
+The verdict states each of paper A's bars per plane (met, missed, or undefined and why), the
+transient counts, and the warnings (targets the controllers extrapolated, trials that did not
+settle). Every target says whether the error model was fitted on it or held out, so no fitted
+target passes for a validated one. Empty cells of Table 1 carry a mark whose note says why.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from pathlib import Path
+
+import numpy as np
+
+from zmpkit.analysis.balance_targets import TRANSIENT_FROM_M, balance_targets
+from zmpkit.analysis.balance_validation import ControllerOutcome
+from zmpkit.analysis.balance_verdict import Bar, PlaneVerdict
+from zmpkit.analysis.provenance import capture
+from zmpkit.analysis.report_document import (
+    Check,
+    Figure,
+    ReportDocument,
+    Section,
+    Table,
+    Text,
+)
+from zmpkit.analysis.table1 import Table1Row
+from zmpkit.identify import TERMS
+from zmpkit.identify.error_model import COEFFICIENT_UNITS
+from zmpkit.pipelines.balance import BalanceConfig, BalanceResult, PlaneResult
+from zmpkit.robots.registry import get_robot
+
+__all__ = ["balance_checks", "balance_document", "balance_figures", "table1_table"]
+
+_NAMES = {"lipm": "LIPM", "dlipm": "DLIPM", "linear": "linear"}
+
+
+def balance_document(
+    result: BalanceResult,
+    figures: Sequence[Figure],
+    verdicts: dict[str, PlaneVerdict],
+    extra_sections: Sequence[Section] = (),
+) -> ReportDocument:
+    """The balance run's report: verdict, then one section per plane, then the data."""
+    c = result.config
+    title = get_robot(c.robot).title
+    sections = [
+        _plane_section(plane, [f for f in figures if f"_{plane.plane}" in f.path.name])
+        for plane in result.planes.values()
+    ]
+    sections += [*extra_sections, _data_section()]
+    return ReportDocument(
+        title=f"zmpkit balance: LIPM vs gain-scheduled DLIPM on the virtual {title} (paper A §4)",
+        summary=_summary(c, title),
+        checks=balance_checks(result, verdicts),
+        sections=tuple(sections),
+        provenance=capture(
+            robot=c.robot,
+            started_s=result.started_s,
+            truth=c.truth,
+            effects=c.effects,
+            seed=c.seed,
+            extra=(("hold", _hold(c)), ("pacing", _pace(c)), ("DLIPM ζ", f"{c.zeta:g}")),
+        ),
+    )
+
+
+def _summary(c: BalanceConfig, title: str) -> str:
+    fitted = set(np.round(c.fit_targets_m, 6))
+    held_out = [x for x in c.targets_m if round(x, 6) not in fitted]
+    return (
+        f"Paper A's balance experiment on the virtual {title}, {_effects(c.effects)}: LIPM "
+        "step trials; identification of the steady-state error model from the force–torque "
+        f"ZMP, fitted on the LIPM steps at **{_targets(c.fit_targets_m)} m**; then every target "
+        "under the gain-scheduled DLIPM (paper A eq. 7–11, ζ = "
+        f"{c.zeta:g}, scheduled on the error model) and under one linear correction. Held out "
+        f"from the fit: **{_targets(held_out) + ' m' if held_out else 'no target'}**. "
+        f"Trials: {_hold(c)}; DLIPM {_pace(c)}."
+    )
+
+
+def _effects(effects: str) -> str:
+    return {"all": "every effect on", "none": "a rigid robot (effects off)"}.get(
+        effects, f"effects {effects}"
+    )
+
+
+def _targets(values: Sequence[float]) -> str:
+    return ", ".join(f"{x:g}" for x in values)
+
+
+def _hold(c: BalanceConfig) -> str:
+    if c.max_hold_s is None:
+        return f"hold {c.hold_s:g} s"
+    return f"hold {c.hold_s:g} s, extended until settled up to {c.max_hold_s:g} s"
+
+
+def _pace(c: BalanceConfig) -> str:
+    if c.servo_paced:
+        return f"paced by the servos' acceleration limit (time scale ≥ {c.time_scale:.3g})"
+    return f"at a fixed time scale {c.time_scale:.3f}"
+
+
+def balance_checks(result: BalanceResult, verdicts: dict[str, PlaneVerdict]) -> tuple[Check, ...]:
+    """Paper A's bars per plane, the transient counts, and the warnings."""
+    fitted = set(np.round(result.config.fit_targets_m, 6))
+    checks: list[Check] = []
+    for name, verdict in verdicts.items():
+        rows = result.planes[name].rows
+        far = max(rows, key=lambda r: abs(r.zmp_ref))
+        role = "fitted" if round(far.zmp_ref, 6) in fitted else "held out"
+        for bar in verdict.bars:
+            checks.append(_bar_check(name, bar, far.zmp_ref, role))
+        targets = balance_targets(name, rows)
+        for what, (lower, total) in (
+            ("lower overshoot", targets.overshoot_lower),
+            ("shorter 5 % settling", targets.settling_lower),
+        ):
+            checks.append(
+                Check(
+                    f"{name}: DLIPM {what} than LIPM (no bar)",
+                    "info",
+                    f"at {lower} of {total} targets ≥ {TRANSIENT_FROM_M:g} m",
+                )
+            )
+        checks += [Check(f"{name}: warning", "info", w) for w in verdict.warnings]
+    return tuple(checks)
+
+
+def _bar_check(plane: str, bar: Bar, far_m: float, role: str) -> Check:
+    if bar.name == "far error ratio":
+        name = f"{plane}: |DLIPM error| / |LIPM error| at {far_m:g} m (a {role} target)"
+    else:
+        name = f"{plane}: mean |DLIPM error| / mean |LIPM error|, targets ≠ 0"
+    value = "undefined" if bar.value is None else f"{bar.value:.3f}"
+    detail = f"{value} against the bar ≤ {bar.limit:.2f}"
+    if bar.why:
+        detail += f": {bar.why}"
+    status = bar.state if bar.state in ("met", "missed", "undefined") else "undefined"
+    return Check(name, status, detail)  # type: ignore[arg-type]
+
+
+def _plane_section(plane: PlaneResult, figures: Sequence[Figure]) -> Section:
+    name = plane.plane
+    return Section(
+        f"{name.capitalize()} plane",
+        subsections=(
+            Section("Identification", (*_identification(plane),)),
+            Section("Table 1", (table1_table(plane.rows),)),
+            Section("Figures", tuple(figures)),
+        ),
+    )
+
+
+def _identification(plane: PlaneResult) -> tuple[Text | Table, ...]:
+    ident = plane.identification.planes[plane.plane]
+    fit = ident.error_fit
+    residual_mm = 1e3 * np.abs(np.asarray(fit.residuals, dtype=float))
+    coefficients = Table(
+        ("coefficient", "value", "95 % interval", "unit"),
+        tuple(
+            (name, f"{value:.5g}", f"{lo:.5g} … {hi:.5g}", COEFFICIENT_UNITS[name])
+            for name, value, (lo, hi) in zip(
+                TERMS[fit.kind], fit.model.coefficients, fit.confidence_intervals, strict=True
+            )
+        ),
+        f"Error model of the {plane.plane} plane: **{fit.kind}**, `{fit.model.equation}` "
+        "(ZMPs in m).",
+    )
+    shares = fit.weight_shares
+    near = sum(float(w) for u, w in zip(fit.x_cmd, shares, strict=True) if abs(u) <= 0.0201)
+    low, high = fit.fitted_range
+    loo = ", ".join(
+        f"{k} {1e3 * v:.3f} mm" if v is not None else f"{k} undefined"
+        for k, v in fit.loo_rmse.items()
+    )
+    p = ident.params
+    transient = (
+        f"ζ = {p.zeta:.3f}, ω_n = {p.omega_n:.2f} rad/s"
+        if p.zeta is not None and p.omega_n is not None
+        else "no transient fit succeeded"
+    )
+    text = Text(
+        f"- fit residuals: largest {residual_mm.max(initial=0.0):.2f} mm, RMS "
+        f"{float(np.sqrt(np.mean(residual_mm**2))) if residual_mm.size else 0.0:.2f} mm "
+        f"(R² = {fit.r_squared:.4f} says little here: the data span the whole range)\n"
+        f"- why this model: {fit.reason}\n"
+        f"- leave-one-out RMSE of the candidates: {loo}\n"
+        f"- weights: {fit.weighting}, between-trial scatter τ = {fit.scatter:.3g} m; the "
+        f"trials at |x_cmd| ≤ 0.02 m hold {100 * near:.1f} % of the weight\n"
+        f"- fitted range (measured ZMP): {low:.4g} … {high:.4g} m; beyond it the controllers "
+        "extrapolate the model (marked † in Table 1, shaded in the measured-vs-reference "
+        "figure)\n"
+        f"- mean transient of the LIPM steps: {transient}\n"
+        f"- trials left out of the fit: {'; '.join(ident.excluded) or 'none'}\n"
+        f"- pendulum: design lean length {plane.lean_length_m:.4f} m (ankle pivot to CoM)\n"
+    )
+    return coefficients, text
+
+
+def table1_table(rows: Sequence[Table1Row]) -> Table:
+    """Paper A's Table 1 of one plane, each empty cell marked with why it is empty."""
+    notes: list[str] = []
+    body = []
+    for row in rows:
+        mark = (" *" if row.fitted_on else "") + (" †" if row.extrapolated else "")
+        cells = [f"{row.zmp_ref:g}{mark}"]
+        for controller, attribute, spec in (
+            ("lipm", "zmp_measured", ".5f"),
+            ("lipm", "error_pct", ".1f"),
+            ("dlipm", "zmp_measured", ".5f"),
+            ("dlipm", "error_pct", ".1f"),
+            ("linear", "error_pct", ".1f"),
+            ("lipm", "overshoot_pct", ".1f"),
+            ("dlipm", "overshoot_pct", ".1f"),
+            ("lipm", "settling_time_s", ".2f"),
+            ("dlipm", "settling_time_s", ".2f"),
+        ):
+            outcome = row.outcomes()[controller]
+            value = getattr(outcome, attribute)
+            if value is not None:
+                cells.append(f"{value:{spec}}")
+                continue
+            reason = _why_empty(outcome, row.zmp_ref, attribute)
+            if reason not in notes:
+                notes.append(reason)
+            cells.append(f"– ({notes.index(reason) + 1})")
+        body.append(tuple(cells))
+    legend = "".join(f"({k}) {reason}  \n" for k, reason in enumerate(notes, start=1))
+    return Table(
+        (
+            "ZMP_ref [m]",
+            "LIPM ZMP [m]",
+            "LIPM error [%]",
+            "DLIPM ZMP [m]",
+            "DLIPM error [%]",
+            "linear error [%]",
+            "LIPM overshoot [%]",
+            "DLIPM overshoot [%]",
+            "LIPM settling 5 % [s]",
+            "DLIPM settling 5 % [s]",
+        ),
+        tuple(body),
+        "Table 1 (paper A): the settled force–torque ZMP and its error under each controller.",
+        "\\* fitted target (its LIPM step was used in the fit); unmarked targets are held out. "
+        "† outside the range the error model was fitted on: the controllers extrapolate it.  \n"
+        + legend,
+    )
+
+
+def _why_empty(outcome: ControllerOutcome, target_m: float, attribute: str) -> str:
+    name = _NAMES.get(outcome.controller, outcome.controller)
+    if not outcome.steady.settled:
+        return f"{name} at {target_m:g} m {outcome.unsettled_text()}"
+    if target_m == 0.0 and attribute != "zmp_measured":
+        return "target 0 m: an error or step metric relative to a zero step is undefined"
+    if attribute == "settling_time_s":
+        return f"{name} at {target_m:g} m: did not stay within ±5 % of the step before the end"
+    return f"{name} at {target_m:g} m: undefined (the response never reached its settled value)"
+
+
+def _data_section() -> Section:
+    return Section(
+        "Data",
+        (
+            Text(
+                "`table1.csv` (Table 1 with every column, empty where undefined), "
+                "`params.yaml` (the identified DLIPM parameters per plane), and every trial's "
+                "recorded sensors under `datasets/` (read them with "
+                "`zmpkit.experiments.read_step_dataset`)."
+            ),
+        ),
+    )
+
+
+_CAPTIONS = {
+    "fig16": "Identification ({plane}): the settled force–torque ZMP [m] of each LIPM step "
+    "against the commanded ZMP [m], with the fitted error model and its 95 % band (paper A "
+    "Fig. 16). Trials that did not settle are drawn hollow at their last value.",
+    "fig20": "Measured ZMP [m] against the reference [m] under each controller ({plane}); the "
+    "shaded region lies outside the fitted range, where the controllers extrapolate (paper A "
+    "Fig. 20).",
+    "fig21": "Step responses of the measured ZMP [m] over time [s] for each target under the LIPM "
+    "and the DLIPM ({plane}, paper A Fig. 21).",
+    "fig18": "Planned ankle lean [rad] over time [s] for the 0.09 m ZMP step under the DLIPM and "
+    "the linear correction, before the servo limits ({plane}; paper A Fig. 18).",
+}
+
+
+def balance_figures(paths: Sequence[Path]) -> tuple[Figure, ...]:
+    """The balance figures with their captions (by the paper's figure number in the name)."""
+    figures = []
+    for path in paths:
+        key, _, rest = path.stem.partition("_")
+        plane = rest.split("_")[0]
+        template = _CAPTIONS.get(key, "{plane}: " + path.stem.replace("_", " ") + ".")
+        figures.append(Figure(path, template.format(plane=plane)))
+    return tuple(figures)
