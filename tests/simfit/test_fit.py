@@ -98,6 +98,16 @@ def test_pipeline_writes_a_loadable_truth_and_its_tables(walk_folder: Path, tmp_
     assert len(result.held_out_checks) == 1
     assert not (tmp_path / "recovery.csv").exists()
     assert result.files["fit_walk_0.2mps_1.5s"].stat().st_size > 0
+    from zmpkit.pipelines.identify_sim_document import identify_sim_document
+
+    doc = identify_sim_document(result)
+    names = [c.name for c in doc.checks]
+    assert "held-out experiment `walk_0.2mps_1.5s` reproduced" in names
+    assert sum(n.endswith("pinned down by the data") for n in names) == 2
+    assert {f.path.name for f in (b for b in doc.blocks() if hasattr(b, "path"))} >= {
+        "fit_walk_0.2mps_1.5s.png",
+        "cost_history.png",
+    }
 
 
 @pytest.mark.slow

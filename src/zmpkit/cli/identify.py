@@ -6,11 +6,12 @@ from pathlib import Path
 
 import click
 
-from zmpkit.cli.options import SEED, WORKERS, Bounded, BoundedInt
+from zmpkit.cli.options import SEED, WORKERS, Bounded, BoundedInt, report_option
 from zmpkit.cli.progress import GenerationProgress
 from zmpkit.cli.robot_option import robot_option
 from zmpkit.pipelines.identify_balance import run_identify_balance
 from zmpkit.pipelines.identify_sim import IdentifySimConfig, run_identify_sim
+from zmpkit.pipelines.identify_sim_document import write_identify_sim_report
 from zmpkit.robots.registry import DEFAULT_FIT_ROBOT
 from zmpkit.simfit.optimizer import FitInterruptedError
 
@@ -44,15 +45,18 @@ def identify_group() -> None:
     type=Bounded(0.0, MAX_LENGTH_M, "m", low_open=True),
     help="Pendulum length, ankle to CoM [m] (default: the dataset's lean length).",
 )
+@report_option
 def identify_balance_command(
-    dataset: Path, out_dir: Path, mass: float | None, length: float | None
+    dataset: Path, out_dir: Path, mass: float | None, length: float | None, report_format: str
 ) -> None:
     """Fit the steady-state ZMP error model (eq. 13) and transients of recorded steps.
 
     DATASET is a step dataset folder (zmpkit sim push) or a step manifest .yaml listing a
     robot's logs (CSV, Parquet, ROS 2 bag, YARP dump) with each step's target and time.
     """
-    result = run_identify_balance(dataset, out_dir, mass_kg=mass, length_m=length)
+    result = run_identify_balance(
+        dataset, out_dir, mass_kg=mass, length_m=length, report_format=report_format
+    )
     plane = next(iter(result.identification.planes.values()))
     click.echo(f"{plane.error_fit.model.equation}: {dict(plane.error_fit.model.as_dict())}")
     click.echo(f"wrote {result.params_path}, {result.figure_path} and {result.summary_path}")
@@ -106,6 +110,7 @@ def identify_balance_command(
     type=click.Path(path_type=Path),
     help="Recorded experiments checked but not fitted (repeatable).",
 )
+@report_option
 def identify_sim_command(
     data: tuple[Path, ...],
     robot: str,
@@ -120,6 +125,7 @@ def identify_sim_command(
     quick: bool,
     self_test: bool,
     held_out: tuple[Path, ...],
+    report_format: str,
 ) -> None:
     """Fit the simulator's effect parameters to recorded DATA (walk folders, step datasets)."""
     config = IdentifySimConfig(
@@ -147,3 +153,4 @@ def identify_sim_command(
     if "recovery" in result.files:
         click.echo(f"recovery: {result.files['recovery']}")
     click.echo(f"fitted truth: {Path(out_dir) / 'fitted_truth.yaml'} (best cost {result.cost:.4g})")
+    click.echo(f"report: {write_identify_sim_report(result, out_dir, report_format)}")

@@ -2,13 +2,15 @@
 
 from __future__ import annotations
 
+import time
 from pathlib import Path
 
 import click
 
-from zmpkit.cli.options import Bounded
+from zmpkit.cli.options import Bounded, report_option
 from zmpkit.cli.robot_option import robot_option
 from zmpkit.io import feet_from_mapping
+from zmpkit.pipelines.zmp_document import write_zmp_report
 from zmpkit.pipelines.zmp_log import run_zmp_log
 from zmpkit.robots.registry import get_robot
 from zmpkit.sensors import CONTACT_FORCE_THRESHOLD_N, CONTACT_THRESHOLD_RANGE_N
@@ -56,6 +58,7 @@ __all__ = ["zmp_command"]
 @click.option(
     "--out", "out_dir", type=click.Path(path_type=Path), required=True, help="Output folder."
 )
+@report_option
 def zmp_command(
     log: Path,
     right_topic: str | None,
@@ -67,6 +70,7 @@ def zmp_command(
     columns_path: Path | None,
     contact_threshold: float | None,
     out_dir: Path,
+    report_format: str,
 ) -> None:
     """ZMP of a recorded force-torque LOG; writes zmp.csv and zmp.png.
 
@@ -79,6 +83,7 @@ def zmp_command(
         CONTACT_FORCE_THRESHOLD_N if robot is None else get_robot(robot).contact_force_threshold_n
     )
     threshold = default_threshold if contact_threshold is None else contact_threshold
+    started_s = time.time()
     result = run_zmp_log(
         log,
         out_dir,
@@ -96,6 +101,16 @@ def zmp_command(
         f"{len(s.time)} samples, ZMP defined on {len(s.time) - s.n_undefined}; "
         f"wrote {result.csv_path} and {result.figure_path}"
     )
+    report = write_zmp_report(
+        result,
+        out_dir,
+        log_path=Path(log),
+        feet_source=f"robot {robot}" if robot is not None else f"{feet_path}",
+        contact_threshold_n=threshold,
+        started_s=started_s,
+        fmt=report_format,
+    )
+    click.echo(f"report: {report}")
 
 
 def _robot_feet(robot: str):

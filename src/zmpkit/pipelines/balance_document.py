@@ -28,10 +28,17 @@ from zmpkit.analysis.report_document import (
 from zmpkit.analysis.table1 import Table1Row
 from zmpkit.identify import TERMS
 from zmpkit.identify.error_model import COEFFICIENT_UNITS
+from zmpkit.identify.params import PlaneIdentification
 from zmpkit.pipelines.balance import BalanceConfig, BalanceResult, PlaneResult
 from zmpkit.robots.registry import get_robot
 
-__all__ = ["balance_checks", "balance_document", "balance_figures", "table1_table"]
+__all__ = [
+    "balance_checks",
+    "balance_document",
+    "balance_figures",
+    "identification_blocks",
+    "table1_table",
+]
 
 _NAMES = {"lipm": "LIPM", "dlipm": "DLIPM", "linear": "linear"}
 
@@ -146,15 +153,22 @@ def _plane_section(plane: PlaneResult, figures: Sequence[Figure]) -> Section:
     return Section(
         f"{name.capitalize()} plane",
         subsections=(
-            Section("Identification", (*_identification(plane),)),
+            Section(
+                "Identification",
+                identification_blocks(
+                    plane.identification.planes[name], plane.plane, plane.lean_length_m
+                ),
+            ),
             Section("Table 1", (table1_table(plane.rows),)),
             Section("Figures", tuple(figures)),
         ),
     )
 
 
-def _identification(plane: PlaneResult) -> tuple[Text | Table, ...]:
-    ident = plane.identification.planes[plane.plane]
+def identification_blocks(
+    ident: PlaneIdentification, plane: str, lean_length_m: float
+) -> tuple[Table, Text]:
+    """The error model with its coefficients and units, its residuals [mm] and its data."""
     fit = ident.error_fit
     residual_mm = 1e3 * np.abs(np.asarray(fit.residuals, dtype=float))
     coefficients = Table(
@@ -165,8 +179,7 @@ def _identification(plane: PlaneResult) -> tuple[Text | Table, ...]:
                 TERMS[fit.kind], fit.model.coefficients, fit.confidence_intervals, strict=True
             )
         ),
-        f"Error model of the {plane.plane} plane: **{fit.kind}**, `{fit.model.equation}` "
-        "(ZMPs in m).",
+        f"Error model of the {plane} plane: **{fit.kind}**, `{fit.model.equation}` (ZMPs in m).",
     )
     shares = fit.weight_shares
     near = sum(float(w) for u, w in zip(fit.x_cmd, shares, strict=True) if abs(u) <= 0.0201)
@@ -194,7 +207,7 @@ def _identification(plane: PlaneResult) -> tuple[Text | Table, ...]:
         "figure)\n"
         f"- mean transient of the LIPM steps: {transient}\n"
         f"- trials left out of the fit: {'; '.join(ident.excluded) or 'none'}\n"
-        f"- pendulum: design lean length {plane.lean_length_m:.4f} m (ankle pivot to CoM)\n"
+        f"- pendulum: lean length {lean_length_m:.4f} m (ankle pivot to CoM)\n"
     )
     return coefficients, text
 

@@ -4,25 +4,31 @@ Reads either a dataset folder of LIPM step trials (one plane; written by ``zmpki
 or a step manifest (``.yaml``, :mod:`zmpkit.io.step_manifest`) listing a real robot's logs —
 CSV, Parquet, ROS 2 bags, YARP dumps — with each step's target and time; fits the
 steady-state error model and the transients on every trial, and writes ``params.yaml``,
-``fig16_<plane>.png`` and
-``identification.md``.
+``fig16_<plane>.png`` and the report (:func:`identification_document`).
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+import time
+from dataclasses import dataclass, replace
 from pathlib import Path
 
+import numpy as np
+
 from zmpkit.analysis.balance_plots import plot_error_fit
+from zmpkit.analysis.provenance import capture
+from zmpkit.analysis.report_document import Check, Figure, ReportDocument, Section, Text
+from zmpkit.analysis.report_files import write_report
 from zmpkit.errors import InputFileError, ZmpkitError
 from zmpkit.experiments import read_step_dataset
 from zmpkit.identify import BalanceIdentification, identify_balance
 from zmpkit.io.step_manifest import read_step_manifest
 from zmpkit.pipelines.balance import dataset_trials
+from zmpkit.pipelines.balance_document import identification_blocks
 from zmpkit.robots.registry import get_robot
 from zmpkit.signals import StepTrial
 
-__all__ = ["IdentifyBalanceResult", "run_identify_balance"]
+__all__ = ["IdentifyBalanceResult", "identification_document", "run_identify_balance"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -33,6 +39,8 @@ class IdentifyBalanceResult:
     params_path: Path
     figure_path: Path
     summary_path: Path
+    plane: str = "sagittal"
+    lean_length_m: float = 0.0
 
 
 def run_identify_balance(
@@ -41,6 +49,7 @@ def run_identify_balance(
     *,
     mass_kg: float | None = None,
     length_m: float | None = None,
+    report_format: str = "html",
 ) -> IdentifyBalanceResult:
     """Identify from ``dataset_dir`` and write the results into ``out_dir``.
 
@@ -52,7 +61,9 @@ def run_identify_balance(
             (its balance model's mass, e.g. paper A's 62.6 kg).
         length_m: pendulum length, ankle to CoM [m]; default: the manifest's, or the
             dataset's design lean length.
+        report_format: ``html`` (``report.html``), ``md`` (``report.md``) or ``both``.
     """
+    started_s = time.time()
     trials, plane, mass, length = _recorded_steps(Path(dataset_dir), mass_kg, length_m)
     identification = identify_balance(trials, mass=mass, com_height=length)
     out = Path(out_dir)
@@ -67,14 +78,64 @@ def run_identify_balance(
         plane=plane,
     )
     params = identification.params.to_yaml(out / "params.yaml")
-    summary = out / "identification.md"
-    summary.write_text(
-        f"# Identification of {dataset_dir}\n\nPlane {plane}; {fit.reason}.\n\n"
-        f"{fit.model.equation} with coefficients {dict(fit.model.as_dict())}, "
-        f"R² = {fit.r_squared:.5f}.\n\n![fig16]({figure.name})\n",
-        encoding="utf-8",
+    result = IdentifyBalanceResult(identification, params, figure, figure, plane, length)
+    doc = identification_document(result, Path(dataset_dir), started_s)
+    return replace(result, summary_path=write_report(doc, out, report_format))
+
+
+def identification_document(
+    result: IdentifyBalanceResult, source: Path, started_s: float
+) -> ReportDocument:
+    """The report of an identification: the error model, its residuals, the transients."""
+    ident = result.identification.planes[result.plane]
+    fit = ident.error_fit
+    residual_mm = 1e3 * float(np.max(np.abs(fit.residuals), initial=0.0))
+    p = ident.params
+    checks = (
+        Check(
+            "steady-state error model (no bar)",
+            "info",
+            f"{fit.kind}, largest fit residual {residual_mm:.2f} mm over {len(fit.x_cmd)} trials",
+        ),
+        Check(
+            "transient (no bar)",
+            "info" if p.zeta is not None else "undefined",
+            f"ζ = {p.zeta:.3f}, ω_n = {p.omega_n:.2f} rad/s"
+            if p.zeta is not None and p.omega_n is not None
+            else "no trial's transient could be fitted",
+        ),
+        Check(
+            "every trial used",
+            "met" if not ident.excluded else "missed",
+            "; ".join(ident.excluded) or f"all {len(ident.trials)} trials settled",
+        ),
     )
-    return IdentifyBalanceResult(identification, params, figure, summary)
+    figure = Figure(
+        result.figure_path,
+        f"The settled force–torque ZMP [m] of each step against the commanded ZMP [m], with "
+        f"the fitted error model and its 95 % band ({result.plane}; paper A Fig. 16).",
+    )
+    return ReportDocument(
+        title=f"zmpkit identify balance: the DLIPM's error model from {source.name}",
+        summary=(
+            f"Steady-state error model (paper A eq. 13) and transients of the {result.plane} "
+            f"steps recorded in `{source}`, chosen by leave-one-out cross-validation."
+        ),
+        checks=checks,
+        sections=(
+            Section(
+                "Identification",
+                (*identification_blocks(ident, result.plane, result.lean_length_m), figure),
+            ),
+            Section("Data", (Text("`params.yaml`: the identified DLIPM parameters."),)),
+        ),
+        provenance=capture(
+            robot="recorded data",
+            started_s=started_s,
+            simulated=False,
+            extra=(("data", str(source)),),
+        ),
+    )
 
 
 def _recorded_steps(

@@ -15,6 +15,7 @@ experiments under ``self_test/`` and ``recovery.csv``.
 
 from __future__ import annotations
 
+import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -188,6 +189,7 @@ class IdentifySimResult:
         held_out_checks: the same on the held-out experiments.
         recovery: self-test only: truth vs fit per parameter.
         files: every file written, by role.
+        started_s: when the run started [s since the epoch].
     """
 
     config: IdentifySimConfig
@@ -200,6 +202,7 @@ class IdentifySimResult:
     held_out_checks: tuple[ReproductionCheck, ...]
     recovery: tuple[RecoveryRow, ...] = ()
     files: dict[str, Path] = field(default_factory=dict)
+    started_s: float = field(default_factory=time.time)
 
 
 def _experiments(
@@ -244,6 +247,7 @@ def run_identify_sim(
         ParameterError: on a resume of another fit, or ``backend="ray"`` without Ray.
         FitInterruptedError: on Ctrl-C, naming the checkpoint to resume from.
     """
+    started_s = time.time()
     out = Path(out_dir)
     params = config.fit_parameters()
     base_doc = load_truth_doc(base_truth_path(config.robot, config.truth))
@@ -291,4 +295,5 @@ def run_identify_sim(
         held_checks,
         recovery,
         files,
+        started_s,
     )
