@@ -13,7 +13,7 @@ from zmpkit.compensate.methods import CompensatedWalk
 from zmpkit.compensate.summary import summary_of
 from zmpkit.errors import ParameterError
 from zmpkit.pipelines.walk_compensate import CompensateConfig, CompensateResult
-from zmpkit.pipelines.walk_compensate_report import write_walk_compensate
+from zmpkit.pipelines.walk_compensate_report import compensation_checks, write_walk_compensate
 from zmpkit.robots.registry import get_robot
 from zmpkit.robots.truth_variant import scaled_truth_file
 
@@ -76,8 +76,10 @@ def test_a_compensation_that_fells_a_standing_validation_walk_is_rejected(tmp_pa
     result = CompensateResult(config, summary, "half-sine", baseline, {"half-sine": compensated})
     write_walk_compensate(dataclasses.replace(result, config=dataclasses.replace(
         config, figures=False)), tmp_path)  # fmt: skip
-    report = (tmp_path / "report.md").read_text()
-    assert "**Rejected**" in report
+    report = (tmp_path / "report.html").read_text()
+    checks = {c.name: c for c in compensation_checks(result)}
+    assert checks["makes no validation walk fall"].status == "missed"
+    assert "1 walk(s) made to fall: rejected, do not use it" in report
     assert "gear.stiffness x1.3" in report
     kept = summary_of("half-sine", baseline, (_walk(False, walks[0]), _walk(True, walks[1])))
     assert not kept.rejected

@@ -63,7 +63,10 @@ def test_summary_json_has_exactly_the_contract_keys(tmp_path, method) -> None:
     assert set(written) == expected
     assert written["peak_reduction_pct"] == pytest.approx(50.0)
     assert written["std_reduction_pct"] == pytest.approx(50.0)
-    assert (tmp_path / "report.md").read_text().startswith("## Walking compensation")
+    report = files["report"].read_text()
+    assert files["report"].name == "report.html"
+    assert "lowers the step-frequency peak of the trunk pitch" in report
+    assert "+50.0 % lower on average over 1 held-out walks" in report
     for role in ("spectrum", "boxes", "zmp_target"):
         assert files[role].stat().st_size > 0
 

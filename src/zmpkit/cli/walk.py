@@ -17,6 +17,7 @@ from zmpkit.pipelines.walk_compensate import CompensateConfig, run_walk_compensa
 from zmpkit.pipelines.walk_compensate_report import write_walk_compensate
 from zmpkit.pipelines.walk_document import write_walk_report
 from zmpkit.pipelines.walk_sweep import SweepConfig, run_walk_sweep, write_walk_sweep
+from zmpkit.pipelines.walk_sweep_document import write_walk_sweep_report
 from zmpkit.robots.registry import DEFAULT_WALK_ROBOT
 from zmpkit.walking.walk_controllers import CONTROLLERS
 
@@ -163,6 +164,7 @@ def walk_group(
 @click.option(
     "--out", "out_dir", type=click.Path(path_type=Path), required=True, help="Output folder."
 )
+@report_option
 def walk_compensate_command(
     method: str,
     robot: str,
@@ -174,6 +176,7 @@ def walk_compensate_command(
     seed: int,
     workers: int,
     out_dir: Path,
+    report_format: str,
 ) -> None:
     """Compensate the walk's model abstractions; validate on walks not used for tuning."""
     config = CompensateConfig(
@@ -189,7 +192,7 @@ def walk_compensate_command(
     )
     with StageProgress() as progress:
         result = run_walk_compensate(config, out_dir, progress=progress)
-    write_walk_compensate(result, out_dir)
+    result = write_walk_compensate(result, out_dir, report_format)
     s = result.summary
     if s.peak_reduction_pct is None or s.std_reduction_pct is None:
         click.echo(f"{s.method}: no validation walk where both versions stood to compare")
@@ -206,6 +209,7 @@ def walk_compensate_command(
             "stand without it"
         )
     click.echo(f"summary: {Path(out_dir) / 'summary.json'}")
+    click.echo(f"report: {result.files['report']}")
 
 
 @walk_group.command("sweep")
@@ -223,6 +227,7 @@ def walk_compensate_command(
 @click.option(
     "--out", "out_dir", type=click.Path(path_type=Path), required=True, help="Output folder."
 )
+@report_option
 def walk_sweep_command(
     robot: str,
     controllers: str,
@@ -231,6 +236,7 @@ def walk_sweep_command(
     seed: int,
     workers: int,
     out_dir: Path,
+    report_format: str,
 ) -> None:
     """Robustness matrix: speeds, step durations, sideways, turning, pushes, sensor faults.
 
@@ -251,3 +257,4 @@ def walk_sweep_command(
         falls, cases = result.falls(controller)
         click.echo(f"{controller}: {falls} of {cases} walks fell")
     click.echo(f"robustness: {Path(out_dir) / 'robustness.csv'}")
+    click.echo(f"report: {write_walk_sweep_report(result, out_dir, report_format)}")

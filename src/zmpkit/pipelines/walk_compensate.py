@@ -24,6 +24,7 @@ a rerun resumes.
 from __future__ import annotations
 
 import multiprocessing
+import time
 from collections.abc import Callable
 from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass, field
@@ -263,6 +264,7 @@ class CompensateResult:
         tuning: shape -> tuning result (offset methods only).
         files: every file written, by role (empty until
             :func:`~zmpkit.pipelines.walk_compensate_report.write_walk_compensate`).
+        started_s: when the run started [s since the epoch].
     """
 
     config: CompensateConfig
@@ -272,6 +274,7 @@ class CompensateResult:
     compensated: dict[str, tuple[CompensatedWalk, ...]]
     tuning: dict[str, TuningResult] = field(default_factory=dict)
     files: dict[str, Path] = field(default_factory=dict)
+    started_s: float = field(default_factory=time.time)
 
 
 def _pool_map(jobs: list[tuple[Callable, tuple]], workers: int) -> list[CompensatedWalk]:
@@ -332,6 +335,7 @@ def run_walk_compensate(
     Returns:
         The summary, the validation walks and the tuning.
     """
+    started_s = time.time()
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     cache = Path(config.cache_dir) if config.cache_dir else out / "cache"
@@ -350,4 +354,6 @@ def run_walk_compensate(
     compensated = {label: tuple(walks[n * (i + 1) : n * (i + 2)]) for i, label in enumerate(labels)}
     chosen = min(tuning, key=lambda s: tuning[s].best_objective) if tuning else labels[0]
     summary = summary_of(config.method, baseline, compensated[chosen])
-    return CompensateResult(config, summary, chosen, baseline, compensated, tuning)
+    return CompensateResult(
+        config, summary, chosen, baseline, compensated, tuning, started_s=started_s
+    )

@@ -1,4 +1,4 @@
-"""``summary.json``, ``compensation.json``, ``report.md`` and the figures of a compensation run.
+"""``summary.json``, ``compensation.json``, the report and the figures of a compensation run.
 
 The summary (:class:`~zmpkit.compensate.summary.CompensationSummary`) holds the keys of
 :data:`~zmpkit.compensate.summary.SUMMARY_KEYS` (plus ``iteration_rms_m`` for ``alg1``):
@@ -16,6 +16,17 @@ from pathlib import Path
 import numpy as np
 
 from zmpkit.analysis import compensation_plots as plots
+from zmpkit.analysis.provenance import capture
+from zmpkit.analysis.report_document import (
+    Block,
+    Check,
+    Figure,
+    ReportDocument,
+    Section,
+    Table,
+    Text,
+)
+from zmpkit.analysis.report_files import write_report
 from zmpkit.compensate.methods import CompensatedWalk
 from zmpkit.compensate.summary import ValidationWalkOutcome
 from zmpkit.pipelines.walk_compensate import CompensateResult
@@ -23,13 +34,14 @@ from zmpkit.robots.registry import get_robot
 from zmpkit.signals.spectra import amplitude_spectrum
 
 __all__ = [
-    "REPORT_FILE",
     "SUMMARY_FILE",
+    "compensation_checks",
+    "compensation_document",
+    "compensation_sections",
     "write_walk_compensate",
 ]
 
 SUMMARY_FILE = "summary.json"
-REPORT_FILE = "report.md"
 DETAILS_FILE = "compensation.json"
 
 
@@ -58,49 +70,135 @@ def _cell(value: object, digits: int, fell: bool = False) -> str:
     return "–" if value is None else f"{value:.{digits}f}"
 
 
-def _report(result: CompensateResult, figures: dict[str, Path]) -> str:
+def _walk_name(w: ValidationWalkOutcome) -> str:
+    name = f"{w.speed_mps:g} m/s, {w.step_duration_s:g} s steps"
+    if w.robot_change:
+        name += f", {w.robot_change}"
+    return f"{name}, seed {w.seed}"
+
+
+def compensation_checks(result: CompensateResult) -> tuple[Check, ...]:
+    """The compensation's targets on walks it was not tuned on.
+
+    It lowers the trunk's step-frequency peak and its oscillation (paper B §IV), and it makes
+    no validation walk fall that stands without it (else it is rejected).
+    """
     s = result.summary
-    lines = [
-        f"## Walking compensation: `{s.method}` (reported: {result.chosen})", "",
-        f"Virtual {get_robot(result.config.robot).title}, effects {result.config.effects}; "
-        + ("validation walks not used for tuning."
-           if result.config.controller == "open" else
-           f"walking controller {result.config.controller}; tuned on "
-           f"{len(result.config.tuning_walks())} walks, validated on walks that differ from "
-           "all of them in speed, step duration and robot."),
-        "Peak = trunk-pitch spectrum amplitude at the step frequency; std over the steady walk.",
-        "", "| walk | peak before [rad] | peak after [rad] | peak cut [%] | std before [rad] "
-        "| std after [rad] | std cut [%] |", "|---|---|---|---|---|---|---|",
-    ]  # fmt: skip
-    for w in s.validation_walks:
-        name = f"{w.speed_mps:g} m/s"
-        if w.step_duration_s != 0.5:
-            name += f", {w.step_duration_s:g} s steps"
-        if w.robot_change:
-            name += f", {w.robot_change}"
-        lines.append(
-            f"| {name} seed {w.seed} "
-            f"| {_cell(w.baseline_peak_amplitude_rad, 4, w.baseline_fell)} "
-            f"| {_cell(w.compensated_peak_amplitude_rad, 4, w.compensated_fell)} "
-            f"| {_cell(w.peak_reduction_pct, 1)} "
-            f"| {_cell(w.baseline_std_rad, 4, w.baseline_fell)} "
-            f"| {_cell(w.compensated_std_rad, 4, w.compensated_fell)} "
-            f"| {_cell(w.std_reduction_pct, 1)} |"
+    undefined = "no validation walk where both versions stood"
+    checks = [
+        Check(
+            "makes no validation walk fall",
+            "missed" if s.rejected else "met",
+            f"{s.walks_made_to_fall} walk(s) made to fall: rejected, do not use it"
+            if s.rejected
+            else f"{s.compensated_falls} compensated walk(s) fell, none that stood without it",
+        ),
+    ]
+    for name, value in (
+        ("lowers the step-frequency peak of the trunk pitch", s.peak_reduction_pct),
+        ("lowers the trunk-pitch oscillation (std)", s.std_reduction_pct),
+    ):
+        checks.append(
+            Check(
+                name,
+                "undefined" if value is None else ("met" if value > 0.0 else "missed"),
+                undefined
+                if value is None
+                else f"{value:+.1f} % lower on average over {s.walks_compared} held-out walks",
+            )
         )
-    lines += ["", f"Mean over {s.walks_compared} walks where neither version fell: peak cut "
-              f"{_cell(s.peak_reduction_pct, 1)} %, std cut {_cell(s.std_reduction_pct, 1)} "
-              f"%; compensated walks that fell: {s.compensated_falls}.", ""]  # fmt: skip
-    if s.rejected:
-        lines += [f"**Rejected**: the compensation made {s.walks_made_to_fall} validation "
-                  "walk(s) fall that stand without it; do not use it.", ""]  # fmt: skip
-    for shape, t in result.tuning.items():
-        lines.append(f"- {shape}: tuned objective J = {t.best_objective:.3f} (2 = no change), "
-                     f"offset {t.best.as_dict()}")  # fmt: skip
+    return tuple(checks)
+
+
+def compensation_sections(
+    result: CompensateResult, figures: dict[str, Path]
+) -> tuple[Section, ...]:
+    """The validation table, the tuning, and the figures of a compensation run."""
+    s = result.summary
+    table = Table(
+        ("validation walk", "peak, uncompensated [rad]", "peak, compensated [rad]",
+         "peak cut [%]", "std, uncompensated [rad]", "std, compensated [rad]", "std cut [%]"),
+        tuple(
+            (_walk_name(w),
+             _cell(w.baseline_peak_amplitude_rad, 4, w.baseline_fell),
+             _cell(w.compensated_peak_amplitude_rad, 4, w.compensated_fell),
+             _cell(w.peak_reduction_pct, 1),
+             _cell(w.baseline_std_rad, 4, w.baseline_fell),
+             _cell(w.compensated_std_rad, 4, w.compensated_fell),
+             _cell(w.std_reduction_pct, 1))
+            for w in s.validation_walks
+        ),
+        f"`{s.method}` (reported: {result.chosen}) on the validation walks: the trunk pitch's "
+        "spectrum amplitude at the step frequency (peak) and its std over the steady walk.",
+        f"Mean over the {s.walks_compared} walks where neither version fell: peak cut "
+        f"{_cell(s.peak_reduction_pct, 1)} %, std cut {_cell(s.std_reduction_pct, 1)} %. "
+        "fell: the walk fell, its metrics are undefined; – : undefined (a version fell).",
+    )  # fmt: skip
+    tuning = [
+        f"- {shape}: tuned objective J = {t.best_objective:.3f} (2 = no change), offset "
+        f"{', '.join(f'{k} = {v:.4g}' for k, v in t.best.as_dict().items())}"
+        for shape, t in result.tuning.items()
+    ]
     if s.iteration_rms_m is not None:
-        rms = ", ".join(f"{1e3 * r:.2f}" for r in s.iteration_rms_m)
-        lines.append(f"- Algorithm 1 RMS per iteration [mm]: {rms}")
-    lines += ["", *(f"![{k}]({p.name})" for k, p in figures.items()), ""]
-    return "\n".join(lines)
+        tuning.append(
+            "- Algorithm 1 RMS ZMP error per iteration [mm]: "
+            + ", ".join(f"{1e3 * r:.2f}" for r in s.iteration_rms_m)
+        )
+    body: list[Block] = [table]
+    if tuning:
+        body.append(Text("Tuning:\n\n" + "\n".join(tuning)))
+    captions = {
+        "iteration_rms": "Algorithm 1: RMS of the desired minus the multibody ZMP [m] per "
+        "iteration.",
+        "zmp_target": "Desired ZMP, the compensated ZMP target and the measured ZMP along x [m] "
+        "over time [s], uncompensated and compensated, on the first validation walk.",
+        "spectrum": "Trunk-pitch amplitude spectrum [rad] over the steady window, uncompensated "
+        "and compensated, on the first validation walk; the step frequency is marked.",
+        "boxes": "Trunk-pitch std per step [rad], uncompensated and compensated, on the first "
+        "validation walk (paper B Fig. 11).",
+    }
+    figs = tuple(
+        Figure(path, captions.get(role, role.replace("_", " ") + "."))
+        for role, path in figures.items()
+    )
+    return Section("Validation on walks not used for tuning", tuple(body)), Section("Figures", figs)
+
+
+def compensation_document(result: CompensateResult, figures: dict[str, Path]) -> ReportDocument:
+    """The report of a compensation run."""
+    c = result.config
+    title = get_robot(c.robot).title
+    how = (
+        "open-loop walks (paper B's simulation); the validation walks were not used for tuning."
+        if c.controller == "open"
+        else f"walking controller `{c.controller}`; tuned on {len(c.tuning_walks())} walks, "
+        "validated on walks that differ from all of them in speed, step duration and robot."
+    )
+    return ReportDocument(
+        title=f"zmpkit walk compensate: `{result.summary.method}` on the virtual {title}",
+        summary=f"ZMP compensation of the model abstractions (paper B §IV), effects {c.effects}; "
+        + how,
+        checks=compensation_checks(result),
+        sections=(
+            *compensation_sections(result, figures),
+            Section(
+                "Data",
+                (
+                    Text(
+                        "`summary.json` (the means and one entry per validation walk), "
+                        "`compensation.json` (tuning history and every walk)."
+                    ),
+                ),
+            ),
+        ),
+        provenance=capture(
+            robot=c.robot,
+            started_s=result.started_s,
+            effects=c.effects,
+            seed=c.seed,
+            extra=(("controller", c.controller), ("method", c.method), ("quick", str(c.quick))),
+        ),
+    )
 
 
 def _per_step_std(walk: CompensatedWalk, step_s: float) -> np.ndarray:
@@ -140,8 +238,10 @@ def _figures(out: Path, result: CompensateResult) -> dict[str, Path]:
     return files
 
 
-def write_walk_compensate(result: CompensateResult, out_dir: str | Path) -> CompensateResult:
-    """Write summary, details, figures and report into ``out_dir``.
+def write_walk_compensate(
+    result: CompensateResult, out_dir: str | Path, report_format: str = "html"
+) -> CompensateResult:
+    """Write summary, details, figures and the report (``report_format``) into ``out_dir``.
 
     Returns:
         ``result`` with the files written, by role.
@@ -154,6 +254,5 @@ def write_walk_compensate(result: CompensateResult, out_dir: str | Path) -> Comp
     files["details"].write_text(json.dumps(_details(result), indent=2) + "\n", encoding="utf-8")
     figures = _figures(out, result) if result.config.figures else {}
     files.update(figures)
-    files["report"] = out / REPORT_FILE
-    files["report"].write_text(_report(result, figures), encoding="utf-8")
+    files["report"] = write_report(compensation_document(result, figures), out, report_format)
     return replace(result, files=files)

@@ -12,6 +12,7 @@ from __future__ import annotations
 import csv
 import json
 import multiprocessing
+import time
 from collections.abc import Iterator
 from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
 from dataclasses import asdict, dataclass, field
@@ -88,11 +89,13 @@ class SweepResult:
         config: what was swept.
         rows: one row per case, in the matrix's order.
         files: the files written, by role.
+        started_s: when this run of the sweep started [s since the epoch].
     """
 
     config: SweepConfig
     rows: tuple[tuple[str, ...], ...]
     files: dict[str, Path] = field(default_factory=dict)
+    started_s: float = field(default_factory=time.time)
 
     def falls(self, controller: str) -> tuple[int, int]:
         """(falls, cases) of ``controller``."""
@@ -153,6 +156,7 @@ def run_walk_sweep(
         out: output folder (created); an earlier sweep's rows there are kept.
         progress: called with ("walks", finished, total).
     """
+    started_s = time.time()
     cases = robustness_matrix(config.controllers)
     out.mkdir(parents=True, exist_ok=True)
     _check_identity(out, config)
@@ -177,7 +181,7 @@ def run_walk_sweep(
             if progress is not None:
                 progress("walks", finished, len(cases))
     rows = tuple(done[c.key] for c in cases)
-    return SweepResult(config, rows, {"robustness": path})
+    return SweepResult(config, rows, {"robustness": path}, started_s)
 
 
 def write_walk_sweep(result: SweepResult, out: Path) -> SweepResult:
@@ -196,4 +200,4 @@ def write_walk_sweep(result: SweepResult, out: Path) -> SweepResult:
     path = out / "summary.json"
     path.write_text(json.dumps(summary, indent=2) + "\n", encoding="utf-8")
     files["summary"] = path
-    return SweepResult(result.config, result.rows, files)
+    return SweepResult(result.config, result.rows, files, result.started_s)

@@ -1,0 +1,133 @@
+"""The report of ``zmpkit walk sweep``: which walks of the robustness matrix stood, per controller.
+
+The sweep's target (issue "Closed-loop walking") is no fall anywhere in the matrix for a
+closed-loop controller; the verdict counts the falls per controller and names the cases, and
+a table breaks the count down by kind of case (speed, step duration, sideways, turning,
+pushes by force, sensor faults).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from pathlib import Path
+
+from zmpkit.analysis.provenance import capture
+from zmpkit.analysis.report_document import Check, Figure, ReportDocument, Section, Table, Text
+from zmpkit.analysis.report_files import write_report
+from zmpkit.analysis.robustness_plot import case_label
+from zmpkit.experiments.robustness import ROBUSTNESS_COLUMNS
+from zmpkit.pipelines.walk_sweep import SweepResult
+from zmpkit.robots.registry import get_robot
+
+__all__ = ["case_kind", "walk_sweep_document", "write_walk_sweep_report"]
+
+_CLOSED_LOOP = ("zmpip", "dcm")
+
+
+def case_kind(row: dict[str, str]) -> str:
+    """The kind of a case: speed, step duration, lateral, turning, push N, or fault."""
+    if row["push_n"] not in ("", "0"):
+        return f"push {float(row['push_n']):g} N"
+    if row["fault"]:
+        return "sensor fault"
+    if row["lateral_mps"] not in ("", "0"):
+        return "sideways"
+    if row["turn_rad_s"] not in ("", "0"):
+        return "turning"
+    if row["step_duration_s"] not in ("0.5",):
+        return "step duration"
+    return "forward speed"
+
+
+def _dicts(rows: Sequence[Sequence[str]]) -> list[dict[str, str]]:
+    return [dict(zip(ROBUSTNESS_COLUMNS, row, strict=True)) for row in rows]
+
+
+def walk_sweep_document(result: SweepResult) -> ReportDocument:
+    """The sweep's report: falls per controller, by kind of case, and the fallen cases."""
+    c = result.config
+    rows = _dicts(result.rows)
+    checks = []
+    for controller in c.controllers:
+        mine = [r for r in rows if r["controller"] == controller]
+        fell = [r for r in mine if r["fell"] == "true"]
+        goal = controller in _CLOSED_LOOP
+        detail = f"{len(fell)} of {len(mine)} walks fell" + (
+            ": "
+            + "; ".join(f"{case_label(r)} ({r['fall_kind']})" for r in fell[:6])
+            + (f"; and {len(fell) - 6} more" if len(fell) > 6 else "")
+            if fell
+            else ""
+        )
+        checks.append(
+            Check(
+                f"{controller}: no fall in the matrix" + ("" if goal else " (open loop, no bar)"),
+                ("missed" if fell else "met") if goal else "info",
+                detail,
+            )
+        )
+    kinds = list(dict.fromkeys(case_kind(r) for r in rows))
+    breakdown = Table(
+        ("kind of case", *(f"{k} falls / cases" for k in c.controllers)),
+        tuple(
+            (kind, *(_count(rows, controller, kind) for controller in c.controllers))
+            for kind in kinds
+        ),
+        "Falls by kind of case and controller.",
+    )
+    fallen = Table(
+        ("controller", "case", "fell at [s]", "how"),
+        tuple(
+            (r["controller"], case_label(r), r["fall_time_s"] or "–", r["fall_kind"] or "–")
+            for r in rows
+            if r["fell"] == "true"
+        ),
+        "Every walk that fell, with the time and kind of its fall (roll, pitch, height or "
+        "stall: progress below half the commanded over two steps).",
+    )
+    figures = [
+        Figure(
+            path,
+            f"Robustness of `{role.removeprefix('figure_')}`: one bar per case, how long it walked "
+            "[s]; green: stood to the end, red: fell (the kind of fall is named).",
+        )
+        for role, path in result.files.items()
+        if role.startswith("figure_")
+    ]
+    title = get_robot(c.robot).title
+    return ReportDocument(
+        title=f"zmpkit walk sweep: robustness of the virtual {title}'s walking controllers",
+        summary=(
+            f"Each controller walked every case of the robustness matrix for {c.duration_s:g} s "
+            f"with effects {c.effects or 'none (rigid)'}: forward 0.05–0.30 m/s, steps of "
+            "0.35–0.70 s, sideways ±0.05 m/s, turning ±0.3 rad/s, pushes of 10 and 20 N × 0.1 s "
+            "in four directions at four phases of the step, and sensor faults. A fall is a "
+            "fall: its metrics are empty in `robustness.csv`."
+        ),
+        checks=tuple(checks),
+        sections=(
+            Section("Falls", (breakdown, fallen, *figures)),
+            Section(
+                "Data",
+                (
+                    Text(
+                        "`robustness.csv` (one row per walk, written as each finishes; a rerun "
+                        "into the same folder resumes), `summary.json` (falls per controller)."
+                    ),
+                ),
+            ),
+        ),
+        provenance=capture(
+            robot=c.robot, started_s=result.started_s, effects=c.effects, seed=c.seed
+        ),
+    )
+
+
+def _count(rows: list[dict[str, str]], controller: str, kind: str) -> str:
+    mine = [r for r in rows if r["controller"] == controller and case_kind(r) == kind]
+    return f"{sum(r['fell'] == 'true' for r in mine)} / {len(mine)}"
+
+
+def write_walk_sweep_report(result: SweepResult, out_dir: str | Path, fmt: str = "html") -> Path:
+    """Write the sweep's report into ``out_dir`` and return its path."""
+    return write_report(walk_sweep_document(result), out_dir, fmt)
