@@ -2,12 +2,16 @@
 
 from __future__ import annotations
 
+import contextlib
 import csv
+import io
 import math
+import os
 from pathlib import Path
 
 import pytest
 
+from helpers.browser import check_page, chromium, screenshot
 from zmpkit.cli import main
 from zmpkit.pipelines.demo import DemoConfig, run_demo
 
@@ -18,7 +22,11 @@ def test_demo_writes_report_and_matches_second_order_theory(tmp_path: Path) -> N
         DemoConfig(duration_s=30.0, balance=False, walking=False, compensation=False),
         echo=lambda _: None,
     )
-    assert result.report_path.read_text().startswith("# zmpkit demo")
+    html = result.report_path.read_text()
+    assert result.report_path.name == "report.html"
+    assert "<h1>zmpkit demo: the LIPM and the robot that really moves</h1>" in html
+    assert "to come" not in html  # the simulator fit is there, with its command
+    assert "zmpkit identify sim --self-test" in html
     assert all(p.stat().st_size > 1000 for p in result.figures)
     zeta = 0.8
     overshoot = 100 * math.exp(-zeta * math.pi / math.sqrt(1 - zeta**2))  # 1.5165 %
@@ -34,12 +42,39 @@ def test_demo_writes_report_and_matches_second_order_theory(tmp_path: Path) -> N
     assert float(rows["dlipm_si"]["omega_n_rad_s"]) == pytest.approx(math.sqrt(9.81 / length))
 
 
+@pytest.fixture(scope="module")
+def demo_run(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, str]:
+    """The whole demo, once: its folder and what it printed."""
+    out = tmp_path_factory.mktemp("demo") / "d"
+    buffer = io.StringIO()
+    with contextlib.redirect_stdout(buffer):
+        assert main(["demo", "--out", str(out)]) == 0
+    return out, buffer.getvalue()
+
+
 @pytest.mark.slow
-def test_demo_command(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
-    """The whole demo, including the quick balance pipeline on the virtual TEO (~70 s)."""
-    assert main(["demo", "--out", str(tmp_path / "d")]) == 0
-    assert f"report: {tmp_path / 'd' / 'report.md'}" in capsys.readouterr().out
-    assert "(balance/report.md)" in (tmp_path / "d" / "report.md").read_text()
-    assert (tmp_path / "d" / "balance" / "table1.csv").exists()
-    assert (tmp_path / "d" / "walk_all" / "summary.json").exists()
-    assert (tmp_path / "d" / "compensate" / "summary.json").exists()
+def test_demo_command(demo_run: tuple[Path, str]) -> None:
+    """The whole demo, including the quick balance pipeline on the virtual TEO."""
+    out, printed = demo_run
+    assert f"report: {out / 'report.html'}" in printed.splitlines()[-1]
+    assert 'href="balance/report.html"' in (out / "report.html").read_text()
+    assert (out / "balance" / "table1.csv").exists()
+    assert (out / "walk_all" / "summary.json").exists()
+    assert (out / "compensate" / "summary.json").exists()
+
+
+@pytest.mark.slow
+def test_demo_report_loads_in_a_real_browser(demo_run: tuple[Path, str]) -> None:
+    """Headless Chromium opens report.html: every image and video loads, the verdict is there."""
+    browser = chromium()
+    if browser is None:
+        if os.environ.get("CI"):
+            pytest.fail("CI must have Chromium: .ci/run installs the Debian package 'chromium'")
+        pytest.skip("no Chromium here (apt-get install chromium); CI runs this test")
+    out, _ = demo_run
+    seen = check_page(out / "report.html", browser)
+    assert seen.verdict
+    assert seen.broken == []
+    assert len(seen.images) >= 8  # the model, Table 1 plane figures, walks, compensation
+    shot = screenshot(out / "report.html", browser, out / "report_first_screen.png")
+    assert shot.stat().st_size > 10_000  # a rendered page, not an empty frame

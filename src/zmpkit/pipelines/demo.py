@@ -1,7 +1,7 @@
 """``zmpkit demo``: the main job on the built-in virtual robot.
 
 1. The model: angular step responses of the LIPM and the DLIPM for a ZMP step (paper A
-   §4.4, Fig. 17 and 18), with their step metrics: ``report.md``, the figures,
+   §4.4, Fig. 17 and 18), with their step metrics: the report, the figures,
    ``step_metrics.csv`` and ``dlipm.yaml``.
 2. The robot: ``zmpkit balance --quick`` on the balance robot (LIPM steps, identification,
    gain-scheduled DLIPM, Table 1) into ``balance/``, linked from the report.
@@ -17,24 +17,26 @@ from __future__ import annotations
 
 import csv
 import math
+import time
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
-from typing import Any
 
 import numpy as np
 import yaml
 
+from zmpkit.analysis.report_files import write_report
 from zmpkit.analysis.step_plot import Curve, plot_step_responses
 from zmpkit.experiments.walk_config import WalkConfig
 from zmpkit.models import Dlipm, paper_units_omega_n
-from zmpkit.pipelines.balance import BalanceConfig, run_balance
+from zmpkit.pipelines.balance import BalanceConfig, BalanceResult, run_balance
 from zmpkit.pipelines.balance_report import BalanceArtifacts, write_balance_outputs
-from zmpkit.pipelines.demo_report import LABELS, format_optional, write_report
+from zmpkit.pipelines.demo_document import LABELS, DemoParts, demo_document, format_optional
 from zmpkit.pipelines.progress import SILENT, Displays
-from zmpkit.pipelines.walk import run_walk, write_walk
-from zmpkit.pipelines.walk_compensate import CompensateConfig, run_walk_compensate
+from zmpkit.pipelines.walk import WalkResult, run_walk, write_walk
+from zmpkit.pipelines.walk_compensate import CompensateConfig, CompensateResult, run_walk_compensate
 from zmpkit.pipelines.walk_compensate_report import write_walk_compensate
+from zmpkit.pipelines.walk_document import write_walk_report
 from zmpkit.robots.registry import DEFAULT_BALANCE_ROBOT, DEFAULT_WALK_ROBOT, get_robot
 from zmpkit.robots.robot import BalanceModel
 from zmpkit.signals.step_metrics import StepMetrics, step_metrics
@@ -50,7 +52,8 @@ class DemoConfig:
     """Demo settings: pendulum of mass [kg] and length [m], ZMP step [m], duration [s].
 
     The pendulum is the balance robot's model (paper A §4.1's by default); the balance part
-    runs on ``balance_robot``, the walks and the compensation on ``walk_robot``.
+    runs on ``balance_robot``, the walks and the compensation on ``walk_robot``. Every report
+    is written as ``report_format`` (``html``, ``md`` or ``both``).
     """
 
     mass_kg: float = field(default_factory=lambda: _balance_model().mass_kg)
@@ -64,6 +67,7 @@ class DemoConfig:
     compensation: bool = True
     balance_robot: str = DEFAULT_BALANCE_ROBOT
     walk_robot: str = DEFAULT_WALK_ROBOT
+    report_format: str = "html"
 
 
 @dataclass(frozen=True)
@@ -83,6 +87,7 @@ def run_demo(
     displays: Displays = SILENT,
 ) -> DemoResult:
     """Run the demo and write its artefacts into ``out_dir`` (created if missing)."""
+    started_s = time.time()
     config = config or DemoConfig()
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
@@ -104,13 +109,11 @@ def run_demo(
     figures = _figures(out, t, theta, lipm_static, config)
     _write_metrics_csv(out / "step_metrics.csv", models, metrics)
     _write_params_yaml(out / "dlipm.yaml", models)
-    balance_report = _run_balance(config, out, echo, displays) if config.balance else None
+    balance = _run_balance(config, out, echo, displays) if config.balance else None
     walks = _run_walks(config, out, echo, displays) if config.walking else {}
     compensation = _run_compensation(config, out, echo, displays) if config.compensation else None
-    report = write_report(
-        out, config, models, metrics, figures, balance_report, walks, compensation
-    )
-    echo("to come: fitting the simulator to recorded data (zmpkit identify sim)")
+    parts = DemoParts(models, metrics, figures, balance, walks, compensation, started_s=started_s)
+    report = write_report(demo_document(out, config, parts), out, config.report_format)
     return DemoResult(out, report, figures, metrics)
 
 
@@ -120,7 +123,7 @@ def _balance_model() -> BalanceModel:
 
 def _run_compensation(
     config: DemoConfig, out: Path, echo: Callable[[str], None], displays: Displays
-) -> dict[str, Any]:
+) -> CompensateResult:
 
     title = get_robot(config.walk_robot).title
     echo(f"virtual {title}: zmpkit walk compensate --method auto --quick")
@@ -130,13 +133,12 @@ def _run_compensation(
             out / "compensate",
             progress,
         )
-    write_walk_compensate(result, out / "compensate")
-    return {"chosen": result.chosen, **result.summary.as_dict()}
+    return write_walk_compensate(result, out / "compensate", config.report_format)
 
 
 def _run_walks(
     config: DemoConfig, out: Path, echo: Callable[[str], None], displays: Displays
-) -> dict[str, Any]:
+) -> dict[str, WalkResult]:
 
     walks = {}
     title = get_robot(config.walk_robot).title
@@ -145,20 +147,22 @@ def _run_walks(
         with displays.simulation(f"walk, effects {effects}") as progress:
             walk = WalkConfig(robot=config.walk_robot, effects=effects)
             result = write_walk(run_walk(walk, progress), out / f"walk_{effects}")
-        walks[effects] = result.summary
+        report = write_walk_report(result, out / f"walk_{effects}", config.report_format)
+        walks[effects] = replace(result, files={**result.files, "report": report})
     return walks
 
 
 def _run_balance(
     config: DemoConfig, out: Path, echo: Callable[[str], None], displays: Displays
-) -> BalanceArtifacts:
+) -> tuple[BalanceArtifacts, BalanceResult]:
 
     title = get_robot(config.balance_robot).title
     echo(f"virtual {title}: zmpkit balance --quick (LIPM steps, DLIPM identification, Table 1)")
     with displays.sweeps() as progress:
         balance = BalanceConfig.quick(robot=config.balance_robot)
         result = run_balance(balance, out / "balance", progress=progress, echo=echo)
-    return write_balance_outputs(result, out / "balance")
+    artifacts = write_balance_outputs(result, out / "balance", config.report_format)
+    return artifacts, result
 
 
 def _demo_models(config: DemoConfig) -> dict[str, Dlipm]:
