@@ -11,8 +11,9 @@ import pytest
 from zmpkit.compensate.algorithm1 import compensate_abstraction
 from zmpkit.compensate.evaluations import WalkSpec, evaluate_all
 from zmpkit.compensate.methods import CompensatedWalk
+from zmpkit.compensate.offsets import OffsetParameters
 from zmpkit.compensate.summary import EXTRA_SUMMARY_KEYS, SUMMARY_KEYS, summary_of
-from zmpkit.compensate.tuning import objective, prior_from_offset, tune_offset
+from zmpkit.compensate.tuning import TuningResult, objective, prior_from_offset, tune_offset
 from zmpkit.errors import ParameterError
 from zmpkit.pipelines.walk_compensate import CompensateConfig, CompensateResult, run_walk_compensate
 from zmpkit.pipelines.walk_compensate_report import write_walk_compensate
@@ -55,7 +56,9 @@ def test_summary_json_has_exactly_the_contract_keys(tmp_path, method) -> None:
     label = "alg1" if method == "alg1" else "half-sine"
     baseline, compensated = (_walk(0.04, 0.03),), (_walk(0.02, 0.015, rms),)
     summary = summary_of(method, baseline, compensated)
-    result = CompensateResult(config, summary, label, baseline, {label: compensated})
+    tuned = OffsetParameters("half-sine", 0.004, 0.25, (0.001, -0.002), 0.2)
+    tuning = {"half-sine": TuningResult("half-sine", tuned, tuned, 1.4, ((tuned, 1.4),), ())}
+    result = CompensateResult(config, summary, label, baseline, {label: compensated}, tuning)
     files = write_walk_compensate(result, tmp_path).files
     written = json.loads(files["summary"].read_text())
     expected = set(SUMMARY_KEYS) | set(EXTRA_SUMMARY_KEYS)
@@ -67,6 +70,10 @@ def test_summary_json_has_exactly_the_contract_keys(tmp_path, method) -> None:
     assert files["report"].name == "report.html"
     assert "lowers the step-frequency peak of the trunk pitch" in report
     assert "+50.0 % lower on average over 1 held-out walks" in report
+    assert (
+        "half-sine: tuned objective J = 1.400 (2 = no change), offset amplitude_m = 0.004, "
+        "phase = 0.25, fourier_m = [0.001, -0.002], reference_speed_mps = 0.2"
+    ) in report
     for role in ("spectrum", "boxes", "zmp_target"):
         assert files[role].stat().st_size > 0
 

@@ -70,6 +70,21 @@ def _cell(value: object, digits: int, fell: bool = False) -> str:
     return "–" if value is None else f"{value:.{digits}f}"
 
 
+def _offset_text(offset: dict[str, object]) -> str:
+    """The tuned offset's parameters (its shape is the line's name)."""
+    parts = []
+    for name, value in offset.items():
+        if name == "shape" or value in ([], ()):
+            continue
+        if isinstance(value, list | tuple):
+            parts.append(f"{name} = [{', '.join(f'{v:.3g}' for v in value)}]")
+        else:
+            parts.append(
+                f"{name} = {value:.4g}" if isinstance(value, float) else f"{name} = {value}"
+            )
+    return ", ".join(parts)
+
+
 def _walk_name(w: ValidationWalkOutcome) -> str:
     name = f"{w.speed_mps:g} m/s, {w.step_duration_s:g} s steps"
     if w.robot_change:
@@ -136,7 +151,7 @@ def compensation_sections(
     )  # fmt: skip
     tuning = [
         f"- {shape}: tuned objective J = {t.best_objective:.3f} (2 = no change), offset "
-        f"{', '.join(f'{k} = {v:.4g}' for k, v in t.best.as_dict().items())}"
+        f"{_offset_text(t.best.as_dict())}"
         for shape, t in result.tuning.items()
     ]
     if s.iteration_rms_m is not None:
