@@ -91,11 +91,11 @@ def demo_document(out: Path, config: Any, parts: DemoParts) -> ReportDocument:
         links.append(("balance", artifacts.report))
     if parts.walks:
         for effects, walk in parts.walks.items():
-            checks += [
-                c.prefixed(f"walk, {effects_name(effects)}") for c in walk_checks(walk.summary)
-            ]
+            name = f"walk, {effects_name(effects)}"
+            stood, stepped = walk_checks(walk.summary)[:2]  # the metrics are in the table
+            checks += [stood.prefixed(name), stepped.prefixed(name)]
             if "report" in walk.files:
-                links.append((f"walk, {effects_name(effects)}", walk.files["report"]))
+                links.append((name, walk.files["report"]))
         sections.append(_walk_section(config, parts))
     if parts.compensation is not None:
         comp = parts.compensation
