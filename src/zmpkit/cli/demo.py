@@ -7,7 +7,8 @@ from pathlib import Path
 import click
 
 from zmpkit.cli.progress import RichDisplays
-from zmpkit.pipelines.demo import run_demo
+from zmpkit.cli.video_option import video_option
+from zmpkit.pipelines.demo import DemoConfig, run_demo
 
 __all__ = ["demo_command"]
 
@@ -16,7 +17,11 @@ __all__ = ["demo_command"]
 @click.option(
     "--out", "out_dir", type=click.Path(path_type=Path), default=Path("out/demo"), show_default=True
 )
-def demo_command(out_dir: Path) -> None:
+@video_option(True, "the rigid and the all-effects walk side by side and a balance step trial")
+def demo_command(out_dir: Path, video: bool) -> None:
     """Run the main job on the built-in virtual robot and write a report to --out."""
-    result = run_demo(out_dir, echo=click.echo, displays=RichDisplays())
+    config = DemoConfig(video=video)
+    result = run_demo(out_dir, config, echo=click.echo, displays=RichDisplays())
+    for path in result.videos:
+        click.echo(f"video: {path}")
     click.echo(f"report: {result.report_path}")

@@ -9,6 +9,7 @@ import click
 from zmpkit.cli.app import format_or_undefined
 from zmpkit.cli.progress import SimTimeProgress, StageProgress
 from zmpkit.cli.robot_option import robot_option
+from zmpkit.cli.video_option import video_option
 from zmpkit.experiments.walk_config import WalkConfig
 from zmpkit.experiments.walk_trial import Push
 from zmpkit.pipelines.walk import run_walk, write_walk
@@ -71,6 +72,7 @@ __all__ = ["walk_compensate_command", "walk_group", "walk_sweep_command"]
     type=click.Path(path_type=Path),
     help="Output folder (required when walking).",
 )
+@video_option(False, "the walk (walk.mp4)")
 @click.pass_context
 def walk_group(
     ctx: click.Context,
@@ -86,6 +88,7 @@ def walk_group(
     seed: int,
     truth: Path | None,
     out_dir: Path | None,
+    video: bool,
 ) -> None:
     """Walk the virtual robot with the 3D-LIPM pattern (paper B) and analyse the walk."""
     if ctx.invoked_subcommand is not None:
@@ -105,10 +108,11 @@ def walk_group(
         lateral_speed_mps=lateral_speed,
         turn_rate_rps=turn_rate,
         pushes=tuple(Push.parse(text) for text in pushes),
+        video=video,
     )
     with SimTimeProgress(f"walk ({config.effects or 'none'})") as progress:
         result = run_walk(config, progress=progress)
-    write_walk(result, out_dir)
+    written = write_walk(result, out_dir)
     s = result.summary
     speed_text = format_or_undefined(s.mean_speed_mps, ".4f")
     peak_hz = format_or_undefined(s.trunk_pitch_peak_hz, ".2f")
@@ -125,6 +129,8 @@ def walk_group(
         f"(commanded {s.commanded_speed_mps:.4f}); trunk pitch peak {peak_hz} Hz, {peak_rad} rad"
     )
     click.echo(f"summary: {Path(out_dir) / 'summary.json'}")
+    if "video" in written.files:
+        click.echo(f"video: {written.files['video']}")
 
 
 @walk_group.command("compensate")

@@ -48,6 +48,7 @@ __all__ = [
     "PlaneResult",
     "dataset_trials",
     "run_balance",
+    "step_experiment",
     "support_polygon",
 ]
 
@@ -79,6 +80,8 @@ class BalanceConfig:
             limit needs (``time_scale`` is then the minimum); False: the fixed time scale.
         truth: a truth file replacing the robot's shipped one (for the simulator only).
         workers: processes running trials in parallel.
+        video: whether to record one step trial as a video (``step_trial.mp4``: the
+            scheduled DLIPM at the largest target of the first plane, run once more).
     """
 
     robot: str = DEFAULT_BALANCE_ROBOT
@@ -94,6 +97,7 @@ class BalanceConfig:
     servo_paced: bool = True
     truth: str | None = None
     workers: int = 2
+    video: bool = False
 
     def __post_init__(self) -> None:
         get_robot(self.robot, needs="balance")
@@ -174,10 +178,9 @@ def run_balance(
     return BalanceResult(config=config, planes=planes)
 
 
-def _run_plane(
-    config: BalanceConfig, plane: str, out: Path, progress: _ProgressFactory | None
-) -> PlaneResult:
-    experiment = StepExperimentConfig(
+def step_experiment(config: BalanceConfig, plane: str) -> StepExperimentConfig:
+    """The step experiment every sweep of ``plane`` runs (targets [m], holds [s], effects)."""
+    return StepExperimentConfig(
         robot=config.robot,
         targets_m=config.targets_m,
         plane=plane,
@@ -187,6 +190,12 @@ def _run_plane(
         max_hold_s=config.max_hold_s,
         truth=config.truth,
     )
+
+
+def _run_plane(
+    config: BalanceConfig, plane: str, out: Path, progress: _ProgressFactory | None
+) -> PlaneResult:
+    experiment = step_experiment(config, plane)
     lean_length = design_lean_model(config.robot, plane).lean_length_m
     lipm, lipm_ends = _outcomes(config, experiment, plane, "lipm", out, progress, None)
     fit_set = {round(x, 6) for x in config.fit_targets_m}

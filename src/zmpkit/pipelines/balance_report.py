@@ -21,6 +21,7 @@ from zmpkit.analysis.table1 import table1_markdown, unsettled_lines, write_table
 from zmpkit.experiments import CONTROL_PERIOD_S
 from zmpkit.identify import TERMS
 from zmpkit.pipelines.balance import BalanceResult, PlaneResult
+from zmpkit.pipelines.videos import write_step_trial_video
 
 __all__ = ["BalanceArtifacts", "write_balance_outputs"]
 
@@ -30,7 +31,11 @@ _PLANNED_DURATION_S = 15.0
 
 @dataclass(frozen=True)
 class BalanceArtifacts:
-    """Paths written by :func:`write_balance_outputs`, each plane's figures and verdict."""
+    """Paths written by :func:`write_balance_outputs`, each plane's figures and verdict.
+
+    ``videos`` holds the step trial's video when the config asked for one (``step_trial.mp4``,
+    or the GIF or keyframes written instead).
+    """
 
     report: Path
     table1: Path
@@ -38,6 +43,7 @@ class BalanceArtifacts:
     figures: tuple[Path, ...]
     targets: dict[str, BalanceTargets]
     verdicts: dict[str, PlaneVerdict]
+    videos: tuple[Path, ...] = ()
 
     @property
     def met(self) -> bool:
@@ -55,9 +61,11 @@ def write_balance_outputs(result: BalanceResult, out_dir: str | Path) -> Balance
     for plane in result.planes.values():
         figures += _plane_figures(plane, out)
     verdicts = {name: plane_verdict(name, plane.rows) for name, plane in result.planes.items()}
-    report = _write_report(result, out, figures, verdicts)
+    video = write_step_trial_video(result, out) if result.config.video else None
+    videos = () if video is None or video.path is None else (video.path,)
+    report = _write_report(result, out, figures, verdicts, videos)
     targets = {name: balance_targets(name, plane.rows) for name, plane in result.planes.items()}
-    return BalanceArtifacts(report, table1, params, tuple(figures), targets, verdicts)
+    return BalanceArtifacts(report, table1, params, tuple(figures), targets, verdicts, videos)
 
 
 def _write_params(result: BalanceResult, out: Path) -> Path:
@@ -169,7 +177,11 @@ def _unsettled_text(plane: PlaneResult) -> str:
 
 
 def _write_report(
-    result: BalanceResult, out: Path, figures: list[Path], verdicts: dict[str, PlaneVerdict]
+    result: BalanceResult,
+    out: Path,
+    figures: list[Path],
+    verdicts: dict[str, PlaneVerdict],
+    videos: tuple[Path, ...] = (),
 ) -> Path:
     c = result.config
     parts = [
@@ -194,6 +206,7 @@ def _write_report(
             "\n### Figures\n\n",
             "".join(f"![{p.stem}]({p.name})\n\n" for p in figures if f"_{name}" in p.name),
         ]
+    parts += [f"\nVideo of a step trial (DLIPM): [{v.name}]({v.name})\n" for v in videos]
     parts.append(
         "\nData: `table1.csv`, `params.yaml`, and every trial's recorded sensors under "
         "`datasets/` (read them with `zmpkit.experiments.read_step_dataset`).\n"

@@ -11,6 +11,9 @@
    oscillation (paper B Fig. 2, 6, 12).
 4. Compensation: ``zmpkit walk compensate --method auto --quick`` into ``compensate/``
    (tuned ZMP offsets against the trunk oscillation, checked on walks not used for tuning).
+
+With ``video`` (the default) it also draws the rigid and the all-effects walk side by side
+(``walk_side_by_side.mp4``) and one balance step trial (``balance/step_trial.mp4``).
 """
 
 from __future__ import annotations
@@ -32,6 +35,7 @@ from zmpkit.pipelines.balance import BalanceConfig, run_balance
 from zmpkit.pipelines.balance_report import BalanceArtifacts, write_balance_outputs
 from zmpkit.pipelines.demo_report import LABELS, format_optional, write_report
 from zmpkit.pipelines.progress import SILENT, Displays
+from zmpkit.pipelines.videos import SIDE_BY_SIDE_FILE, write_walks_side_by_side
 from zmpkit.pipelines.walk import run_walk, write_walk
 from zmpkit.pipelines.walk_compensate import CompensateConfig, run_walk_compensate
 from zmpkit.pipelines.walk_compensate_report import write_walk_compensate
@@ -50,7 +54,8 @@ class DemoConfig:
     """Demo settings: pendulum of mass [kg] and length [m], ZMP step [m], duration [s].
 
     The pendulum is the balance robot's model (paper A §4.1's by default); the balance part
-    runs on ``balance_robot``, the walks and the compensation on ``walk_robot``.
+    runs on ``balance_robot``, the walks and the compensation on ``walk_robot``. ``video``
+    draws the walks side by side and a balance step trial (:mod:`zmpkit.pipelines.videos`).
     """
 
     mass_kg: float = field(default_factory=lambda: _balance_model().mass_kg)
@@ -64,16 +69,21 @@ class DemoConfig:
     compensation: bool = True
     balance_robot: str = DEFAULT_BALANCE_ROBOT
     walk_robot: str = DEFAULT_WALK_ROBOT
+    video: bool = True
 
 
 @dataclass(frozen=True)
 class DemoResult:
-    """Paths of what the demo wrote, and the metrics it measured per model."""
+    """Paths of what the demo wrote, and the metrics it measured per model.
+
+    ``videos`` are the MP4s (or the GIFs or keyframes written instead).
+    """
 
     out_dir: Path
     report_path: Path
     figures: tuple[Path, ...]
     metrics: dict[str, StepMetrics]
+    videos: tuple[Path, ...] = ()
 
 
 def run_demo(
@@ -105,13 +115,14 @@ def run_demo(
     _write_metrics_csv(out / "step_metrics.csv", models, metrics)
     _write_params_yaml(out / "dlipm.yaml", models)
     balance_report = _run_balance(config, out, echo, displays) if config.balance else None
-    walks = _run_walks(config, out, echo, displays) if config.walking else {}
+    walks, walk_videos = _run_walks(config, out, echo, displays) if config.walking else ({}, ())
     compensation = _run_compensation(config, out, echo, displays) if config.compensation else None
+    videos = walk_videos + (balance_report.videos if balance_report else ())
     report = write_report(
-        out, config, models, metrics, figures, balance_report, walks, compensation
+        out, config, models, metrics, figures, balance_report, walks, compensation, videos
     )
     echo("to come: fitting the simulator to recorded data (zmpkit identify sim)")
-    return DemoResult(out, report, figures, metrics)
+    return DemoResult(out, report, figures, metrics, videos)
 
 
 def _balance_model() -> BalanceModel:
@@ -136,9 +147,9 @@ def _run_compensation(
 
 def _run_walks(
     config: DemoConfig, out: Path, echo: Callable[[str], None], displays: Displays
-) -> dict[str, Any]:
-
-    walks = {}
+) -> tuple[dict[str, Any], tuple[Path, ...]]:
+    """The walks' summaries by effect set, and their side-by-side video if asked for."""
+    walks, records = {}, []
     title = get_robot(config.walk_robot).title
     for effects in ("none", "all"):
         echo(f"virtual {title}: zmpkit walk --effects {effects} (10 s at 0.2 m/s)")
@@ -146,7 +157,12 @@ def _run_walks(
             walk = WalkConfig(robot=config.walk_robot, effects=effects)
             result = write_walk(run_walk(walk, progress), out / f"walk_{effects}")
         walks[effects] = result.summary
-    return walks
+        records.append((result.config, result.record))
+    if not config.video:
+        return walks, ()
+    echo(f"video: the rigid and the all-effects walk side by side ({SIDE_BY_SIDE_FILE})")
+    video = write_walks_side_by_side(records, out / SIDE_BY_SIDE_FILE)
+    return walks, () if video.path is None else (video.path,)
 
 
 def _run_balance(
@@ -156,7 +172,7 @@ def _run_balance(
     title = get_robot(config.balance_robot).title
     echo(f"virtual {title}: zmpkit balance --quick (LIPM steps, DLIPM identification, Table 1)")
     with displays.sweeps() as progress:
-        balance = BalanceConfig.quick(robot=config.balance_robot)
+        balance = BalanceConfig.quick(robot=config.balance_robot, video=config.video)
         result = run_balance(balance, out / "balance", progress=progress, echo=echo)
     return write_balance_outputs(result, out / "balance")
 

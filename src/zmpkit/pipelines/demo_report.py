@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
@@ -33,6 +34,7 @@ def write_report(
     balance: Any,
     walks: dict[str, Any],
     compensation: dict[str, Any] | None,
+    videos: Sequence[Path] = (),
 ) -> Path:
     """Write the demo's ``report.md`` into ``out`` and return its path.
 
@@ -46,6 +48,7 @@ def write_report(
         balance: the quick balance run's :class:`BalanceArtifacts`, or None.
         walks: the walking robot's walk summaries by effect set (empty without walking).
         compensation: the walk compensation's ``summary.json`` contents, or None.
+        videos: the videos the demo wrote (linked relative to ``out``).
 
     Returns:
         The path of ``report.md``.
@@ -88,7 +91,7 @@ slower in time for the same damping ratio.
 
 Data: `step_metrics.csv`; parameters: `dlipm.yaml`.
 
-{sections}{_compensation_section(compensation)}
+{sections}{_compensation_section(compensation)}{_video_line(out, videos)}
 ## To come
 
 Fitting the simulator to recorded data (MoToFlex's evolutionary identification).
@@ -96,6 +99,12 @@ Fitting the simulator to recorded data (MoToFlex's evolutionary identification).
     path = out / "report.md"
     path.write_text(text, encoding="utf-8")
     return path
+
+
+def _video_line(out: Path, videos: Sequence[Path]) -> str:
+    links = ", ".join(f"[{p.relative_to(out).as_posix()}]({p.relative_to(out).as_posix()})"
+                      for p in videos)  # fmt: skip
+    return f"\nVideos: {links}.\n" if videos else ""
 
 
 def _title(robot: str) -> str:
