@@ -11,8 +11,9 @@ import numpy as np
 import pytest
 from PIL import Image
 
+from helpers.gl import skip_without_gl
 from zmpkit.analysis import render, video
-from zmpkit.analysis.render import CameraView, OffscreenRenderer, RendererUnavailableError
+from zmpkit.analysis.render import CameraView
 from zmpkit.analysis.video import MotionClip, VideoSettings, write_video
 from zmpkit.analysis.video_frames import KEYFRAMES, label_panel
 from zmpkit.errors import ParameterError, VideoWarning
@@ -39,12 +40,9 @@ def model() -> mujoco.MjModel:
 
 
 @pytest.fixture(scope="module")
-def gl(model: mujoco.MjModel) -> None:
+def gl() -> None:
     """Skip where no offscreen OpenGL context can be created (no EGL library, no display)."""
-    try:
-        OffscreenRenderer(model, 32, 32).close()
-    except RendererUnavailableError as exc:
-        pytest.skip(f"no offscreen OpenGL context here: {exc}")
+    skip_without_gl()
 
 
 def sliding_block(model: mujoco.MjModel, label: str = "", **fall: object) -> MotionClip:

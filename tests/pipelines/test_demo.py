@@ -43,3 +43,9 @@ def test_demo_command(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> Non
     assert (tmp_path / "d" / "balance" / "table1.csv").exists()
     assert (tmp_path / "d" / "walk_all" / "summary.json").exists()
     assert (tmp_path / "d" / "compensate" / "summary.json").exists()
+    videos = ("walk_side_by_side.mp4", "balance/step_trial.mp4")  # --video is the default
+    assert all((tmp_path / "d" / v).stat().st_size > 10_000 for v in videos)
+    assert (
+        "Videos: [walk_side_by_side.mp4](walk_side_by_side.mp4), [balance/step_trial.mp4]"
+        in (tmp_path / "d" / "report.md").read_text()
+    )

@@ -205,7 +205,7 @@ class OffscreenRenderer:
         spacing, scene = self.mark_spacing_m, self._scene
         first = math.floor((lookat_m[0] - 1.5 * distance_m) / spacing)
         last = math.ceil((lookat_m[0] + 1.5 * distance_m) / spacing)
-        half = np.array([0.03 * spacing, 0.75 * distance_m, 0.0005])
+        half = np.array([0.03 * spacing, 0.5 * distance_m, 0.0005])
         for k in range(first, last + 1):
             if scene.ngeom >= scene.maxgeom:
                 return
@@ -244,13 +244,17 @@ class OffscreenRenderer:
 
 
 def _render_model(model: mujoco.MjModel, width_px: int, height_px: int) -> mujoco.MjModel:
-    """A copy of ``model`` with an offscreen buffer of at least the image size [px]."""
+    """A copy of ``model`` to draw.
+
+    Its offscreen buffer holds at least the image [px]; no multisampling; a brighter headlight.
+    """
     _validate.in_range("video width_px", width_px, 16, 4096, "px")
     _validate.in_range("video height_px", height_px, 16, 4096, "px")
     render = copy.deepcopy(model)
     globals_ = render.vis.global_
     globals_.offwidth = max(globals_.offwidth, width_px)
     globals_.offheight = max(globals_.offheight, height_px)
+    render.vis.quality.offsamples = 0  # 4x multisampling triples software OpenGL's cost
     render.vis.headlight.ambient[:] = np.maximum(render.vis.headlight.ambient, 0.35)
     render.vis.headlight.diffuse[:] = np.maximum(render.vis.headlight.diffuse, 0.55)
     return render
