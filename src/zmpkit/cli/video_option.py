@@ -9,7 +9,7 @@ import click
 
 __all__ = ["video_option"]
 
-_F = TypeVar("F", bound=Callable[..., Any])
+_F = TypeVar("_F", bound=Callable[..., Any])
 
 
 def video_option(default: bool, what: str) -> Callable[[_F], _F]:
