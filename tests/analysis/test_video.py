@@ -147,17 +147,42 @@ def test_without_opengl_nothing_is_written_and_the_result_says_why(
     assert list(tmp_path.iterdir()) == []
 
 
-def test_egl_is_chosen_on_a_headless_linux_machine(monkeypatch) -> None:
+@pytest.fixture
+def headless_linux(monkeypatch: pytest.MonkeyPatch) -> pytest.MonkeyPatch:
     monkeypatch.setattr(render.sys, "platform", "linux")
-    for name in ("MUJOCO_GL", "DISPLAY", "WAYLAND_DISPLAY"):
+    for name in ("MUJOCO_GL", "DISPLAY", "WAYLAND_DISPLAY", "PYOPENGL_PLATFORM"):
         monkeypatch.delenv(name, raising=False)
-    assert render.select_gl_backend() == "egl" == os.environ["MUJOCO_GL"]
-    monkeypatch.setenv("MUJOCO_GL", "GLFW")
-    assert render.select_gl_backend() == "glfw"
-    monkeypatch.delenv("MUJOCO_GL")
-    monkeypatch.setenv("DISPLAY", ":0")
-    assert render.select_gl_backend() == ""
-    assert "MUJOCO_GL" not in os.environ
+    return monkeypatch
+
+
+def test_egl_is_chosen_on_a_headless_linux_machine(headless_linux: pytest.MonkeyPatch) -> None:
+    assert render.select_gl_backend() == "egl"
+    headless_linux.setenv("MUJOCO_GL", "GLFW")
+    assert render.select_gl_backend() == "glfw"  # what the user set
+    headless_linux.delenv("MUJOCO_GL")
+    headless_linux.setenv("DISPLAY", ":0")
+    assert render.select_gl_backend() == ""  # MuJoCo's own choice
+
+
+def test_mujoco_gl_is_set_once_egl_loads(headless_linux: pytest.MonkeyPatch) -> None:
+    class Context:
+        pass
+
+    headless_linux.setattr(render, "_context_class", lambda backend: Context)
+    assert render.gl_context_class() is Context
+    assert os.environ["MUJOCO_GL"] == "egl"  # for MuJoCo imported later, e.g. in workers
+
+
+def test_mujoco_gl_is_left_alone_when_egl_cannot_load(headless_linux: pytest.MonkeyPatch) -> None:
+    def no_egl(backend: str) -> None:
+        os.environ["PYOPENGL_PLATFORM"] = "egl"  # as mujoco.egl does on import
+        raise ImportError("libEGL.so.1: cannot open shared object file")
+
+    headless_linux.setattr(render, "_context_class", no_egl)
+    with pytest.raises(render.RendererUnavailableError, match=r"\(MUJOCO_GL=egl\): ImportError"):
+        render.gl_context_class()
+    assert "MUJOCO_GL" not in os.environ  # a later ``import mujoco`` must not fail on it
+    assert "PYOPENGL_PLATFORM" not in os.environ
 
 
 def test_a_fall_is_marked_in_red_and_labels_are_drawn() -> None:

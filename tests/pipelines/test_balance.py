@@ -14,9 +14,9 @@ from helpers.gl import skip_without_gl
 from zmpkit.analysis.table1 import TABLE1_COLUMNS
 from zmpkit.cli import main
 from zmpkit.identify import BalanceParams
-from zmpkit.pipelines.balance import BalanceConfig, run_balance
+from zmpkit.pipelines.balance import BalanceConfig, run_balance, step_experiment
 from zmpkit.pipelines.balance_report import write_balance_outputs
-from zmpkit.pipelines.videos import BALANCE_VIDEO, STEP_TRIAL_SHOWN_S
+from zmpkit.pipelines.videos import BALANCE_VIDEO, STEP_TRIAL_AFTER_S
 
 CONFIG = BalanceConfig(
     planes=("sagittal",),
@@ -164,8 +164,8 @@ def test_balance_video_films_the_dlipm_at_the_largest_target(balance_run, tmp_pa
     assert artifacts.videos == (tmp_path / "step_trial.mp4",)
     reader = imageio_ffmpeg.read_frames(str(tmp_path / "step_trial.mp4"))
     assert next(reader)["size"] == (BALANCE_VIDEO.width_px, BALANCE_VIDEO.height_px)
-    before, after = STEP_TRIAL_SHOWN_S
-    assert sum(1 for _ in reader) == round((before + after) * BALANCE_VIDEO.fps) + 1
+    shown_s = step_experiment(CONFIG, "sagittal").startup_window_s + STEP_TRIAL_AFTER_S
+    assert sum(1 for _ in reader) == pytest.approx(shown_s * BALANCE_VIDEO.fps + 1, abs=1)
     assert "Video of a step trial (DLIPM): [step_trial.mp4](step_trial.mp4)" in (
         artifacts.report.read_text()
     )

@@ -5,9 +5,10 @@ MuJoCo's Python bindings choose their OpenGL backend once, when ``mujoco`` is fi
 ``glx`` or, by default, GLFW), and ``mujoco.Renderer`` builds that backend's ``GLContext``.
 GLFW needs a display, so the default fails on a headless machine, and by the time a video is
 asked for zmpkit has long imported MuJoCo. :class:`OffscreenRenderer` therefore picks the
-context itself: :func:`select_gl_backend` sets ``MUJOCO_GL=egl`` when it is unset on Linux
-without a display (for MuJoCo imported later, e.g. in worker processes), and the EGL context
-is taken from ``mujoco.egl`` directly; any other ``MUJOCO_GL`` is honoured.
+context itself (:func:`gl_context_class`): where ``MUJOCO_GL`` is unset on Linux without a
+display, the EGL context is taken from ``mujoco.egl`` directly, and once it loads
+``MUJOCO_GL=egl`` is set for MuJoCo imported later (e.g. in worker processes); any other
+``MUJOCO_GL`` is honoured.
 
 Frames are drawn by MuJoCo's own OpenGL renderer into its offscreen buffer (``mjr_render``,
 ``mjr_readPixels``) after ``mj_forward`` has placed the bodies of the given ``qpos``.
@@ -81,34 +82,53 @@ BALANCE_VIEW = CameraView(azimuth_deg=90.0, elevation_deg=-8.0, height_fraction=
 
 
 def select_gl_backend() -> str:
-    """The OpenGL backend for offscreen rendering, ``MUJOCO_GL``'s value (lower case).
+    """The OpenGL backend for offscreen rendering.
 
-    Sets ``MUJOCO_GL=egl`` when it is unset on Linux with neither ``DISPLAY`` nor
-    ``WAYLAND_DISPLAY``: GLFW, MuJoCo's default, cannot start without a display.
+    ``MUJOCO_GL`` (lower case) when set; else ``egl`` on Linux with neither ``DISPLAY`` nor
+    ``WAYLAND_DISPLAY`` (GLFW, MuJoCo's default, cannot start without a display); else ``""``
+    (MuJoCo's choice).
     """
     backend = os.environ.get("MUJOCO_GL", "").strip().lower()
     headless = not (os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY"))
     if not backend and sys.platform.startswith("linux") and headless:
-        os.environ["MUJOCO_GL"] = backend = "egl"
+        return "egl"
     return backend
 
 
 def gl_context_class() -> Any:
     """The ``GLContext`` class of :func:`select_gl_backend`'s backend.
 
+    Once EGL's context loads for a headless machine, ``MUJOCO_GL=egl`` is set for the
+    processes started later; if it does not load, the environment is left as it was (a
+    ``MUJOCO_GL`` naming a backend that cannot load stops ``import mujoco`` itself).
+
     Raises:
         RendererUnavailableError: if the backend's libraries cannot be loaded.
     """
     backend = select_gl_backend()
+    saved = {name: os.environ.get(name) for name in ("MUJOCO_GL", "PYOPENGL_PLATFORM")}
     try:
-        if backend == "egl":
-            from mujoco.egl import GLContext
-        elif backend == "osmesa":
-            from mujoco.osmesa import GLContext
-        else:
-            from mujoco import GLContext
+        context_class = _context_class(backend)
     except Exception as exc:  # ImportError, OSError, PyOpenGL errors: no usable GL here
+        for name, value in saved.items():  # mujoco.egl sets PYOPENGL_PLATFORM on import
+            if value is None:
+                os.environ.pop(name, None)
+            else:
+                os.environ[name] = value
         raise RendererUnavailableError(_why("MUJOCO_GL", backend or "glfw", exc)) from exc
+    if backend:
+        os.environ.setdefault("MUJOCO_GL", backend)
+    return context_class
+
+
+def _context_class(backend: str) -> Any:
+    """Import the ``GLContext`` of ``backend`` (``egl``, ``osmesa``, else MuJoCo's own)."""
+    if backend == "egl":
+        from mujoco.egl import GLContext
+    elif backend == "osmesa":
+        from mujoco.osmesa import GLContext
+    else:
+        from mujoco import GLContext
     return GLContext
 
 

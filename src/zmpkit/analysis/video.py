@@ -36,7 +36,7 @@ from zmpkit.analysis.render import (
     RendererUnavailableError,
     error_text,
 )
-from zmpkit.analysis.video_frames import keyframe_strip, label_panel, write_gif
+from zmpkit.analysis.video_frames import keyframe_strip, label_panel, write_gif, write_mp4
 from zmpkit.errors import ParameterError, VideoWarning
 
 __all__ = ["MotionClip", "VideoResult", "VideoSettings", "write_video"]
@@ -190,7 +190,7 @@ def _write_with_fallbacks(
     """MP4, else GIF, else a keyframe strip, else nothing; ``frames()`` restarts the frames."""
     width, height = size
     try:
-        _write_mp4(frames(), path, fps, size)
+        write_mp4(frames(), path, fps, size)
         return VideoResult(path, "mp4", count, fps, width, height)
     except Exception as exc:  # no ffmpeg, a broken pipe, an encoder error: try a GIF
         reason = f"MP4 not written ({error_text(exc, 120)})"
@@ -217,24 +217,6 @@ def _degraded(
     written = f"wrote {path.name} instead" if path is not None else "no video written"
     warnings.warn(f"{reason}; {written}", VideoWarning, stacklevel=3)
     return VideoResult(path, kind, frames, fps, width, height, reason)
-
-
-def _write_mp4(
-    frames: Iterator[NDArray[np.uint8]], path: Path, fps: float, size: tuple[int, int]
-) -> None:
-    """Encode RGB ``frames`` of ``size`` (width, height) [px] as H.264/yuv420p at ``path``."""
-    import imageio_ffmpeg  # type: ignore[import-untyped]
-
-    writer = imageio_ffmpeg.write_frames(
-        str(path), size, fps=fps, codec="libx264", pix_fmt_out="yuv420p", macro_block_size=2,
-        quality=6, ffmpeg_log_level="error", output_params=["-movflags", "+faststart"],
-    )  # fmt: skip
-    writer.send(None)
-    try:
-        for frame in frames:
-            writer.send(np.ascontiguousarray(frame))
-    finally:
-        writer.close()
 
 
 def _frame_times(clips: Sequence[MotionClip], settings: VideoSettings) -> NDArray[np.float64]:

@@ -1,13 +1,14 @@
-"""Video frames as images (Pillow): labels on a panel, an animated GIF, a keyframe strip.
+"""Video frames into files: an MP4 (ffmpeg), or a GIF or a keyframe strip (Pillow); labels.
 
-These need no OpenGL and no ffmpeg: they are how :mod:`zmpkit.analysis.video` labels its
-frames and what it writes where an MP4 cannot be written.
+Everything here takes RGB frames, shape (H, W, 3), and needs no OpenGL: it is how
+:mod:`zmpkit.analysis.video` labels its frames and writes them, MP4 first and the others
+where an MP4 cannot be written.
 """
 
 from __future__ import annotations
 
 import math
-from collections.abc import Iterable
+from collections.abc import Iterable, Iterator
 from functools import lru_cache
 from pathlib import Path
 
@@ -15,7 +16,7 @@ import numpy as np
 from numpy.typing import NDArray
 from PIL import Image, ImageDraw, ImageFont
 
-__all__ = ["GIF_MAX_FPS", "KEYFRAMES", "keyframe_strip", "label_panel", "write_gif"]
+__all__ = ["GIF_MAX_FPS", "KEYFRAMES", "keyframe_strip", "label_panel", "write_gif", "write_mp4"]
 
 GIF_MAX_FPS = 10.0
 """A GIF's frames are decimated to at most this rate [1/s]: GIFs are large and slow to encode."""
@@ -77,6 +78,27 @@ def _text_box(draw: ImageDraw.ImageDraw, at: tuple[int, int], text: str, font, f
     _, _, right, bottom = draw.textbbox((x + pad, y + pad), text, font=font)
     draw.rectangle((x, y, right + pad, bottom + pad), fill=fill)
     draw.text((x + pad, y + pad), text, font=font, fill=_TEXT_RGB)
+
+
+def write_mp4(
+    frames: Iterator[NDArray[np.uint8]], path: Path, fps: float, size: tuple[int, int]
+) -> None:
+    """Encode RGB ``frames`` of ``size`` (width, height) [px] at ``fps`` [1/s] into ``path``.
+
+    H.264, ``yuv420p`` and the index at the front (``+faststart``): what browsers play.
+    """
+    import imageio_ffmpeg  # type: ignore[import-untyped]
+
+    writer = imageio_ffmpeg.write_frames(
+        str(path), size, fps=fps, codec="libx264", pix_fmt_out="yuv420p", macro_block_size=2,
+        quality=6, ffmpeg_log_level="error", output_params=["-movflags", "+faststart"],
+    )  # fmt: skip
+    writer.send(None)
+    try:
+        for frame in frames:
+            writer.send(np.ascontiguousarray(frame))
+    finally:
+        writer.close()
 
 
 def write_gif(frames: Iterable[NDArray[np.uint8]], path: Path, fps: float) -> tuple[int, float]:

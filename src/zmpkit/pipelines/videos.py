@@ -33,6 +33,7 @@ from zmpkit.sim.effect_set import EffectSet
 __all__ = [
     "BALANCE_VIDEO",
     "SIDE_BY_SIDE_FILE",
+    "STEP_TRIAL_AFTER_S",
     "STEP_TRIAL_FILE",
     "WALK_VIDEO",
     "WALK_VIDEO_FILE",
@@ -49,8 +50,9 @@ BALANCE_VIDEO = VideoSettings(width_px=400, height_px=300, fps=25.0, view=BALANC
 WALK_VIDEO_FILE = "walk.mp4"
 SIDE_BY_SIDE_FILE = "walk_side_by_side.mp4"
 STEP_TRIAL_FILE = "step_trial.mp4"
-STEP_TRIAL_SHOWN_S = (1.0, 10.0)
-"""A step trial's video shows from 1 s before the step to 10 s after it [s]."""
+STEP_TRIAL_AFTER_S = 10.0
+"""A step trial's video shows its recording (from the quiet start-up window before the step)
+up to this long after the step [s]."""
 
 
 def effects_label(effects: str) -> str:
@@ -87,7 +89,8 @@ def write_step_trial_video(result: BalanceResult, out_dir: Path) -> VideoResult 
     """Run the first plane's largest target once more under the scheduled DLIPM; draw it.
 
     The trial is the one the DLIPM sweep recorded (same seed), now also recording ``qpos``;
-    the video (``out_dir/step_trial.mp4``) shows it from 1 s before the step to 10 s after.
+    the video (``out_dir/step_trial.mp4``) shows its recording up to
+    :data:`STEP_TRIAL_AFTER_S` after the step.
 
     Returns:
         What was written, or None (with a :class:`~zmpkit.errors.VideoWarning`) if the trial
@@ -107,9 +110,8 @@ def write_step_trial_video(result: BalanceResult, out_dir: Path) -> VideoResult 
     assert record.qpos is not None  # asked for
     label = f"DLIPM, x_ref = {100 * target_m:g} cm, {plane}"
     clip = MotionClip(_model(experiment), record.qpos, record.time, label)
-    before, after = STEP_TRIAL_SHOWN_S
     view = BALANCE_VIEW if plane == "sagittal" else replace(BALANCE_VIEW, azimuth_deg=180.0)
-    window = (record.t_step_s - before, record.t_step_s + after)
+    window = (float(record.time[0]), record.t_step_s + STEP_TRIAL_AFTER_S)
     settings = replace(BALANCE_VIDEO, view=view, window_s=window)
     return write_video([clip], Path(out_dir) / STEP_TRIAL_FILE, settings)
 
