@@ -207,3 +207,8 @@ def test_bad_clips_and_settings_are_named(model) -> None:
         VideoSettings(width_px=95)
     with pytest.raises(ParameterError, match=r"at least one clip"):
         write_video([], "never.mp4")
+    late = VideoSettings(window_s=(5.0, 6.0))
+    with pytest.raises(
+        ParameterError, match=r"window_s \(5.0, 6.0\) lies outside the clips' time \[0, 2\] s"
+    ):
+        write_video([sliding_block(model)], "never.mp4", late)

@@ -168,9 +168,13 @@ def write_video(
     path.parent.mkdir(parents=True, exist_ok=True)
     times = _frame_times(clips, settings)
     width, height = settings.width_px * len(clips), settings.height_px
+    panels: list[_Panel] = []
     try:
-        panels = [_Panel(clip, settings, times) for clip in clips]
+        for clip in clips:
+            panels.append(_Panel(clip, settings, times))
     except RendererUnavailableError as exc:
+        for panel in panels:
+            panel.close()
         return _degraded(None, "none", 0, settings.fps, width, height, str(exc))
     try:
         return _write_with_fallbacks(lambda: _frames(panels, times), path, settings.fps, times.size,
@@ -221,14 +225,15 @@ def _degraded(
 
 def _frame_times(clips: Sequence[MotionClip], settings: VideoSettings) -> NDArray[np.float64]:
     """The video's frame times [s], every ``1/fps`` over the clips' time or the window."""
-    start = min(float(c.time_s[0]) for c in clips)
-    end = max(float(c.time_s[-1]) for c in clips)
+    first = min(float(c.time_s[0]) for c in clips)
+    last = max(float(c.time_s[-1]) for c in clips)
+    start, end = first, last
     if settings.window_s is not None:
-        start, end = max(start, settings.window_s[0]), min(end, settings.window_s[1])
+        start, end = max(first, settings.window_s[0]), min(last, settings.window_s[1])
         if end < start:
             raise ParameterError(
                 f"VideoSettings.window_s {settings.window_s} lies outside the clips' time "
-                f"[{start:g}, {end:g}] s"
+                f"[{first:g}, {last:g}] s"
             )
     count = math.floor((end - start) * settings.fps + 1e-9) + 1
     return start + np.arange(count) / settings.fps
