@@ -177,8 +177,13 @@ class OffscreenRenderer:
         self._rgb = np.empty((height_px, width_px, 3), dtype=np.uint8)
         self.mark_spacing_m = 0.1
 
-    def robot_height_m(self, qpos: NDArray[np.float64]) -> float:
-        """Height of the robot's highest point above the floor in ``qpos`` [m] (> 0)."""
+    def fit_to_robot(self, qpos: NDArray[np.float64]) -> float:
+        """Space the floor marks for the robot standing in ``qpos``; return its height.
+
+        Returns:
+            The height of the robot's highest point above the floor [m], at least 0.1 m;
+            the marks are about a fifth of it apart (:attr:`mark_spacing_m`).
+        """
         self._place(qpos)
         robot = self.model.geom_bodyid != 0
         top = self.data.geom_xpos[robot, 2] + self.model.geom_rbound[robot]

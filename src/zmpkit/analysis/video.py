@@ -252,7 +252,7 @@ class _Panel:
         self.clip, self.view = clip, settings.view
         self.rows = np.clip(np.searchsorted(clip.time_s, times, side="right") - 1, 0, None)
         self.renderer = OffscreenRenderer(clip.model, settings.width_px, settings.height_px)
-        height = self.renderer.robot_height_m(clip.qpos[0])
+        height = self.renderer.fit_to_robot(clip.qpos[0])
         fovy = math.radians(float(self.renderer.model.vis.global_.fovy))
         self.distance_m = height / self.view.height_fraction / (2.0 * math.tan(fovy / 2.0))
         self.lookat_m = _camera_path(clip, self.rows, times, self.view.track, height)
