@@ -14,6 +14,7 @@ __all__ = [
     "NonFiniteResultError",
     "ParameterError",
     "SimulationDivergedError",
+    "VideoWarning",
     "ZmpkitError",
     "ZmpkitWarning",
 ]
@@ -57,6 +58,13 @@ class ZmpkitWarning(UserWarning):
 
 class FigureWarning(ZmpkitWarning):
     """A figure could not be drawn; the data it would show were written all the same."""
+
+
+class VideoWarning(ZmpkitWarning):
+    """A video could not be written as MP4: a GIF, a keyframe strip or nothing was written.
+
+    The data the video would show were written all the same; the warning says why.
+    """
 
 
 class InputFileError(ZmpkitError, ValueError):

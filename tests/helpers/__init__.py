@@ -4,4 +4,5 @@
 
 - :mod:`helpers.ft_data`: F-T logs built from known point loads, and a feet file.
 - :mod:`helpers.simfit_data`: recorded experiments for the simulator-fit tests.
+- :mod:`helpers.gl`: skip a test where no offscreen OpenGL context can be created (videos).
 """

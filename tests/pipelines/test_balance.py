@@ -5,17 +5,21 @@ from __future__ import annotations
 import csv
 import pickle
 import re
+from dataclasses import replace
 from html import escape as html_escape
 from pathlib import Path
 
+import imageio_ffmpeg
 import pytest
 
+from helpers.gl import skip_without_gl
 from zmpkit.analysis.table1 import TABLE1_COLUMNS
 from zmpkit.cli import main
 from zmpkit.identify import BalanceParams
-from zmpkit.pipelines.balance import BalanceConfig, run_balance
+from zmpkit.pipelines.balance import BalanceConfig, run_balance, step_experiment
 from zmpkit.pipelines.balance_document import balance_checks
 from zmpkit.pipelines.balance_report import write_balance_outputs
+from zmpkit.pipelines.videos import BALANCE_VIDEO, STEP_TRIAL_AFTER_S
 
 CONFIG = BalanceConfig(
     planes=("sagittal",),
@@ -164,3 +168,18 @@ def test_only_strict_turns_a_missed_bar_into_a_failing_exit(
 
     assert _exit_code(met, strict) == code
     assert says in capsys.readouterr().out
+
+
+def test_balance_video_films_the_dlipm_at_the_largest_target(balance_run, tmp_path: Path) -> None:
+    skip_without_gl()
+    _, result, _ = balance_run
+    filmed = replace(result, config=replace(CONFIG, video=True))
+    artifacts = write_balance_outputs(filmed, tmp_path)
+    assert artifacts.videos == (tmp_path / "step_trial.mp4",)
+    reader = imageio_ffmpeg.read_frames(str(tmp_path / "step_trial.mp4"))
+    assert next(reader)["size"] == (BALANCE_VIDEO.width_px, BALANCE_VIDEO.height_px)
+    shown_s = step_experiment(CONFIG, "sagittal").startup_window_s + STEP_TRIAL_AFTER_S
+    assert sum(1 for _ in reader) == pytest.approx(shown_s * BALANCE_VIDEO.fps + 1, abs=1)
+    assert '<video controls loop muted playsinline preload="metadata" src="step_trial.mp4">' in (
+        artifacts.report.read_text()
+    )

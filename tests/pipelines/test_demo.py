@@ -61,6 +61,10 @@ def test_demo_command(demo_run: tuple[Path, str]) -> None:
     assert (out / "balance" / "table1.csv").exists()
     assert (out / "walk_all" / "summary.json").exists()
     assert (out / "compensate" / "summary.json").exists()
+    videos = ("walk_side_by_side.mp4", "balance/step_trial.mp4")  # --video is the default
+    assert all((out / v).stat().st_size > 10_000 for v in videos)
+    html = (out / "report.html").read_text()
+    assert all(f'src="{v}"' in html for v in videos)  # embedded as <video> elements
 
 
 @pytest.mark.slow
@@ -76,5 +80,7 @@ def test_demo_report_loads_in_a_real_browser(demo_run: tuple[Path, str]) -> None
     assert seen.verdict
     assert seen.broken == []
     assert len(seen.images) >= 8  # the model, Table 1 plane figures, walks, compensation
+    assert len(seen.videos) == 2  # the walks side by side, the balance step trial
+    assert all(v["width"] > 0 for v in seen.videos)
     shot = screenshot(out / "report.html", browser, out / "report_first_screen.png")
     assert shot.stat().st_size > 10_000  # a rendered page, not an empty frame

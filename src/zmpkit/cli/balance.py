@@ -10,6 +10,7 @@ import click
 from zmpkit.cli.options import SEED, WORKERS, report_option
 from zmpkit.cli.progress import SweepProgress
 from zmpkit.cli.robot_option import robot_option
+from zmpkit.cli.video_option import video_option
 from zmpkit.control import PAPER_A_TIME_SCALE
 from zmpkit.pipelines.balance import BalanceConfig, run_balance
 from zmpkit.pipelines.balance_report import write_balance_outputs
@@ -75,6 +76,7 @@ EXIT_BARS_NOT_MET = 1
     "(default: the verdict is printed and the exit code is 0).",
 )
 @report_option
+@video_option(False, "one step trial (the DLIPM at the largest target, step_trial.mp4)")
 def balance_command(
     robot: str,
     out_dir: Path,
@@ -88,6 +90,7 @@ def balance_command(
     max_hold: float | None,
     strict: bool,
     report_format: str,
+    video: bool,
 ) -> int:
     """Paper A end to end: LIPM steps, DLIPM identification, scheduled controller, Table 1."""
     changes: dict[str, Any] = {
@@ -96,6 +99,7 @@ def balance_command(
         "effects": effects,
         "workers": workers,
         "truth": None if truth is None else str(truth),
+        "video": video,
     }
     if planes:
         changes["planes"] = planes
@@ -108,6 +112,8 @@ def balance_command(
         result = run_balance(config, out_dir, progress=progress, echo=click.echo)
     artifacts = write_balance_outputs(result, out_dir, report_format)
     click.echo(f"report: {artifacts.report}")
+    for path in artifacts.videos:
+        click.echo(f"video: {path}")
     click.echo("verdict (paper A's bars):")
     for verdict in artifacts.verdicts.values():
         for line in verdict.lines():

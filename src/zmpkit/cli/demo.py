@@ -8,6 +8,7 @@ import click
 
 from zmpkit.cli.options import report_option
 from zmpkit.cli.progress import RichDisplays
+from zmpkit.cli.video_option import video_option
 from zmpkit.pipelines.demo import DemoConfig, run_demo
 
 __all__ = ["demo_command"]
@@ -18,8 +19,11 @@ __all__ = ["demo_command"]
     "--out", "out_dir", type=click.Path(path_type=Path), default=Path("out/demo"), show_default=True
 )
 @report_option
-def demo_command(out_dir: Path, report_format: str) -> None:
+@video_option(True, "the rigid and the all-effects walk side by side and a balance step trial")
+def demo_command(out_dir: Path, report_format: str, video: bool) -> None:
     """Run the main job on the built-in virtual robot and write a report to --out."""
-    config = DemoConfig(report_format=report_format)
+    config = DemoConfig(report_format=report_format, video=video)
     result = run_demo(out_dir, config, echo=click.echo, displays=RichDisplays())
+    for path in result.videos:
+        click.echo(f"video: {path}")
     click.echo(f"report: {result.report_path}")

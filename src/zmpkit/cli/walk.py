@@ -10,6 +10,7 @@ from zmpkit.cli.app import format_or_undefined
 from zmpkit.cli.options import report_option
 from zmpkit.cli.progress import SimTimeProgress, StageProgress
 from zmpkit.cli.robot_option import robot_option
+from zmpkit.cli.video_option import video_option
 from zmpkit.experiments.walk_config import WalkConfig
 from zmpkit.experiments.walk_trial import Push
 from zmpkit.pipelines.walk import run_walk, write_walk
@@ -75,6 +76,7 @@ __all__ = ["walk_compensate_command", "walk_group", "walk_sweep_command"]
     help="Output folder (required when walking).",
 )
 @report_option
+@video_option(False, "the walk (walk.mp4)")
 @click.pass_context
 def walk_group(
     ctx: click.Context,
@@ -91,6 +93,7 @@ def walk_group(
     truth: Path | None,
     out_dir: Path | None,
     report_format: str,
+    video: bool,
 ) -> None:
     """Walk the virtual robot with the 3D-LIPM pattern (paper B) and analyse the walk."""
     if ctx.invoked_subcommand is not None:
@@ -110,6 +113,7 @@ def walk_group(
         lateral_speed_mps=lateral_speed,
         turn_rate_rps=turn_rate,
         pushes=tuple(Push.parse(text) for text in pushes),
+        video=video,
     )
     with SimTimeProgress(f"walk ({config.effects or 'none'})") as progress:
         result = run_walk(config, progress=progress)
@@ -132,6 +136,8 @@ def walk_group(
     )
     click.echo(f"summary: {Path(out_dir) / 'summary.json'}")
     click.echo(f"report: {report}")
+    if "video" in result.files:
+        click.echo(f"video: {result.files['video']}")
 
 
 @walk_group.command("compensate")

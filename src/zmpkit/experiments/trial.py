@@ -87,6 +87,9 @@ class StepTrialRecord:
         imu: gyro x, y, z [rad/s], accelerometer x, y, z [m/s²], quaternion w, x, y, z [-], (N, 10).
         hold_end: how the hold ended, one of :data:`~zmpkit.experiments.hold.HOLD_ENDS`.
         hold_note: what the hold monitor saw, in words; empty for a fixed hold.
+        qpos: the simulator's whole configuration (MuJoCo ``qpos``) per sample, shape
+            (N, nq), only when the trial was asked to record it (``record_qpos``, e.g. for a
+            video); not something a real robot reports, never written to a dataset.
     """
 
     plane: str
@@ -103,6 +106,7 @@ class StepTrialRecord:
     imu: NDArray[np.float64]
     hold_end: str = "hold"
     hold_note: str = ""
+    qpos: NDArray[np.float64] | None = None
 
     def as_time_series(self) -> TimeSeries:
         """The trial's samples as one time series (sensor-frame wrenches, joints, IMU)."""
@@ -209,6 +213,8 @@ def run_step_trial(
     config: StepExperimentConfig,
     target_m: float,
     controller: Callable[[], LeanController] | None = None,
+    *,
+    record_qpos: bool = False,
 ) -> StepTrialRecord:
     """Run one trial of ``config`` for the ZMP target ``target_m`` [m] and record it.
 
@@ -216,7 +222,8 @@ def run_step_trial(
     ankle strategy of paper A Fig. 9). With it, ``controller()`` builds a
     :class:`LeanController` (a picklable factory, so trials can run in worker processes)
     whose target is set at ``t_step`` and which is stepped every control period of the robot;
-    its angle goes through the same servo limits.
+    its angle goes through the same servo limits. ``record_qpos`` also keeps the simulator's
+    configuration per sample (:attr:`StepTrialRecord.qpos`, to render the trial).
 
     Raises:
         ParameterError: if the target is out of reach of the lean.
@@ -239,7 +246,8 @@ def run_step_trial(
     stream = make_stream() if command else None
     pusher = _Pusher(sim, config.push, config.plane, balance.push_bodies) if config.push else None
     monitor = _monitor(config, target_m, t_step, robot)
-    data = _record(sim, config, (stream, command, offsets), pusher, monitor)
+    qpos: list[NDArray[np.float64]] | None = [] if record_qpos else None
+    data = _record(sim, config, (stream, command, offsets), pusher, monitor, qpos)
     end = monitor.finish(float(data[-1, 0]))
     j = len(sim.joint_names)
     return StepTrialRecord(
@@ -257,6 +265,7 @@ def run_step_trial(
         imu=data[:, 13 + 2 * j :],
         hold_end=end.kind,
         hold_note=end.note,
+        qpos=None if qpos is None else np.array(qpos),
     )
 
 
@@ -318,12 +327,14 @@ def _record(
     lean: tuple[_LeanStream | None, Callable[[int], float | None] | None, NDArray[np.float64]],
     pusher: _Pusher | None,
     monitor: HoldMonitor,
+    qpos: list[NDArray[np.float64]] | None = None,
 ) -> NDArray[np.float64]:
     """Step ``sim`` through the trial's timeline; one row per F-T sample after settling.
 
     ``lean`` is the lean stream, its command per tick and the stance offsets [rad]. The
     timeline starts at the simulation's current time; the trial ends when ``monitor`` says
-    so, at the latest at its end time.
+    so, at the latest at its end time. If ``qpos`` is a list, the simulator's configuration
+    of each sample is appended to it.
     """
     stream, command, offsets = lean
     t0 = sim.time
@@ -348,6 +359,8 @@ def _record(
         if (k + 1) % every == 0 and k + 1 > n_settle:
             row = np.concatenate(_sample(sim, setpoints))
             rows.append(row)
+            if qpos is not None:
+                qpos.append(sim.data.qpos.copy())
             if monitor.update(float(row[0]), row[1:7], row[7:13]):
                 break
     return np.vstack(rows)

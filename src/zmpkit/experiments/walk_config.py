@@ -62,6 +62,8 @@ class WalkConfig:
         turn_rate_rps: commanded yaw rate, counter-clockwise positive [rad/s].
         pushes: forces on the torso during the walk.
         faults: sensor faults the controller meets.
+        video: whether to record the walk as a video (``walk.mp4``, drawn after the walk
+            from its recorded configurations).
     """
 
     robot: str = DEFAULT_WALK_ROBOT
@@ -78,6 +80,7 @@ class WalkConfig:
     turn_rate_rps: float = 0.0
     pushes: tuple[Push, ...] = ()
     faults: tuple[SensorFault, ...] = ()
+    video: bool = False
 
     def __post_init__(self) -> None:
         walking = get_robot(self.robot, needs="walking").require_walking()

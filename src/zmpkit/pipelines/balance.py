@@ -8,7 +8,7 @@ Paper A §4.1–4.6 on a (virtual) robot, per plane:
    model (eq. 13 or a model chosen by cross-validation) and transients → ``params.yaml``;
 3. the gain-scheduled DLIPM (Fig. 19) and a single linear correction, each run on *every*
    target, so the schedule is also tested between the points it was fitted on;
-4. Table 1 and Fig. 16, 20, 21 → ``table1.csv``, figures and ``report.md``.
+4. Table 1 and Fig. 16, 20, 21 → ``table1.csv``, figures and ``report.html``.
 
 Every sweep is a resumable dataset folder under ``DIR/datasets/``: an interrupted run loses
 no finished trial. Nothing here reads the robot's truth: only recorded sensors and design data
@@ -49,6 +49,7 @@ __all__ = [
     "PlaneResult",
     "dataset_trials",
     "run_balance",
+    "step_experiment",
     "support_polygon",
 ]
 
@@ -80,6 +81,8 @@ class BalanceConfig:
             limit needs (``time_scale`` is then the minimum); False: the fixed time scale.
         truth: a truth file replacing the robot's shipped one (for the simulator only).
         workers: processes running trials in parallel.
+        video: whether to record one step trial as a video (``step_trial.mp4``: the
+            scheduled DLIPM at the largest target of the first plane, run once more).
     """
 
     robot: str = DEFAULT_BALANCE_ROBOT
@@ -95,6 +98,7 @@ class BalanceConfig:
     servo_paced: bool = True
     truth: str | None = None
     workers: int = 2
+    video: bool = False
 
     def __post_init__(self) -> None:
         get_robot(self.robot, needs="balance")
@@ -164,7 +168,7 @@ def run_balance(
 ) -> BalanceResult:
     """Run every plane of ``config`` and write its outputs into ``out_dir``.
 
-    Writes datasets, ``params.yaml``, ``table1.csv``, figures and ``report.md`` into
+    Writes datasets, ``params.yaml``, ``table1.csv``, figures and the report into
     ``out_dir`` (created if missing).
     """
     started_s = time.time()
@@ -177,10 +181,9 @@ def run_balance(
     return BalanceResult(config=config, planes=planes, started_s=started_s)
 
 
-def _run_plane(
-    config: BalanceConfig, plane: str, out: Path, progress: _ProgressFactory | None
-) -> PlaneResult:
-    experiment = StepExperimentConfig(
+def step_experiment(config: BalanceConfig, plane: str) -> StepExperimentConfig:
+    """The step experiment every sweep of ``plane`` runs (targets [m], holds [s], effects)."""
+    return StepExperimentConfig(
         robot=config.robot,
         targets_m=config.targets_m,
         plane=plane,
@@ -190,6 +193,12 @@ def _run_plane(
         max_hold_s=config.max_hold_s,
         truth=config.truth,
     )
+
+
+def _run_plane(
+    config: BalanceConfig, plane: str, out: Path, progress: _ProgressFactory | None
+) -> PlaneResult:
+    experiment = step_experiment(config, plane)
     lean_length = design_lean_model(config.robot, plane).lean_length_m
     lipm, lipm_ends = _outcomes(config, experiment, plane, "lipm", out, progress, None)
     fit_set = {round(x, 6) for x in config.fit_targets_m}

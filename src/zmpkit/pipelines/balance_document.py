@@ -25,6 +25,7 @@ from zmpkit.analysis.report_document import (
     Section,
     Table,
     Text,
+    Video,
 )
 from zmpkit.analysis.table1 import Table1Row
 from zmpkit.identify import TERMS
@@ -39,6 +40,7 @@ __all__ = [
     "balance_figures",
     "controller_blocks",
     "identification_blocks",
+    "step_trial_videos",
     "table1_table",
 ]
 
@@ -50,6 +52,7 @@ def balance_document(
     figures: Sequence[Figure],
     verdicts: dict[str, PlaneVerdict],
     extra_sections: Sequence[Section] = (),
+    videos: Sequence[Video] = (),
 ) -> ReportDocument:
     """The balance run's report: verdict, then one section per plane, then the data."""
     c = result.config
@@ -58,6 +61,8 @@ def balance_document(
         _plane_section(plane, [f for f in figures if f"_{plane.plane}" in f.path.name])
         for plane in result.planes.values()
     ]
+    if videos:
+        sections.append(Section("The robot", tuple(videos)))
     sections += [*extra_sections, _data_section()]
     return ReportDocument(
         title=f"zmpkit balance: LIPM vs gain-scheduled DLIPM on the virtual {title} (paper A §4)",
@@ -109,6 +114,20 @@ def _pace(c: BalanceConfig) -> str:
     if c.servo_paced:
         return f"paced by the servos' acceleration limit (time scale ≥ {c.time_scale:.3g})"
     return f"at a fixed time scale {c.time_scale:.3f}"
+
+
+def step_trial_videos(result: BalanceResult, paths: Sequence[Path]) -> tuple[Video, ...]:
+    """The step-trial videos of a run, captioned."""
+    plane = next(iter(result.planes), "sagittal")
+    target = max(result.config.targets_m, key=abs)
+    return tuple(
+        Video(
+            path,
+            f"The virtual robot under the scheduled DLIPM, stepping its ZMP to {target:g} m "
+            f"({plane}), rendered from the recorded joint angles; time is simulated time.",
+        )
+        for path in paths
+    )
 
 
 def balance_checks(result: BalanceResult, verdicts: dict[str, PlaneVerdict]) -> tuple[Check, ...]:

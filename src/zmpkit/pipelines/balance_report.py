@@ -1,4 +1,4 @@
-"""Artefacts of ``zmpkit balance``: params, Table 1, figures and ``report.md``."""
+"""Artefacts of ``zmpkit balance``: params, Table 1, figures and the report (``report.html``)."""
 
 from __future__ import annotations
 
@@ -21,7 +21,12 @@ from zmpkit.analysis.step_plot import Curve, plot_step_responses
 from zmpkit.analysis.table1 import write_table1_csv
 from zmpkit.experiments import CONTROL_PERIOD_S
 from zmpkit.pipelines.balance import BalanceResult, PlaneResult
-from zmpkit.pipelines.balance_document import balance_document, balance_figures
+from zmpkit.pipelines.balance_document import (
+    balance_document,
+    balance_figures,
+    step_trial_videos,
+)
+from zmpkit.pipelines.videos import write_step_trial_video
 
 __all__ = ["BalanceArtifacts", "write_balance_outputs"]
 
@@ -31,7 +36,11 @@ _PLANNED_DURATION_S = 15.0
 
 @dataclass(frozen=True)
 class BalanceArtifacts:
-    """Paths written by :func:`write_balance_outputs`, each plane's figures and verdict."""
+    """Paths written by :func:`write_balance_outputs`, each plane's figures and verdict.
+
+    ``videos`` holds the step trial's video when the config asked for one (``step_trial.mp4``,
+    or the GIF or keyframes written instead).
+    """
 
     report: Path
     table1: Path
@@ -39,6 +48,7 @@ class BalanceArtifacts:
     figures: tuple[Path, ...]
     targets: dict[str, BalanceTargets]
     verdicts: dict[str, PlaneVerdict]
+    videos: tuple[Path, ...] = ()
 
     @property
     def met(self) -> bool:
@@ -64,10 +74,14 @@ def write_balance_outputs(
     for plane in result.planes.values():
         figures += _plane_figures(plane, out)
     verdicts = {name: plane_verdict(name, plane.rows) for name, plane in result.planes.items()}
-    document = balance_document(result, balance_figures(figures), verdicts)
+    video = write_step_trial_video(result, out) if result.config.video else None
+    videos = () if video is None or video.path is None else (video.path,)
+    document = balance_document(
+        result, balance_figures(figures), verdicts, videos=step_trial_videos(result, videos)
+    )
     report = write_report(document, out, report_format)
     targets = {name: balance_targets(name, plane.rows) for name, plane in result.planes.items()}
-    return BalanceArtifacts(report, table1, params, tuple(figures), targets, verdicts)
+    return BalanceArtifacts(report, table1, params, tuple(figures), targets, verdicts, videos)
 
 
 def _write_params(result: BalanceResult, out: Path) -> Path:

@@ -11,6 +11,9 @@
    oscillation (paper B Fig. 2, 6, 12).
 4. Compensation: ``zmpkit walk compensate --method auto --quick`` into ``compensate/``
    (tuned ZMP offsets against the trunk oscillation, checked on walks not used for tuning).
+
+With ``video`` (the default) it also draws the rigid and the all-effects walk side by side
+(``walk_side_by_side.mp4``) and one balance step trial (``balance/step_trial.mp4``).
 """
 
 from __future__ import annotations
@@ -30,9 +33,17 @@ from zmpkit.analysis.step_plot import Curve, plot_step_responses
 from zmpkit.experiments.walk_config import WalkConfig
 from zmpkit.models import Dlipm, paper_units_omega_n
 from zmpkit.pipelines.balance import BalanceConfig, BalanceResult, run_balance
+from zmpkit.pipelines.balance_document import step_trial_videos
 from zmpkit.pipelines.balance_report import BalanceArtifacts, write_balance_outputs
-from zmpkit.pipelines.demo_document import LABELS, DemoParts, demo_document, format_optional
+from zmpkit.pipelines.demo_document import (
+    LABELS,
+    DemoParts,
+    demo_document,
+    format_optional,
+    walk_side_by_side_videos,
+)
 from zmpkit.pipelines.progress import SILENT, Displays
+from zmpkit.pipelines.videos import SIDE_BY_SIDE_FILE, write_walks_side_by_side
 from zmpkit.pipelines.walk import WalkResult, run_walk, write_walk
 from zmpkit.pipelines.walk_compensate import CompensateConfig, CompensateResult, run_walk_compensate
 from zmpkit.pipelines.walk_compensate_report import write_walk_compensate
@@ -53,7 +64,8 @@ class DemoConfig:
 
     The pendulum is the balance robot's model (paper A §4.1's by default); the balance part
     runs on ``balance_robot``, the walks and the compensation on ``walk_robot``. Every report
-    is written as ``report_format`` (``html``, ``md`` or ``both``).
+    is written as ``report_format`` (``html``, ``md`` or ``both``). ``video`` draws the walks
+    side by side and a balance step trial (:mod:`zmpkit.pipelines.videos`).
     """
 
     mass_kg: float = field(default_factory=lambda: _balance_model().mass_kg)
@@ -68,16 +80,21 @@ class DemoConfig:
     balance_robot: str = DEFAULT_BALANCE_ROBOT
     walk_robot: str = DEFAULT_WALK_ROBOT
     report_format: str = "html"
+    video: bool = True
 
 
 @dataclass(frozen=True)
 class DemoResult:
-    """Paths of what the demo wrote, and the metrics it measured per model."""
+    """Paths of what the demo wrote, and the metrics it measured per model.
+
+    ``videos`` are the MP4s (or the GIFs or keyframes written instead).
+    """
 
     out_dir: Path
     report_path: Path
     figures: tuple[Path, ...]
     metrics: dict[str, StepMetrics]
+    videos: tuple[Path, ...] = ()
 
 
 def run_demo(
@@ -110,11 +127,22 @@ def run_demo(
     _write_metrics_csv(out / "step_metrics.csv", models, metrics)
     _write_params_yaml(out / "dlipm.yaml", models)
     balance = _run_balance(config, out, echo, displays) if config.balance else None
-    walks = _run_walks(config, out, echo, displays) if config.walking else {}
+    walks, walk_videos = _run_walks(config, out, echo, displays) if config.walking else ({}, ())
     compensation = _run_compensation(config, out, echo, displays) if config.compensation else None
-    parts = DemoParts(models, metrics, figures, balance, walks, compensation, started_s=started_s)
+    balance_videos = balance[0].videos if balance is not None else ()
+    parts = DemoParts(
+        models,
+        metrics,
+        figures,
+        balance,
+        walks,
+        compensation,
+        videos=walk_side_by_side_videos(walk_videos),
+        balance_videos=step_trial_videos(balance[1], balance_videos) if balance else (),
+        started_s=started_s,
+    )
     report = write_report(demo_document(out, config, parts), out, config.report_format)
-    return DemoResult(out, report, figures, metrics)
+    return DemoResult(out, report, figures, metrics, walk_videos + balance_videos)
 
 
 def _balance_model() -> BalanceModel:
@@ -138,9 +166,9 @@ def _run_compensation(
 
 def _run_walks(
     config: DemoConfig, out: Path, echo: Callable[[str], None], displays: Displays
-) -> dict[str, WalkResult]:
-
-    walks = {}
+) -> tuple[dict[str, WalkResult], tuple[Path, ...]]:
+    """The walks by effect set, and their side-by-side video if asked for."""
+    walks, records = {}, []
     title = get_robot(config.walk_robot).title
     for effects in ("none", "all"):
         echo(f"virtual {title}: zmpkit walk --effects {effects} (10 s at 0.2 m/s)")
@@ -149,7 +177,12 @@ def _run_walks(
             result = write_walk(run_walk(walk, progress), out / f"walk_{effects}")
         report = write_walk_report(result, out / f"walk_{effects}", config.report_format)
         walks[effects] = replace(result, files={**result.files, "report": report})
-    return walks
+        records.append((result.config, result.record))
+    if not config.video:
+        return walks, ()
+    echo(f"video: the rigid and the all-effects walk side by side ({SIDE_BY_SIDE_FILE})")
+    video = write_walks_side_by_side(records, out / SIDE_BY_SIDE_FILE)
+    return walks, () if video.path is None else (video.path,)
 
 
 def _run_balance(
@@ -159,7 +192,7 @@ def _run_balance(
     title = get_robot(config.balance_robot).title
     echo(f"virtual {title}: zmpkit balance --quick (LIPM steps, DLIPM identification, Table 1)")
     with displays.sweeps() as progress:
-        balance = BalanceConfig.quick(robot=config.balance_robot)
+        balance = BalanceConfig.quick(robot=config.balance_robot, video=config.video)
         result = run_balance(balance, out / "balance", progress=progress, echo=echo)
     artifacts = write_balance_outputs(result, out / "balance", config.report_format)
     return artifacts, result

@@ -36,7 +36,13 @@ from zmpkit.pipelines.walk_document import effects_name, walk_checks, walk_metri
 from zmpkit.robots.registry import get_robot
 from zmpkit.signals.step_metrics import StepMetrics
 
-__all__ = ["LABELS", "DemoParts", "demo_document", "format_optional"]
+__all__ = [
+    "LABELS",
+    "DemoParts",
+    "demo_document",
+    "format_optional",
+    "walk_side_by_side_videos",
+]
 
 LABELS = {
     "lipm": "LIPM (k_a = B_a = 0): unstable",
@@ -63,7 +69,8 @@ class DemoParts:
         balance: the balance run's artefacts and result, or None.
         walks: the walks by effect set (``none``, ``all``); empty without walking.
         compensation: the compensation run, or None.
-        videos: videos of the robots, each with its caption.
+        videos: videos of the walks, each with its caption.
+        balance_videos: videos of the balance robot, each with its caption.
         extra_figures: further figures with their captions (e.g. rigid vs all effects).
         started_s: when the demo started [s since the epoch].
     """
@@ -75,8 +82,22 @@ class DemoParts:
     walks: Mapping[str, WalkResult]
     compensation: CompensateResult | None
     videos: tuple[Video, ...] = ()
+    balance_videos: tuple[Video, ...] = ()
     extra_figures: tuple[Figure, ...] = ()
     started_s: float = 0.0
+
+
+def walk_side_by_side_videos(paths: tuple[Path, ...]) -> tuple[Video, ...]:
+    """The demo's walk video(s), captioned."""
+    return tuple(
+        Video(
+            path,
+            "The rigid walk (left) and the walk with every effect on (right), 10 s at 0.2 m/s, "
+            "open loop, rendered from the recorded joint angles; the camera follows each "
+            "robot's base, the time is simulated time, and a fall would be marked in red.",
+        )
+        for path in paths
+    )
 
 
 def demo_document(out: Path, config: Any, parts: DemoParts) -> ReportDocument:
@@ -87,7 +108,7 @@ def demo_document(out: Path, config: Any, parts: DemoParts) -> ReportDocument:
     if parts.balance is not None:
         artifacts, result = parts.balance
         checks += [c.prefixed("balance") for c in balance_checks(result, artifacts.verdicts)]
-        sections.append(_balance_section(config, artifacts, result))
+        sections.append(_balance_section(config, artifacts, result, parts.balance_videos))
         links.append(("balance", artifacts.report))
     if parts.walks:
         for effects, walk in parts.walks.items():
@@ -223,7 +244,9 @@ def _opt(value: float | None, spec: str) -> str:
     return "–" if value is None else f"{value:{spec}}"
 
 
-def _balance_section(config: Any, artifacts: BalanceArtifacts, result: Any) -> Section:
+def _balance_section(
+    config: Any, artifacts: BalanceArtifacts, result: Any, videos: tuple[Video, ...]
+) -> Section:
     title = get_robot(config.balance_robot).title
     blocks: list[Block] = [
         Text(
@@ -239,6 +262,7 @@ def _balance_section(config: Any, artifacts: BalanceArtifacts, result: Any) -> S
         key = f"fig20_{name}.png"
         if key in figures:
             blocks.append(figures[key])
+    blocks += list(videos)
     return Section(
         f"The virtual {title}'s balance: LIPM vs scheduled DLIPM (paper A §4)", tuple(blocks)
     )

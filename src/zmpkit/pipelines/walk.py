@@ -4,7 +4,8 @@
 writes its folder: :data:`~zmpkit.experiments.walk_dataset.SUMMARY_FILE` (the
 :class:`~zmpkit.experiments.walk_summary.WalkSummary` as JSON),
 :data:`~zmpkit.experiments.walk_dataset.SERIES_FILE` (one row per 10 ms frame) and the figures
-of :mod:`zmpkit.analysis.walk_plots`. Metrics are taken over the steady walk: from the end of
+of :mod:`zmpkit.analysis.walk_plots`, and with ``config.video`` the video ``walk.mp4``
+(:mod:`zmpkit.pipelines.videos`). Metrics are taken over the steady walk: from the end of
 the second step to one step before the last one ends (or the fall).
 """
 
@@ -19,6 +20,7 @@ from zmpkit.experiments.walk_config import WalkConfig
 from zmpkit.experiments.walk_dataset import SERIES_FILE, SUMMARY_FILE, write_series, write_summary
 from zmpkit.experiments.walk_summary import WalkSummary
 from zmpkit.experiments.walk_trial import ProgressCallback, WalkRecord
+from zmpkit.pipelines.videos import WALK_VIDEO_FILE, write_walk_video
 from zmpkit.pipelines.walk_report import series_joints, write_figures
 from zmpkit.walking.ik import JointTrajectory
 from zmpkit.walking.pattern import WalkingPattern
@@ -36,7 +38,8 @@ class WalkResult:
         pattern: the planned walk.
         trajectory: the IK's joint angles and errors.
         record: the simulated signals.
-        files: every file written, by role (empty until :func:`write_walk`).
+        files: every file written, by role (empty until :func:`write_walk`); ``"video"`` is
+            the walk's video (``walk.mp4``, or the GIF or keyframes written instead).
         started_s: when the run started [s since the epoch].
     """
 
@@ -67,7 +70,7 @@ def run_walk(config: WalkConfig, progress: ProgressCallback | None = None) -> Wa
 
 
 def write_walk(result: WalkResult, out_dir: str | Path) -> WalkResult:
-    """Write a walk's summary, time series and (if ``config.figures``) figures to ``out_dir``.
+    """Write a walk's summary, time series, figures and video (as its config asks) to ``out_dir``.
 
     Args:
         result: the walk, from :func:`run_walk`.
@@ -90,4 +93,8 @@ def write_walk(result: WalkResult, out_dir: str | Path) -> WalkResult:
                 out, result.config, result.pattern, result.record, result.summary.window_s
             )
         )
+    if result.config.video:
+        video = write_walk_video(result.config, result.record, out / WALK_VIDEO_FILE)
+        if video.path is not None:
+            files["video"] = video.path
     return replace(result, files=files)

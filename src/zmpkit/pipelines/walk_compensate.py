@@ -16,7 +16,7 @@ deviation over the steady walk; the summary's values are their means over the va
 walks.
 
 Writes ``summary.json`` (exactly :data:`SUMMARY_KEYS`, plus ``iteration_rms_m`` for
-``alg1``), ``compensation.json`` (tuned parameters and tuning history), ``report.md`` and
+``alg1``), ``compensation.json`` (tuned parameters and tuning history), ``report.html`` and
 the figures; tuning walks are cached under ``cache/`` (or ``cache_dir``) as they finish, so
 a rerun resumes.
 """
