@@ -69,6 +69,11 @@ def render_html(doc: ReportDocument, base: Path, *, embed_images: bool = True) -
         doc=doc,
         version=zmpkit.__version__,
         summary_html=_markdown(doc.summary),
+        title_html=_inline(doc.title),
+        checks=[
+            {"status": c.status, "name": _inline(c.name), "detail": _inline(c.detail)}
+            for c in doc.checks
+        ],
         sections=sections,
         parts=[(title, _relative(path, base)) for title, path in doc.parts],
         provenance=doc.provenance.rows() if doc.provenance else None,
@@ -95,7 +100,7 @@ class _Renderer:
 
     def section(self, section: Section, level: int, anchor: str) -> dict[str, Any]:
         return {
-            "title": section.title,
+            "title": _inline(section.title),
             "level": min(level, 6),
             "anchor": anchor,
             "blocks": [self.block(b) for b in section.blocks],
