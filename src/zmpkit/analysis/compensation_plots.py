@@ -72,25 +72,24 @@ def plot_zmp_target(
 def plot_spectra(
     spectra: Mapping[str, Spectrum], step_frequency_hz: float, path: str | Path, title: str
 ) -> Path:
-    """Trunk-pitch amplitude spectra, one line per walk (Fig. 12) [deg]."""
+    """Trunk-pitch amplitude spectra, one line per walk (Fig. 12) [rad]."""
     fig, ax = new_figure()
     for label, spectrum in spectra.items():
         keep = spectrum.frequency_hz <= MAX_FREQUENCY_HZ
-        ax.plot(spectrum.frequency_hz[keep], np.degrees(spectrum.amplitude[keep]), lw=1.0,
-                label=label)  # fmt: skip
+        ax.plot(spectrum.frequency_hz[keep], spectrum.amplitude[keep], lw=1.0, label=label)
     ax.axvline(step_frequency_hz, color="grey", ls="--", lw=0.8, label="step frequency")
-    ax.set(xlabel="frequency [Hz]", ylabel="amplitude [deg]", title=title)
+    ax.set(xlabel="frequency [Hz]", ylabel="trunk pitch amplitude [rad]", title=title)
     ax.legend(fontsize="small")
     ax.grid(True, alpha=0.3)
     return save_figure(fig, path)
 
 
 def plot_oscillation_boxes(std_per_step: Mapping[str, Array], path: str | Path, title: str) -> Path:
-    """Box plot of the trunk pitch's standard deviation over each step (Fig. 13) [deg]."""
+    """Box plot of the trunk pitch's standard deviation over each step (Fig. 13) [rad]."""
     fig, ax = new_figure()
     labels = list(std_per_step)
-    ax.boxplot([np.degrees(std_per_step[k]) for k in labels])
+    ax.boxplot([np.asarray(std_per_step[k]) for k in labels])
     ax.set_xticks(np.arange(1, len(labels) + 1), labels)
-    ax.set(ylabel="trunk pitch std per step [deg]", title=title)
+    ax.set(ylabel="trunk pitch std per step [rad]", title=title)
     ax.grid(True, axis="y", alpha=0.3)
     return save_figure(fig, path)

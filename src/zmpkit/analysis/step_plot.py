@@ -16,7 +16,7 @@ __all__ = ["Curve", "plot_step_responses"]
 
 @dataclass(frozen=True)
 class Curve:
-    """One labelled response: time [s] and angle [rad] (plotted in degrees)."""
+    """One labelled response: time [s] and angle [rad]."""
 
     label: str
     time_s: NDArray[np.float64]
@@ -29,19 +29,22 @@ def plot_step_responses(
     path: str | Path,
     *,
     title: str,
-    reference_deg: float | None = None,
-    ylim_deg: tuple[float, float] | None = None,
+    reference_rad: float | None = None,
+    ylim_rad: tuple[float, float] | None = None,
 ) -> Path:
-    """Plot ankle-angle step responses in degrees, with an optional dashed target line."""
+    """Plot ankle-angle step responses [rad] over time [s], with an optional dashed target.
+
+    ``reference_rad`` is the LIPM's static angle asin(x/l) [rad], drawn dashed.
+    """
     fig, ax = new_figure(width_in=8.0, height_in=4.5)
     for curve in curves:
-        ax.plot(curve.time_s, np.degrees(curve.angle_rad), curve.style, label=curve.label)
-    if reference_deg is not None:
-        ax.axhline(reference_deg, color="0.4", ls="--", lw=1, label="LIPM static angle asin(x/l)")
-    if ylim_deg is not None:
-        ax.set_ylim(*ylim_deg)
+        ax.plot(curve.time_s, curve.angle_rad, curve.style, label=curve.label)
+    if reference_rad is not None:
+        ax.axhline(reference_rad, color="0.4", ls="--", lw=1, label="LIPM static angle asin(x/l)")
+    if ylim_rad is not None:
+        ax.set_ylim(*ylim_rad)
     ax.set_xlabel("time [s]")
-    ax.set_ylabel("ankle angle θ [deg]")
+    ax.set_ylabel("ankle angle θ [rad]")
     ax.set_title(title)
     ax.grid(True, alpha=0.3)
     ax.legend(loc="best")

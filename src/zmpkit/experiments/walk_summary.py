@@ -32,6 +32,8 @@ __all__ = [
     "STALL_MIN_SPEED_MPS",
     "STALL_PROGRESS_RATIO",
     "WalkSummary",
+    "measured_double_support_distance",
+    "planned_double_support_distance",
     "stall_time",
     "steady_window",
     "summarise_walk",
@@ -149,12 +151,30 @@ def _mean(values: NDArray[np.float64]) -> float | None:
 
 
 def _planned_distance(pattern: WalkingPattern, mask: NDArray[np.bool_]) -> float | None:
+    return _mean(planned_double_support_distance(pattern)[mask])
+
+
+def planned_double_support_distance(pattern: WalkingPattern) -> NDArray[np.float64]:
+    """The planned feet's distance along the heading in double support [m] (pattern grid).
+
+    NaN off planned double support; the footstep plan as walked (shortened steps included).
+    """
     feet = pattern.feet
-    sole_x = np.column_stack(
-        [feet.left.position_in_world[:, 0], feet.right.position_in_world[:, 0]]
-    )
+    soles = np.stack([feet.left.position_in_world, feet.right.position_in_world], axis=1)
     contact = np.column_stack([feet.left.in_contact, feet.right.in_contact])
-    return _mean(double_support_distance(sole_x, contact)[mask])
+    return double_support_distance(soles, contact, feet.torso_yaw_in_world)
+
+
+def measured_double_support_distance(
+    pattern: WalkingPattern, record: WalkRecord
+) -> NDArray[np.float64]:
+    """The soles' distance along the planned heading in double support [m] (record grid).
+
+    The heading is the plan's torso yaw at each sample; NaN off double support.
+    """
+    feet = pattern.feet
+    heading = np.interp(record.time_s, feet.time_s, feet.torso_yaw_in_world)
+    return double_support_distance(record.sole_in_world, record.in_contact(), heading)
 
 
 def _trunk(record: WalkRecord, mask: NDArray[np.bool_], step_hz: float) -> dict[str, float]:
@@ -176,7 +196,7 @@ def _feet(
     planned_mask: NDArray[np.bool_],
 ) -> dict[str, float | None]:
     contact = record.in_contact()
-    distance = double_support_distance(record.sole_in_world[..., 0], contact)
+    distance = measured_double_support_distance(pattern, record)
     slip = foot_slip(record.sole_in_world, contact, mask)
     return {
         "mean_double_support_foot_distance_m": _mean(distance[mask]),

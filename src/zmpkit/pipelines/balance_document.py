@@ -357,14 +357,18 @@ def _data_section() -> Section:
 
 
 _CAPTIONS = {
-    "fig16": "Identification ({plane}): the settled force–torque ZMP [m] of each LIPM step "
-    "against the commanded ZMP [m], with the fitted error model and its 95 % band (paper A "
-    "Fig. 16). Trials that did not settle are drawn hollow at their last value.",
+    "fig16": "Identification ({plane}): the settled force–torque ZMP x_FT [m] of each LIPM step "
+    "against the commanded ZMP x_cmd [m], with the fitted error model (left), and the error "
+    "x_FT − x_cmd [mm] (right); paper A Fig. 16. Filled: identification trials the model was "
+    "fitted on; open squares: the validation LIPM trials at targets the fit did not use; red ×: "
+    "trials that did not settle, left out of the fit, at the mean of their last second.",
     "fig20": "Measured ZMP [m] against the reference [m] under each controller ({plane}); the "
-    "shaded region lies outside the fitted range, where the controllers extrapolate (paper A "
-    "Fig. 20).",
-    "fig21": "Step responses of the measured ZMP [m] over time [s] for each target under the LIPM "
-    "and the DLIPM ({plane}, paper A Fig. 21).",
+    "shaded region lies outside the fitted range, where the controllers extrapolate; × marks "
+    "a trial that did not settle, at the mean of its last second (paper A Fig. 20).",
+    "fig21": "Step responses of the measured ZMP [m] over time after the step [s] for each target "
+    "(one colour per target, dashed: the target) under the LIPM and the DLIPM, and both at one "
+    "target ({plane}, paper A Fig. 21); a red × ends a trial that did not settle, with its "
+    "status in the legend.",
     "fig18": "Planned ankle lean [rad] over time [s] for the 0.09 m ZMP step under the DLIPM and "
     "the linear correction, before the servo limits ({plane}; paper A Fig. 18).",
 }

@@ -102,10 +102,8 @@ def _write_params(result: BalanceResult, out: Path) -> Path:
 
 def _plane_figures(plane: PlaneResult, out: Path) -> list[Path]:
     name, ident = plane.plane, plane.identification.planes[plane.plane]
-    fit = ident.error_fit
-    used = [True] * len(fit.x_cmd)
     figures = [
-        plot_error_fit(fit.x_cmd, fit.x_measured, used, fit, out / f"fig16_{name}.png", plane=name),
+        plot_error_fit(ident, plane.rows, out / f"fig16_{name}.png", plane=name),
         plot_zmp_ref_vs_measured(plane.rows, out / f"fig20_{name}.png", plane=name),
         plot_step_responses_by_target(plane.rows, out / f"fig21_{name}.png", plane=name),
         _planned_angles(plane, out / f"fig18_{name}_planned_angle.png"),
@@ -127,6 +125,6 @@ def _planned_angles(plane: PlaneResult, path: Path) -> Path:
     return plot_step_responses(
         curves,
         path,
-        title=f"Planned lean for a {100 * _PLANNED_TARGET_M:.0f} cm ZMP step, {plane.plane}",
-        reference_deg=math.degrees(lipm),
+        title=f"Planned lean for a {_PLANNED_TARGET_M:g} m ZMP step, {plane.plane}",
+        reference_rad=lipm,
     )

@@ -28,6 +28,7 @@ from pathlib import Path
 import numpy as np
 import yaml
 
+from zmpkit.analysis.report_document import Figure
 from zmpkit.analysis.report_files import write_report
 from zmpkit.analysis.step_plot import Curve, plot_step_responses
 from zmpkit.experiments.walk_config import WalkConfig
@@ -48,6 +49,7 @@ from zmpkit.pipelines.walk import WalkResult, run_walk, write_walk
 from zmpkit.pipelines.walk_compensate import CompensateConfig, CompensateResult, run_walk_compensate
 from zmpkit.pipelines.walk_compensate_report import write_walk_compensate
 from zmpkit.pipelines.walk_document import write_walk_report
+from zmpkit.pipelines.walk_report import COMPARISON_FILE, write_effects_comparison
 from zmpkit.robots.registry import DEFAULT_BALANCE_ROBOT, DEFAULT_WALK_ROBOT, get_robot
 from zmpkit.robots.robot import BalanceModel
 from zmpkit.signals.step_metrics import StepMetrics, step_metrics
@@ -122,12 +124,13 @@ def run_demo(
         for name, m in models.items()
         if m.is_stable
     }
-    echo(f"DLIPM step responses for a {100 * config.zmp_step_m:.0f} cm ZMP step")
+    echo(f"DLIPM step responses for a {config.zmp_step_m:g} m ZMP step")
     figures = _figures(out, t, theta, lipm_static, config)
     _write_metrics_csv(out / "step_metrics.csv", models, metrics)
     _write_params_yaml(out / "dlipm.yaml", models)
     balance = _run_balance(config, out, echo, displays) if config.balance else None
     walks, walk_videos = _run_walks(config, out, echo, displays) if config.walking else ({}, ())
+    comparison = _walk_comparison(walks, out)
     compensation = _run_compensation(config, out, echo, displays) if config.compensation else None
     balance_videos = balance[0].videos if balance is not None else ()
     parts = DemoParts(
@@ -139,6 +142,7 @@ def run_demo(
         compensation,
         videos=walk_side_by_side_videos(walk_videos),
         balance_videos=step_trial_videos(balance[1], balance_videos) if balance else (),
+        extra_figures=comparison,
         started_s=started_s,
     )
     report = write_report(demo_document(out, config, parts), out, config.report_format)
@@ -185,6 +189,23 @@ def _run_walks(
     return walks, () if video.path is None else (video.path,)
 
 
+def _walk_comparison(walks: dict[str, WalkResult], out: Path) -> tuple[Figure, ...]:
+    """The rigid walk against the all-effects walk on shared axes (paper B Fig. 6)."""
+    if not {"none", "all"} <= walks.keys():
+        return ()
+    path = write_effects_comparison(
+        {k: (w.config, w.summary, w.record) for k, w in walks.items()}, out / COMPARISON_FILE
+    )
+    caption = (
+        "The rigid walk (every effect off) and the walk with every effect on, same command: "
+        "trunk pitch [rad] over the same four steps of their steady windows over time [s] "
+        "(left), and its amplitude spectrum [rad] over each walk's steady window, the one of "
+        "its summary (right), with the step frequency marked. Paper B Fig. 6 attributes the "
+        "difference to the motor and its PID."
+    )
+    return (Figure(path, caption),)
+
+
 def _run_balance(
     config: DemoConfig, out: Path, echo: Callable[[str], None], displays: Displays
 ) -> tuple[BalanceArtifacts, BalanceResult]:
@@ -217,20 +238,19 @@ def _to_rad(name: str, angle):
 
 
 def _figures(out: Path, t, theta, lipm_static: float, config: DemoConfig) -> tuple[Path, ...]:
-    ref_deg = math.degrees(lipm_static)
     early = t <= 3.0
     fig17 = plot_step_responses(
         [Curve(LABELS[n], t[early], theta[n][early]) for n in ("lipm", "dlipm_si")],
         out / "fig17_lipm_vs_dlipm.png",
-        title=f"Angular step response, ZMP step {100 * config.zmp_step_m:.0f} cm (paper A Fig. 17)",
-        reference_deg=ref_deg,
-        ylim_deg=(-0.5, 2.0 * ref_deg),
+        title=f"Angular step response, ZMP step {config.zmp_step_m:g} m (paper A Fig. 17)",
+        reference_rad=lipm_static,
+        ylim_rad=(-0.01, 2.0 * lipm_static),
     )
     fig18 = plot_step_responses(
         [Curve(LABELS[n], t, theta[n]) for n in ("dlipm_si", "dlipm_paper_units")],
         out / "fig18_dlipm_zeta08.png",
-        title="DLIPM designed for ζ = 0.8 (paper A Fig. 18)",
-        reference_deg=ref_deg,
+        title=f"DLIPM designed for ζ = {config.zeta:g} (paper A Fig. 18)",
+        reference_rad=lipm_static,
     )
     return fig17, fig18
 

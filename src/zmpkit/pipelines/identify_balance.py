@@ -68,14 +68,8 @@ def run_identify_balance(
     identification = identify_balance(trials, mass=mass, com_height=length)
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
-    fit = identification.planes[plane].error_fit
     figure = plot_error_fit(
-        fit.x_cmd,
-        fit.x_measured,
-        [True] * len(fit.x_cmd),
-        fit,
-        out / f"fig16_{plane}.png",
-        plane=plane,
+        identification.planes[plane], (), out / f"fig16_{plane}.png", plane=plane
     )
     params = identification.params.to_yaml(out / "params.yaml")
     result = IdentifyBalanceResult(identification, params, figure, figure, plane, length)

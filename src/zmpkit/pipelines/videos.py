@@ -108,7 +108,7 @@ def write_step_trial_video(result: BalanceResult, out_dir: Path) -> VideoResult 
         warnings.warn(f"{STEP_TRIAL_FILE} not drawn ({exc})", VideoWarning, stacklevel=2)
         return None
     assert record.qpos is not None  # asked for
-    label = f"DLIPM, x_ref = {100 * target_m:g} cm, {plane}"
+    label = f"DLIPM, x_ref = {target_m:g} m, {plane}"
     clip = MotionClip(_model(experiment), record.qpos, record.time, label)
     view = BALANCE_VIEW if plane == "sagittal" else replace(BALANCE_VIEW, azimuth_deg=180.0)
     window = (float(record.time[0]), record.t_step_s + STEP_TRIAL_AFTER_S)

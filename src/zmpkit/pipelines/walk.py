@@ -89,9 +89,7 @@ def write_walk(result: WalkResult, out_dir: str | Path) -> WalkResult:
     }
     if result.config.figures:
         files.update(
-            write_figures(
-                out, result.config, result.pattern, result.record, result.summary.window_s
-            )
+            write_figures(out, result.config, result.pattern, result.record, result.summary)
         )
     if result.config.video:
         video = write_walk_video(result.config, result.record, out / WALK_VIDEO_FILE)

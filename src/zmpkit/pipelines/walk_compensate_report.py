@@ -16,6 +16,7 @@ from pathlib import Path
 import numpy as np
 
 from zmpkit.analysis import compensation_plots as plots
+from zmpkit.analysis.labels import compensation_name
 from zmpkit.analysis.provenance import capture
 from zmpkit.analysis.report_document import (
     Block,
@@ -225,7 +226,9 @@ def _per_step_std(walk: CompensatedWalk, step_s: float) -> np.ndarray:
 def _figures(out: Path, result: CompensateResult) -> dict[str, Path]:
 
     step_s = result.config.step_duration_s
-    first = {"none": result.baseline[0]} | {k: v[0] for k, v in result.compensated.items()}
+    first = {compensation_name("none"): result.baseline[0]} | {
+        compensation_name(k): v[0] for k, v in result.compensated.items()
+    }
     first = {k: w for k, w in first.items() if not w.fell}
     files = {}
     if result.summary.iteration_rms_m is not None:
@@ -234,8 +237,10 @@ def _figures(out: Path, result: CompensateResult) -> dict[str, Path]:
             "Algorithm 1: desired minus multibody ZMP")  # fmt: skip
     chosen = result.compensated[result.chosen][0]
     if not chosen.fell:
-        measured = {"none": result.baseline[0].measured_zmp_in_world[:, 0],
-                    result.chosen: chosen.measured_zmp_in_world[:, 0]}  # fmt: skip
+        measured = {
+            compensation_name("none"): result.baseline[0].measured_zmp_in_world[:, 0],
+            compensation_name(result.chosen): chosen.measured_zmp_in_world[:, 0],
+        }
         files["zmp_target"] = plots.plot_zmp_target(
             chosen.time_s, chosen.desired_zmp_in_world[:, 0], chosen.target_zmp_in_world[:, 0],
             measured, out / "zmp_target.png", f"{chosen.walk.label}: ZMP x",

@@ -11,6 +11,7 @@ from __future__ import annotations
 from collections.abc import Mapping
 from pathlib import Path
 
+from zmpkit.analysis.labels import EFFECT_NAMES, effects_name
 from zmpkit.analysis.provenance import capture
 from zmpkit.analysis.report_document import (
     Block,
@@ -26,10 +27,12 @@ from zmpkit.analysis.report_files import write_report
 from zmpkit.experiments.walk_config import WalkConfig
 from zmpkit.experiments.walk_summary import WalkSummary
 from zmpkit.pipelines.walk import WalkResult
+from zmpkit.pipelines.walk_report import JOINT_PLOT_STEPS
 from zmpkit.robots.registry import get_robot
 
 __all__ = [
     "EFFECT_NAMES",
+    "effects_name",
     "fmt",
     "walk_checks",
     "walk_document",
@@ -38,20 +41,12 @@ __all__ = [
     "write_walk_report",
 ]
 
-EFFECT_NAMES = {"none": "rigid (effects off)", "all": "all effects"}
-"""How reports name the simulator's effect sets (never "none", which reads as uncompensated)."""
-
 
 def fmt(value: float | None, spec: str, unit: str = "") -> str:
     """``value`` formatted with its unit, or "–" for a value that is undefined."""
     if value is None:
         return "–"
     return f"{value:{spec}}" + (f" {unit}" if unit else "")
-
-
-def effects_name(effects: str) -> str:
-    """The report's name of an effect set: "rigid (effects off)", "all effects", or letters."""
-    return EFFECT_NAMES.get(effects, f"effects {effects}")
 
 
 def walk_checks(summary: WalkSummary, prefix: str = "") -> tuple[Check, ...]:
@@ -151,13 +146,20 @@ def walk_metrics_table(summaries: Mapping[str, WalkSummary], caption: str) -> Ta
 
 
 _CAPTIONS = {
-    "trunk_pitch": "Trunk pitch [rad] over the walk ({label}); paper B Fig. 2 shows the same "
-    "oscillation at the step frequency.",
+    "trunk_pitch": "Trunk pitch [rad] from the IMU over time [s] ({label}); shaded: the steady "
+    "window {window} s of the summary's metrics; a red line marks a fall. Paper B Fig. 2 shows "
+    "the same oscillation at the step frequency.",
+    "trunk_roll": "Trunk roll [rad] from the IMU over time [s] ({label}): the sideways sway "
+    "that grows into a roll fall (dotted: the tilt at which a walk counts as fallen, drawn when "
+    "the roll comes near it); a red line marks a fall.",
     "spectrum": "Amplitude spectrum of the trunk pitch [rad] over the steady window "
-    "{window} s (the window of the summary's metrics) ({label}); the step frequency is marked.",
-    "feet": "Sole positions along x [m] with their contact phases ({label}).",
-    "feet_distance": "Distance between the feet in double support [m] against the planned "
-    "step length ({label}); paper B Fig. 12.",
+    "{window} s (the window of the summary's metrics, so its peak is the summary's) ({label}); "
+    "the step frequency and the peak are marked (paper B Fig. 12).",
+    "feet": "Sole positions along world x [m] over time [s], drawn while each foot touches the "
+    "floor ({label}); paper B Fig. 3.",
+    "feet_distance": "Distance between the feet along the walking heading [m] in double support "
+    "over time [s], measured at the soles and as planned by the footstep plan that was walked "
+    "(shortened steps included) ({label}); paper B Fig. 4.",
 }
 
 
@@ -173,7 +175,9 @@ def walk_figures(
         template = _CAPTIONS.get(role)
         if template is None:
             caption = (
-                f"Joint `{role}`: commanded and measured angle [rad] and torque [N·m] ({label})."
+                f"Joint `{role}` over {JOINT_PLOT_STEPS} steps: commanded and measured angle "
+                f"[rad] with the torque [N·m] (top) and the tracking error, commanded − "
+                f"measured [rad] (bottom), over time [s] ({label}); paper B Figs. 7–9."
             )
         else:
             caption = template.format(label=label, window=window)

@@ -1,20 +1,38 @@
-"""Draw paper B's figures of one walk (trunk pitch, its spectrum, feet, joint tracking)."""
+"""Draw paper B's figures of one walk (trunk pitch and roll, spectrum, feet, joint tracking)."""
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from pathlib import Path
 
 import numpy as np
 
 from zmpkit.analysis import walk_plots as plots
+from zmpkit.analysis.labels import effects_name
+from zmpkit.analysis.walk_compare_plot import WalkTrace, plot_walk_comparison
 from zmpkit.experiments.walk_config import WalkConfig
-from zmpkit.experiments.walk_trial import WalkRecord
+from zmpkit.experiments.walk_summary import (
+    WalkSummary,
+    measured_double_support_distance,
+    planned_double_support_distance,
+)
+from zmpkit.experiments.walk_trial import FALL_TILT_RAD, WalkRecord
 from zmpkit.robots.registry import get_robot
-from zmpkit.signals.contact_phases import double_support_distance
 from zmpkit.signals.spectra import amplitude_spectrum
 from zmpkit.walking.pattern import WalkingPattern
 
-__all__ = ["series_joints", "write_figures"]
+__all__ = [
+    "COMPARISON_FILE",
+    "JOINT_PLOT_STEPS",
+    "joint_plot_span",
+    "series_joints",
+    "write_effects_comparison",
+    "write_figures",
+]
+
+JOINT_PLOT_STEPS = 4
+"""Steps shown by the joint-tracking figures: enough to see the step pattern, few enough
+that errors of a few hundredths of a radian stay visible."""
 
 
 def series_joints(config: WalkConfig) -> tuple[str, ...]:
@@ -22,51 +40,130 @@ def series_joints(config: WalkConfig) -> tuple[str, ...]:
     return get_robot(config.robot, needs="walking").require_walking().series_joints
 
 
+def joint_plot_span(
+    summary: WalkSummary, step_duration_s: float, end_s: float
+) -> tuple[float, float]:
+    """The time span [s] of the joint figures: :data:`JOINT_PLOT_STEPS` steps.
+
+    They start at the steady window (after the start-up steps); a walk that fell shows the
+    steps up to its fall instead, which is where the tracking went wrong.
+    """
+    span = JOINT_PLOT_STEPS * step_duration_s
+    if summary.fall_time_s is not None:
+        stop = min(summary.fall_time_s + 0.5 * step_duration_s, end_s)
+        return max(0.0, stop - span), stop
+    start = summary.window_s[0]
+    return start, min(start + span, end_s)
+
+
 def write_figures(
     out: Path,
     config: WalkConfig,
     pattern: WalkingPattern,
     record: WalkRecord,
-    window_s: tuple[float, float] | None = None,
+    summary: WalkSummary,
 ) -> dict[str, Path]:
     """Draw paper B's figures of one walk into ``out``; return them by role.
 
-    The spectrum is taken over ``window_s`` [s] (the summary's steady window, so the figure
-    shows the numbers of ``summary.json``), or over the whole record when None.
+    Angles are in [rad]. The spectrum is taken over the summary's steady window, so its
+    peak is the one in ``summary.json``; time plots shade that window and mark a fall.
     """
+    title = get_robot(config.robot).title
     label = (
-        f"{config.robot.upper()} {config.speed_mps:g} m/s, effects {config.effects}, "
-        f"{config.controller}"
+        f"{title} {config.speed_mps:g} m/s, {config.step_duration_s:g} s steps, "
+        f"{effects_name(config.effects)}, {config.controller}"
     )
     t = record.time_s
-    files = {"trunk_pitch": plots.plot_trunk_pitch(t, record.trunk_pitch_rad,
-                                                   out / "trunk_pitch.png", label)}  # fmt: skip
-    keep = np.ones(t.size, dtype=bool)
-    if window_s is not None:
-        keep = (t >= window_s[0]) & (t <= window_s[1])
-    if np.count_nonzero(keep) >= 8:
+    window = None if summary.fell else summary.window_s  # a fall has no metrics' window
+    pushes = tuple(
+        plots.PushMark(p.time_s, p.duration_s, f"push {p.force_n:g} N {_signed(p.direction)}")
+        for p in config.pushes
+    )
+    fall = (
+        plots.FallMark(summary.fall_time_s, summary.fall_kind or "tilt")
+        if summary.fell and summary.fall_time_s is not None
+        else None
+    )
+    files = {
+        "trunk_pitch": plots.plot_trunk_pitch(
+            t,
+            record.trunk_pitch_rad,
+            out / "trunk_pitch.png",
+            label,
+            window_s=window,
+            fall=fall,
+            pushes=pushes,
+        ),
+    }
+    files["trunk_roll"] = plots.plot_trunk_roll(
+        t, record.trunk_roll_rad, out / "trunk_roll.png", label,
+        fall_tilt_rad=FALL_TILT_RAD, window_s=window, fall=fall, pushes=pushes,
+    )  # fmt: skip
+    keep = (t >= summary.window_s[0]) & (t <= summary.window_s[1])
+    if window is not None and np.count_nonzero(keep) >= 8:  # a fall has no steady spectrum
         spectrum = amplitude_spectrum(record.trunk_pitch_rad[keep], float(np.median(np.diff(t))))
-        step_hz = 1.0 / config.step_duration_s
         files["spectrum"] = plots.plot_trunk_spectrum(
-            spectrum, step_hz, out / "trunk_pitch_spectrum.png", label
-        )
+            spectrum, 1.0 / config.step_duration_s, out / "trunk_pitch_spectrum.png", label,
+            window_s=window,
+        )  # fmt: skip
     contact = record.in_contact()
     sole_x = record.sole_in_world[..., 0]
     feet = dict(enumerate(record.feet))
     files["feet"] = plots.plot_feet_in_contact(
         t, {f: sole_x[:, i] for i, f in feet.items()}, {f: contact[:, i] for i, f in feet.items()},
-        out / "feet_in_contact.png", label,
+        out / "feet_in_contact.png", label, fall=fall,
     )  # fmt: skip
-    step_length = abs(config.speed_mps) * config.step_duration_s
+    planned = np.interp(
+        t, pattern.feet.time_s, planned_double_support_distance(pattern), left=np.nan,
+        right=np.nan,
+    )  # fmt: skip
     files["feet_distance"] = plots.plot_feet_distance(
-        t, double_support_distance(sole_x, contact), step_length,
-        out / "feet_distance.png", label,
+        t, measured_double_support_distance(pattern, record), planned,
+        out / "feet_distance.png", label, window_s=window, fall=fall, pushes=pushes,
     )  # fmt: skip
+    start, stop = joint_plot_span(summary, config.step_duration_s, float(t[-1]))
+    span = (t >= start) & (t <= stop)
     right_leg = series_joints(config)[3:]
     for joint in right_leg[::-1]:
         j = record.joint(joint)
         files[joint] = plots.plot_joint_tracking(
-            t, record.q_cmd_rad[:, j], record.q_meas_rad[:, j], record.torque_nm[:, j],
-            out / f"joint_{joint}.png", f"{label}: {joint}",
+            t[span], record.q_cmd_rad[span, j], record.q_meas_rad[span, j],
+            record.torque_nm[span, j], out / f"joint_{joint}.png", f"{label}: {joint}",
+            fall=fall if fall is not None and start <= fall.time_s <= stop else None,
         )  # fmt: skip
     return files
+
+
+def _signed(direction: str) -> str:
+    """A push direction with its sign: ``+x``, ``-y``."""
+    return direction if direction.startswith("-") else f"+{direction}"
+
+
+COMPARISON_FILE = "walk_rigid_vs_all_effects.png"
+"""The rigid walk against the all-effects walk, overlaid (paper B Fig. 6)."""
+
+
+def write_effects_comparison(walks: Mapping[str, tuple[WalkConfig, WalkSummary, WalkRecord]],
+                             path: Path) -> Path:  # fmt: skip
+    """Overlay the trunk pitch and its spectrum of walks that differ in their effects.
+
+    Args:
+        walks: effect-set code (``none``, ``all``, ...) → the walk's config, summary, record.
+            The walks share speed and step duration (the first one's are used).
+        path: the PNG file to write.
+    """
+    first = next(iter(walks.values()))[0]
+    traces = {
+        effects_name(effects): WalkTrace(
+            record.time_s,
+            record.trunk_pitch_rad,
+            summary.window_s,
+            summary.fall_time_s if summary.fell else None,
+        )
+        for effects, (_, summary, record) in walks.items()
+    }
+    title = (
+        f"{get_robot(first.robot).title}, {first.speed_mps:g} m/s, {first.step_duration_s:g} s "
+        f"steps, {first.controller}: trunk pitch by effect set (paper B Fig. 6)"
+    )
+    return plot_walk_comparison(traces, first.step_duration_s, path, title)

@@ -46,16 +46,25 @@ def contact_phases(in_contact: NDArray[np.bool_]) -> list[tuple[int, int]]:
 
 
 def double_support_distance(
-    sole_x_in_world: NDArray[np.float64], in_contact: NDArray[np.bool_]
+    sole_in_world: NDArray[np.float64],
+    in_contact: NDArray[np.bool_],
+    heading_rad: NDArray[np.float64] | float = 0.0,
 ) -> NDArray[np.float64]:
-    """Distance along x between two feet [m] while both touch the floor, NaN otherwise.
+    """Distance between two feet along the walking heading [m] while both touch the floor.
+
+    d = |(p₀ − p₁) · (cos ψ, sin ψ)|: the step length of a walk heading ψ, whatever its
+    direction in the world (along world x only when ψ = 0). NaN where a foot is off the floor.
 
     Args:
-        sole_x_in_world: sole-centre x of the two feet [m], shape (N, 2).
+        sole_in_world: sole-centre position of the two feet in the world frame [m], shape
+            (N, 2, k) with k ≥ 2 (x, y[, z]).
         in_contact: contact of the two feet, shape (N, 2).
+        heading_rad: walking heading ψ in the world frame [rad], shape (N,) or a scalar.
     """
     both = np.all(in_contact, axis=1)
-    return np.where(both, np.abs(sole_x_in_world[:, 0] - sole_x_in_world[:, 1]), np.nan)
+    delta = sole_in_world[:, 0, :2] - sole_in_world[:, 1, :2]
+    along = delta[:, 0] * np.cos(heading_rad) + delta[:, 1] * np.sin(heading_rad)
+    return np.where(both, np.abs(along), np.nan)
 
 
 @dataclass(frozen=True)
