@@ -20,6 +20,7 @@ from zmpkit.experiments.walk_trial import ProgressCallback, WalkRecord, simulate
 from zmpkit.robots.registry import get_robot
 from zmpkit.sim.world import Simulation
 from zmpkit.walking import generate_pattern
+from zmpkit.walking.heading_feedback import HeadingFeedbackGains
 from zmpkit.walking.ik import IkSettings, JointTrajectory, solve_walking_ik
 from zmpkit.walking.pattern import WalkingPattern
 from zmpkit.walking.walk_controllers import (
@@ -78,14 +79,19 @@ def make_controller(
     model: mujoco.MjModel,
     settings: IkSettings,
     sim: Simulation,
+    heading_feedback: bool = True,
 ) -> WalkController:
-    """The walking controller ``name`` for this walk (``open``, ``zmpip`` or ``dcm``)."""
+    """The walking controller ``name`` for this walk (``open``, ``zmpip`` or ``dcm``).
+
+    ``heading_feedback`` False switches the feedback walks' IMU yaw feedback off.
+    """
     if name == "open":
         return OpenLoopWalk(trajectory)
     layout = sensor_layout(sim, settings.sole_sites)
+    heading = None if heading_feedback else HeadingFeedbackGains(gain_per_step=0.0)
     if name == "zmpip":
-        return ZmpIpWalk(pattern, model, settings, layout, sim.joint_names)
-    return DcmWalk(pattern, model, settings, layout, sim.joint_names)
+        return ZmpIpWalk(pattern, model, settings, layout, sim.joint_names, heading_gains=heading)
+    return DcmWalk(pattern, model, settings, layout, sim.joint_names, heading_gains=heading)
 
 
 def run_walk_trial(config: WalkConfig, progress: ProgressCallback | None = None) -> WalkTrial:
@@ -100,7 +106,9 @@ def run_walk_trial(config: WalkConfig, progress: ProgressCallback | None = None)
     model, settings = robot.ik_model(), robot.ik_settings
     trajectory = solve_walking_ik(pattern, model, settings)
     sim = robot.make_simulation(config.effects, config.truth, seed=config.seed)
-    controller = make_controller(config.controller, pattern, trajectory, model, settings, sim)
+    controller = make_controller(
+        config.controller, pattern, trajectory, model, settings, sim, config.heading_feedback
+    )
     record = simulate_walk(
         sim, trajectory, progress, controller=controller, pushes=config.pushes,
         faults=config.faults,

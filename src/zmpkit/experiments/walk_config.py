@@ -64,6 +64,8 @@ class WalkConfig:
         faults: sensor faults the controller meets.
         video: whether to record the walk as a video (``walk.mp4``, drawn after the walk
             from its recorded configurations).
+        heading_feedback: whether a feedback walk (``zmpip``, ``dcm``) turns its footsteps
+            by the IMU's yaw to keep its heading (:mod:`zmpkit.walking.heading_feedback`).
     """
 
     robot: str = DEFAULT_WALK_ROBOT
@@ -81,6 +83,7 @@ class WalkConfig:
     pushes: tuple[Push, ...] = ()
     faults: tuple[SensorFault, ...] = ()
     video: bool = False
+    heading_feedback: bool = True
 
     def __post_init__(self) -> None:
         walking = get_robot(self.robot, needs="walking").require_walking()

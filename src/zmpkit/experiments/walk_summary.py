@@ -28,10 +28,12 @@ from zmpkit.walking.ik import JointTrajectory
 from zmpkit.walking.pattern import WalkingPattern
 
 __all__ = [
+    "HEADING_TOLERANCE_RAD",
     "MIN_WINDOW_S",
     "STALL_MIN_SPEED_MPS",
     "STALL_PROGRESS_RATIO",
     "WalkSummary",
+    "heading_error",
     "measured_double_support_distance",
     "planned_double_support_distance",
     "stall_time",
@@ -43,6 +45,8 @@ MIN_WINDOW_S = 1.0
 """Shortest steady window that gives metrics [s]."""
 STALL_PROGRESS_RATIO = 0.5
 """A walk stalls when two steps progress less than this share of the commanded distance [-]."""
+HEADING_TOLERANCE_RAD = 0.05
+"""A walk keeps its heading if the IMU's stays within this of the plan's [rad]."""
 STALL_MIN_SPEED_MPS = 0.02
 """Commanded speeds below this are not judged for stalls [m/s]."""
 
@@ -58,7 +62,8 @@ class WalkSummary:
         trunk_pitch_peak_hz: largest peak of the trunk-pitch spectrum above 0.5 Hz [Hz].
         trunk_pitch_peak_amplitude_rad: its amplitude [rad].
         trunk_pitch_std_rad: standard deviation of the trunk pitch [rad].
-        mean_double_support_foot_distance_m: mean x distance of the feet in double support [m].
+        mean_double_support_foot_distance_m: mean distance of the feet along the heading in
+            double support [m].
         foot_slip_m: mean horizontal sole displacement over a stance phase [m].
         foot_slip_x_m: the same along x; negative = backwards [m].
         planned_speed_mps: the planned CoM's fitted speed over the same window [m/s].
@@ -78,6 +83,10 @@ class WalkSummary:
         clamped_step_limits: the footstep limits that shortened a step (empty: none did;
             then the walk is slower than commanded).
         pushes: the pushes, as ``FORCE_N@TIME_S:DIR``.
+        heading_error_max_rad: largest |IMU yaw − planned heading| over the whole walk, both
+            taken from their start values [rad]; None after a fall or without an IMU yaw.
+        heading_error_end_rad: the same at the end of the walk (signed, counter-clockwise
+            positive) [rad].
     """
 
     fell: bool
@@ -105,6 +114,22 @@ class WalkSummary:
     commanded_turn_rate_rps: float = 0.0
     clamped_step_limits: tuple[str, ...] = ()
     pushes: tuple[str, ...] = ()
+    heading_error_max_rad: float | None = None
+    heading_error_end_rad: float | None = None
+
+
+def heading_error(pattern: WalkingPattern, record: WalkRecord) -> NDArray[np.float64] | None:
+    """IMU yaw minus the planned heading [rad], both from their start values, shape (N,).
+
+    e(t) = (ψ_IMU(t) − ψ_IMU(0)) − (ψ_plan(t) − ψ_plan(0)), with ψ_plan the plan's torso yaw
+    (the mean of the feet's) at the record's times; None without a recorded IMU yaw.
+    """
+    if record.trunk_yaw_rad is None:
+        return None
+    feet = pattern.feet
+    plan = np.interp(record.time_s, feet.time_s, feet.torso_yaw_in_world)
+    yaw = record.trunk_yaw_rad
+    return (yaw - yaw[0]) - (plan - plan[0])
 
 
 def steady_window(pattern: WalkingPattern, record: WalkRecord) -> tuple[float, float]:
@@ -240,7 +265,8 @@ def summarise_walk(
         ("mean_speed_mps", "planned_speed_mps", "trunk_pitch_peak_hz",
          "trunk_pitch_peak_amplitude_rad", "trunk_pitch_std_rad",
          "trunk_pitch_step_frequency_amplitude_rad", "mean_double_support_foot_distance_m",
-         "planned_double_support_foot_distance_m", "foot_slip_m", "foot_slip_x_m"),
+         "planned_double_support_foot_distance_m", "foot_slip_m", "foot_slip_x_m",
+         "heading_error_max_rad", "heading_error_end_rad"),
     )  # fmt: skip
     if not fell and window[1] - window[0] >= MIN_WINDOW_S:
         planned_mask = (pattern.time_s >= window[0]) & (pattern.time_s <= window[1])
@@ -249,6 +275,10 @@ def summarise_walk(
         metrics["planned_speed_mps"] = fitted_speed(pattern.time_s, com_x, planned_mask)
         metrics.update(_trunk(record, mask, step_hz))
         metrics.update(_feet(record, pattern, mask, planned_mask))
+        error = heading_error(pattern, record)
+        if error is not None and error.size:
+            metrics["heading_error_max_rad"] = float(np.max(np.abs(error)))
+            metrics["heading_error_end_rad"] = float(error[-1])
     command = pattern.config.command
     return WalkSummary(
         fell=fell,

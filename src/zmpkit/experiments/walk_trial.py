@@ -38,7 +38,7 @@ from numpy.typing import NDArray
 
 from zmpkit import _validate
 from zmpkit.errors import ParameterError
-from zmpkit.sensors.imu import quaternion_pitch_roll
+from zmpkit.sensors.imu import quaternion_pitch_roll, quaternion_yaw
 from zmpkit.sensors.mount import wrench_in_world
 from zmpkit.sensors.zmp import CONTACT_FORCE_THRESHOLD_N, zmp_in_world
 from zmpkit.sim.world import Simulation
@@ -132,6 +132,7 @@ class FrameReading:
         moment_in_world: F-T moment about each sensor, world frame [N·m], shape (F, 3).
         sensor_in_world: F-T sensor origins [m], shape (F, 3).
         contact_threshold_n: the robot's contact threshold [N] (:mod:`zmpkit.sensors.zmp`).
+        trunk_yaw_rad: IMU yaw, unwrapped [rad], shape (N,); None in records made without it.
     """
 
     frame: int
@@ -199,6 +200,7 @@ class WalkRecord:
     contact_threshold_n: float = CONTACT_FORCE_THRESHOLD_N
     fall_kind: str | None = None
     controller: str = "open"
+    trunk_yaw_rad: NDArray[np.float64] | None = None
 
     def zmp_in_world(self) -> NDArray[np.float64]:
         """The measured ZMP from the feet's F-T sensors [m], shape (N, 2); NaN without contact."""
@@ -240,7 +242,7 @@ class _Recorder:
         self.rows = 0
         self.time = np.zeros(n)
         self.q_cmd, self.q_meas, self.torque = np.zeros((n, j)), np.zeros((n, j)), np.zeros((n, j))
-        self.pitch, self.roll = np.zeros(n), np.zeros(n)
+        self.pitch, self.roll, self.yaw = np.zeros(n), np.zeros(n), np.zeros(n)
         self.force, self.moment = np.zeros((n, f, 3)), np.zeros((n, f, 3))
         self.sensor, self.sole = np.zeros((n, f, 3)), np.zeros((n, f, 3))
         self.torso = np.zeros((n, 3))
@@ -252,7 +254,9 @@ class _Recorder:
         self.time[k] = sim.time
         self.q_cmd[k], self.q_meas[k] = q_cmd, sim.encoders()
         self.torque[k] = data.qfrc_actuator[self.dof]
-        self.pitch[k], self.roll[k] = quaternion_pitch_roll(sim.imu()[2])
+        orientation = sim.imu()[2]
+        self.pitch[k], self.roll[k] = quaternion_pitch_roll(orientation)
+        self.yaw[k] = quaternion_yaw(orientation)
         for i, foot in enumerate(self.feet):
             sensor = next(f for f in sim.robot.feet if f.foot == foot)
             site = data.site(sensor.site)
@@ -273,6 +277,7 @@ class _Recorder:
             self.moment[:n], self.sensor[:n], self.sole[:n], self.torso[:n],
             fall_kind is not None, fall_time, self.qpos[:n],
             self.sim.robot.contact_force_threshold_n, fall_kind, controller,
+            np.unwrap(self.yaw[:n]),
         )  # fmt: skip
 
     def reading(self) -> FrameReading:

@@ -19,13 +19,14 @@ from zmpkit.analysis.report_document import (
     Figure,
     ReportDocument,
     Section,
+    Status,
     Table,
     Text,
     Video,
 )
 from zmpkit.analysis.report_files import write_report
 from zmpkit.experiments.walk_config import WalkConfig
-from zmpkit.experiments.walk_summary import WalkSummary
+from zmpkit.experiments.walk_summary import HEADING_TOLERANCE_RAD, WalkSummary
 from zmpkit.pipelines.walk import WalkResult
 from zmpkit.pipelines.walk_report import JOINT_PLOT_STEPS
 from zmpkit.robots.registry import get_robot
@@ -69,6 +70,27 @@ def walk_checks(summary: WalkSummary, prefix: str = "") -> tuple[Check, ...]:
             else "no footstep limit shortened a step",
         ),
     ]
+    heading = summary.heading_error_max_rad
+    if heading is not None or summary.fell:
+        open_loop = summary.controller == "open"  # no heading feedback: stated, not judged
+        status: Status = "undefined"
+        if heading is not None:
+            status = "info" if open_loop else _met(heading <= HEADING_TOLERANCE_RAD)
+        bar = (
+            "(open loop: no bar)"
+            if open_loop
+            else f"against the bar ≤ {HEADING_TOLERANCE_RAD:g} rad"
+        )
+        checks.append(
+            Check(
+                f"{lead}keeps its heading (IMU yaw against the plan's)",
+                status,
+                why
+                if heading is None
+                else f"largest error {heading:.3f} rad {bar} (at the end "
+                f"{summary.heading_error_end_rad:+.3f} rad)",
+            )
+        )
     speed = summary.mean_speed_mps
     checks.append(
         Check(
@@ -93,6 +115,10 @@ def walk_checks(summary: WalkSummary, prefix: str = "") -> tuple[Check, ...]:
         )
     )
     return tuple(checks)
+
+
+def _met(ok: bool) -> Status:
+    return "met" if ok else "missed"
 
 
 def _pct(value: float, reference: float) -> str:

@@ -14,7 +14,7 @@ import math
 import numpy as np
 from numpy.typing import NDArray
 
-__all__ = ["quaternion_pitch_roll", "tilt_from_quaternions"]
+__all__ = ["quaternion_pitch_roll", "quaternion_yaw", "tilt_from_quaternions"]
 
 
 def quaternion_pitch_roll(quat_wxyz: NDArray[np.float64]) -> tuple[float, float]:
@@ -23,6 +23,15 @@ def quaternion_pitch_roll(quat_wxyz: NDArray[np.float64]) -> tuple[float, float]
     pitch = math.asin(max(-1.0, min(1.0, 2.0 * (w * y - z * x))))
     roll = math.atan2(2.0 * (w * x + y * z), 1.0 - 2.0 * (x * x + y * y))
     return pitch, roll
+
+
+def quaternion_yaw(quat_wxyz: NDArray[np.float64]) -> float:
+    """Yaw [rad] of an orientation (ZYX Euler angles; about the world z axis), in (−π, π].
+
+    ψ = atan2(2(w z + x y), 1 − 2(y² + z²)).
+    """
+    w, x, y, z = (float(v) for v in quat_wxyz)
+    return math.atan2(2.0 * (w * z + x * y), 1.0 - 2.0 * (y * y + z * z))
 
 
 def tilt_from_quaternions(quat_wxyz: NDArray[np.float64], plane: str) -> NDArray[np.float64]:

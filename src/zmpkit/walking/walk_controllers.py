@@ -28,6 +28,9 @@ a robot whose control loop runs at the motion-frame rate). Three are built in:
   ``max_zmp_shift_m``, ``Δc`` within ``max_com_shift_m``. The CoM admittance ``A_c`` (off by
   default) moves the measured ZMP ``p`` towards ``p^d``.
 
+Both feedback walks also keep their heading: the IMU's yaw turns the feet still to land back
+to the plan (:mod:`zmpkit.walking.heading_feedback`).
+
 Controllers read only :class:`~zmpkit.walking.measurement.WalkMeasurement` (encoders, IMU,
 F-T) and the plan; the simulator's state is not theirs to see.
 """
@@ -45,6 +48,7 @@ from numpy.typing import NDArray
 from zmpkit import _validate
 from zmpkit.errors import ParameterError
 from zmpkit.models.pendulum import STANDARD_GRAVITY_MPS2
+from zmpkit.walking.heading_feedback import HeadingFeedback, HeadingFeedbackGains
 from zmpkit.walking.ik import IkSettings, JointTrajectory, WalkingIk
 from zmpkit.walking.measurement import WalkMeasurement
 from zmpkit.walking.pattern import WalkingPattern
@@ -111,10 +115,10 @@ class OpenLoopWalk:
 
 
 class _OnlineTargets:
-    """What the IK reads of a pattern, with the CoM written frame by frame."""
+    """What the IK reads of a pattern: the CoM and the feet's yaw are written frame by frame."""
 
-    def __init__(self, pattern: WalkingPattern) -> None:
-        self.feet = pattern.feet
+    def __init__(self, pattern: WalkingPattern, heading: HeadingFeedback) -> None:
+        self.feet = heading.targets
         self.com_position_in_world = pattern.com_position_in_world.copy()
 
 
@@ -131,10 +135,13 @@ class _OnlineWalk:
         ik_settings: IkSettings,
         sensors: SensorLayout,
         joint_names: tuple[str, ...],
+        heading_gains: HeadingFeedbackGains | None = None,
     ) -> None:
         self.pattern = pattern
         self.dt = pattern.config.control_period_s
-        self.targets = _OnlineTargets(pattern)
+        self.heading = HeadingFeedback(pattern.feet, heading_gains)
+        """IMU yaw feedback to the feet still to land (:mod:`zmpkit.walking.heading_feedback`)."""
+        self.targets = _OnlineTargets(pattern, self.heading)
         self.ik = WalkingIk(model, ik_settings)
         self.ik.set_targets(self.targets, 0)
         self.ik.solve(ik_settings.max_iterations * 10, self.dt)
@@ -160,6 +167,7 @@ class _OnlineWalk:
         last = min(frame - 1, self._soles.shape[0] - 1)
         self.estimator.update(measurement, self._soles[last])
         self.com_estimate_in_world[last] = self.estimator.com_in_world[:2]
+        self.heading.update(min(frame, self._soles.shape[0] - 1), measurement.imu_quaternion)
         self._correct(frame)
         self.com_target_in_world[frame] = self.targets.com_position_in_world[frame, :2]
         self.ik.set_targets(self.targets, frame)
@@ -177,6 +185,7 @@ class ZmpIpWalk(_OnlineWalk):
         sensors: where the sensors sit on ``model``.
         joint_names: the encoders' joints, in the measurement's order.
         parameters: the observer's noise levels.
+        heading_gains: the IMU yaw feedback to the footsteps (default gains; gain 0: off).
     """
 
     name = "zmpip"
@@ -189,8 +198,9 @@ class ZmpIpWalk(_OnlineWalk):
         sensors: SensorLayout,
         joint_names: tuple[str, ...],
         parameters: ZmpObserverParameters | None = None,
+        heading_gains: HeadingFeedbackGains | None = None,
     ) -> None:
-        super().__init__(pattern, model, ik_settings, sensors, joint_names)
+        super().__init__(pattern, model, ik_settings, sensors, joint_names, heading_gains)
         com = pattern.com
         initial = np.column_stack(
             [
@@ -260,6 +270,7 @@ class DcmWalk(_OnlineWalk):
         sensors: where the sensors sit on ``model``.
         joint_names: the encoders' joints, in the measurement's order.
         parameters: gains and limits.
+        heading_gains: the IMU yaw feedback to the footsteps (default gains; gain 0: off).
     """
 
     name = "dcm"
@@ -272,8 +283,9 @@ class DcmWalk(_OnlineWalk):
         sensors: SensorLayout,
         joint_names: tuple[str, ...],
         parameters: DcmParameters | None = None,
+        heading_gains: HeadingFeedbackGains | None = None,
     ) -> None:
-        super().__init__(pattern, model, ik_settings, sensors, joint_names)
+        super().__init__(pattern, model, ik_settings, sensors, joint_names, heading_gains)
         self.parameters = parameters or DcmParameters()
         com = pattern.com
         self._dcm_ref = com.com_position_in_world + com.com_velocity_in_world / self.omega

@@ -1,0 +1,152 @@
+"""IMU yaw feedback to the footsteps: a walk that keeps its heading.
+
+A walking robot turns a little at every step (its feet slide about the vertical under the
+swing leg's reaction), and an open-loop footstep plan lets these turns add up: the virtual
+NAO's straight 10 s walk ends 0.05–0.2 rad off its heading. The feedback here turns the
+footsteps that are still to come back to the plan, as a walking controller's footstep
+planner does with the IMU's yaw:
+
+- At each lift-off k of a foot, the heading error is read from the IMU,
+  e_k = (ψ_IMU − ψ_IMU,0) − (ψ_plan − ψ_plan,0) [rad], and the correction is integrated,
+  c_{k+1} = clip(c_k + clip(−K_ψ e_k, ±Δc_max), ±c_max) [rad] (K_ψ [-/step]: the fraction of
+  the error taken out per step; 0 < K_ψ < 1 converges without overshoot for a step-wise
+  constant slip; Δc_max bounds the turn of one step).
+- The lifted foot lands turned by c_{k+1} about its own vertical: its yaw target moves from
+  its old offset to c_{k+1} over the swing (a cosine ramp, no jump), then holds it while it
+  stands. The torso's yaw target is the mean of the feet's, as in the plan.
+
+Positions are left as planned, so the step lengths and the ZMP reference do not change; the
+corrected feet turn the robot's heading back, and its path with it. The clip c_max bounds
+what a drifting gyroscope (an IMU whose yaw creeps) can do to the walk: at most a turn of
+c_max. Larger turns of the feet (0.15 rad, 0.05 rad per step) made walks fall that stood
+without the feedback (the DCM stabiliser at 0.2 m/s, a 0.05 rad/s gyro bias).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, replace
+
+import numpy as np
+from numpy.typing import NDArray
+
+from zmpkit import _validate
+from zmpkit.sensors.imu import quaternion_yaw
+from zmpkit.walking.swing import FeetTrajectories
+
+__all__ = ["HeadingFeedback", "HeadingFeedbackGains"]
+
+
+@dataclass(frozen=True)
+class HeadingFeedbackGains:
+    """Gain and limit of the heading feedback (module docstring).
+
+    Attributes:
+        gain_per_step: K_ψ, the fraction of the heading error taken out per step [-]; 0
+            switches the feedback off.
+        max_correction_rad: c_max, the largest turn of the footsteps [rad].
+        max_change_per_step_rad: Δc_max, the largest change of c at one step [rad].
+    """
+
+    gain_per_step: float = 0.5
+    max_correction_rad: float = 0.08
+    max_change_per_step_rad: float = 0.02
+
+    def __post_init__(self) -> None:
+        _validate.in_range("HeadingFeedbackGains.gain_per_step", self.gain_per_step, 0.0, 1.0)
+        _validate.in_range(
+            "HeadingFeedbackGains.max_correction_rad", self.max_correction_rad, 0.0, 0.5, "rad"
+        )
+        _validate.in_range(
+            "HeadingFeedbackGains.max_change_per_step_rad", self.max_change_per_step_rad, 0.0,
+            0.5, "rad",
+        )  # fmt: skip
+
+
+class HeadingFeedback:
+    """Turns the feet still to land so that the IMU's heading follows the plan.
+
+    Args:
+        feet: the planned feet (left, right) and torso yaw; not changed.
+        gains: K_ψ and c_max.
+
+    Attributes:
+        targets: the feet the IK follows: the plan's positions, yaw targets with the
+            corrections (arrays of its own, written frame by frame).
+        correction_rad: c, the current correction [rad].
+        heading_error_rad: e at each lift-off [rad] (NaN elsewhere), shape (N,).
+    """
+
+    def __init__(self, feet: FeetTrajectories, gains: HeadingFeedbackGains | None = None) -> None:
+        self.gains = gains or HeadingFeedbackGains()
+        self._plan = feet
+        self.targets = replace(
+            feet,
+            left=replace(feet.left, yaw_in_world=feet.left.yaw_in_world.copy()),
+            right=replace(feet.right, yaw_in_world=feet.right.yaw_in_world.copy()),
+            torso_yaw_in_world=feet.torso_yaw_in_world.copy(),
+        )
+        n = feet.time_s.size
+        self._offset = {"left": np.zeros(n), "right": np.zeros(n)}
+        self._lift_offs = {
+            side: self._edges(getattr(feet, side).in_contact) for side in ("left", "right")
+        }
+        self.correction_rad = 0.0
+        self.heading_error_rad = np.full(n, np.nan)
+        self._imu_start: float | None = None
+        self._last_yaw = 0.0
+        self._turns = 0.0
+
+    @staticmethod
+    def _edges(in_contact: NDArray[np.bool_]) -> dict[int, int]:
+        """Lift-off frame → touch-down frame of each swing of one foot."""
+        contact = np.asarray(in_contact, dtype=bool)
+        lifts = np.flatnonzero(contact[:-1] & ~contact[1:]) + 1
+        lands = np.flatnonzero(~contact[:-1] & contact[1:]) + 1
+        edges = {}
+        for lift in lifts:
+            later = lands[lands > lift]
+            edges[int(lift)] = int(later[0]) if later.size else contact.size
+        return edges
+
+    def _imu_heading(self, quat_wxyz: NDArray[np.float64]) -> float:
+        """The IMU's yaw since the first reading, unwrapped [rad]."""
+        yaw = quaternion_yaw(quat_wxyz)
+        if self._imu_start is None:
+            self._imu_start, self._last_yaw = yaw, yaw
+        step = (yaw - self._last_yaw + math.pi) % (2.0 * math.pi) - math.pi
+        self._turns += step
+        self._last_yaw = yaw
+        return self._turns
+
+    def update(self, frame: int, imu_quaternion: NDArray[np.float64]) -> None:
+        """Read the IMU before ``frame``; at a lift-off, correct that foot's landing yaw."""
+        if self.gains.gain_per_step == 0.0:
+            return
+        heading = self._imu_heading(imu_quaternion)
+        plan = self._plan.torso_yaw_in_world
+        for side, lifts in self._lift_offs.items():
+            land = lifts.get(frame)
+            if land is None:
+                continue
+            error = heading - (plan[frame] - plan[0])
+            self.heading_error_rad[frame] = error
+            g = self.gains
+            change = min(max(-g.gain_per_step * error, -g.max_change_per_step_rad),
+                         g.max_change_per_step_rad)  # fmt: skip
+            c = self.correction_rad + change
+            self.correction_rad = min(max(c, -g.max_correction_rad), g.max_correction_rad)
+            self._ramp(side, frame, land)
+
+    def _ramp(self, side: str, lift: int, land: int) -> None:
+        """This foot's offset: a cosine ramp to c over the swing, then c until the end."""
+        offset = self._offset[side]
+        start, goal = float(offset[lift]), self.correction_rad
+        n = max(land - lift, 1)
+        s = 0.5 - 0.5 * np.cos(np.pi * np.arange(1, n + 1) / n)
+        offset[lift : lift + n] = start + (goal - start) * s[: offset.size - lift]
+        offset[lift + n :] = goal
+        plan, target = getattr(self._plan, side), getattr(self.targets, side)
+        target.yaw_in_world[lift:] = plan.yaw_in_world[lift:] + offset[lift:]
+        mean = 0.5 * (self._offset["left"][lift:] + self._offset["right"][lift:])
+        self.targets.torso_yaw_in_world[lift:] = self._plan.torso_yaw_in_world[lift:] + mean
