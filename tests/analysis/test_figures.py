@@ -91,8 +91,8 @@ def test_time_plots_mark_the_fall_and_the_push_in_si(monkeypatch: pytest.MonkeyP
     figures = _capture(monkeypatch, walk_plots)
     fall = walk_plots.FallMark(6.32, "roll")
     push = walk_plots.PushMark(4.2, 0.1, "push 20 N +y")
-    walk_plots.plot_trunk_roll(t, roll, "roll.png", "walk", fall_tilt_rad=0.8, fall=fall,
-                               pushes=(push,))  # fmt: skip
+    walk_plots.plot_trunk_tilt(t, roll, "roll.png", "walk", axis="roll", fall_tilt_rad=0.8,
+                               fall=fall, pushes=(push,))  # fmt: skip
     texts = _legend_texts(figures[0])
     assert "fell (roll) at 6.32 s" in texts
     assert "push 20 N +y at 4.20 s" in texts

@@ -28,9 +28,8 @@ __all__ = [
     "plot_feet_distance",
     "plot_feet_in_contact",
     "plot_joint_tracking",
-    "plot_trunk_pitch",
-    "plot_trunk_roll",
     "plot_trunk_spectrum",
+    "plot_trunk_tilt",
 ]
 
 Array = NDArray[np.float64]
@@ -88,51 +87,45 @@ def _decorate(
         ax.axvline(fall.time_s, color=_FALL_COLOUR, lw=1.5, ls="-", label=fall.label)
 
 
-def plot_trunk_pitch(
+def plot_trunk_tilt(
     time_s: Array,
-    pitch_rad: Array,
+    angle_rad: Array,
     path: str | Path,
     title: str,
     *,
+    axis: str = "pitch",
+    fall_tilt_rad: float | None = None,
     window_s: Window | None = None,
     fall: FallMark | None = None,
     pushes: Sequence[PushMark] = (),
 ) -> Path:
-    """Trunk pitch [rad] over time (paper B Fig. 2), steady window shaded, fall marked."""
-    fig, ax = new_figure()
-    ax.plot(time_s, pitch_rad, lw=1.0, label="trunk pitch (IMU)")
-    _decorate(ax, window_s, fall, pushes)
-    ax.set(xlabel="time [s]", ylabel="trunk pitch [rad]", title=title)
-    ax.legend(loc="best", fontsize="small")
-    ax.grid(True, alpha=0.3)
-    return save_figure(fig, path)
-
-
-def plot_trunk_roll(
-    time_s: Array,
-    roll_rad: Array,
-    path: str | Path,
-    title: str,
-    *,
-    fall_tilt_rad: float,
-    window_s: Window | None = None,
-    fall: FallMark | None = None,
-    pushes: Sequence[PushMark] = (),
-) -> Path:
-    """Trunk roll [rad] over time with the tilt at which a walk counts as fallen.
+    """Trunk pitch (paper B Fig. 2) or roll [rad] over time, window shaded, fall marked.
 
     Falls of a sideways-swaying walk are roll falls: the roll grows step by step before it
-    passes ``±fall_tilt_rad``; the pitch figure alone does not show it coming.
+    passes ``±fall_tilt_rad``, drawn dotted once the trace comes near it (earlier it would
+    flatten the trace); the pitch figure alone does not show such a fall coming.
+
+    Args:
+        time_s: sample times [s].
+        angle_rad: the IMU's pitch or roll [rad].
+        path: the PNG file to write.
+        title: the figure's title.
+        axis: ``"pitch"`` or ``"roll"``.
+        fall_tilt_rad: the tilt at which a walk counts as fallen [rad]; None: not drawn.
+        window_s: the summary's steady window, shaded.
+        fall: the fall to mark, if any.
+        pushes: pushes to mark.
     """
     fig, ax = new_figure()
-    ax.plot(time_s, roll_rad, lw=1.0, color="C2", label="trunk roll (IMU)")
-    peak = float(np.nanmax(np.abs(roll_rad))) if np.size(roll_rad) else 0.0
-    if peak > 0.4 * fall_tilt_rad:  # the limit drawn only where it would not flatten the trace
+    ax.plot(time_s, angle_rad, lw=1.0, color="C0" if axis == "pitch" else "C2",
+            label=f"trunk {axis} (IMU)")  # fmt: skip
+    peak = float(np.nanmax(np.abs(angle_rad))) if np.size(angle_rad) else 0.0
+    if fall_tilt_rad is not None and peak > 0.4 * fall_tilt_rad:
         for sign in (1.0, -1.0):
             ax.axhline(sign * fall_tilt_rad, color=_FALL_COLOUR, ls=":", lw=1.0,
                        label="fall tilt" if sign > 0 else "_nolegend_")  # fmt: skip
     _decorate(ax, window_s, fall, pushes)
-    ax.set(xlabel="time [s]", ylabel="trunk roll [rad]", title=title)
+    ax.set(xlabel="time [s]", ylabel=f"trunk {axis} [rad]", title=title)
     ax.legend(loc="best", fontsize="small")
     ax.grid(True, alpha=0.3)
     return save_figure(fig, path)

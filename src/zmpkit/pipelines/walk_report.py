@@ -84,19 +84,13 @@ def write_figures(
         if summary.fell and summary.fall_time_s is not None
         else None
     )
-    files = {
-        "trunk_pitch": plots.plot_trunk_pitch(
-            t,
-            record.trunk_pitch_rad,
-            out / "trunk_pitch.png",
-            label,
-            window_s=window,
-            fall=fall,
-            pushes=pushes,
-        ),
-    }
-    files["trunk_roll"] = plots.plot_trunk_roll(
-        t, record.trunk_roll_rad, out / "trunk_roll.png", label,
+    files = {}
+    files["trunk_pitch"] = plots.plot_trunk_tilt(
+        t, record.trunk_pitch_rad, out / "trunk_pitch.png", label, axis="pitch",
+        fall_tilt_rad=FALL_TILT_RAD, window_s=window, fall=fall, pushes=pushes,
+    )  # fmt: skip
+    files["trunk_roll"] = plots.plot_trunk_tilt(
+        t, record.trunk_roll_rad, out / "trunk_roll.png", label, axis="roll",
         fall_tilt_rad=FALL_TILT_RAD, window_s=window, fall=fall, pushes=pushes,
     )  # fmt: skip
     keep = (t >= summary.window_s[0]) & (t <= summary.window_s[1])
