@@ -18,8 +18,14 @@ planner does with the IMU's yaw:
 Positions are left as planned, so the step lengths and the ZMP reference do not change; the
 corrected feet turn the robot's heading back, and its path with it. The clip c_max bounds
 what a drifting gyroscope (an IMU whose yaw creeps) can do to the walk: at most a turn of
-c_max. Larger turns of the feet (0.15 rad, 0.05 rad per step) made walks fall that stood
-without the feedback (the DCM stabiliser at 0.2 m/s, a 0.05 rad/s gyro bias).
+c_max. Larger turns of the feet (0.15 rad, 0.05 rad per step) made the DCM stabiliser's
+0.2 m/s walk fall, which stands without the feedback.
+
+Measured on the virtual NAO with all effects (``zmpkit walk sweep``): the straight 10 s zmpip
+walk's largest heading error drops from 0.058 to 0.021 rad, the DCM walk's from 0.21 to
+0.084 rad; the cost is two of sixteen 20 N pushes (sideways, at a quarter and three quarters
+of the step) that the robot survives without the feedback and not with it, on two seeds.
+Holding c while the trunk tilts over 0.1 rad did not change that.
 """
 
 from __future__ import annotations
