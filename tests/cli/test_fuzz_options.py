@@ -139,7 +139,11 @@ def physical(command: str, options: dict[str, str]) -> bool:
             o("--length"), 0.0, 5.0, 1.0, open_low=True
         )
     if command == "identify sim":
-        return _in(o("--generations"), 1, 100_000, 40) and _in(o("--workers"), 1, 256, 2)
+        return (
+            _in(o("--generations"), 1, 100_000, 40)
+            and _in(o("--popsize"), 4, 65_536, 8)
+            and _in(o("--workers"), 1, 256, 2)
+        )
     return _in(o("--workers"), 1, 256, 2)  # balance
 
 
@@ -155,7 +159,7 @@ COMMANDS: dict[str, tuple[str, ...]] = {
     "walk compensate": ("--speed", "--workers", "--seed"),
     "sim push": ("--targets", "--hold", "--push-force", "--push-duration", "--workers", "--seed"),
     "identify balance": ("--mass", "--length"),
-    "identify sim": ("--generations", "--workers", "--seed"),
+    "identify sim": ("--generations", "--popsize", "--workers", "--seed"),
     "balance": ("--workers", "--seed"),
 }
 

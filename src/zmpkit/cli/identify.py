@@ -23,6 +23,8 @@ MAX_LENGTH_M = 5.0
 """Longest pendulum ``--length`` takes [m]: ankle to CoM of a humanoid is 0.2 to 1.2 m."""
 MAX_GENERATIONS = 100_000
 """Most CMA-ES generations ``--generations`` takes."""
+MAX_POPSIZE = 65_536
+"""Largest CMA-ES population ``--popsize`` takes (a GPU batch of 64 k worlds)."""
 
 
 @click.group("identify")
@@ -95,6 +97,12 @@ def identify_balance_command(
     help="CMA-ES generations (default 40; 30 quick).",
 )
 @click.option(
+    "--popsize",
+    type=BoundedInt(4, MAX_POPSIZE),
+    help="Candidates per CMA-ES generation (default CMA-ES's 4 + 3 ln n); a wide batch "
+    "backend (warp, ray) evaluates a larger population in about the same time.",
+)
+@click.option(
     "--workers", type=WORKERS, default=2, show_default=True, help="Local threads or processes."
 )
 @click.option("--seed", type=SEED, default=1, show_default=True, help="Seed of the fit.")
@@ -120,6 +128,7 @@ def identify_sim_command(
     address: str | None,
     resume: Path | None,
     generations: int | None,
+    popsize: int | None,
     workers: int,
     seed: int,
     quick: bool,
@@ -138,6 +147,7 @@ def identify_sim_command(
         workers=workers,
         resume=None if resume is None else str(resume),
         generations=generations,
+        popsize=popsize,
         seed=seed,
         quick=quick,
         self_test=self_test,
