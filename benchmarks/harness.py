@@ -18,7 +18,15 @@ from typing import Any, Literal
 import numpy as np
 import scipy
 
-__all__ = ["base_parser", "best_of", "environment", "print_table", "write_json", "write_run"]
+__all__ = [
+    "base_parser",
+    "best_of",
+    "environment",
+    "pin_threads",
+    "print_table",
+    "write_json",
+    "write_run",
+]
 
 Justify = Literal["default", "left", "center", "right", "full"]
 
@@ -37,6 +45,7 @@ def environment() -> dict[str, Any]:
         "machine": platform.machine(),
         "processor": platform.processor(),
         "cpu_count": os.cpu_count(),
+        "cpus_used": len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else None,
     }
 
 
@@ -100,8 +109,39 @@ def write_run(args: argparse.Namespace, results: dict[str, Any]) -> None:
     write_json(args.json, {"args": run_args, "env": info, **results})
 
 
+class _BenchParser(argparse.ArgumentParser):
+    """An argument parser that pins the process to ``--threads`` CPUs once it has parsed."""
+
+    def parse_args(self, args=None, namespace=None):  # type: ignore[override]
+        parsed = super().parse_args(args, namespace)
+        if parsed.threads is not None:
+            try:
+                pin_threads(parsed.threads)
+            except ValueError as error:
+                self.error(str(error))
+        return parsed
+
+
+def pin_threads(n: int) -> None:
+    """Run this process and every thread it starts later on its first ``n`` CPUs.
+
+    A benchmark's ratios then compare what ``n`` cores do, whatever the machine has (CPU
+    affinity, which the MuJoCo thread pools and BLAS inherit); ``environment()`` reports it
+    as ``cpus_used``.
+    """
+    if not hasattr(os, "sched_setaffinity"):
+        raise ValueError("--threads needs CPU affinity, which this system lacks (Linux has it)")
+    available = sorted(os.sched_getaffinity(0))
+    if not 1 <= n <= len(available):
+        raise ValueError(f"--threads must be an integer in [1, {len(available)}]; got {n}")
+    os.sched_setaffinity(0, set(available[:n]))
+
+
 def base_parser(description: str) -> argparse.ArgumentParser:
-    """An argument parser with ``--json PATH`` (where to write the results, if anywhere)."""
-    parser = argparse.ArgumentParser(description=description)
+    """An argument parser with ``--json PATH`` and ``--threads N`` (pin to N CPUs)."""
+    parser = _BenchParser(description=description)
     parser.add_argument("--json", type=Path, help="write the results to this JSON file")
+    parser.add_argument(
+        "--threads", type=int, help="run on this many CPUs only (default: all it may use)"
+    )
     return parser

@@ -1,8 +1,8 @@
 """IMU yaw feedback to the footsteps: a walk that keeps its heading.
 
 A walking robot turns a little at every step (its feet slide about the vertical under the
-swing leg's reaction), and an open-loop footstep plan lets these turns add up: the virtual
-NAO's straight 10 s walk ends 0.05–0.2 rad off its heading. The feedback here turns the
+swing leg's reaction), and an open-loop footstep plan lets these turns add up: the built-in
+kid-size robot's straight 10 s walk ends 0.05–0.2 rad off its heading. The feedback here turns the
 footsteps that are still to come back to the plan, as a walking controller's footstep
 planner does with the IMU's yaw:
 
@@ -21,11 +21,11 @@ what a drifting gyroscope (an IMU whose yaw creeps) can do to the walk: at most 
 c_max. Larger turns of the feet (0.15 rad, 0.05 rad per step) made the DCM stabiliser's
 0.2 m/s walk fall, which stands without the feedback.
 
-Measured on the virtual NAO with all effects (``zmpkit walk sweep``): the straight 10 s zmpip
-walk's largest heading error drops from 0.058 to 0.021 rad, the DCM walk's from 0.21 to
-0.084 rad; the cost is two of sixteen 20 N pushes (sideways, at a quarter and three quarters
-of the step) that the robot survives without the feedback and not with it, on two seeds.
-Holding c while the trunk tilts over 0.1 rad did not change that.
+Measured on the built-in kid-size walker with all effects (``zmpkit walk sweep``): the straight
+10 s zmpip walk's largest heading error drops from 0.058 to 0.021 rad, the DCM walk's from 0.21
+to 0.084 rad; the cost is two of sixteen 20 N pushes (sideways, at a quarter and three quarters
+of the step) that the robot survives without the feedback and not with it, on two seeds. Holding
+c while the trunk tilts over 0.1 rad did not change that.
 """
 
 from __future__ import annotations
