@@ -14,6 +14,7 @@ from zmpkit.analysis.balance_validation import evaluate_trial, percent_error
 from zmpkit.analysis.balance_verdict import plane_verdict
 from zmpkit.analysis.table1 import (
     BASE_COLUMNS,
+    FEEDBACK_COLUMNS,
     STATUS_COLUMNS,
     TABLE1_COLUMNS,
     Table1Row,
@@ -119,9 +120,19 @@ def _rows(dlipm_far: float, lipm_far_rate: float = 0.0, fit_high: float = 0.1) -
 def test_earlier_columns_are_kept_and_the_new_ones_follow() -> None:
     assert BASE_COLUMNS == ORIGINAL_COLUMNS
     assert TABLE1_COLUMNS[: len(ORIGINAL_COLUMNS)] == ORIGINAL_COLUMNS
-    assert TABLE1_COLUMNS[len(ORIGINAL_COLUMNS) :] == STATUS_COLUMNS
+    status_end = len(ORIGINAL_COLUMNS) + len(STATUS_COLUMNS)
+    assert TABLE1_COLUMNS[len(ORIGINAL_COLUMNS) : status_end] == STATUS_COLUMNS
+    assert TABLE1_COLUMNS[status_end:] == FEEDBACK_COLUMNS
     assert "lipm_drift_mm_s" in STATUS_COLUMNS
     assert STATUS_COLUMNS[-1] == "extrapolated"
+    assert FEEDBACK_COLUMNS[:4] == (
+        "lipm_pid_zmp",
+        "lipm_pid_error_pct",
+        "lipm_pid_overshoot_pct",
+        "lipm_pid_settling_s",
+    )
+    assert "dlipm_fb_settling_s" in FEEDBACK_COLUMNS
+    assert "dlipm_fb_status" in FEEDBACK_COLUMNS
 
 
 def test_a_creeping_trial_reports_its_drift_instead_of_an_error(tmp_path: Path) -> None:

@@ -5,7 +5,9 @@ trial ended (:data:`STATUS_COLUMNS`): its status (``settled``, ``drifting``,
 ``oscillating``, ``short``, ``tipping``), its hold [s], its drift rate at the end if
 unsettled [mm/s] and the error over its last second [%]; and ``extrapolated`` (1: the
 target lies outside the range of measured ZMPs the error model was fitted on, so the
-controllers ran the model beyond its data).
+controllers ran the model beyond its data). Last, :data:`FEEDBACK_COLUMNS`: the same
+measures for the LIPM with a PI on the measured ZMP (``lipm_pid_*``) and the DLIPM with
+that PI (``dlipm_fb_*``), empty unless the run had ``--dlipm-feedback``.
 """
 
 from __future__ import annotations
@@ -20,6 +22,7 @@ from zmpkit.control.schedule import EXTRAPOLATION_TOLERANCE_M
 
 __all__ = [
     "BASE_COLUMNS",
+    "FEEDBACK_COLUMNS",
     "STATUS_COLUMNS",
     "TABLE1_COLUMNS",
     "Table1Row",
@@ -55,7 +58,13 @@ STATUS_COLUMNS = (
 )
 """Columns after :data:`BASE_COLUMNS`: how each controller's trial ended, extrapolation."""
 BASE_COLUMNS = TABLE1_COLUMNS
-TABLE1_COLUMNS = BASE_COLUMNS + STATUS_COLUMNS
+_FEEDBACK_CONTROLLERS = ("lipm_pid", "dlipm_fb")
+_MEASURES = ("zmp", "error_pct", "overshoot_pct", "settling_s")
+FEEDBACK_COLUMNS = tuple(
+    f"{c}_{name}" for c in _FEEDBACK_CONTROLLERS for name in (*_MEASURES, *_STATUS_FIELDS)
+)
+"""Columns after :data:`STATUS_COLUMNS`: LIPM+PID and DLIPM+feedback, when they ran."""
+TABLE1_COLUMNS = BASE_COLUMNS + STATUS_COLUMNS + FEEDBACK_COLUMNS
 
 
 @dataclass(frozen=True)
@@ -70,6 +79,8 @@ class Table1Row:
         linear: the single linear correction's outcome.
         fitted_on: whether the fit used this target's LIPM step.
         fit_range_m: range of measured ZMPs the error model was fitted on [m]; None: unknown.
+        lipm_pid: the LIPM with a PI on the measured ZMP; None if not run.
+        dlipm_fb: the DLIPM with that PI (DLIPM+feedback); None if not run.
     """
 
     plane: str
@@ -79,6 +90,8 @@ class Table1Row:
     linear: ControllerOutcome
     fitted_on: bool
     fit_range_m: tuple[float, float] | None = None
+    lipm_pid: ControllerOutcome | None = None
+    dlipm_fb: ControllerOutcome | None = None
 
     @property
     def extrapolated(self) -> bool:
@@ -117,12 +130,22 @@ class Table1Row:
         }
 
     def outcomes(self) -> dict[str, ControllerOutcome]:
-        """The outcomes by controller name."""
-        return {"lipm": self.lipm, "dlipm": self.dlipm, "linear": self.linear}
+        """The outcomes by controller name (the feedback ones only if they ran)."""
+        out = {"lipm": self.lipm, "dlipm": self.dlipm, "linear": self.linear}
+        for name in _FEEDBACK_CONTROLLERS:
+            outcome: ControllerOutcome | None = getattr(self, name)
+            if outcome is not None:
+                out[name] = outcome
+        return out
 
     def _status_cells(self) -> dict[str, str]:
         cells = {}
         for name, o in self.outcomes().items():
+            if name in _FEEDBACK_CONTROLLERS:
+                cells[f"{name}_zmp"] = _fmt(o.zmp_measured)
+                cells[f"{name}_error_pct"] = _fmt(o.error_pct)
+                cells[f"{name}_overshoot_pct"] = _fmt(o.overshoot_pct)
+                cells[f"{name}_settling_s"] = _fmt(o.settling_time_s)
             cells[f"{name}_status"] = o.status
             cells[f"{name}_hold_s"] = _fmt(o.hold_s)
             cells[f"{name}_drift_mm_s"] = _fmt(o.drift_mm_s)
@@ -146,16 +169,28 @@ def write_table1_csv(rows: Sequence[Table1Row], path: str | Path) -> Path:
 
 
 def table1_markdown(rows: Sequence[Table1Row]) -> str:
-    """Table 1 as Markdown: ZMP [m], error [%], overshoot [%], settling [s] per controller."""
+    """Table 1 as Markdown: ZMP [m], error [%], overshoot [%], settling [s] per controller.
+
+    With feedback runs, the LIPM+PID and DLIPM+feedback errors [%] are two further columns.
+    """
+    feedback = any(row.dlipm_fb is not None for row in rows)
+    extra = " LIPM+PID err [%] | DLIPM+fb err [%] |" if feedback else ""
     head = (
         "| plane | ZMP_ref [m] | LIPM ZMP [m] | LIPM err [%] | DLIPM ZMP [m] | DLIPM err [%] "
-        "| linear err [%] | LIPM OS [%] | DLIPM OS [%] | LIPM ts [s] | DLIPM ts [s] |\n"
-        + "|---" * 11
+        "| linear err [%] | LIPM OS [%] | DLIPM OS [%] | LIPM ts [s] | DLIPM ts [s] |"
+        + extra
+        + "\n"
+        + "|---" * (13 if feedback else 11)
         + "|"
     )
     lines = [head]
     for row in rows:
         c = row.cells()
+        more = (
+            f" {_pct(c.get('lipm_pid_error_pct', ''))} | {_pct(c.get('dlipm_fb_error_pct', ''))} |"
+            if feedback
+            else ""
+        )
         mark = ("" if row.fitted_on else " *") + (" †" if row.extrapolated else "")
         lines.append(
             f"| {c['plane']} | {c['zmp_ref']}{mark} | {_fixed(c['lipm_zmp'], 5)} "
@@ -163,7 +198,7 @@ def table1_markdown(rows: Sequence[Table1Row]) -> str:
             f"| {_fixed(c['dlipm_zmp'], 5)} | {_pct(c['dlipm_error_pct'])} "
             f"| {_pct(c['linear_error_pct'])} "
             f"| {_pct(c['lipm_overshoot_pct'])} | {_pct(c['dlipm_overshoot_pct'])} "
-            f"| {_fixed(c['lipm_settling_s'], 2)} | {_fixed(c['dlipm_settling_s'], 2)} |"
+            f"| {_fixed(c['lipm_settling_s'], 2)} | {_fixed(c['dlipm_settling_s'], 2)} |" + more
         )
     return (
         "\n".join(lines)

@@ -146,6 +146,11 @@ class DlipmController:
         return self._angle
 
     @property
+    def angle_limit_rad(self) -> float:
+        """The output angle is clamped to ±this [rad]."""
+        return self._angle_max
+
+    @property
     def rate(self) -> float:
         """The model's angular rate [rad/s]."""
         return self._x1

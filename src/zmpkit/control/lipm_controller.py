@@ -122,6 +122,11 @@ class LipmController:
         """The last ankle angle output [rad]."""
         return self._angle
 
+    @property
+    def reads_zmp(self) -> bool:
+        """Whether :meth:`step` wants the measured ZMP (it has a PID)."""
+        return self.pid is not None
+
     def commanded_zmp(self, x_ref: float) -> float:
         """The LIPM-expected ZMP to command for target ``x_ref`` [m]: the target itself."""
         return x_ref

@@ -16,6 +16,7 @@ from typing import Any
 
 from zmpkit._validate import finite, in_range, positive
 from zmpkit.errors import ParameterError
+from zmpkit.experiments.ft_faults import FtFaults
 from zmpkit.robots.registry import DEFAULT_BALANCE_ROBOT, get_robot
 from zmpkit.signals import PLANES
 from zmpkit.sim.effect_set import EffectSet
@@ -96,6 +97,9 @@ class StepExperimentConfig:
             most :data:`MAX_HOLD_S`.
         push: optional push at ``t_step``.
         truth: path of a truth file replacing the shipped one, or ``None``.
+        faults: F-T faults injected into what a feedback controller reads, kinds from
+            :data:`~zmpkit.experiments.ft_faults.FAULT_KINDS` (:mod:`.ft_faults`); the
+            recorded data stay clean.
     """
 
     robot: str = DEFAULT_BALANCE_ROBOT
@@ -109,9 +113,13 @@ class StepExperimentConfig:
     max_hold_s: float | None = None
     push: PushConfig | None = None
     truth: str | None = None
+    faults: tuple[str, ...] = ()
 
     def __post_init__(self) -> None:
         get_robot(self.robot, needs="balance")
+        object.__setattr__(self, "faults", tuple(self.faults))
+        if self.faults:
+            FtFaults(self.faults)  # checks the kinds
         if self.plane not in PLANES:
             raise ParameterError(f"plane must be one of {', '.join(PLANES)}; got {self.plane!r}")
         object.__setattr__(self, "effects", EffectSet.parse(self.effects).letters)
@@ -146,6 +154,8 @@ class StepExperimentConfig:
         """Everything that decides a trial's data except its target, as JSON-ready values."""
         out = asdict(self)
         out.pop("targets_m")
+        if not self.faults:
+            out.pop("faults")  # as before faults existed: older datasets resume
         return out
 
 

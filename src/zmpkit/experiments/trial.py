@@ -22,15 +22,17 @@ from __future__ import annotations
 
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
-from typing import Protocol
+from typing import Protocol, cast
 
 import numpy as np
 from numpy.typing import NDArray
 
 from zmpkit.experiments.config import PushConfig, StepExperimentConfig
+from zmpkit.experiments.ft_faults import FtFaults
 from zmpkit.experiments.history import previous_target, replay_previous_lean, stance_offsets
 from zmpkit.experiments.hold import HoldMonitor
 from zmpkit.experiments.lean import Lean, design_lean_model, lean_angle
+from zmpkit.experiments.zmp_reading import ZmpReader
 from zmpkit.io import feet_from_mapping
 from zmpkit.robots.registry import get_robot
 from zmpkit.robots.robot import Robot
@@ -242,12 +244,19 @@ def run_step_trial(
 
     offsets = _carry_in(sim, config, target_m, lean, make_stream, seed)
     t_step = sim.time + round(config.t_step_s / sim.dt) * sim.dt
-    command = _command(angle, target_m, controller, sim.dt, balance.control_period_s)
-    stream = make_stream() if command else None
+    reader = ZmpReader(
+        sim,
+        config.plane,
+        feet_from_mapping(robot.feet_mounts()),
+        FtFaults(config.faults) if config.faults else None,
+    )
+    command = _command(angle, target_m, controller, sim.dt, balance.control_period_s, reader)
+    stream = make_stream() if command is not None else None
     pusher = _Pusher(sim, config.push, config.plane, balance.push_bodies) if config.push else None
     monitor = _monitor(config, target_m, t_step, robot)
     qpos: list[NDArray[np.float64]] | None = [] if record_qpos else None
-    data = _record(sim, config, (stream, command, offsets), pusher, monitor, qpos)
+    feedback = reader if command is not None and command.reads_zmp else None
+    data = _record(sim, config, (stream, command, offsets), pusher, monitor, qpos, feedback)
     end = monitor.finish(float(data[-1, 0]))
     j = len(sim.joint_names)
     return StepTrialRecord(
@@ -305,36 +314,79 @@ def _monitor(
     )
 
 
+class _Command:
+    """The lean-angle target per servo tick after the step (None: keep the last one).
+
+    With a controller that reads the ZMP (``reads_zmp``), each control tick gives it the
+    measured ZMP from ``reader`` (None for a missing sample).
+    """
+
+    def __init__(
+        self,
+        angle: float,
+        controller: LeanController | None,
+        every: int,
+        dt: float,
+        reader: ZmpReader | None,
+    ) -> None:
+        self._angle, self._controller, self._every, self._dt = angle, controller, every, dt
+        self.reads_zmp = bool(getattr(controller, "reads_zmp", False))
+        self._reader = reader if self.reads_zmp else None
+        self.period_ticks = every
+
+    def __call__(self, k: int) -> float | None:
+        controller = self._controller
+        if controller is None:
+            return self._angle if k == 0 else None
+        if k % self._every:
+            return None
+        if self._reader is None:
+            return controller.step()
+        measured = self._reader.read(k * self._dt)
+        return cast(_ZmpFeedbackController, controller).step(measured)
+
+
+class _ZmpFeedbackController(Protocol):
+    """A lean controller that reads the measured ZMP each tick (``reads_zmp`` is true)."""
+
+    def step(self, measured_zmp_m: float | None, /) -> float:
+        """Advance one period with this tick's measured ZMP (None: missing) [rad]."""
+        ...
+
+
 def _command(
     angle: float,
     target_m: float,
     controller: Callable[[], LeanController] | None,
     dt: float,
     period: float = CONTROL_PERIOD_S,
-) -> Callable[[int], float | None] | None:
+    reader: ZmpReader | None = None,
+) -> _Command | None:
     """Lean-angle target per servo tick after the step (None: keep), or None for no lean."""
+    every = max(1, round(period / dt))
     if controller is None:
-        return (lambda k: angle if k == 0 else None) if angle else None
+        return _Command(angle, None, every, dt, None) if angle else None
     lean_controller = controller()
     lean_controller.set_target(target_m)
-    every = max(1, round(period / dt))
-    return lambda k: lean_controller.step() if k % every == 0 else None
+    return _Command(angle, lean_controller, every, dt, reader)
 
 
 def _record(
     sim: Simulation,
     config: StepExperimentConfig,
-    lean: tuple[_LeanStream | None, Callable[[int], float | None] | None, NDArray[np.float64]],
+    lean: tuple[_LeanStream | None, _Command | None, NDArray[np.float64]],
     pusher: _Pusher | None,
     monitor: HoldMonitor,
     qpos: list[NDArray[np.float64]] | None = None,
+    reader: ZmpReader | None = None,
 ) -> NDArray[np.float64]:
     """Step ``sim`` through the trial's timeline; one row per F-T sample after settling.
 
     ``lean`` is the lean stream, its command per tick and the stance offsets [rad]. The
     timeline starts at the simulation's current time; the trial ends when ``monitor`` says
     so, at the latest at its end time. If ``qpos`` is a list, the simulator's configuration
-    of each sample is appended to it.
+    of each sample is appended to it. A ``reader`` (for a controller that reads the ZMP)
+    takes its start-up offset over the start-up window, once per control period.
     """
     stream, command, offsets = lean
     t0 = sim.time
@@ -345,7 +397,11 @@ def _record(
     index = [names.index(j) for j in stream.joints] if stream else []
     setpoints = list(sim.servo.position)
     rows: list[NDArray[np.float64]] = []
+    n_startup = n_step - round(config.startup_window_s / dt)
+    every_control = command.period_ticks if command is not None else 1
     for k in range(round((monitor.end_time_s - t0) / dt)):
+        if reader is not None and n_startup <= k < n_step and (k - n_step) % every_control == 0:
+            reader.observe_startup()
         if stream is not None and command is not None and k >= n_step:
             target = command(k - n_step)
             if target is not None:

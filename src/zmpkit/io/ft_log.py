@@ -26,6 +26,7 @@ from numpy.typing import NDArray
 from zmpkit._validate import list_some, shorten
 from zmpkit.errors import InputFileError
 from zmpkit.io.yaml_file import read_yaml_mapping
+from zmpkit.sensors.plausibility import MAX_PLAUSIBLE_FORCE_N, MAX_PLAUSIBLE_MOMENT_NM
 
 __all__ = [
     "FT_LOG_COLUMNS",
@@ -45,13 +46,6 @@ FT_LOG_COLUMNS: tuple[str, ...] = (
     *(f"right_{a}" for a in WRENCH_AXES),
     *(f"left_{a}" for a in WRENCH_AXES),
 )
-MAX_PLAUSIBLE_FORCE_N = 1.0e5
-"""Largest force component a foot F-T sensor can plausibly report [N]: 100 kN, some 50
-times the range of a humanoid's ankle sensor (a JR3 reads up to ~2 kN). Beyond it a value is
-a unit, scaling or logging error, and a ZMP computed from it would be meaningless."""
-MAX_PLAUSIBLE_MOMENT_NM = 1.0e4
-"""Largest moment component a foot F-T sensor can plausibly report [N·m]: 10 kN·m (a JR3
-reads up to ~200 N·m)."""
 _ENCODING = "utf-8-sig"  # UTF-8, with or without the byte-order mark spreadsheets write
 _NUMBER = re.compile(r"^[+-]?(\d+(\.\d*)?|\.\d+)([eE][+-]?\d+)?$")
 _NON_FINITE = re.compile(r"^[+-]?(nan|inf|infinity)$", re.IGNORECASE)

@@ -7,7 +7,10 @@ Paper A §4.1–4.6 on a (virtual) robot, per plane:
 2. identification on the *fit* targets only (even targets by default): steady-state error
    model (eq. 13 or a model chosen by cross-validation) and transients → ``params.yaml``;
 3. the gain-scheduled DLIPM (Fig. 19) and a single linear correction, each run on *every*
-   target, so the schedule is also tested between the points it was fitted on;
+   target, so the schedule is also tested between the points it was fitted on; with
+   ``dlipm_feedback`` also the LIPM and the DLIPM with a PI on the measured ZMP (LIPM+PID,
+   DLIPM+feedback), whose F-T readings may carry injected faults (``faults``,
+   :mod:`zmpkit.experiments.ft_faults`) behind a plausibility gate;
 4. Table 1 and Fig. 16, 20, 21 → ``table1.csv``, figures and ``report.html``.
 
 Every sweep is a resumable dataset folder under ``DIR/datasets/``: an interrupted run loses
@@ -24,7 +27,7 @@ from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
-from zmpkit.analysis.balance_validation import evaluate_trial
+from zmpkit.analysis.balance_validation import ControllerOutcome, evaluate_trial
 from zmpkit.analysis.table1 import Table1Row
 from zmpkit.errors import ParameterError
 from zmpkit.experiments import (
@@ -35,8 +38,9 @@ from zmpkit.experiments import (
     run_step_sweep,
     trial_response,
 )
+from zmpkit.experiments.ft_faults import FtFaults
 from zmpkit.identify import BalanceIdentification, BalanceParams, ErrorModel, identify_balance
-from zmpkit.pipelines.balance_controllers import LeanControllerFactory
+from zmpkit.pipelines.balance_controllers import FEEDBACK_KINDS, LeanControllerFactory
 from zmpkit.robots.registry import DEFAULT_BALANCE_ROBOT, get_robot
 from zmpkit.robots.robot import Robot
 from zmpkit.signals import StepTrial
@@ -83,6 +87,10 @@ class BalanceConfig:
         workers: processes running trials in parallel.
         video: whether to record one step trial as a video (``step_trial.mp4``: the
             scheduled DLIPM at the largest target of the first plane, run once more).
+        dlipm_feedback: also run LIPM+PID and DLIPM+feedback (a PI on the measured ZMP,
+            :mod:`zmpkit.control.dlipm_feedback`), two more column groups of Table 1.
+        faults: F-T fault kinds injected into the feedback controllers' readings
+            (:data:`~zmpkit.experiments.ft_faults.FAULT_KINDS`); needs ``dlipm_feedback``.
     """
 
     robot: str = DEFAULT_BALANCE_ROBOT
@@ -99,9 +107,18 @@ class BalanceConfig:
     truth: str | None = None
     workers: int = 2
     video: bool = False
+    dlipm_feedback: bool = False
+    faults: tuple[str, ...] = ()
 
     def __post_init__(self) -> None:
         get_robot(self.robot, needs="balance")
+        object.__setattr__(self, "faults", tuple(dict.fromkeys(self.faults)))
+        if self.faults and not self.dlipm_feedback:
+            raise ParameterError(
+                "--fault injects faults into what the ZMP feedback reads: it needs --dlipm-feedback"
+            )
+        if self.faults:
+            FtFaults(self.faults)  # checks the kinds
         run = {round(x, 6) for x in self.targets_m}
         for x in self.fit_targets_m:
             if round(x, 6) not in run:
@@ -207,14 +224,29 @@ def _run_plane(
     identification = identify_balance(fit_trials, mass=mass, com_height=lean_length)
     model = identification.params.plane(plane).error_model
     fit_range = identification.planes[plane].error_fit.fitted_range
+    kinds = ("dlipm", "linear", *(FEEDBACK_KINDS if config.dlipm_feedback else ()))
     factories = {
-        kind: _factory(kind, model, lean_length, plane, config, fit_range)
-        for kind in ("dlipm", "linear")
+        kind: _factory(kind, model, lean_length, plane, config, fit_range) for kind in kinds
     }
+    faulty = replace(experiment, faults=config.faults)
     runs = {
-        kind: _outcomes(config, experiment, plane, kind, out, progress, factories[kind])
+        kind: _outcomes(
+            config,
+            faulty if kind in FEEDBACK_KINDS else experiment,
+            plane,
+            kind,
+            out,
+            progress,
+            factories[kind],
+        )
         for kind in factories
     }
+
+    def outcome(kind: str, k: int) -> ControllerOutcome | None:
+        if kind not in runs:
+            return None
+        return evaluate_trial(kind, runs[kind][0][k], *runs[kind][1][k])
+
     rows = tuple(
         Table1Row(
             plane=plane,
@@ -224,6 +256,8 @@ def _run_plane(
             linear=evaluate_trial("linear", runs["linear"][0][k], *runs["linear"][1][k]),
             fitted_on=round(trial.zmp_ref, 6) in fit_set,
             fit_range_m=fit_range,
+            lipm_pid=outcome("lipm_pid", k),
+            dlipm_fb=outcome("dlipm_fb", k),
         )
         for k, trial in enumerate(lipm)
     )

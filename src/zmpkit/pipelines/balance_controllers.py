@@ -10,15 +10,29 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any, TypedDict
 
-from zmpkit.control import DlipmController, GainSchedule, LinearCorrectionController
+from zmpkit.control import (
+    DlipmController,
+    DlipmFeedbackController,
+    GainSchedule,
+    LinearCorrectionController,
+    LipmController,
+    PidGains,
+    ZmpFeedbackGains,
+)
 from zmpkit.experiments import CONTROL_PERIOD_S, LeanController
 from zmpkit.identify import ErrorModel
 from zmpkit.models.pendulum import STANDARD_GRAVITY_MPS2
 
-__all__ = ["CONTROLLER_KINDS", "LeanControllerFactory"]
+__all__ = ["CONTROLLER_KINDS", "FEEDBACK_AUTHORITY", "FEEDBACK_KINDS", "LeanControllerFactory"]
 
-CONTROLLER_KINDS = ("dlipm", "linear")
-"""Controllers built here: the scheduled DLIPM (Fig. 19) and one linear correction."""
+CONTROLLER_KINDS = ("dlipm", "linear", "lipm_pid", "dlipm_fb")
+"""Controllers built here: the scheduled DLIPM (Fig. 19), one linear correction, the LIPM
+with a PI on the measured ZMP (LIPM+PID), and the DLIPM with the same PI (DLIPM+feedback)."""
+FEEDBACK_KINDS = ("lipm_pid", "dlipm_fb")
+"""The kinds that read the measured ZMP each tick."""
+FEEDBACK_AUTHORITY = 0.25
+"""The PI's correction is clamped to this fraction of the lean angle limit [-]: the
+feedforward does the lean, the feedback trims it."""
 
 
 class _Limits(TypedDict):
@@ -34,7 +48,9 @@ class LeanControllerFactory:
     """Builds one plane's lean controller from identified parameters and design data.
 
     Attributes:
-        kind: ``"dlipm"`` (gain-scheduled DLIPM) or ``"linear"`` (θ from the fitted slope).
+        kind: ``"dlipm"`` (gain-scheduled DLIPM), ``"linear"`` (θ from the fitted slope),
+            ``"lipm_pid"`` (the LIPM angle plus a PI on the measured ZMP) or ``"dlipm_fb"``
+            (the DLIPM plus the same PI, :mod:`zmpkit.control.dlipm_feedback`).
         error_model: the identified steady-state error model x_FT = f(x_cmd).
         mass_kg: pendulum mass the controller believes [kg].
         lean_length_m: pendulum length, ankle pivot to CoM, from the design model [m].
@@ -79,6 +95,10 @@ class LeanControllerFactory:
             return LinearCorrectionController.from_error_model(
                 self.error_model, self.lean_length_m, CONTROL_PERIOD_S, **limits
             )
+        if self.kind == "lipm_pid":
+            gains = self.feedback_gains()
+            pid = PidGains(gains.kp_rad_per_m, gains.ki_rad_per_m_s, 0.0, gains.output_limit_rad)
+            return LipmController(self.lean_length_m, CONTROL_PERIOD_S, pid=pid, **limits)
         controller = DlipmController(
             self.schedule(),
             CONTROL_PERIOD_S,
@@ -87,7 +107,20 @@ class LeanControllerFactory:
             **limits,
         )
         controller.reset(0.0)  # the robot stands upright when the target is given
+        if self.kind == "dlipm_fb":
+            return DlipmFeedbackController(controller, self.feedback_gains())
         return controller
+
+    def feedback_gains(self) -> ZmpFeedbackGains:
+        r"""The PI's gains by the rule of :mod:`zmpkit.control.dlipm_feedback`.
+
+        The plant's DC gain is :math:`G_0 = l\,f'(0)` [m/rad]; the correction and the
+        integral are clamped to :data:`FEEDBACK_AUTHORITY` of the lean angle limit.
+        """
+        dc_gain = self.lean_length_m * float(self.error_model.derivative(0.0))
+        return ZmpFeedbackGains.from_plant(
+            dc_gain, self.lean_length_m, FEEDBACK_AUTHORITY * self.angle_limit_rad, self.g
+        )
 
     def settings(self) -> dict[str, Any]:
         """JSON-ready description, recorded in the dataset's ``meta.json``."""

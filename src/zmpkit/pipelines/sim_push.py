@@ -11,6 +11,7 @@ from __future__ import annotations
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Any
 
 from zmpkit.analysis.zmp_steps_plot import ZmpStepCurve, plot_zmp_steps
 from zmpkit.errors import ParameterError
@@ -147,7 +148,7 @@ def sim_push_config(
     Raises:
         ParameterError: naming the option and the form it expects.
     """
-    extra = {} if hold is None else {"hold_s": hold}
+    extra: dict[str, Any] = {} if hold is None else {"hold_s": hold}
     if hold is not None and not 0 < hold <= MAX_HOLD_S:
         raise ParameterError(f"--hold expects a duration in (0, {MAX_HOLD_S:g}] s; got {hold}")
     if seed < 0:
