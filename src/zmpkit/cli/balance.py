@@ -12,6 +12,7 @@ from zmpkit.cli.progress import SweepProgress
 from zmpkit.cli.robot_option import robot_option
 from zmpkit.cli.video_option import video_option
 from zmpkit.control import PAPER_A_TIME_SCALE
+from zmpkit.experiments.ft_faults import FAULT_KINDS
 from zmpkit.pipelines.balance import BalanceConfig, run_balance
 from zmpkit.pipelines.balance_report import write_balance_outputs
 from zmpkit.robots.registry import DEFAULT_BALANCE_ROBOT
@@ -75,6 +76,21 @@ EXIT_BARS_NOT_MET = 1
     help=f"Exit with code {EXIT_BARS_NOT_MET} when a bar of paper A is missed or undefined "
     "(default: the verdict is printed and the exit code is 0).",
 )
+@click.option(
+    "--dlipm-feedback",
+    is_flag=True,
+    help="Also run LIPM+PID and DLIPM+feedback (a clamped PI on the measured ZMP), two more "
+    "column groups of Table 1.",
+)
+@click.option(
+    "--fault",
+    "faults",
+    multiple=True,
+    type=click.Choice(FAULT_KINDS),
+    help="Inject F-T faults (bursts of 0.1 s every 1 s from 1 s after the step) into what the "
+    "feedback controllers read; repeat for several kinds (taken in turn). Needs "
+    "--dlipm-feedback.",
+)
 @report_option
 @video_option(False, "one step trial (the DLIPM at the largest target, step_trial.mp4)")
 def balance_command(
@@ -89,6 +105,8 @@ def balance_command(
     dlipm_pace: str,
     max_hold: float | None,
     strict: bool,
+    dlipm_feedback: bool,
+    faults: tuple[str, ...],
     report_format: str,
     video: bool,
 ) -> int:
@@ -100,6 +118,8 @@ def balance_command(
         "workers": workers,
         "truth": None if truth is None else str(truth),
         "video": video,
+        "dlipm_feedback": dlipm_feedback,
+        "faults": faults,
     }
     if planes:
         changes["planes"] = planes

@@ -44,7 +44,13 @@ __all__ = [
     "table1_table",
 ]
 
-_NAMES = {"lipm": "LIPM", "dlipm": "DLIPM", "linear": "linear"}
+_NAMES = {
+    "lipm": "LIPM",
+    "dlipm": "DLIPM",
+    "linear": "linear",
+    "lipm_pid": "LIPM+PID",
+    "dlipm_fb": "DLIPM+feedback",
+}
 
 
 def balance_document(
@@ -75,7 +81,12 @@ def balance_document(
             truth=c.truth,
             effects=c.effects,
             seed=c.seed,
-            extra=(("hold", _hold(c)), ("pacing", _pace(c)), ("DLIPM ζ", f"{c.zeta:g}")),
+            extra=(
+                ("hold", _hold(c)),
+                ("pacing", _pace(c)),
+                ("DLIPM ζ", f"{c.zeta:g}"),
+                ("ZMP feedback", _feedback(c)),
+            ),
         ),
     )
 
@@ -91,7 +102,21 @@ def _summary(c: BalanceConfig, title: str) -> str:
         f"{c.zeta:g}, scheduled on the error model) and under one linear correction. Held out "
         f"from the fit: **{_targets(held_out) + ' m' if held_out else 'no target'}**. "
         f"Trials: {_hold(c)}; DLIPM {_pace(c)}."
+        + (
+            " With `--dlipm-feedback`, also the LIPM and the DLIPM each with a clamped PI on "
+            f"the measured ZMP (LIPM+PID, DLIPM+feedback); {_feedback(c)}."
+            if c.dlipm_feedback
+            else ""
+        )
     )
+
+
+def _feedback(c: BalanceConfig) -> str:
+    if not c.dlipm_feedback:
+        return "off"
+    if not c.faults:
+        return "on, clean F-T readings"
+    return f"on, F-T faults injected into its readings: {', '.join(c.faults)}"
 
 
 def _effects(effects: str) -> str:
@@ -152,8 +177,38 @@ def balance_checks(result: BalanceResult, verdicts: dict[str, PlaneVerdict]) -> 
                     f"at {lower} of {total} targets ≥ {TRANSIENT_FROM_M:g} m",
                 )
             )
+        checks += _feedback_checks(name, rows)
         checks += [Check(f"{name}: warning", "info", w) for w in verdict.warnings]
     return tuple(checks)
+
+
+def _feedback_checks(plane: str, rows: Sequence[Table1Row]) -> list[Check]:
+    """DLIPM+feedback against the LIPM and the DLIPM (no bar of paper A): error ratios."""
+    if not any(r.dlipm_fb is not None for r in rows):
+        return []
+    far = max(rows, key=lambda r: abs(r.zmp_ref))
+    means = {}
+    for name in ("lipm", "dlipm", "lipm_pid", "dlipm_fb"):
+        errors = [r.outcomes()[name].error_pct for r in rows if r.zmp_ref != 0.0]
+        means[name] = (
+            None
+            if not errors or any(e is None for e in errors)
+            else float(np.mean([abs(e) for e in errors if e is not None]))
+        )
+    far_fb = far.outcomes()["dlipm_fb"].error_pct
+    detail = (
+        f"error at {far.zmp_ref:g} m {_pct_text(far_fb)}; mean |error| over targets ≠ 0: "
+        f"DLIPM+feedback {_pct_text(means['dlipm_fb'])}, DLIPM {_pct_text(means['dlipm'])}, "
+        f"LIPM+PID {_pct_text(means['lipm_pid'])}, LIPM {_pct_text(means['lipm'])}"
+    )
+    lipm, fb = means["lipm"], means["dlipm_fb"]
+    if lipm and fb is not None:
+        detail += f"; ratio DLIPM+feedback / LIPM {fb / lipm:.3f}"
+    return [Check(f"{plane}: DLIPM+feedback (no bar of paper A)", "info", detail)]
+
+
+def _pct_text(value: float | None) -> str:
+    return "undefined (a trial did not settle)" if value is None else f"{value:.2f} %"
 
 
 def _bar_check(plane: str, bar: Bar, far_m: float, role: str) -> Check:
@@ -270,6 +325,20 @@ def controller_blocks(plane: PlaneResult) -> tuple[Block, ...]:
         f"{factory.support_polygon[1]:.4f} m. The linear correction instead leans to "
         "asin(u/l) with u from the fitted slope alone."
     )
+    blocks: list[Block] = [limits]
+    feedback = plane.factories.get("dlipm_fb")
+    if feedback is not None:
+        g = feedback.feedback_gains()
+        blocks.append(
+            Text(
+                "DLIPM+feedback: the same DLIPM plus a PI on the measured ZMP (low-passed, "
+                f"τ_f = {g.filter_time_constant_s:.3g} s), K_p = {g.kp_rad_per_m:.4g} rad/m, "
+                f"K_i = {g.ki_rad_per_m_s:.4g} rad/(m·s), integral and correction clamped to "
+                f"±{g.output_limit_rad:.4f} rad, conditional integration as anti-windup, "
+                "gains from the identified DC gain and √(g/l) "
+                "(`zmpkit.control.dlipm_feedback`). LIPM+PID: the LIPM angle with the same PI."
+            )
+        )
     table = Table(
         ("ZMP target [m]", "command u = f⁻¹(x) [m]", "steady angle [rad]", "DC gain K [rad/m]",
          "k_a [N]", "B_a [N·s]", "ω_n [rad/s]"),
@@ -278,27 +347,39 @@ def controller_blocks(plane: PlaneResult) -> tuple[Block, ...]:
         "target, and the gains of eq. 11 (mass explicit).",
         "† outside the fitted range: the schedule extrapolates the error model there.",
     )  # fmt: skip
-    return limits, table
+    return (*blocks, table)
+
+
+_TABLE1_COLUMNS = (
+    ("lipm", "zmp_measured", ".5f", "LIPM ZMP [m]"),
+    ("lipm", "error_pct", ".1f", "LIPM error [%]"),
+    ("dlipm", "zmp_measured", ".5f", "DLIPM ZMP [m]"),
+    ("dlipm", "error_pct", ".1f", "DLIPM error [%]"),
+    ("linear", "error_pct", ".1f", "linear error [%]"),
+    ("lipm", "overshoot_pct", ".1f", "LIPM overshoot [%]"),
+    ("dlipm", "overshoot_pct", ".1f", "DLIPM overshoot [%]"),
+    ("lipm", "settling_time_s", ".2f", "LIPM settling 5 % [s]"),
+    ("dlipm", "settling_time_s", ".2f", "DLIPM settling 5 % [s]"),
+)
+_FEEDBACK_TABLE1_COLUMNS = (
+    ("lipm_pid", "error_pct", ".1f", "LIPM+PID error [%]"),
+    ("dlipm_fb", "zmp_measured", ".5f", "DLIPM+fb ZMP [m]"),
+    ("dlipm_fb", "error_pct", ".1f", "DLIPM+fb error [%]"),
+    ("dlipm_fb", "overshoot_pct", ".1f", "DLIPM+fb overshoot [%]"),
+    ("dlipm_fb", "settling_time_s", ".2f", "DLIPM+fb settling 5 % [s]"),
+)
 
 
 def table1_table(rows: Sequence[Table1Row]) -> Table:
     """Paper A's Table 1 of one plane, each empty cell marked with why it is empty."""
     notes: list[str] = []
     body = []
+    feedback = any(row.dlipm_fb is not None for row in rows)
+    columns = _TABLE1_COLUMNS + (_FEEDBACK_TABLE1_COLUMNS if feedback else ())
     for row in rows:
         mark = (" *" if row.fitted_on else "") + (" †" if row.extrapolated else "")
         cells = [f"{row.zmp_ref:g}{mark}"]
-        for controller, attribute, spec in (
-            ("lipm", "zmp_measured", ".5f"),
-            ("lipm", "error_pct", ".1f"),
-            ("dlipm", "zmp_measured", ".5f"),
-            ("dlipm", "error_pct", ".1f"),
-            ("linear", "error_pct", ".1f"),
-            ("lipm", "overshoot_pct", ".1f"),
-            ("dlipm", "overshoot_pct", ".1f"),
-            ("lipm", "settling_time_s", ".2f"),
-            ("dlipm", "settling_time_s", ".2f"),
-        ):
+        for controller, attribute, spec, _ in columns:
             outcome = row.outcomes()[controller]
             value = getattr(outcome, attribute)
             if value is not None:
@@ -311,18 +392,7 @@ def table1_table(rows: Sequence[Table1Row]) -> Table:
         body.append(tuple(cells))
     legend = "".join(f"({k}) {reason}  \n" for k, reason in enumerate(notes, start=1))
     return Table(
-        (
-            "ZMP_ref [m]",
-            "LIPM ZMP [m]",
-            "LIPM error [%]",
-            "DLIPM ZMP [m]",
-            "DLIPM error [%]",
-            "linear error [%]",
-            "LIPM overshoot [%]",
-            "DLIPM overshoot [%]",
-            "LIPM settling 5 % [s]",
-            "DLIPM settling 5 % [s]",
-        ),
+        ("ZMP_ref [m]", *(header for *_, header in columns)),
         tuple(body),
         "Table 1 (paper A): the settled force–torque ZMP and its error under each controller.",
         "\\* fitted target (its LIPM step was used in the fit); unmarked targets are held out. "
