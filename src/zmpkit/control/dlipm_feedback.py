@@ -18,7 +18,7 @@ The measured ZMP is low-passed first (time constant :math:`\tau_f`, the filter s
 first sample): the ZMP holds the pendulum's acceleration term,
 :math:`p = x - (z_c/g)\,\ddot x`, whose gain from the lean grows as :math:`\omega^2/\omega_0^2`
 and peaks at the robot's under-damped flex modes (~2 Hz); unfiltered, even a small
-proportional gain closes a loop around them (found on the virtual TEO: a growing 1.5 Hz
+proportional gain closes a loop around them (found on the virtual balance robot: a growing 1.5 Hz
 oscillation).
 
 Anti-windup by **conditional integration**: the integral keeps its value on a tick where the
@@ -35,7 +35,7 @@ pendulum's natural frequency :math:`\omega_0 = \sqrt{g/l}`, far from the under-d
 it must not excite, :math:`K_i = \omega_0 / (20\,G_0)`; the proportional part closes a tenth
 of the error at once, :math:`K_p = 0.1 / G_0`; the filter's corner is at
 :math:`\omega_0/2` (:math:`\tau_f = 2/\omega_0`), ten times the integral's crossover.
-On the virtual TEO with a schedule 25 % off, a crossover of ω₀/10 overshot 18 % and ω₀/20
+On the virtual balance robot with a schedule 25 % off, a crossover of ω₀/10 overshot 18 % and ω₀/20
 6 % (both removed the offset).
 """
 
