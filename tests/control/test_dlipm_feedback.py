@@ -9,7 +9,14 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from zmpkit.control import DlipmController, DlipmFeedbackController, GainSchedule, ZmpFeedbackGains
+from zmpkit.control import (
+    DlipmController,
+    DlipmFeedbackController,
+    GainSchedule,
+    LipmController,
+    PidGains,
+    ZmpFeedbackGains,
+)
 from zmpkit.errors import ParameterError
 from zmpkit.identify import ErrorModel
 
@@ -130,10 +137,45 @@ def test_feedback_removes_the_offset_of_a_mis_scheduled_dlipm() -> None:
 
 def test_gain_rule_from_the_plant() -> None:
     gains = ZmpFeedbackGains.from_plant(0.9, LENGTH_M, output_limit_rad=0.05, g=9.81)
-    assert gains.kp_rad_per_m == pytest.approx(0.1 / 0.9)
+    assert gains.kp_rad_per_m == pytest.approx(0.02 / 0.9)
     assert gains.ki_rad_per_m_s == pytest.approx(0.05 * math.sqrt(9.81 / LENGTH_M) / 0.9)
     assert gains.filter_time_constant_s == pytest.approx(2.0 / math.sqrt(9.81 / LENGTH_M))
     assert gains.integral_limit_rad == gains.output_limit_rad == 0.05
+
+
+def test_a_robot_that_matches_its_model_gets_no_correction_during_the_lean() -> None:
+    """The error is the model's mismatch: a plant that is the model leaves the PI at zero."""
+    fb = controller(ZmpFeedbackGains(0.5, 2.0, 0.1, 0.1))
+    twin = controller(ZmpFeedbackGains(0.5, 2.0, 0.1, 0.1)).feedforward  # the plan, replayed
+    fb.set_target(0.08)
+    twin.set_target(0.08)
+    schedule = fb.feedforward.schedule
+    for _ in range(1500):  # the whole planned lean and its settling
+        planned = twin.step()
+        angle = fb.step(float(PAPER_A.predict(LENGTH_M * math.sin(planned))))
+        assert fb.correction == pytest.approx(0.0, abs=1e-12)
+    assert angle == pytest.approx(float(schedule.commanded_angle(0.08)), abs=1e-6)
+    assert fb.expected_zmp(angle) == pytest.approx(0.08, abs=1e-9)
+
+
+def test_the_same_pi_wraps_the_lipm_whose_model_is_l_sin_theta() -> None:
+    lipm = LipmController(
+        LENGTH_M, DT_S, angle_limit_rad=ANGLE_LIMIT_RAD, support_polygon=(-0.12, 0.15)
+    )
+    fb = DlipmFeedbackController(lipm, ZmpFeedbackGains(0.0, 0.5, 0.1, 0.1))
+    fb.set_target(0.05)
+    feedforward = math.asin(0.05 / LENGTH_M)
+    assert fb.expected_zmp(feedforward) == pytest.approx(0.05, rel=1e-12)
+    for _ in range(100):  # 1 s of a measured ZMP 10 mm short of the LIPM's
+        angle = fb.step(0.04)
+    assert fb.integral == pytest.approx(0.5 * 0.01 * 1.0, rel=1e-9)
+    assert angle == pytest.approx(feedforward + fb.integral, abs=1e-12)
+    pid = PidGains(1.0, 0.0, 0.0, 0.1)
+    closed = LipmController(
+        LENGTH_M, DT_S, angle_limit_rad=0.3, support_polygon=(-0.1, 0.1), pid=pid
+    )
+    with pytest.raises(ParameterError, match="open loop"):
+        DlipmFeedbackController(closed, ZmpFeedbackGains(0.0, 0.5, 0.1, 0.1))
 
 
 @settings(max_examples=200, deadline=None)

@@ -16,7 +16,6 @@ from zmpkit.control import (
     GainSchedule,
     LinearCorrectionController,
     LipmController,
-    PidGains,
     ZmpFeedbackGains,
 )
 from zmpkit.experiments import CONTROL_PERIOD_S, LeanController
@@ -95,10 +94,9 @@ class LeanControllerFactory:
             return LinearCorrectionController.from_error_model(
                 self.error_model, self.lean_length_m, CONTROL_PERIOD_S, **limits
             )
-        if self.kind == "lipm_pid":
-            gains = self.feedback_gains()
-            pid = PidGains(gains.kp_rad_per_m, gains.ki_rad_per_m_s, 0.0, gains.output_limit_rad)
-            return LipmController(self.lean_length_m, CONTROL_PERIOD_S, pid=pid, **limits)
+        if self.kind == "lipm_pid":  # the LIPM angle, then the same PI on the same mismatch
+            lipm = LipmController(self.lean_length_m, CONTROL_PERIOD_S, **limits)
+            return DlipmFeedbackController(lipm, self.feedback_gains())
         controller = DlipmController(
             self.schedule(),
             CONTROL_PERIOD_S,
