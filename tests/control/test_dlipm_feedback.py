@@ -158,6 +158,21 @@ def test_a_robot_that_matches_its_model_gets_no_correction_during_the_lean() -> 
     assert fb.expected_zmp(angle) == pytest.approx(0.08, abs=1e-9)
 
 
+def test_the_pi_holds_while_the_plan_moves() -> None:
+    fb = controller(ZmpFeedbackGains(0.0, 1.0, 0.1, 0.1, still_angle_rad=0.002))
+    fb.set_target(0.08)
+    ticks = 0
+    while abs(fb.feedforward.angle - fb.feedforward.steady_angle) > 0.002 or ticks == 0:
+        fb.step(0.0)  # the robot never moves: a large mismatch all along
+        ticks += 1
+        if abs(fb.feedforward.angle - fb.feedforward.steady_angle) > 0.002:
+            assert fb.integral == 0.0
+    assert ticks > 100  # the plan moved for over a second
+    for _ in range(100):
+        fb.step(0.0)
+    assert fb.integral > 0.0  # once the plan is still, the mismatch is integrated
+
+
 def test_the_same_pi_wraps_the_lipm_whose_model_is_l_sin_theta() -> None:
     lipm = LipmController(
         LENGTH_M, DT_S, angle_limit_rad=ANGLE_LIMIT_RAD, support_polygon=(-0.12, 0.15)

@@ -89,6 +89,7 @@ class DlipmController:
         "_delta_max",
         "_requested",
         "_scale",
+        "_steady",
         "_target",
         "_theta0",
         "_u0",
@@ -158,7 +159,7 @@ class DlipmController:
     @property
     def steady_angle(self) -> float:
         r""":math:`\theta_0 + K(x_{ref})\,x_{ref}` [rad], where the output settles."""
-        return float(self.schedule.steady_angle(self._target))
+        return self._steady
 
     def set_target(self, x_ref: float) -> float:
         """Clamp ``x_ref`` [m] to the support polygon and schedule the DLIPM for it.
@@ -178,6 +179,7 @@ class DlipmController:
         self._a10, self._a11 = float(Ad[1, 0]), float(Ad[1, 1])
         self._u0, self._u1 = float(Bd[0, 0]) * target, float(Bd[1, 0]) * target
         self._target = target
+        self._steady = float(self.schedule.steady_angle(target))
         return target
 
     @property

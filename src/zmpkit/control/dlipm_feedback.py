@@ -21,8 +21,13 @@ At the feedforward's steady angle :math:`x_{exp} = x_{ref}` (the schedule invert
 loop removes the same steady-state error as a PI on :math:`x_{ref} - x_{meas}`; during the
 planned lean, though, the error is only what the model gets wrong, so the integral does not
 wind up on the lean itself (with :math:`x_{ref} - x_{meas}` it did: the DLIPM's 0.10 m step
-overshot to 0.13 m). The LIPM's model is :math:`f(u) = u`: wrapped around the LIPM
-(:class:`~zmpkit.control.LipmController`, open loop) the same PI makes LIPM+PID.
+overshot to 0.13 m). The static model lags the moving robot all the same (the measured ZMP
+holds the acceleration and the flex), so the PI acts only once the plan is still: while the
+feedforward is farther than ``still_angle_rad`` (:data:`STILL_ANGLE_RAD`) from its steady
+angle the filter restarts and the integral and the correction hold (integrating the lag left
++0.2 to +0.5 % on every target, decaying at the integral's slow rate). The LIPM's model is
+:math:`f(u) = u`: wrapped around the LIPM (:class:`~zmpkit.control.LipmController`, open
+loop) the same PI makes LIPM+PID.
 
 The mismatch is low-passed (time constant :math:`\tau_f`; the filter starts at the first
 sample): the ZMP holds the pendulum's acceleration term, :math:`p = x - (z_c/g)\,\ddot x`,
@@ -66,6 +71,7 @@ __all__ = [
     "FILTER_CORNER_FRACTION",
     "INTEGRAL_CROSSOVER_FRACTION",
     "PROPORTIONAL_LOOP_GAIN",
+    "STILL_ANGLE_RAD",
     "DlipmFeedbackController",
     "ZmpFeedbackGains",
 ]
@@ -74,6 +80,8 @@ INTEGRAL_CROSSOVER_FRACTION = 0.05
 """The integral's crossover frequency as a fraction of the pendulum's √(g/l) [-]."""
 PROPORTIONAL_LOOP_GAIN = 0.02
 """The proportional part's loop gain K_p G_0 [-]."""
+STILL_ANGLE_RAD = 0.002
+"""The PI acts only while the feedforward is within this of its steady angle [rad]."""
 FILTER_CORNER_FRACTION = 0.5
 """The measurement filter's corner frequency as a fraction of √(g/l) [-]."""
 
@@ -88,6 +96,8 @@ class ZmpFeedbackGains:
         integral_limit_rad: the integral is clamped to ±this [rad].
         output_limit_rad: the correction is clamped to ±this [rad].
         filter_time_constant_s: low-pass of the measured ZMP, τ_f [s]; 0: none.
+        still_angle_rad: the PI acts only while the feedforward is within this of its
+            steady angle [rad]; inf: always.
     """
 
     kp_rad_per_m: float
@@ -95,6 +105,7 @@ class ZmpFeedbackGains:
     integral_limit_rad: float
     output_limit_rad: float
     filter_time_constant_s: float = 0.0
+    still_angle_rad: float = math.inf
 
     def __post_init__(self) -> None:
         non_negative("kp_rad_per_m", self.kp_rad_per_m, "rad/m")
@@ -102,6 +113,8 @@ class ZmpFeedbackGains:
         positive("integral_limit_rad", self.integral_limit_rad, "rad")
         positive("output_limit_rad", self.output_limit_rad, "rad")
         non_negative("filter_time_constant_s", self.filter_time_constant_s, "s")
+        if self.still_angle_rad != math.inf:
+            positive("still_angle_rad", self.still_angle_rad, "rad")
 
     @classmethod
     def from_plant(
@@ -127,6 +140,7 @@ class ZmpFeedbackGains:
             integral_limit_rad=output_limit_rad,
             output_limit_rad=output_limit_rad,
             filter_time_constant_s=1.0 / (FILTER_CORNER_FRACTION * omega0),
+            still_angle_rad=STILL_ANGLE_RAD,
         )
 
 
@@ -151,6 +165,7 @@ class DlipmFeedbackController:
         "_length",
         "_limit",
         "_odd",
+        "_still_angle_rad",
         "feedforward",
         "gains",
     )
@@ -178,6 +193,7 @@ class DlipmFeedbackController:
         self._odd = model.kind == "odd_quadratic"
         tau = gains.filter_time_constant_s
         self._alpha = 1.0 if tau == 0.0 else -math.expm1(-feedforward.dt / tau)
+        self._still_angle_rad = gains.still_angle_rad
         self._integral = self._correction = 0.0
         self._filtered = math.nan  # no sample yet
         self._angle = feedforward.angle
@@ -221,7 +237,9 @@ class DlipmFeedbackController:
                 sample, the integral and the correction are held.
         """
         feedforward = self.feedforward.step()
-        if measured_zmp_m is not None:
+        if abs(feedforward - self.feedforward.steady_angle) > self._still_angle_rad:
+            self._filtered = math.nan  # the plan is moving: the PI holds (module docstring)
+        elif measured_zmp_m is not None:
             mismatch = self.expected_zmp(feedforward) - measured_zmp_m
             self._update(self._filter(mismatch), feedforward)
         angle = feedforward + self._correction

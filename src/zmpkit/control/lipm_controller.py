@@ -123,6 +123,11 @@ class LipmController:
         return self._angle
 
     @property
+    def steady_angle(self) -> float:
+        """The feed-forward angle of the target, where the open-loop output settles [rad]."""
+        return self._feedforward
+
+    @property
     def reads_zmp(self) -> bool:
         """Whether :meth:`step` wants the measured ZMP (it has a PID)."""
         return self.pid is not None
