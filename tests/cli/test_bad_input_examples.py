@@ -234,6 +234,8 @@ def test_targets_off_the_feet_are_refused_naming_the_reach(
         (["walk", "--step-duration", "0.05"], "step_duration_s must lie in [0.2, 2.0] s"),
         (["walk", "compensate", "--speed", "1"], "speed_mps must lie in (0, 0.48] m/s"),
         (["walk", "compensate", "--workers", "300"], "workers must lie in [1, 256]; got 300"),
+        (["balance", "--fault", "glitch"], "'glitch' is not one of 'dropout', 'spike', 'nan'"),
+        (["balance", "--fault", "nan"], "--fault injects faults into what the ZMP feedback"),
     ],
 )
 def test_option_out_of_range_names_the_valid_range(
