@@ -12,7 +12,9 @@ script counts the targets where the DLIPM settles (5 % band) sooner than the LIP
 it overshoots no more than the LIPM. A fixed time scale can ask more angular acceleration
 than the servos give: each candidate's largest planned acceleration
 (:math:`\\beta\\,|\\Delta\\theta| / s^2` at the step, the DLIPM's peak from rest) is printed
-against the servos' limit. Writes ``OUT/pacing.csv`` and ``OUT/pacing.png`` (mean 5 %
+against the servos' limit; such a plan is clipped by the servos' trajectory limiter
+(:class:`~zmpkit.sim.servo.TrajectoryLimiter`), through which the LIPM's step also goes.
+Writes ``OUT/pacing.csv`` and ``OUT/pacing.png`` (mean 5 %
 settling time against mean overshoot, one marker per candidate, the LIPM's marked).
 """
 
@@ -46,6 +48,8 @@ CANDIDATES = (  # label, ζ, time scale (minimum when servo-paced), servo-paced
     ("fixed s 1.5, ζ 0.8", 0.8, 1.5, False),
     ("fixed s 2, ζ 0.8", 0.8, 2.0, False),
     ("paper A s 7.57, ζ 0.8", 0.8, PAPER_A_TIME_SCALE, False),
+    ("fixed s 2, ζ 1.0", 1.0, 2.0, False),
+    ("fixed s 3, ζ 0.8", 0.8, 3.0, False),
 )
 _REACH_FRACTION = 0.3  # as the balance pipeline: lean to at most 0.3 l of ZMP
 
@@ -174,7 +178,9 @@ def _report(rows: list[dict[str, object]], figure: Path) -> None:
         ax.set_xlabel("mean overshoot [%]")
         ax.grid(True, alpha=0.3)
     axes[0].set_ylabel("mean 5 % settling time [s]")
-    axes[1].legend(fontsize=7, title="× asks more than the servos' acceleration", title_fontsize=7)
+    axes[1].legend(
+        fontsize=7, title="×: the plan asks more than the servos' limit", title_fontsize=7
+    )
     fig.tight_layout()
     fig.savefig(figure, dpi=120)
     print(f"figure: {figure}")
