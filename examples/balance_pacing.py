@@ -77,6 +77,8 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("run", type=Path, help="folder of a zmpkit balance --quick run")
     parser.add_argument("out", type=Path)
+    parser.add_argument("--truth", help="the truth file RUN was made with (default: shipped)")
+    parser.add_argument("--only", help="comma-separated candidate numbers (default: all)")
     args = parser.parse_args()
     out: Path = args.out
     out.mkdir(parents=True, exist_ok=True)
@@ -96,9 +98,11 @@ def main() -> None:
         length = design_lean_model(quick.robot, plane).lean_length_m
         experiment = StepExperimentConfig(
             robot=quick.robot, targets_m=TARGETS_M, plane=plane, hold_s=quick.hold_s,
-            max_hold_s=quick.max_hold_s,
+            max_hold_s=quick.max_hold_s, truth=args.truth,
         )  # fmt: skip
-        for k, (label, zeta, scale, paced) in enumerate(CANDIDATES):
+        chosen = range(len(CANDIDATES)) if not args.only else map(int, args.only.split(","))
+        for k in chosen:
+            label, zeta, scale, paced = CANDIDATES[k]
             factory = LeanControllerFactory(
                 kind="dlipm", error_model=model, mass_kg=params.mass, lean_length_m=length,
                 zeta=zeta, time_scale=scale,
@@ -143,6 +147,8 @@ def _report(rows: list[dict[str, object]], figure: Path) -> None:
         mine = [r for r in rows if r["plane"] == plane]
         for label, *_ in CANDIDATES:
             cand = [r for r in mine if r["pacing"] == label]
+            if not cand:
+                continue
             settle = [r["dlipm_settling_s"] for r in cand]
             over = [r["dlipm_overshoot_pct"] for r in cand]
             sooner = sum(
@@ -168,9 +174,10 @@ def _report(rows: list[dict[str, object]], figure: Path) -> None:
             if valid_s and valid_o:
                 marker = "o" if ratio <= 1.0 + 1e-9 else "x"
                 ax.scatter(statistics.fmean(valid_o), mean_s, marker=marker, s=60, label=label)
-        lipm_s = [float(r["lipm_settling_s"]) for r in mine[: len(mine) // len(CANDIDATES)]
+        reference = [r for r in mine if r["pacing"] == mine[0]["pacing"]]
+        lipm_s = [float(r["lipm_settling_s"]) for r in reference
                   if r["lipm_settling_s"] is not None]  # fmt: skip
-        lipm_o = [float(r["lipm_overshoot_pct"]) for r in mine[: len(mine) // len(CANDIDATES)]
+        lipm_o = [float(r["lipm_overshoot_pct"]) for r in reference
                   if r["lipm_overshoot_pct"] is not None]  # fmt: skip
         ax.scatter(statistics.fmean(lipm_o), statistics.fmean(lipm_s), marker="s", s=80,
                    color="black", label="LIPM step")  # fmt: skip
