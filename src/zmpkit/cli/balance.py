@@ -13,7 +13,7 @@ from zmpkit.cli.robot_option import robot_option
 from zmpkit.cli.video_option import video_option
 from zmpkit.control import PAPER_A_TIME_SCALE
 from zmpkit.experiments.ft_faults import FAULT_KINDS
-from zmpkit.pipelines.balance import BalanceConfig, run_balance
+from zmpkit.pipelines.balance import FAST_TIME_SCALE, FAST_ZETA, BalanceConfig, run_balance
 from zmpkit.pipelines.balance_report import write_balance_outputs
 from zmpkit.robots.registry import DEFAULT_BALANCE_ROBOT
 
@@ -57,10 +57,12 @@ EXIT_BARS_NOT_MET = 1
 @click.option("--workers", type=WORKERS, default=2, show_default=True, help="Parallel processes.")
 @click.option(
     "--dlipm-pace",
-    type=click.Choice(("servo", "paper")),
+    type=click.Choice(("servo", "fast", "paper")),
     default="servo",
     show_default=True,
     help="servo: the fastest DLIPM the servos' acceleration limit allows, per target; "
+    "fast: time scale 2 and zeta 1, shaped by the servos' limiter as the LIPM's step is "
+    "(settles sooner than the LIPM at most targets, examples/balance_pacing.py); "
     "paper: paper A's fixed time scale sqrt(180/pi).",
 )
 @click.option(
@@ -125,6 +127,8 @@ def balance_command(
         changes["planes"] = planes
     if dlipm_pace == "paper":
         changes.update(time_scale=PAPER_A_TIME_SCALE, servo_paced=False)
+    elif dlipm_pace == "fast":
+        changes.update(time_scale=FAST_TIME_SCALE, servo_paced=False, zeta=FAST_ZETA)
     if max_hold is not None:
         changes["max_hold_s"] = max_hold if max_hold > 0.0 else None
     config = BalanceConfig.quick(**changes) if quick else BalanceConfig(**changes)

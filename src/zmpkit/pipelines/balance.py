@@ -46,6 +46,8 @@ from zmpkit.robots.robot import Robot
 from zmpkit.signals import StepTrial
 
 __all__ = [
+    "FAST_TIME_SCALE",
+    "FAST_ZETA",
     "FULL_TARGETS_M",
     "QUICK_TARGETS_M",
     "BalanceConfig",
@@ -60,6 +62,12 @@ __all__ = [
 FULL_TARGETS_M = tuple(round(0.01 * k, 2) for k in range(11))
 QUICK_TARGETS_M = (0.0, 0.02, 0.03, 0.04, 0.06, 0.08, 0.09, 0.1)
 _ZETA = 0.8
+FAST_TIME_SCALE = 2.0
+"""The DLIPM's time scale of ``--dlipm-pace fast`` [-]: its plan asks 4–9× the servos'
+acceleration limit at the step, which the servos' trajectory limiter clips, as it clips the
+LIPM's step (``examples/balance_pacing.py``)."""
+FAST_ZETA = 1.0
+"""The DLIPM's damping ratio of ``--dlipm-pace fast`` [-]."""
 _REACH_FRACTION = 0.3  # controllers lean at most to a ZMP of this fraction of l_lean [-]
 _ProgressFactory = Callable[[str, int], Callable[[int, int, float], None]]
 
