@@ -3,10 +3,12 @@
 Files in the output folder, both replaced atomically after each generation, so an
 interruption (Ctrl-C, kill) at any moment leaves the last finished generation on disk:
 
-- :data:`CHECKPOINT_FILE` — pickle of the :class:`Checkpoint`: the ``cma`` strategy object,
-  the state of the random generator it draws from (numpy's global one), the best candidate
-  so far and the fingerprint of the fit it belongs to;
-- :data:`HISTORY_FILE` — JSON list of :class:`GenerationRecord`, one per generation.
+- :data:`CHECKPOINT_FILE` — pickle of the :class:`Checkpoint`: the ``cma`` strategy object
+  of the current run (IPOP restarts: which restart, where it began), the state of the random
+  generator it draws from (numpy's global one), the best candidate so far and the
+  fingerprint of the fit it belongs to;
+- :data:`HISTORY_FILE` — JSON list of :class:`GenerationRecord`, one per generation, each
+  with its restart and population.
 
 A resumed fit checks that its fingerprint equals the checkpoint's.
 """
@@ -51,6 +53,8 @@ class GenerationRecord:
         sigma: CMA-ES step size, in normalised coordinates [-].
         best_values: the best-so-far parameter values, by name [units].
         wall_s: wall time of this generation [s].
+        restart: the CMA-ES run it belongs to: 0 the first, k the k-th IPOP restart.
+        popsize: candidates of this generation (its run's population).
     """
 
     generation: int
@@ -61,6 +65,8 @@ class GenerationRecord:
     sigma: float
     best_values: dict[str, float]
     wall_s: float
+    restart: int = 0
+    popsize: int = 0
 
 
 @dataclass
@@ -75,6 +81,11 @@ class Checkpoint:
         best_unit: best candidate so far, normalised coordinates [-].
         best_cost: its cost [-].
         history: the finished generations.
+        restart: the run the strategy is: 0 the first, k the k-th IPOP restart.
+        run_start: generations finished before this run began.
+        best_restart: the run that found the best candidate.
+        best_run_std: that run's final standard deviation per parameter, normalised [-],
+            once a later run replaced it (None while the best is the current run's).
     """
 
     fingerprint: dict[str, Any]
@@ -84,6 +95,10 @@ class Checkpoint:
     best_unit: list[float]
     best_cost: float
     history: list[GenerationRecord]
+    restart: int = 0
+    run_start: int = 0
+    best_restart: int = 0
+    best_run_std: list[float] | None = None
 
 
 def _atomic(path: Path, data: bytes) -> None:

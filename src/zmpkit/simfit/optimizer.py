@@ -1,4 +1,4 @@
-"""CMA-ES over the normalised parameters (``cma``'s ask/tell), checkpointed every generation.
+r"""CMA-ES over the normalised parameters (``cma``'s ask/tell), checkpointed every generation.
 
 Each generation asks ``popsize`` candidates in [0, 1]^n (``cma``'s bound handling keeps
 them inside), evaluates every candidate on every experiment through an
@@ -9,6 +9,17 @@ reporting progress. ``cma`` samples through its ``randn`` option, here a private
 checkpoint); any other draw it makes comes from numpy's global generator, whose state is
 also kept in the checkpoint and swapped in only around ``ask``/``tell``. A resumed fit thus
 draws the same candidates as an uninterrupted one and ends exactly as it does.
+
+IPOP-CMA-ES (Auger & Hansen 2005, ``restarts`` > 0): when a run stops (``cma``'s own stop
+criteria, or ``generations`` generations in that run), a new run starts from a uniformly
+random mean in [0, 1]^n with the same ``sigma0`` and twice the previous population,
+
+.. math:: \lambda_k = 2^k \lambda_0, \quad k = 0 \ldots \text{restarts},
+
+and the fit keeps the best candidate over all runs. Restart k draws its mean and its samples
+from a generator seeded by (seed, k), so a fit resumed in any run continues in that run and
+ends as an uninterrupted one. Like ``generations``, ``restarts`` is a budget: a finished fit
+resumed with more restarts goes on with the next one.
 
 Ctrl-C (KeyboardInterrupt) stops the fit between or during generations; the checkpoint
 then holds every finished generation and :class:`FitInterruptedError` names it.
@@ -38,7 +49,20 @@ from zmpkit.simfit.checkpoint import (
 from zmpkit.simfit.parameters import from_unit, to_unit
 from zmpkit.simfit.problem import FitProblem
 
-__all__ = ["CmaOptions", "CmaResult", "FitInterruptedError", "FitProgress", "run_cma"]
+__all__ = [
+    "MAX_POPSIZE",
+    "MAX_RESTARTS",
+    "CmaOptions",
+    "CmaResult",
+    "FitInterruptedError",
+    "FitProgress",
+    "run_cma",
+]
+
+MAX_POPSIZE = 65_536
+"""Largest population of any run, restarts included (a GPU batch of 64 k worlds)."""
+MAX_RESTARTS = 9
+"""Most IPOP restarts: the last run's population is 2^9 = 512 times the first's."""
 
 
 class FitInterruptedError(ZmpkitError):
@@ -67,12 +91,15 @@ class CmaOptions:
         popsize: candidates per generation; None = ``cma``'s default 4 + 3 ln n.
         sigma0: initial step size in normalised coordinates [-].
         seed: seed of the strategy's random draws.
+        restarts: IPOP restarts after the first run (0 = one run); each run has up to
+            ``generations`` generations and twice the previous run's population.
     """
 
     generations: int = 30
     popsize: int | None = None
     sigma0: float = 0.2
     seed: int = 1
+    restarts: int = 0
 
 
 @dataclass(frozen=True)
@@ -80,11 +107,13 @@ class FitProgress:
     """What the progress callback gets after every generation.
 
     Attributes:
-        generation: finished generations.
-        generations: generations planned.
+        generation: finished generations, over all runs.
+        generations: generations planned: this run's budget plus every later run's.
         best_cost: best cost so far [-].
-        eta_s: estimated remaining wall time [s].
+        eta_s: estimated remaining wall time, if every run used its budget [s].
         evaluations: candidates evaluated so far.
+        restart: the current run: 0 the first, k the k-th restart.
+        popsize: the current run's population.
     """
 
     generation: int
@@ -92,6 +121,8 @@ class FitProgress:
     best_cost: float
     eta_s: float
     evaluations: int
+    restart: int = 0
+    popsize: int = 0
 
 
 ProgressCallback = Callable[[FitProgress], None]
@@ -104,8 +135,9 @@ class CmaResult:
     Attributes:
         best_values: best parameter values found [units].
         best_cost: their cost [-].
-        history: one record per generation.
-        unit_std: CMA-ES's final standard deviation per parameter, normalised [-].
+        history: one record per generation (with its restart and population).
+        unit_std: final standard deviation per parameter of the CMA-ES run that found the
+            best, normalised [-].
         checkpoint: the checkpoint file.
     """
 
@@ -138,19 +170,45 @@ def _set_global_rng(state: Any) -> None:
     np.random.set_state(state)  # noqa: NPY002 - cma draws from the legacy global generator
 
 
+def _strategy(mean: NDArray[np.float64], sigma0: float, popsize: int | None, draws: Any) -> Any:
+    """A ``cma`` strategy in [0, 1]^n sampling through ``draws`` (a ``RandomState``)."""
+    opts: dict[str, Any] = {"bounds": [0.0, 1.0], "seed": np.nan, "randn": draws.randn}
+    opts["verbose"] = -9
+    if popsize is not None:
+        opts["popsize"] = popsize
+    return cma.CMAEvolutionStrategy(mean.tolist(), sigma0, opts)
+
+
 def _start(problem: FitProblem, options: CmaOptions) -> Checkpoint:
     x0 = to_unit(problem.parameters, [p.nominal for p in problem.parameters])
     draws = np.random.RandomState(options.seed)  # cma calls randn(lam, N); pickles with it
-    opts: dict[str, Any] = {"bounds": [0.0, 1.0], "seed": np.nan, "randn": draws.randn}
-    opts["verbose"] = -9
-    if options.popsize is not None:
-        opts["popsize"] = options.popsize
     outer = _global_rng()
     np.random.seed(options.seed)  # noqa: NPY002 - any other draw cma makes
-    strategy = cma.CMAEvolutionStrategy(x0.tolist(), options.sigma0, opts)
+    strategy = _strategy(x0, options.sigma0, options.popsize, draws)
     rng = _global_rng()
     _set_global_rng(outer)
     return Checkpoint(fingerprint(problem, options), strategy, rng, 0, x0.tolist(), np.inf, [])
+
+
+def _unit_std(strategy: Any) -> list[float]:
+    return (float(strategy.sigma) * np.sqrt(np.diag(strategy.sm.covariance_matrix))).tolist()
+
+
+def _restart(state: Checkpoint, options: CmaOptions) -> None:
+    """Start the next IPOP run: random mean, same ``sigma0``, twice the population."""
+    if state.best_restart == state.restart:
+        state.best_run_std = _unit_std(state.strategy)
+    state.restart += 1
+    state.run_start = state.generation
+    draws = np.random.RandomState([options.seed, state.restart])
+    mean = draws.uniform(0.0, 1.0, len(state.best_unit))
+    popsize = 2 * int(state.strategy.popsize)
+    state.strategy = _with_rng(state, lambda: _strategy(mean, options.sigma0, popsize, draws))
+
+
+def _run_over(state: Checkpoint, options: CmaOptions) -> bool:
+    """Whether the current run has stopped: its generation budget, or ``cma``'s criteria."""
+    return state.generation - state.run_start >= options.generations or bool(state.strategy.stop())
 
 
 def _with_rng(state: Checkpoint, call: Callable[[], Any]) -> Any:
@@ -174,17 +232,20 @@ def _generation(state: Checkpoint, problem: FitProblem, evaluator: Evaluator) ->
     best = int(np.argmin(costs))
     if costs[best] < state.best_cost:
         state.best_cost, state.best_unit = costs[best], np.asarray(candidates[best]).tolist()
+        state.best_restart = state.restart
     state.generation += 1
     best_values = from_unit(problem.parameters, state.best_unit)
     return GenerationRecord(
         state.generation,
-        int(es.countevals),
+        (state.history[-1].evaluations if state.history else 0) + len(candidates),
         costs[best],
         state.best_cost,
         float(np.median(costs)),
         float(es.sigma),
         {p.name: float(v) for p, v in zip(problem.parameters, best_values, strict=True)},
         time.perf_counter() - started,
+        state.restart,
+        len(candidates),
     )
 
 
@@ -194,6 +255,24 @@ def _resume_state(problem: FitProblem, options: CmaOptions, resume: Path | None)
     state = load_checkpoint(resume)
     check_fingerprint(state.fingerprint, fingerprint(problem, options), resume)
     return state
+
+
+def _progress(state: Checkpoint, options: CmaOptions, wall_per_eval_s: float) -> FitProgress:
+    """Progress with the plan of the current and every later run at their full budgets."""
+    left = state.run_start + options.generations - state.generation
+    popsize = int(state.strategy.popsize)
+    later = options.restarts - state.restart
+    evals = left * popsize + sum(options.generations * popsize * 2**k for k in range(1, later + 1))
+    planned = state.generation + left + later * options.generations
+    return FitProgress(
+        state.generation,
+        planned,
+        state.best_cost,
+        wall_per_eval_s * evals,
+        int(state.history[-1].evaluations),
+        state.restart,
+        popsize,
+    )
 
 
 def run_cma(
@@ -206,6 +285,8 @@ def run_cma(
 ) -> CmaResult:
     """Minimise the problem's cost; checkpoint into ``out_dir`` after every generation.
 
+    Runs CMA-ES once, then ``options.restarts`` IPOP restarts (module docstring).
+
     Raises:
         FitInterruptedError: on Ctrl-C, naming the checkpoint.
         ParameterError: if ``resume`` holds a checkpoint of another fit.
@@ -213,27 +294,24 @@ def run_cma(
     out_dir.mkdir(parents=True, exist_ok=True)
     state = _resume_state(problem, options, resume)
     path = save_checkpoint(state, out_dir)
-    session: list[float] = []
+    wall_s, evaluated = 0.0, 0
     try:
-        while state.generation < options.generations and not state.strategy.stop():
-            record = _generation(state, problem, evaluator)
-            state.history.append(record)
+        while True:
+            while not _run_over(state, options):
+                record = _generation(state, problem, evaluator)
+                state.history.append(record)
+                path = save_checkpoint(state, out_dir)
+                wall_s, evaluated = wall_s + record.wall_s, evaluated + record.popsize
+                if progress is not None:
+                    progress(_progress(state, options, wall_s / evaluated))
+            if state.restart >= options.restarts:
+                break
+            _restart(state, options)
             path = save_checkpoint(state, out_dir)
-            session.append(record.wall_s)
-            if progress is not None:
-                eta = float(np.mean(session)) * (options.generations - state.generation)
-                progress(
-                    FitProgress(
-                        state.generation,
-                        options.generations,
-                        state.best_cost,
-                        eta,
-                        record.evaluations,
-                    )
-                )
     except KeyboardInterrupt:
         raise FitInterruptedError(path, state.generation) from None
-    es = state.strategy
-    std = float(es.sigma) * np.sqrt(np.diag(es.sm.covariance_matrix))
+    std = _unit_std(state.strategy)
+    if state.best_restart != state.restart and state.best_run_std is not None:
+        std = state.best_run_std
     best = from_unit(problem.parameters, state.best_unit)
-    return CmaResult(best, state.best_cost, tuple(state.history), std, path)
+    return CmaResult(best, state.best_cost, tuple(state.history), np.asarray(std), path)
