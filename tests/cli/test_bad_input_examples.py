@@ -231,6 +231,11 @@ def test_targets_off_the_feet_are_refused_naming_the_reach(
         (["identify", "balance", "d", "--length", "-1"], "'--length': must lie in (0, 5] m"),
         (["identify", "sim", "--self-test", "--generations", "0"], "must lie in [1, 100000]"),
         (["identify", "sim", "--self-test", "--popsize", "2"], "must lie in [4, 65536]"),
+        (["identify", "sim", "--self-test", "--restarts", "10"], "must lie in [0, 9]"),
+        (
+            ["identify", "sim", "--self-test", "--popsize", "4096", "--restarts", "5"],
+            "with this popsize restarts must lie in [0, 4]",
+        ),
         (["walk", "--step-duration", "0.05"], "step_duration_s must lie in [0.2, 2.0] s"),
         (["walk", "compensate", "--speed", "1"], "speed_mps must lie in (0, 0.48] m/s"),
         (["walk", "compensate", "--workers", "300"], "workers must lie in [1, 256]; got 300"),

@@ -103,6 +103,12 @@ def _targets_in_reach(text: str, plane: str) -> bool:
     return all(low < v < high for v in values)
 
 
+def _population_fits(popsize: str | None, restarts: str | None) -> bool:
+    """IPOP doubles the population at each restart: the last run's must be <= 65,536."""
+    first = 8 if popsize is None else _float(popsize)
+    return first * 2 ** _float(restarts or "0") <= 65_536
+
+
 def physical(command: str, options: dict[str, str]) -> bool:
     """Whether the oracle accepts the options' physical values."""
     o = options.get
@@ -142,7 +148,9 @@ def physical(command: str, options: dict[str, str]) -> bool:
         return (
             _in(o("--generations"), 1, 100_000, 40)
             and _in(o("--popsize"), 4, 65_536, 8)
+            and _in(o("--restarts"), 0, 9, 0)
             and _in(o("--workers"), 1, 256, 2)
+            and _population_fits(o("--popsize"), o("--restarts"))
         )
     return _in(o("--workers"), 1, 256, 2)  # balance
 
@@ -159,7 +167,7 @@ COMMANDS: dict[str, tuple[str, ...]] = {
     "walk compensate": ("--speed", "--workers", "--seed"),
     "sim push": ("--targets", "--hold", "--push-force", "--push-duration", "--workers", "--seed"),
     "identify balance": ("--mass", "--length"),
-    "identify sim": ("--generations", "--popsize", "--workers", "--seed"),
+    "identify sim": ("--generations", "--popsize", "--restarts", "--workers", "--seed"),
     "balance": ("--workers", "--seed"),
 }
 

@@ -13,7 +13,7 @@ from zmpkit.pipelines.identify_balance import run_identify_balance
 from zmpkit.pipelines.identify_sim import IdentifySimConfig, run_identify_sim
 from zmpkit.pipelines.identify_sim_document import write_identify_sim_report
 from zmpkit.robots.registry import DEFAULT_FIT_ROBOT
-from zmpkit.simfit.optimizer import FitInterruptedError
+from zmpkit.simfit.optimizer import MAX_POPSIZE, MAX_RESTARTS, FitInterruptedError
 
 __all__ = ["identify_balance_command", "identify_group", "identify_sim_command"]
 
@@ -23,8 +23,6 @@ MAX_LENGTH_M = 5.0
 """Longest pendulum ``--length`` takes [m]: ankle to CoM of a humanoid is 0.2 to 1.2 m."""
 MAX_GENERATIONS = 100_000
 """Most CMA-ES generations ``--generations`` takes."""
-MAX_POPSIZE = 65_536
-"""Largest CMA-ES population ``--popsize`` takes (a GPU batch of 64 k worlds)."""
 
 
 @click.group("identify")
@@ -103,6 +101,15 @@ def identify_balance_command(
     "backend (warp, ray) evaluates a larger population in about the same time.",
 )
 @click.option(
+    "--restarts",
+    type=BoundedInt(0, MAX_RESTARTS),
+    default=0,
+    show_default=True,
+    help="IPOP-CMA-ES: after a run stops, restart from a random point with twice the "
+    "population, keeping the best of all runs (--generations is per run; --popsize the "
+    "first run's).",
+)
+@click.option(
     "--workers", type=WORKERS, default=2, show_default=True, help="Local threads or processes."
 )
 @click.option("--seed", type=SEED, default=1, show_default=True, help="Seed of the fit.")
@@ -129,6 +136,7 @@ def identify_sim_command(
     resume: Path | None,
     generations: int | None,
     popsize: int | None,
+    restarts: int,
     workers: int,
     seed: int,
     quick: bool,
@@ -148,6 +156,7 @@ def identify_sim_command(
         resume=None if resume is None else str(resume),
         generations=generations,
         popsize=popsize,
+        restarts=restarts,
         seed=seed,
         quick=quick,
         self_test=self_test,

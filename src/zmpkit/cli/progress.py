@@ -117,6 +117,7 @@ class GenerationProgress(_Display):
     def __init__(self, label: str = "fit") -> None:
         super().__init__(_COUNT(), "best cost {task.fields[best]}", "ETA {task.fields[eta]}")
         self._task = self._bar.add_task(label, total=None, best="–", eta="–")
+        self._label = label
         self._started = False
 
     def __enter__(self) -> GenerationProgress:
@@ -131,8 +132,11 @@ class GenerationProgress(_Display):
         if not self._started:
             self._bar.start()
             self._started = True
+        restart = getattr(progress, "restart", 0)
+        label = f"{self._label} (restart {restart}, {progress.popsize})" if restart else self._label
         self._bar.update(
             self._task,
+            description=label,
             completed=progress.generation,
             total=progress.generations,
             best=f"{progress.best_cost:.4g}",

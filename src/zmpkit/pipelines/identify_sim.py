@@ -28,7 +28,14 @@ from zmpkit.simfit.backends import BACKENDS, DEFAULT_WORKERS, make_evaluator
 from zmpkit.simfit.cost import CostWeights
 from zmpkit.simfit.experiments import Experiment, read_experiments
 from zmpkit.simfit.identifiability import ParameterIdentifiability, identifiability
-from zmpkit.simfit.optimizer import CmaOptions, CmaResult, ProgressCallback, run_cma
+from zmpkit.simfit.optimizer import (
+    MAX_POPSIZE,
+    MAX_RESTARTS,
+    CmaOptions,
+    CmaResult,
+    ProgressCallback,
+    run_cma,
+)
 from zmpkit.simfit.parameters import (
     FitParameter,
     default_parameters,
@@ -77,7 +84,12 @@ class IdentifySimConfig:
         workers: threads of the local batches, or processes of the pool.
         resume: a folder of an interrupted fit to continue (``--resume``).
         generations: CMA-ES generations; None = 40, or 30 with ``quick``.
-        popsize: candidates per generation; None = CMA-ES's 4 + 3 ln n.
+        popsize: candidates per generation (the first run's, with restarts); None =
+            CMA-ES's 4 + 3 ln n.
+        restarts: IPOP-CMA-ES restarts after the first run, each from a random mean with
+            twice the previous population (0 to :data:`~zmpkit.simfit.optimizer.MAX_RESTARTS`;
+            ``popsize`` times 2^restarts at most
+            :data:`~zmpkit.simfit.optimizer.MAX_POPSIZE`); ``generations`` is per run.
         sigma0: initial CMA-ES step, fraction of each parameter's (log-)range [-].
         seed: seed of CMA-ES and, in a self-test, of the hidden truth and the sensor noise.
         quick: small fit (2–3 parameters; short experiments in a self-test).
@@ -102,6 +114,7 @@ class IdentifySimConfig:
     resume: str | None = None
     generations: int | None = None
     popsize: int | None = None
+    restarts: int = 0
     sigma0: float = 0.2
     seed: int = 1
     quick: bool = False
@@ -128,6 +141,7 @@ class IdentifySimConfig:
             raise ParameterError(f"give at least one DATA folder ({what}), or --self-test")
         _positive_int("generations", self.generations, allow_none=True)
         _positive_int("popsize", self.popsize, allow_none=True)
+        _check_restarts(self.restarts, self.popsize)
         _positive_int("workers", self.workers)
         if isinstance(self.seed, bool) or not isinstance(self.seed, int) or self.seed < 0:
             raise ParameterError(f"seed must be an integer >= 0; got {self.seed!r}")
@@ -172,6 +186,19 @@ def _positive_int(name: str, value: object, allow_none: bool = False) -> None:
         return
     if isinstance(value, bool) or not isinstance(value, int) or value < 1:
         raise ParameterError(f"{name} must be an integer >= 1; got {value!r}")
+
+
+def _check_restarts(restarts: object, popsize: int | None) -> None:
+    if isinstance(restarts, bool) or not isinstance(restarts, int) or restarts < 0:
+        raise ParameterError(f"restarts must lie in [0, {MAX_RESTARTS}]; got {restarts!r}")
+    if restarts > MAX_RESTARTS:
+        raise ParameterError(f"restarts must lie in [0, {MAX_RESTARTS}]; got {restarts!r}")
+    if popsize is not None and popsize * 2**restarts > MAX_POPSIZE:
+        raise ParameterError(
+            f"popsize {popsize} doubled at each of {restarts} restarts exceeds {MAX_POPSIZE} "
+            f"candidates; with this popsize restarts must lie in "
+            f"[0, {(MAX_POPSIZE // popsize).bit_length() - 1}]"
+        )
 
 
 @dataclass(frozen=True)
@@ -258,7 +285,9 @@ def run_identify_sim(
     problem = FitProblem(
         config.robot, config.sim_effects, params, base_doc, tuple(fit_exps), config.weights
     )
-    options = CmaOptions(config.n_generations, config.popsize, config.sigma0, config.seed)
+    options = CmaOptions(
+        config.n_generations, config.popsize, config.sigma0, config.seed, config.restarts
+    )
     evaluator = make_evaluator(problem, config.backend, config.workers, config.address)
     try:
         resume = Path(config.resume) if config.resume is not None else None

@@ -1,25 +1,16 @@
-r"""CMA-ES over the normalised parameters (``cma``'s ask/tell), checkpointed every generation.
+"""CMA-ES over the normalised parameters (``cma``'s ask/tell), checkpointed every generation.
 
 Each generation asks ``popsize`` candidates in [0, 1]^n (``cma``'s bound handling keeps
 them inside), evaluates every candidate on every experiment through an
 :class:`~zmpkit.simfit.backends.Evaluator`, tells the mean cost over the
 experiments, and writes the checkpoint (:mod:`~zmpkit.simfit.checkpoint`) before
-reporting progress. ``cma`` samples through its ``randn`` option, here a private
-``RandomState`` seeded by the fit (pickled with the strategy, so it travels in the
-checkpoint); any other draw it makes comes from numpy's global generator, whose state is
-also kept in the checkpoint and swapped in only around ``ask``/``tell``. A resumed fit thus
-draws the same candidates as an uninterrupted one and ends exactly as it does.
+reporting progress. The random draws are
+the checkpoint's (:mod:`~zmpkit.simfit.restarts`): a resumed fit draws the same candidates
+as an uninterrupted one and ends exactly as it does.
 
-IPOP-CMA-ES (Auger & Hansen 2005, ``restarts`` > 0): when a run stops (``cma``'s own stop
-criteria, or ``generations`` generations in that run), a new run starts from a uniformly
-random mean in [0, 1]^n with the same ``sigma0`` and twice the previous population,
-
-.. math:: \lambda_k = 2^k \lambda_0, \quad k = 0 \ldots \text{restarts},
-
-and the fit keeps the best candidate over all runs. Restart k draws its mean and its samples
-from a generator seeded by (seed, k), so a fit resumed in any run continues in that run and
-ends as an uninterrupted one. Like ``generations``, ``restarts`` is a budget: a finished fit
-resumed with more restarts goes on with the next one.
+IPOP-CMA-ES restarts (``restarts`` > 0; :mod:`~zmpkit.simfit.restarts`): each run has up
+to ``generations`` generations; like ``generations``, ``restarts`` is a budget, so a
+finished fit resumed with more restarts goes on with the next one.
 
 Ctrl-C (KeyboardInterrupt) stops the fit between or during generations; the checkpoint
 then holds every finished generation and :class:`FitInterruptedError` names it.
@@ -33,7 +24,6 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-import cma
 import numpy as np
 from numpy.typing import NDArray
 
@@ -48,6 +38,15 @@ from zmpkit.simfit.checkpoint import (
 )
 from zmpkit.simfit.parameters import from_unit, to_unit
 from zmpkit.simfit.problem import FitProblem
+from zmpkit.simfit.restarts import (
+    global_rng,
+    new_strategy,
+    restart,
+    run_over,
+    set_global_rng,
+    unit_std,
+    with_rng,
+)
 
 __all__ = [
     "MAX_POPSIZE",
@@ -161,74 +160,25 @@ def fingerprint(problem: FitProblem, options: CmaOptions) -> dict[str, Any]:
     }
 
 
-def _global_rng() -> Any:
-    """Return NumPy's global random state (``cma`` may draw from it)."""
-    return np.random.get_state()  # noqa: NPY002 - cma draws from the legacy global generator
-
-
-def _set_global_rng(state: Any) -> None:
-    np.random.set_state(state)  # noqa: NPY002 - cma draws from the legacy global generator
-
-
-def _strategy(mean: NDArray[np.float64], sigma0: float, popsize: int | None, draws: Any) -> Any:
-    """A ``cma`` strategy in [0, 1]^n sampling through ``draws`` (a ``RandomState``)."""
-    opts: dict[str, Any] = {"bounds": [0.0, 1.0], "seed": np.nan, "randn": draws.randn}
-    opts["verbose"] = -9
-    if popsize is not None:
-        opts["popsize"] = popsize
-    return cma.CMAEvolutionStrategy(mean.tolist(), sigma0, opts)
-
-
 def _start(problem: FitProblem, options: CmaOptions) -> Checkpoint:
     x0 = to_unit(problem.parameters, [p.nominal for p in problem.parameters])
     draws = np.random.RandomState(options.seed)  # cma calls randn(lam, N); pickles with it
-    outer = _global_rng()
+    outer = global_rng()
     np.random.seed(options.seed)  # noqa: NPY002 - any other draw cma makes
-    strategy = _strategy(x0, options.sigma0, options.popsize, draws)
-    rng = _global_rng()
-    _set_global_rng(outer)
+    strategy = new_strategy(x0, options.sigma0, options.popsize, draws)
+    rng = global_rng()
+    set_global_rng(outer)
     return Checkpoint(fingerprint(problem, options), strategy, rng, 0, x0.tolist(), np.inf, [])
-
-
-def _unit_std(strategy: Any) -> list[float]:
-    return (float(strategy.sigma) * np.sqrt(np.diag(strategy.sm.covariance_matrix))).tolist()
-
-
-def _restart(state: Checkpoint, options: CmaOptions) -> None:
-    """Start the next IPOP run: random mean, same ``sigma0``, twice the population."""
-    if state.best_restart == state.restart:
-        state.best_run_std = _unit_std(state.strategy)
-    state.restart += 1
-    state.run_start = state.generation
-    draws = np.random.RandomState([options.seed, state.restart])
-    mean = draws.uniform(0.0, 1.0, len(state.best_unit))
-    popsize = 2 * int(state.strategy.popsize)
-    state.strategy = _with_rng(state, lambda: _strategy(mean, options.sigma0, popsize, draws))
-
-
-def _run_over(state: Checkpoint, options: CmaOptions) -> bool:
-    """Whether the current run has stopped: its generation budget, or ``cma``'s criteria."""
-    return state.generation - state.run_start >= options.generations or bool(state.strategy.stop())
-
-
-def _with_rng(state: Checkpoint, call: Callable[[], Any]) -> Any:
-    outer = _global_rng()
-    _set_global_rng(state.rng_state)
-    try:
-        return call()
-    finally:
-        state.rng_state = _global_rng()
-        _set_global_rng(outer)
 
 
 def _generation(state: Checkpoint, problem: FitProblem, evaluator: Evaluator) -> GenerationRecord:
     started = time.perf_counter()
     es = state.strategy
-    candidates = _with_rng(state, es.ask)
+    candidates = with_rng(state, es.ask)
     values = [from_unit(problem.parameters, u) for u in candidates]
     per_experiment = evaluator.costs(values)
     costs = [float(np.mean([t.total(problem.weights) for t in row])) for row in per_experiment]
-    _with_rng(state, lambda: es.tell(candidates, costs))
+    with_rng(state, lambda: es.tell(candidates, costs))
     best = int(np.argmin(costs))
     if costs[best] < state.best_cost:
         state.best_cost, state.best_unit = costs[best], np.asarray(candidates[best]).tolist()
@@ -297,7 +247,7 @@ def run_cma(
     wall_s, evaluated = 0.0, 0
     try:
         while True:
-            while not _run_over(state, options):
+            while not run_over(state, options.generations):
                 record = _generation(state, problem, evaluator)
                 state.history.append(record)
                 path = save_checkpoint(state, out_dir)
@@ -306,11 +256,11 @@ def run_cma(
                     progress(_progress(state, options, wall_s / evaluated))
             if state.restart >= options.restarts:
                 break
-            _restart(state, options)
+            restart(state, options.seed, options.sigma0)
             path = save_checkpoint(state, out_dir)
     except KeyboardInterrupt:
         raise FitInterruptedError(path, state.generation) from None
-    std = _unit_std(state.strategy)
+    std = unit_std(state.strategy)
     if state.best_restart != state.restart and state.best_run_std is not None:
         std = state.best_run_std
     best = from_unit(problem.parameters, state.best_unit)

@@ -4,7 +4,8 @@
   simulator loads as ``--truth``;
 - :data:`FITTED_PARAMETERS_FILE`: per parameter its value, unit, nominal, bounds, path in the
   truth file and identifiability;
-- :data:`HISTORY_CSV`: one row per generation (costs, step size, best-so-far values);
+- :data:`HISTORY_CSV`: one row per generation (its IPOP restart and population, costs, step
+  size, best-so-far values);
 - :data:`IDENTIFIABILITY_FILE`: the cost profile and CMA-ES spread per parameter;
 - :data:`REPRODUCTION_FILE`: per fitted and held-out experiment, trunk-oscillation frequency
   and amplitude recorded vs simulated and the joint-angle RMS error.
@@ -102,9 +103,11 @@ def write_fitted_parameters(
 def write_history_csv(
     path: Path, history: Sequence[GenerationRecord], parameters: Sequence[FitParameter]
 ) -> Path:
-    """One row per generation: costs [-], step size [-], wall time [s], best values [units]."""
+    """One row per generation: restart, population, costs [-], step [-], time [s], values."""
     header = [
         "generation",
+        "restart",
+        "popsize",
         "evaluations",
         "best_cost",
         "best_so_far",
@@ -116,6 +119,8 @@ def write_history_csv(
     rows = [
         [
             r.generation,
+            r.restart,
+            r.popsize,
             r.evaluations,
             r.best_cost,
             r.best_so_far,
