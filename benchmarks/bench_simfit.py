@@ -17,9 +17,15 @@ tendon gears):
 3. ``local batch``: :class:`~zmpkit.simfit.batch_backend.BatchEvaluator`, the
    default backend: all candidates in one MuJoCo thread-pool batch on ``--workers`` threads.
 
+4. ``bare physics`` (the floor, :func:`bare_physics`): the same candidates' simulations,
+   built and posed as the batch builds them (not timed), stepped through the whole walk in
+   one ``mujoco.batch`` rollout on ``--workers`` threads with the same controls and nothing
+   recorded: what MuJoCo's stepping alone costs.
+
 Each row also gives the process's CPU time per simulated physics step (the pool's workers
-are not counted in this process, so its row shows none). The batch's CPU per step times the
-steps of a generation, divided by the cores, is the floor of any CPU path for this model.
+are not counted in this process, so its row shows none) and its wall time over the floor's
+(``vs floor``, measured in the same run). Issue 17's target: the local batch within 1.1x of
+the floor at ``--threads 2 --workers 2``.
 Issue 7's target: a generation of 12 × 10 s walks in <= 1 s. Speed is reported, never
 asserted. The GPU path (MuJoCo Warp) is benchmarked by ``bench_warp_batch.py``.
 """
@@ -31,6 +37,8 @@ import time
 from pathlib import Path
 from typing import Any
 
+import mujoco
+import mujoco.batch
 import numpy as np
 
 from harness import base_parser, print_table, write_run
@@ -40,6 +48,7 @@ from zmpkit.robots.nao import make_nao
 from zmpkit.simfit.backends import LocalPoolEvaluator, SerialEvaluator
 from zmpkit.simfit.batch_backend import BatchEvaluator
 from zmpkit.simfit.experiments import read_experiments
+from zmpkit.simfit.open_loop import open_loop_schedule, posed_simulation
 from zmpkit.simfit.parameters import default_parameters
 from zmpkit.simfit.problem import FitProblem
 from zmpkit.simfit.truth_doc import base_truth_path, load_truth_doc
@@ -73,6 +82,34 @@ def best_generation(evaluator: Any, batch: list[list[float]], repeats: int) -> t
     return best, cpu
 
 
+def bare_physics(
+    problem: FitProblem, batch: list[list[float]], threads: int, repeats: int
+) -> tuple[float, float]:
+    """Best wall time of stepping the candidates through the walk, nothing recorded [s].
+
+    The candidates' simulations are built, posed and loaded into a fresh
+    :class:`mujoco.batch.Batch` before each timing; only the rollout is timed. Returns
+    (wall [s], this process's CPU time [s]).
+    """
+    experiment = problem.experiments[0]
+    sims = [posed_simulation(experiment, problem.truth(c), problem.sim_effects) for c in batch]
+    schedule = open_loop_schedule(experiment, sims[0])
+    controls = np.stack([s.controls_of(schedule.setpoints_rad) for s in sims])
+    integration = mujoco.mjtState.mjSTATE_INTEGRATION
+    best, cpu = float("inf"), float("inf")
+    for _ in range(repeats):
+        physics = mujoco.batch.Batch(sims[0].model, len(sims), nthread=threads)
+        physics.set_models([s.model for s in sims])
+        for i, sim in enumerate(sims):
+            mujoco.mj_getState(sim.model, sim.data, physics.state[i], integration)
+        start, start_cpu = time.perf_counter(), time.process_time()
+        physics.rollout(controls.shape[1], controls, record=())
+        wall = time.perf_counter() - start
+        if wall < best:
+            best, cpu = wall, time.process_time() - start_cpu
+    return best, cpu
+
+
 def measure(n: int, duration_s: float, workers: int, repeats: int) -> dict[str, Any]:
     """Walls of a generation, serial, on the pool and in a batch, and the pool's start-up."""
     with tempfile.TemporaryDirectory() as folder:
@@ -93,16 +130,21 @@ def measure(n: int, duration_s: float, workers: int, repeats: int) -> dict[str, 
         local = BatchEvaluator(problem, workers)
         local.costs(batch[:1])  # plans the walk's servo schedule once (cached)
         timings[f"local batch ({workers} threads)"] = best_generation(local, batch, repeats)
+        timings[f"bare physics ({workers} threads)"] = bare_physics(
+            problem, batch, workers, repeats
+        )
     signals = problem.experiments[0].signals
     simulated = float(signals.time_s[-1])
     steps = n * simulated / make_nao("M,G,S").dt
     base = timings["serial"][0]
+    floor = timings[f"bare physics ({workers} threads)"][0]
     rows = [
         {
             "backend": name,
             "generation_s": wall,
             "rollouts_per_s": n / wall,
             "speedup": base / wall,
+            "vs_floor": wall / floor,
             "cpu_us_per_step": None if name.startswith("pool") else cpu / steps * 1e6,
         }
         for name, (wall, cpu) in timings.items()
@@ -118,6 +160,7 @@ def show(result: dict[str, Any], n: int, duration_s: float) -> None:
             f"{r['generation_s']:.2f}",
             f"{r['rollouts_per_s']:.2f}",
             f"{r['speedup']:.2f}x",
+            f"{r['vs_floor']:.3f}x",
             "-" if r["cpu_us_per_step"] is None else f"{r['cpu_us_per_step']:.1f}",
         )
         for r in result["rows"]
@@ -129,9 +172,9 @@ def show(result: dict[str, Any], n: int, duration_s: float) -> None:
     )
     print_table(
         title,
-        ("backend", "generation (s)", "rollouts / s", "vs serial", "CPU µs / step"),
+        ("backend", "generation (s)", "rollouts / s", "vs serial", "vs floor", "CPU µs / step"),
         cells,
-        justify=("left", "right", "right", "right", "right"),
+        justify=("left", "right", "right", "right", "right", "right"),
     )
 
 

@@ -93,6 +93,7 @@ def test_pipeline_writes_a_loadable_truth_and_its_tables(walk_folder: Path, tmp_
     assert truth.gear.stiffness == pytest.approx(result.fitted["gear_stiffness"])
     history = result.files["history"].read_text().splitlines()
     assert history[0].startswith("generation,evaluations,best_cost,best_so_far")
+    assert ",wall_s,restart,popsize," in history[0]
     assert len(history) == 3
     assert [i.name for i in result.identifiability] == ["pid_gain_scale", "gear_stiffness"]
     assert len(result.held_out_checks) == 1

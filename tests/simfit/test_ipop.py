@@ -10,6 +10,7 @@ point, where a single CMA-ES run with a small population stops.
 
 from __future__ import annotations
 
+import json
 from collections.abc import Sequence
 from pathlib import Path
 
@@ -17,7 +18,7 @@ import numpy as np
 import pytest
 
 from zmpkit.robots.fit_parameter import FitParameter
-from zmpkit.simfit.checkpoint import load_checkpoint
+from zmpkit.simfit.checkpoint import HISTORY_FILE, load_checkpoint
 from zmpkit.simfit.cost import CostTerms
 from zmpkit.simfit.optimizer import (
     CmaOptions,
@@ -85,6 +86,10 @@ def test_each_restart_doubles_the_population(problem: FitProblem, tmp_path: Path
     assert all(n == r.popsize for n, r in zip(sizes, result.history, strict=True))
     assert all(sum(r.restart == k for r in result.history) <= 8 for k in range(4))
     assert result.best_cost == min(r.best_cost for r in result.history)  # best of all runs
+    written = json.loads((tmp_path / HISTORY_FILE).read_text())
+    assert [(g["restart"], g["popsize"]) for g in written] == [
+        (r.restart, r.popsize) for r in result.history
+    ]
 
 
 class _StopAt:

@@ -4,8 +4,8 @@
   simulator loads as ``--truth``;
 - :data:`FITTED_PARAMETERS_FILE`: per parameter its value, unit, nominal, bounds, path in the
   truth file and identifiability;
-- :data:`HISTORY_CSV`: one row per generation (its IPOP restart and population, costs, step
-  size, best-so-far values);
+- :data:`HISTORY_CSV`: one row per generation (costs, step size, its IPOP restart and
+  population, best-so-far values);
 - :data:`IDENTIFIABILITY_FILE`: the cost profile and CMA-ES spread per parameter;
 - :data:`REPRODUCTION_FILE`: per fitted and held-out experiment, trunk-oscillation frequency
   and amplitude recorded vs simulated and the joint-angle RMS error.
@@ -103,30 +103,30 @@ def write_fitted_parameters(
 def write_history_csv(
     path: Path, history: Sequence[GenerationRecord], parameters: Sequence[FitParameter]
 ) -> Path:
-    """One row per generation: restart, population, costs [-], step [-], time [s], values."""
+    """One row per generation: costs [-], step [-], time [s], restart, population, values."""
     header = [
         "generation",
-        "restart",
-        "popsize",
         "evaluations",
         "best_cost",
         "best_so_far",
         "median_cost",
         "sigma",
         "wall_s",
+        "restart",
+        "popsize",
         *(p.name for p in parameters),
     ]
     rows = [
         [
             r.generation,
-            r.restart,
-            r.popsize,
             r.evaluations,
             r.best_cost,
             r.best_so_far,
             r.median_cost,
             r.sigma,
             r.wall_s,
+            r.restart,
+            r.popsize,
             *(r.best_values[p.name] for p in parameters),
         ]
         for r in history
