@@ -18,9 +18,9 @@ tendon gears):
    default backend: all candidates in one MuJoCo thread-pool batch on ``--workers`` threads.
 
 4. ``bare physics`` (the floor, :func:`bare_physics`): the same candidates' simulations,
-   built and posed as the batch builds them (not timed), stepped through the whole walk in
-   one ``mujoco.batch`` rollout on ``--workers`` threads with the same controls and nothing
-   recorded: what MuJoCo's stepping alone costs.
+   built and posed as the batch builds them (not timed), stepped in ``mujoco.batch``
+   rollouts on ``--workers`` threads with the same controls, the same chunks and the same
+   falls as the batch, and nothing recorded: what MuJoCo's stepping alone costs.
 
 Each row also gives the process's CPU time per simulated physics step (the pool's workers
 are not counted in this process, so its row shows none) and its wall time over the floor's
@@ -47,6 +47,7 @@ from zmpkit.pipelines.walk import run_walk, write_walk
 from zmpkit.robots.nao import make_nao
 from zmpkit.simfit.backends import LocalPoolEvaluator, SerialEvaluator
 from zmpkit.simfit.batch_backend import BatchEvaluator
+from zmpkit.simfit.batched import CHUNK_S, simulate_batch
 from zmpkit.simfit.experiments import read_experiments
 from zmpkit.simfit.open_loop import open_loop_schedule, posed_simulation
 from zmpkit.simfit.parameters import default_parameters
@@ -82,19 +83,38 @@ def best_generation(evaluator: Any, batch: list[list[float]], repeats: int) -> t
     return best, cpu
 
 
+def _steps_taken(problem: FitProblem, batch: list[list[float]], threads: int) -> list[int]:
+    """Steps after the posed state the local batch takes per candidate, to its last row.
+
+    A walk that falls ends with the row of its fall (the batch then stops it at the end of
+    that chunk, as the floor does); one that diverges has no rows and counts as whole.
+    """
+    experiment = problem.experiments[0]
+    truths = [problem.truth(c) for c in batch]
+    signals = simulate_batch(experiment, truths, problem.sim_effects, threads)
+    posed = posed_simulation(experiment, truths[0], problem.sim_effects)
+    t0, dt = posed.data.time, posed.dt
+    nstep = len(open_loop_schedule(experiment, posed).setpoints_rad)
+    return [round((s.time_s[-1] - t0) / dt) if len(s.time_s) else nstep for s in signals]
+
+
 def bare_physics(
     problem: FitProblem, batch: list[list[float]], threads: int, repeats: int
 ) -> tuple[float, float]:
-    """Best wall time of stepping the candidates through the walk, nothing recorded [s].
+    """Best wall time of stepping the candidates as the local batch does, nothing recorded.
 
     The candidates' simulations are built, posed and loaded into a fresh
-    :class:`mujoco.batch.Batch` before each timing; only the rollout is timed. Returns
-    (wall [s], this process's CPU time [s]).
+    :class:`mujoco.batch.Batch` before each timing; only the stepping is timed: the same
+    controls, in the batch's chunks of :data:`~zmpkit.simfit.batched.CHUNK_S`, each
+    candidate for as long as the batch steps it (a fallen walk stops after the chunk of its
+    fall). Returns (wall [s], this process's CPU time [s]).
     """
     experiment = problem.experiments[0]
     sims = [posed_simulation(experiment, problem.truth(c), problem.sim_effects) for c in batch]
     schedule = open_loop_schedule(experiment, sims[0])
     controls = np.stack([s.controls_of(schedule.setpoints_rad) for s in sims])
+    ends, nstep = _steps_taken(problem, batch, threads), controls.shape[1]
+    chunk = max(1, round(CHUNK_S / sims[0].dt))
     integration = mujoco.mjtState.mjSTATE_INTEGRATION
     best, cpu = float("inf"), float("inf")
     for _ in range(repeats):
@@ -103,7 +123,10 @@ def bare_physics(
         for i, sim in enumerate(sims):
             mujoco.mj_getState(sim.model, sim.data, physics.state[i], integration)
         start, start_cpu = time.perf_counter(), time.process_time()
-        physics.rollout(controls.shape[1], controls, record=())
+        for c0 in range(0, nstep, chunk):
+            alive = [i for i, end in enumerate(ends) if end > c0]
+            c1 = min(nstep, c0 + chunk)
+            physics.rollout(c1 - c0, controls[alive, c0:c1], record=(), ids=alive)
         wall = time.perf_counter() - start
         if wall < best:
             best, cpu = wall, time.process_time() - start_cpu
