@@ -15,7 +15,8 @@ from typing import Any
 from harness import base_parser, environment, print_table, write_json
 from zmpkit.experiments.walk_config import WalkConfig
 from zmpkit.experiments.walk_trial import simulate_walk
-from zmpkit.robots.nao import make_nao, nao_ik_model
+from zmpkit.robots.nao import make_nao
+from zmpkit.robots.registry import get_robot
 from zmpkit.walking import generate_pattern
 from zmpkit.walking.ik import solve_walking_ik
 
@@ -41,7 +42,8 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
     parser.add_argument("--repeats", type=int, default=3, help="runs per case (best kept)")
     args = parser.parse_args(argv)
     pattern = generate_pattern(WalkConfig().pattern_config())
-    trajectory = solve_walking_ik(pattern, nao_ik_model())
+    nao = get_robot("nao")
+    trajectory = solve_walking_ik(pattern, nao.ik_model(), nao.ik_settings)
     cases = {}
     for effects in CASES:
         wall, simulated = best_wall(effects, trajectory, args.repeats)
