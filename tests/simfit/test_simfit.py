@@ -179,6 +179,10 @@ def test_config_errors_say_what_is_valid() -> None:
         IdentifySimConfig(data=("x",), backend="dask")
     with pytest.raises(ParameterError, match="generations must be an integer >= 1; got 0"):
         IdentifySimConfig(data=("x",), generations=0)
+    with pytest.raises(ParameterError, match=r"restarts must lie in \[0, 9\]; got True"):
+        IdentifySimConfig(data=("x",), restarts=True)
+    with pytest.raises(ParameterError, match=r"restarts must lie in \[0, 2\]"):
+        IdentifySimConfig(data=("x",), popsize=16_384, restarts=3)  # 131,072 > 65,536
 
 
 def test_quick_nao_fits_pid_gain_scale_and_gear_stiffness() -> None:
