@@ -20,7 +20,9 @@ tendon gears):
 4. ``bare physics`` (the floor, :func:`bare_physics`): the same candidates' simulations,
    built and posed as the batch builds them (not timed), stepped in ``mujoco.batch``
    rollouts on ``--workers`` threads with the same controls, the same chunks and the same
-   falls as the batch, and nothing recorded: what MuJoCo's stepping alone costs.
+   falls as the batch, and nothing recorded: what MuJoCo's stepping alone costs. The local
+   batch and the floor are timed in turns (best of each), so a changing load on the
+   machine favours neither.
 
 Each row also gives the process's CPU time per simulated physics step (the pool's workers
 are not counted in this process, so its row shows none) and its wall time over the floor's
@@ -34,6 +36,7 @@ from __future__ import annotations
 
 import tempfile
 import time
+from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
@@ -99,15 +102,15 @@ def _steps_taken(problem: FitProblem, batch: list[list[float]], threads: int) ->
 
 
 def bare_physics(
-    problem: FitProblem, batch: list[list[float]], threads: int, repeats: int
-) -> tuple[float, float]:
-    """Best wall time of stepping the candidates as the local batch does, nothing recorded.
+    problem: FitProblem, batch: list[list[float]], threads: int
+) -> Callable[[], tuple[float, float]]:
+    """A timer of stepping the candidates as the local batch does, with nothing recorded.
 
-    The candidates' simulations are built, posed and loaded into a fresh
-    :class:`mujoco.batch.Batch` before each timing; only the stepping is timed: the same
-    controls, in the batch's chunks of :data:`~zmpkit.simfit.batched.CHUNK_S`, each
-    candidate for as long as the batch steps it (a fallen walk stops after the chunk of its
-    fall). Returns (wall [s], this process's CPU time [s]).
+    The candidates' simulations are built and posed once; each call of the timer loads
+    them into a fresh :class:`mujoco.batch.Batch` (not timed) and times only the stepping:
+    the same controls, in the batch's chunks of :data:`~zmpkit.simfit.batched.CHUNK_S`,
+    each candidate for as long as the batch steps it (a fallen walk stops after the chunk
+    of its fall). The timer returns (wall [s], this process's CPU time [s]).
     """
     experiment = problem.experiments[0]
     sims = [posed_simulation(experiment, problem.truth(c), problem.sim_effects) for c in batch]
@@ -116,8 +119,8 @@ def bare_physics(
     ends, nstep = _steps_taken(problem, batch, threads), controls.shape[1]
     chunk = max(1, round(CHUNK_S / sims[0].dt))
     integration = mujoco.mjtState.mjSTATE_INTEGRATION
-    best, cpu = float("inf"), float("inf")
-    for _ in range(repeats):
+
+    def timed() -> tuple[float, float]:
         physics = mujoco.batch.Batch(sims[0].model, len(sims), nthread=threads)
         physics.set_models([s.model for s in sims])
         for i, sim in enumerate(sims):
@@ -127,10 +130,23 @@ def bare_physics(
             alive = [i for i, end in enumerate(ends) if end > c0]
             c1 = min(nstep, c0 + chunk)
             physics.rollout(c1 - c0, controls[alive, c0:c1], record=(), ids=alive)
-        wall = time.perf_counter() - start
-        if wall < best:
-            best, cpu = wall, time.process_time() - start_cpu
-    return best, cpu
+        return time.perf_counter() - start, time.process_time() - start_cpu
+
+    return timed
+
+
+def _batch_and_floor(
+    problem: FitProblem, batch: list[list[float]], threads: int, repeats: int
+) -> tuple[tuple[float, float], tuple[float, float]]:
+    """Best (wall, CPU) [s] of the local batch and of the floor, timed in turns.
+
+    Alternating the two keeps a machine's changing load from favouring either.
+    """
+    local = BatchEvaluator(problem, threads)
+    local.costs(batch[:1])  # plans the walk's servo schedule once (cached)
+    floor = bare_physics(problem, batch, threads)
+    turns = [(best_generation(local, batch, 1), floor()) for _ in range(repeats)]
+    return min(t[0] for t in turns), min(t[1] for t in turns)
 
 
 def measure(n: int, duration_s: float, workers: int, repeats: int) -> dict[str, Any]:
@@ -150,12 +166,9 @@ def measure(n: int, duration_s: float, workers: int, repeats: int) -> dict[str, 
             timings[f"pool ({workers} processes)"] = best_generation(pool, batch, repeats)
         finally:
             pool.close()
-        local = BatchEvaluator(problem, workers)
-        local.costs(batch[:1])  # plans the walk's servo schedule once (cached)
-        timings[f"local batch ({workers} threads)"] = best_generation(local, batch, repeats)
-        timings[f"bare physics ({workers} threads)"] = bare_physics(
-            problem, batch, workers, repeats
-        )
+        local, floor = _batch_and_floor(problem, batch, workers, repeats)
+        timings[f"local batch ({workers} threads)"] = local
+        timings[f"bare physics ({workers} threads)"] = floor
     signals = problem.experiments[0].signals
     simulated = float(signals.time_s[-1])
     steps = n * simulated / make_nao("M,G,S").dt
