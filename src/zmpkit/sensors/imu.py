@@ -17,12 +17,18 @@ from numpy.typing import NDArray
 __all__ = ["quaternion_pitch_roll", "quaternion_yaw", "tilt_from_quaternions"]
 
 
+def _pitch(w: float, x: float, y: float, z: float) -> float:
+    return math.asin(max(-1.0, min(1.0, 2.0 * (w * y - z * x))))
+
+
+def _roll(w: float, x: float, y: float, z: float) -> float:
+    return math.atan2(2.0 * (w * x + y * z), 1.0 - 2.0 * (x * x + y * y))
+
+
 def quaternion_pitch_roll(quat_wxyz: NDArray[np.float64]) -> tuple[float, float]:
     """Pitch and roll [rad] of an orientation (ZYX Euler angles; pitch about y)."""
     w, x, y, z = (float(v) for v in quat_wxyz)
-    pitch = math.asin(max(-1.0, min(1.0, 2.0 * (w * y - z * x))))
-    roll = math.atan2(2.0 * (w * x + y * z), 1.0 - 2.0 * (x * x + y * y))
-    return pitch, roll
+    return _pitch(w, x, y, z), _roll(w, x, y, z)
 
 
 def quaternion_yaw(quat_wxyz: NDArray[np.float64]) -> float:
@@ -41,5 +47,6 @@ def tilt_from_quaternions(quat_wxyz: NDArray[np.float64], plane: str) -> NDArray
         quat_wxyz: orientations (w, x, y, z), shape (N, 4).
         plane: ``"sagittal"`` for pitch, ``"frontal"`` for roll.
     """
-    angles = np.array([quaternion_pitch_roll(q) for q in quat_wxyz])
-    return angles[:, 0 if plane == "sagittal" else 1].copy()
+    angle = _pitch if plane == "sagittal" else _roll
+    rows = np.asarray(quat_wxyz, dtype=np.float64).reshape(-1, 4).tolist()
+    return np.array([angle(w, x, y, z) for w, x, y, z in rows], dtype=np.float64)

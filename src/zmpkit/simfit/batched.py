@@ -255,8 +255,11 @@ def _ft_samples(
     if not noisy:
         return wrenches
     out = wrenches.copy()
-    for k, f in enumerate(rows.feet):
-        channels = [sims[alive[a]].ft_channel(f) for a in noisy]
-        with np.errstate(invalid="ignore", over="ignore"):
-            out[noisy, :, k] = sample_series(channels, wrenches[noisy, :, k])
+    # Every foot's channels in one series, foot by foot as the channels were drawn before.
+    channels = [sims[alive[a]].ft_channel(f) for f in rows.feet for a in noisy]
+    nfeet, nnoisy, nsample = len(rows.feet), len(noisy), wrenches.shape[1]
+    feet_first = np.moveaxis(wrenches[noisy], 2, 0).reshape(nfeet * nnoisy, nsample, 6)
+    with np.errstate(invalid="ignore", over="ignore"):
+        sampled = sample_series(channels, feet_first)
+    out[noisy] = np.moveaxis(sampled.reshape(nfeet, nnoisy, nsample, 6), 0, 2)
     return out
