@@ -14,34 +14,30 @@ class _StopError(Exception):
     """Raised by the stand-in fit once it has the configuration."""
 
 
-def test_popsize_reaches_the_fit(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
-    seen = []
+@pytest.fixture
+def seen(monkeypatch: pytest.MonkeyPatch) -> list:
+    configs: list = []
 
     def fit(config, out_dir, progress=None):
-        seen.append(config)
+        configs.append(config)
         raise _StopError
 
     monkeypatch.setattr(identify, "run_identify_sim", fit)
-    argv = ["identify", "sim", "--self-test", "--popsize", "64", "--out", str(tmp_path / "o")]
+    return configs
+
+
+def _fit_config(tmp_path: Path, seen: list, *options: str):
     with pytest.raises(_StopError):
-        main(argv)
-    assert seen[0].popsize == 64
-    seen.clear()
-    with pytest.raises(_StopError):
-        main(["identify", "sim", "--self-test", "--out", str(tmp_path / "p")])
-    assert seen[0].popsize is None  # CMA-ES's own default
-    assert seen[0].restarts == 0  # one run
+        main(["identify", "sim", "--self-test", *options, "--out", str(tmp_path / "o")])
+    return seen[-1]
 
 
-def test_restarts_reach_the_fit(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
-    seen = []
+def test_popsize_reaches_the_fit(tmp_path: Path, seen: list) -> None:
+    assert _fit_config(tmp_path, seen, "--popsize", "64").popsize == 64
+    default = _fit_config(tmp_path, seen)
+    assert default.popsize is None  # CMA-ES's own default
+    assert default.restarts == 0  # one run
 
-    def fit(config, out_dir, progress=None):
-        seen.append(config)
-        raise _StopError
 
-    monkeypatch.setattr(identify, "run_identify_sim", fit)
-    argv = ["identify", "sim", "--self-test", "--restarts", "3", "--out", str(tmp_path / "o")]
-    with pytest.raises(_StopError):
-        main(argv)
-    assert seen[0].restarts == 3
+def test_restarts_reach_the_fit(tmp_path: Path, seen: list) -> None:
+    assert _fit_config(tmp_path, seen, "--restarts", "3").restarts == 3
