@@ -230,8 +230,13 @@ def _walking(path: Path, value: Any) -> WalkingOverrides:
     )
 
 
-def read_robot_file(path: str | Path) -> RobotFile:
+def read_robot_file(path: str | Path, model: Path | None = None) -> RobotFile:
     """Read and check the layout of a ``robot.yaml`` (module docstring).
+
+    Args:
+        path: the ``robot.yaml``.
+        model: the MJCF or URDF file, replacing the file's ``model`` field (a built-in
+            robot's model found in another package).
 
     Raises:
         InputFileError: naming the file and the field, one problem per error.
@@ -250,7 +255,7 @@ def read_robot_file(path: str | Path) -> RobotFile:
     return RobotFile(
         path=file,
         name=str(doc.get("name") or file.parent.name),
-        model=_model_path(file, doc),
+        model=model.resolve() if model is not None else _model_path(file, doc),
         feet={s: _foot(file, s, v) for s, v in _sides(file, "feet", doc).items()},
         legs={s: _names(file, f"legs.{s}", v) for s, v in _sides(file, "legs", doc).items()},
         imu=None if doc.get("imu") is None else str(doc["imu"]),

@@ -186,8 +186,11 @@ def check_names(robot: RobotFile, model: mujoco.MjModel) -> None:
     Raises:
         InputFileError: on the first unknown name.
     """
-    joints = [model.joint(j).name for j in range(model.njnt)]
-    hinges = [n for n in joints if model.joint(n).type[0] == mujoco.mjtJoint.mjJNT_HINGE]
+    hinges = [
+        model.joint(j).name
+        for j in range(model.njnt)
+        if model.jnt_type[j] == mujoco.mjtJoint.mjJNT_HINGE  # an unnamed free joint is skipped
+    ]
     for side in SIDES:
         foot_body(robot, model, side)
         for name in robot.legs[side]:

@@ -20,8 +20,14 @@ from typing import TYPE_CHECKING, Any
 import mujoco
 
 from zmpkit.errors import ParameterError
-from zmpkit.robots.robot import Robot, TruthSpec
+from zmpkit.robots.robot import FitSpec, Robot, TruthSpec
 from zmpkit.robots.robot_file import SIDES, RobotFile, read_robot_file
+from zmpkit.robots.servo_truth import (
+    ServoTruth,
+    apply_servo_effects,
+    read_servo_truth,
+    servo_truth_from_doc,
+)
 from zmpkit.robots.user_balance import user_balance
 from zmpkit.robots.user_model import UserModel, user_model
 from zmpkit.robots.user_walking import user_walking
@@ -33,7 +39,7 @@ from zmpkit.sim.servo import ServoLimits
 if TYPE_CHECKING:
     from zmpkit.io.feet import FootMountEntry
 
-__all__ = ["CONTACT_WEIGHT_FRACTION", "UserTruth", "load_robot_file"]
+__all__ = ["CONTACT_WEIGHT_FRACTION", "UserTruth", "build_user_robot", "load_robot_file"]
 
 CONTACT_WEIGHT_FRACTION = 0.05
 """Default contact threshold of a user's robot: this share of its weight [-]."""
@@ -104,16 +110,23 @@ def _feet_mounts(mjcf: str, height: float) -> dict[str, FootMountEntry]:
 
 
 def _description(
-    file: RobotFile, built: UserModel, threshold: float
+    file: RobotFile, built: UserModel, threshold: float, servo: TruthSpec | None
 ) -> Any:  # the Robot's ``describe``
     mass = built.mass_kg
 
     def describe(effects: EffectSet | str, truth: Any) -> RobotDescription:
-        on = _check_effects(file.name, effects)
-        sensors = truth.sensors if isinstance(truth, UserTruth) else scaled_sensor_params(mass)
+        if servo is None:
+            on = _check_effects(file.name, effects)
+            sensors = truth.sensors if isinstance(truth, UserTruth) else scaled_sensor_params(mass)
+            mjcf = built.mjcf
+        else:
+            on = EffectSet.parse(effects)
+            values: ServoTruth = servo.resolve(truth)
+            sensors = values.sensors or scaled_sensor_params(mass)
+            mjcf = apply_servo_effects(built.mjcf, file.leg_joints, on, values)
         return RobotDescription(
             name=file.name,
-            mjcf=built.mjcf,
+            mjcf=mjcf,
             driven_joints=file.leg_joints,
             feet=tuple(FootSensor.named(side, file.sole_height_m) for side in SIDES),
             effects=on,
@@ -125,6 +138,13 @@ def _description(
     return describe
 
 
+def _servo_truth_spec(path: Path) -> TruthSpec:
+    def load(other: str | Path | None) -> ServoTruth:
+        return read_servo_truth(path if other is None else other)
+
+    return TruthSpec(path, load, servo_truth_from_doc, ServoTruth)
+
+
 @cache
 def load_robot_file(path: str | Path) -> Robot:
     """The robot a ``robot.yaml`` describes (see :mod:`zmpkit.robots.robot_file`).
@@ -132,9 +152,53 @@ def load_robot_file(path: str | Path) -> Robot:
     Raises:
         InputFileError: one line naming the file, the field and the valid names.
     """
-    file = read_robot_file(path)
+    return build_user_robot(read_robot_file(path))
+
+
+def build_user_robot(
+    file: RobotFile,
+    *,
+    truth_path: Path | None = None,
+    title: str | None = None,
+    summary: str | None = None,
+    source: str | None = None,
+    fit: FitSpec | None = None,
+) -> Robot:
+    """The robot of a parsed robot file, with the effects M, I, G, F when it has a truth.
+
+    ``truth_path`` is a servo truth YAML (:mod:`~zmpkit.robots.servo_truth`).
+
+    Args:
+        file: the parsed robot file.
+        truth_path: the shipped servo truth, or None (a user's robot: the ideal servo only).
+        title: the name in reports; default: the file's name.
+        summary: the line of ``zmpkit robot list``; default: the model file and the mass.
+        source: what the registry takes to give this robot again; default: the file's path.
+        fit: the simulator fit's catalogue, if any.
+    """
     built = user_model(file)
     threshold = file.contact_threshold_n or CONTACT_WEIGHT_FRACTION * built.mass_kg * 9.81
+    servo = None if truth_path is None else _servo_truth_spec(truth_path)
+    mounts = _feet_mounts(built.mjcf, file.sole_height_m)
+    return Robot(
+        name=file.name,
+        title=title or file.name,
+        summary=summary
+        or f"user robot from {file.path} ({file.model.name}), {built.mass_kg:.3g} kg",
+        source=source or str(file.path),
+        describe=_description(file, built, threshold, servo),
+        driven_joints=file.leg_joints,
+        feet_mounts=lambda: copy.deepcopy(mounts),
+        truth=servo or _user_truth_spec(file, built),
+        servo_limits=USER_SERVO_LIMITS,
+        contact_force_threshold_n=threshold,
+        balance=user_balance(file, built),
+        walking=user_walking(file, built),
+        fit=fit,
+    )
+
+
+def _user_truth_spec(file: RobotFile, built: UserModel) -> TruthSpec:
     truth = UserTruth(built.servo, scaled_sensor_params(built.mass_kg), source=str(file.path))
 
     def load(_: str | Path | None) -> UserTruth:
@@ -143,18 +207,4 @@ def load_robot_file(path: str | Path) -> Robot:
     def from_doc(_: Mapping[str, Any], __: str | Path) -> UserTruth:
         return truth
 
-    mounts = _feet_mounts(built.mjcf, file.sole_height_m)
-    return Robot(
-        name=file.name,
-        title=file.name,
-        summary=f"user robot from {file.path} ({file.model.name}), {built.mass_kg:.3g} kg",
-        source=str(file.path),
-        describe=_description(file, built, threshold),
-        driven_joints=file.leg_joints,
-        feet_mounts=lambda: copy.deepcopy(mounts),
-        truth=TruthSpec(file.path, load, from_doc, UserTruth),
-        servo_limits=USER_SERVO_LIMITS,
-        contact_force_threshold_n=threshold,
-        balance=user_balance(file, built),
-        walking=user_walking(file, built),
-    )
+    return TruthSpec(file.path, load, from_doc, UserTruth)
