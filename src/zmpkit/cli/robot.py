@@ -6,7 +6,7 @@ from pathlib import Path
 
 import click
 
-from zmpkit.robots.registry import get_robot, robot_names
+from zmpkit.robots.registry import get_robot, missing_reason, robot_names, robots_that
 from zmpkit.robots.robot_check import check_robot
 from zmpkit.robots.robot_init import write_robot_file
 
@@ -20,11 +20,14 @@ def robot_group() -> None:
 
 @robot_group.command("list")
 def robot_list_command() -> None:
-    """List the built-in robots and what each can run."""
+    """List the built-in robots and what each can run (and how to install a missing one)."""
     for name in robot_names():
-        robot = get_robot(name)
-        can = [x for x in ("balance", "walking", "fit") if getattr(robot, x) is not None]
-        click.echo(f"{name}: {robot.summary} [{', '.join(can)}]")
+        can = ", ".join(x for x in ("balance", "walking", "fit") if name in robots_that(x))
+        reason = missing_reason(name)
+        if reason is None:
+            click.echo(f"{name}: {get_robot(name).summary} [{can}]")
+        else:
+            click.echo(f"{name}: not available, {reason} [{can}]")
 
 
 @robot_group.command("init")

@@ -48,8 +48,9 @@ from zmpkit.signals import StepTrial
 __all__ = [
     "FAST_TIME_SCALE",
     "FAST_ZETA",
-    "FULL_TARGETS_M",
-    "QUICK_TARGETS_M",
+    "FIT_TARGETS",
+    "FULL_TARGETS",
+    "QUICK_TARGETS",
     "BalanceConfig",
     "BalanceResult",
     "PlaneResult",
@@ -57,10 +58,15 @@ __all__ = [
     "run_balance",
     "step_experiment",
     "support_polygon",
+    "target_ladder",
 ]
 
-FULL_TARGETS_M = tuple(round(0.01 * k, 2) for k in range(11))
-QUICK_TARGETS_M = (0.0, 0.02, 0.03, 0.04, 0.06, 0.08, 0.09, 0.1)
+FULL_TARGETS = tuple(k / 10 for k in range(11))
+"""The full sweep's targets, as shares of the robot's largest target [-]."""
+QUICK_TARGETS = (0.0, 0.2, 0.3, 0.4, 0.6, 0.8, 0.9, 1.0)
+"""A quick sweep's targets, as shares of the robot's largest target [-]."""
+FIT_TARGETS = (0.0, 0.2, 0.4, 0.6, 0.8, 1.0)
+"""The fit's targets (the even ones of the full sweep), as shares of the largest target [-]."""
 _ZETA = 0.8
 FAST_TIME_SCALE = 2.0
 """The DLIPM's time scale of ``--dlipm-pace fast`` [-]: its plan asks 4–9× the servos'
@@ -79,8 +85,12 @@ class BalanceConfig:
     Attributes:
         robot: the robot's registry name or ``robot.yaml`` path (it needs a balance model).
         planes: planes to run, ``"sagittal"`` and/or ``"frontal"``.
-        targets_m: validation targets [m]; the fit uses those in ``fit_targets_m``.
-        fit_targets_m: targets whose LIPM steps the identification uses [m].
+        targets_m: validation targets [m]; the fit uses those in ``fit_targets_m``; empty:
+            :data:`FULL_TARGETS` of the robot's largest target
+            (:attr:`~zmpkit.robots.robot.BalanceModel.max_target_m`, inside its support
+            polygon).
+        fit_targets_m: targets whose LIPM steps the identification uses [m]; empty:
+            :data:`FIT_TARGETS` of the robot's largest target.
         effects: effects of the virtual robot (``"all"``, ``"none"``, letters).
         seed: sensor-noise seed.
         hold_s: recorded time after each step [s], the shortest hold.
@@ -103,8 +113,8 @@ class BalanceConfig:
 
     robot: str = DEFAULT_BALANCE_ROBOT
     planes: tuple[str, ...] = ("sagittal", "frontal")
-    targets_m: tuple[float, ...] = FULL_TARGETS_M
-    fit_targets_m: tuple[float, ...] = tuple(round(0.02 * k, 2) for k in range(6))
+    targets_m: tuple[float, ...] = ()
+    fit_targets_m: tuple[float, ...] = ()
     effects: str = "all"
     seed: int = 0
     hold_s: float = 20.0
@@ -119,7 +129,11 @@ class BalanceConfig:
     faults: tuple[str, ...] = ()
 
     def __post_init__(self) -> None:
-        get_robot(self.robot, needs="balance")
+        span = get_robot(self.robot, needs="balance").require_balance().max_target_m
+        if not self.targets_m:
+            object.__setattr__(self, "targets_m", target_ladder(FULL_TARGETS, span))
+        if not self.fit_targets_m:
+            object.__setattr__(self, "fit_targets_m", target_ladder(FIT_TARGETS, span))
         object.__setattr__(self, "faults", tuple(dict.fromkeys(self.faults)))
         if self.faults and not self.dlipm_feedback:
             raise ParameterError(
@@ -139,7 +153,14 @@ class BalanceConfig:
     @classmethod
     def quick(cls, **changes: Any) -> BalanceConfig:
         """Fewer targets and shorter holds; still fits on even targets, validates on all."""
-        return replace(cls(targets_m=QUICK_TARGETS_M, hold_s=14.0, max_hold_s=45.0), **changes)
+        robot = changes.get("robot", DEFAULT_BALANCE_ROBOT)
+        span = get_robot(robot, needs="balance").require_balance().max_target_m
+        quick = {
+            "targets_m": target_ladder(QUICK_TARGETS, span),
+            "hold_s": 14.0,
+            "max_hold_s": 45.0,
+        }
+        return cls(**{**quick, **changes})
 
 
 @dataclass(frozen=True, eq=False)
@@ -291,6 +312,11 @@ def _outcomes(
         controller=factory,
     )
     return dataset_trials(dataset), [(r.hold_end, r.hold_note) for r in dataset.trials]
+
+
+def target_ladder(shares: tuple[float, ...], span_m: float) -> tuple[float, ...]:
+    """Targets at ``shares`` of ``span_m``, rounded to the micrometre [m]."""
+    return tuple(round(share * span_m, 6) for share in shares)
 
 
 def support_polygon(plane: str, robot: str | Robot = DEFAULT_BALANCE_ROBOT) -> tuple[float, float]:

@@ -2,16 +2,22 @@
 
 :func:`get_robot` is the one way into a :class:`~zmpkit.robots.robot.Robot`: a registry name
 (:func:`robot_names`) or the path of a ``robot.yaml`` (:mod:`zmpkit.robots.robot_file`).
-Each built-in robot lives in its own folder (``robots/<name>/``: model, truth, preset).
+Each built-in robot lives in its own folder (``robots/<name>/``: model, truth, preset) and is
+registered as a :class:`RegistryEntry`: what it can run is known without loading it, and a
+robot whose model comes from an optional package says so (:func:`missing_reason`) instead of
+failing when the registry is listed.
 """
 
 from __future__ import annotations
 
+from collections.abc import Callable
+from dataclasses import dataclass
 from functools import cache
 from pathlib import Path
 
 from zmpkit.errors import ParameterError
 from zmpkit.robots.nao.preset import NAO
+from zmpkit.robots.op3.preset import OP3_CAPABILITIES, op3_missing_reason, op3_robot
 from zmpkit.robots.robot import Robot
 from zmpkit.robots.teo.preset import TEO
 from zmpkit.robots.user_robot import load_robot_file
@@ -20,7 +26,9 @@ __all__ = [
     "DEFAULT_BALANCE_ROBOT",
     "DEFAULT_FIT_ROBOT",
     "DEFAULT_WALK_ROBOT",
+    "RegistryEntry",
     "get_robot",
+    "missing_reason",
     "robot_names",
     "robots_that",
 ]
@@ -34,19 +42,64 @@ DEFAULT_FIT_ROBOT = "nao"
 ROBOT_FILE_SUFFIXES = (".yaml", ".yml")
 
 
+CAPABILITIES = ("balance", "walking", "fit")
+"""What a robot may have: a balance model, walking defaults, a simulator-fit catalogue."""
+
+
+@dataclass(frozen=True)
+class RegistryEntry:
+    """A built-in robot as the registry holds it, loaded on first use.
+
+    Attributes:
+        name: the registry name (``--robot NAME``).
+        load: builds the robot.
+        capabilities: what it has, among :data:`CAPABILITIES`.
+        missing: why it cannot be loaded here (an optional package absent), or None.
+    """
+
+    name: str
+    load: Callable[[], Robot]
+    capabilities: tuple[str, ...]
+    missing: Callable[[], str | None]
+
+
+def _ready(robot: Robot) -> RegistryEntry:
+    has = tuple(c for c in CAPABILITIES if getattr(robot, c) is not None)
+    return RegistryEntry(robot.name, lambda: robot, has, lambda: None)
+
+
 @cache
-def _builtin() -> dict[str, Robot]:
-    return {robot.name: robot for robot in (NAO, TEO)}
+def _entries() -> dict[str, RegistryEntry]:
+    entries = (
+        _ready(NAO),
+        _ready(TEO),
+        RegistryEntry("op3", op3_robot, OP3_CAPABILITIES, op3_missing_reason),
+    )
+    return {entry.name: entry for entry in entries}
 
 
 def robot_names() -> tuple[str, ...]:
-    """The built-in robots' names, sorted."""
-    return tuple(sorted(_builtin()))
+    """The built-in robots' names, sorted (those whose optional model is absent too)."""
+    return tuple(sorted(_entries()))
 
 
 def robots_that(has: str) -> tuple[str, ...]:
     """Built-in robots with a ``"balance"`` model, ``"walking"`` defaults or a ``"fit"``."""
-    return tuple(name for name, robot in sorted(_builtin().items()) if getattr(robot, has))
+    return tuple(name for name, e in sorted(_entries().items()) if has in e.capabilities)
+
+
+def missing_reason(name: str) -> str | None:
+    """Why the built-in robot ``name`` cannot be loaded here, or None when it can.
+
+    The reason names what to install: ``its model is not installed: pip install ...``.
+
+    Raises:
+        ParameterError: on an unknown name.
+    """
+    entries = _entries()
+    if name not in entries:
+        raise ParameterError(f"robot must be one of {', '.join(robot_names())}; got {name!r}")
+    return entries[name].missing()
 
 
 _NEEDS = {
@@ -67,6 +120,7 @@ def get_robot(name_or_path: str | Path | Robot, needs: str | None = None) -> Rob
     Raises:
         ParameterError: on an unknown name, or a robot without what is needed, naming the
             valid ones: ``robot must be one of nao, teo; got 'asimo' (...)``.
+            A built-in robot whose optional model is not installed names how to install it.
         InputFileError: on a robot file that cannot be read, one line per problem.
     """
     valid = robot_names() if needs is None else robots_that(needs)
@@ -74,9 +128,9 @@ def get_robot(name_or_path: str | Path | Robot, needs: str | None = None) -> Rob
         robot = name_or_path
     else:
         text = str(name_or_path)
-        builtin = _builtin()
-        if text in builtin:
-            robot = builtin[text]
+        entries = _entries()
+        if text in entries:
+            robot = entries[text].load()
         elif Path(text).suffix.lower() in ROBOT_FILE_SUFFIXES:
             robot = _robot_file(str(Path(text).resolve()))
         else:

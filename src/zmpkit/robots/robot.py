@@ -17,6 +17,7 @@ name or a user's ``robot.yaml``. Pipelines never branch on a robot's name: they 
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from pathlib import Path
@@ -35,7 +36,18 @@ from zmpkit.sim.world import Simulation
 if TYPE_CHECKING:
     from zmpkit.io.feet import FootMountEntry
 
-__all__ = ["BalanceModel", "FitSpec", "Robot", "TruthSpec", "WalkingDefaults"]
+__all__ = [
+    "TARGET_SUPPORT_SHARE",
+    "BalanceModel",
+    "FitSpec",
+    "Robot",
+    "TruthSpec",
+    "WalkingDefaults",
+]
+
+TARGET_SUPPORT_SHARE = 0.6
+"""A robot's largest balance target, as a share of the nearest support-polygon edge [-]:
+about paper A's on TEO (its 0.10 m Table 1 range against the soles' 0.175 m front edge)."""
 
 Truth = Any
 """A robot's truth object (its own frozen dataclass); only its robot reads its fields."""
@@ -61,6 +73,8 @@ class BalanceModel:
             :mod:`zmpkit.experiments.whole_body_lean`).
         lean_limits: velocity [rad/s] and acceleration [rad/s²] limits of the lean angle
             itself; None: the servo limits, scaled so no leaning joint exceeds them.
+        target_span_m: the largest ZMP target of a balance sweep [m]; None: derived from the
+            support polygon (:attr:`max_target_m`).
     """
 
     mass_kg: float
@@ -72,6 +86,19 @@ class BalanceModel:
     control_period_s: float = 0.01
     lean: str = "ankle"
     lean_limits: ServoLimits | None = None
+    target_span_m: float | None = None
+
+    @property
+    def max_target_m(self) -> float:
+        """The largest ZMP target of a balance sweep, both planes [m].
+
+        ``target_span_m`` when given; else :data:`TARGET_SUPPORT_SHARE` of the support
+        polygon's nearest edge (over both planes and both directions), rounded down to 1 mm.
+        """
+        if self.target_span_m is not None:
+            return self.target_span_m
+        edge = min(min(-low, high) for low, high in self.support_polygon_m.values())
+        return math.floor(TARGET_SUPPORT_SHARE * edge * 1000.0) / 1000.0
 
 
 @dataclass(frozen=True, eq=False)

@@ -172,7 +172,8 @@ def build_user_robot(
         file: the parsed robot file.
         truth_path: the shipped servo truth, or None (a user's robot: the ideal servo only).
         title: the name in reports; default: the file's name.
-        summary: the line of ``zmpkit robot list``; default: the model file and the mass.
+        summary: the line of ``zmpkit robot list`` (``{mass_kg}`` is replaced by the model's
+            mass [kg]); default: the model file and the mass.
         source: what the registry takes to give this robot again; default: the file's path.
         fit: the simulator fit's catalogue, if any.
     """
@@ -183,8 +184,9 @@ def build_user_robot(
     return Robot(
         name=file.name,
         title=title or file.name,
-        summary=summary
-        or f"user robot from {file.path} ({file.model.name}), {built.mass_kg:.3g} kg",
+        summary=(summary or "user robot from {path} ({model}), {mass_kg:.3g} kg").format(
+            path=file.path, model=file.model.name, mass_kg=built.mass_kg
+        ),
         source=source or str(file.path),
         describe=_description(file, built, threshold, servo),
         driven_joints=file.leg_joints,

@@ -76,7 +76,8 @@ def op3_robot() -> Robot:
         file,
         truth_path=OP3_TRUTH_PATH,
         title="OP3",
-        summary="ROBOTIS OP3, 3.2 kg kid-size humanoid, Dynamixel XM430 servos (Menagerie MJCF)",
+        summary="ROBOTIS OP3, {mass_kg:.3g} kg kid-size humanoid, Dynamixel XM430 servos "
+        "(Menagerie MJCF)",
         source="op3",
         fit=FitSpec(fit_catalogue.FIT_CATALOGUE, fit_catalogue.QUICK_FIT_PARAMETERS, "walk"),
     )

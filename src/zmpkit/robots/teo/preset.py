@@ -55,6 +55,7 @@ TEO = Robot(
         hip_roll_joints=("right_hip_sagittal", "left_hip_sagittal"),
         push_bodies={"com": "root_waist", "trunk": "trunk_frontal"},
         control_period_s=0.01,
+        target_span_m=0.10,  # paper A's Table 1: working points 0 ... 0.10 m
     ),
     fit=FitSpec(fit_catalogue.FIT_CATALOGUE, fit_catalogue.QUICK_FIT_PARAMETERS, "step"),
 )
