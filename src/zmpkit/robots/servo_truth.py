@@ -147,7 +147,9 @@ def apply_servo_effects(
     """``mjcf`` (ideal servos on ``joints``) with the effects M, I, G, F of ``truth`` applied.
 
     M replaces each joint's ideal servo by the DC motor and its PID drive (I adds the winding
-    inductance); G splits each joint into motor side and gear deflection with backlash; F adds
+    inductance), and the model's own servo dynamics on that joint (its ``armature``,
+    ``damping`` and ``frictionloss``, e.g. a Menagerie model's system-identified values) by
+    the motor's rotor inertia, friction and drive; G splits each joint into motor side and gear deflection with backlash; F adds
     the flexible-link joints.
     """
     root = ET.fromstring(mjcf)
@@ -156,7 +158,9 @@ def apply_servo_effects(
             add_gear_compliance(root, joint, truth.gear)
         if effects.motor:
             _remove_actuator(root, joint)
-            find_element(root, "joint", joint)
+            element = find_element(root, "joint", joint)
+            element.set("armature", "0")  # the motor's J N² and drive replace the model's
+            element.set("damping", "0")  # servo dynamics (its joint defaults included)
             add_motor(root, joint, truth.motor, truth.inductance if effects.inductance else None)
     if effects.flex:
         for flex in truth.flex:

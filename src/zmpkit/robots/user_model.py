@@ -2,13 +2,18 @@
 
 MuJoCo's own loader (:class:`mujoco.MjSpec`) reads the file, MJCF or URDF alike. Then:
 
+0. geoms whose mesh file does not exist are dropped with their meshes (a URDF published
+   without its meshes, e.g. for licence reasons): the links keep their ``<inertial>`` masses,
+   the collision left is the model's primitive shapes (a foot needs at least one);
 1. a free joint is added at the root body when the model has none (a URDF's usual case);
 2. each foot gets a sole plate (:mod:`zmpkit.sim.sole_plate`): a body under the foot, aligned
    with the world at the initial pose, whose top carries the F-T site ``{side}_ft`` and whose
    box is the only contact of the foot with the floor (the foot's own geoms stop colliding);
 3. the root is lifted so the plates rest on the floor (a plane, added if the model has none);
 4. an IMU site on the IMU body, the force, torque, gyro, accelerometer and orientation
-   sensors, and one ideal servo per leg joint replace the model's own actuators; each servo
+   sensors, and one ideal servo per leg joint replace the model's own actuators (and the
+   actuator defaults of its ``<default>`` classes: a ``ctrlrange`` or ``forcerange`` meant
+   for the model's position servos would clip zmpkit's servos and motors); each servo
    joint gets at least the armature (reflected rotor inertia) that keeps it stable
    (:data:`STIFFNESS_STEPS`).
 
@@ -33,12 +38,37 @@ from zmpkit.sim.builder import add_ideal_servo
 from zmpkit.sim.effects import IdealServoParams
 from zmpkit.sim.sole_plate import SolePlate, add_sole_plate
 
-__all__ = ["FootPrint", "UserModel", "geom_corners", "load_spec", "user_model"]
+__all__ = [
+    "ACTUATOR_TAGS",
+    "FootPrint",
+    "UserModel",
+    "drop_missing_meshes",
+    "geom_corners",
+    "load_spec",
+    "user_model",
+]
 
 _FLOOR_FRICTION = 1.0
 _SOLREF = "0.005 1"
 _SOLIMP = "0.9 0.95 0.001"
 _PLATE_MASS_FRACTION = 0.002
+ACTUATOR_TAGS = frozenset(
+    {
+        "general",
+        "motor",
+        "position",
+        "velocity",
+        "intvelocity",
+        "damper",
+        "cylinder",
+        "muscle",
+        "adhesion",
+        "plugin",
+        "dcmotor",
+        "pid",
+    }
+)
+"""The MJCF actuator elements (and their ``<default>`` entries) a user's model may carry."""
 STIFFNESS_STEPS = 0.2
 """A servo joint's armature is at least ``kp dt² / STIFFNESS_STEPS²``: the servo's natural
 period then spans at least ``2π / STIFFNESS_STEPS`` ≈ 31 physics steps, so the explicit
@@ -95,12 +125,34 @@ def load_spec(model_file: Path) -> mujoco.MjSpec:
     spec.compiler.fusestatic = False  # keep every named body (a URDF's fixed links too)
     spec.meshdir = str((base / spec.meshdir).resolve())
     spec.texturedir = str((base / spec.texturedir).resolve())
+    drop_missing_meshes(spec)
     root = spec.worldbody.first_body()
     if root is None:
         raise InputFileError(model_file, "the model has no body")
     if not any(j.type == mujoco.mjtJoint.mjJNT_FREE for j in root.joints):
         root.add_freejoint(name="root")
     return spec
+
+
+def drop_missing_meshes(spec: mujoco.MjSpec) -> tuple[str, ...]:
+    """Delete the meshes whose file is missing, and every geom that uses one.
+
+    Mesh files are looked up in ``spec.meshdir`` (absolute). Masses given by inertials stay;
+    a body whose mass came from a dropped geom loses it.
+
+    Returns:
+        The dropped meshes' file names.
+    """
+    folder = Path(spec.meshdir)
+    missing = [m for m in spec.meshes if m.file and not (folder / m.file).is_file()]
+    names = {m.name for m in missing}
+    for geom in [g for g in spec.geoms if g.type == mujoco.mjtGeom.mjGEOM_MESH]:
+        if geom.meshname in names:
+            spec.delete(geom)
+    files = tuple(str(m.file) for m in missing)
+    for mesh in missing:
+        spec.delete(mesh)
+    return files
 
 
 def _compile(robot: RobotFile, spec: mujoco.MjSpec) -> tuple[mujoco.MjModel, mujoco.MjData]:
@@ -307,6 +359,9 @@ def _finish_xml(
     ET.SubElement(imu, "site", {"name": "imu", "size": "0.01"})
     for old in xml.findall("actuator") + xml.findall("sensor") + xml.findall("keyframe"):
         xml.remove(old)
+    for default in xml.iter("default"):
+        for entry in [e for e in default if e.tag in ACTUATOR_TAGS]:
+            default.remove(entry)
     sensors = ET.SubElement(xml, "sensor")
     for side in SIDES:
         ET.SubElement(sensors, "force", {"name": f"{side}_ft_force", "site": f"{side}_ft"})
