@@ -45,9 +45,11 @@ __all__ = [
     "WalkingDefaults",
 ]
 
-TARGET_SUPPORT_SHARE = 0.6
-"""A robot's largest balance target, as a share of the nearest support-polygon edge [-]:
-about paper A's on TEO (its 0.10 m Table 1 range against the soles' 0.175 m front edge)."""
+TARGET_SUPPORT_SHARE = 0.3
+"""A robot's largest balance target, as a share of the nearest support-polygon edge [-]: a
+soft-servo robot's ZMP overshoots a lean step by up to its target and settles beyond it, so
+twice the target must stay on the sole with room to spare. (Paper A's TEO, with stiff
+servos, was run to 0.57 of its edge: 0.10 m of 0.175 m; its preset says so.)"""
 
 Truth = Any
 """A robot's truth object (its own frozen dataclass); only its robot reads its fields."""

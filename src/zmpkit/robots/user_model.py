@@ -13,9 +13,11 @@ MuJoCo's own loader (:class:`mujoco.MjSpec`) reads the file, MJCF or URDF alike.
 4. an IMU site on the IMU body, the force, torque, gyro, accelerometer and orientation
    sensors, and one ideal servo per leg joint replace the model's own actuators (and the
    actuator defaults of its ``<default>`` classes: a ``ctrlrange`` or ``forcerange`` meant
-   for the model's position servos would clip zmpkit's servos and motors); each servo
-   joint gets at least the armature (reflected rotor inertia) that keeps it stable
-   (:data:`STIFFNESS_STEPS`).
+   for the model's position servos would clip zmpkit's servos and motors); the other joints
+   (arms, head) are held at their initial angles by joint springs as stiff as the servos
+   (``stiffness`` = the servo's kp, ``damping`` at least its kd), as the robot's own servos
+   would hold them; every servo or spring joint gets at least the armature (reflected rotor
+   inertia) that keeps it stable (:data:`STIFFNESS_STEPS`).
 
 The robot's mass, footprint and standing pose come from the compiled model: a user gives
 names, not numbers.
@@ -372,6 +374,13 @@ def _finish_xml(
     minimum = servo.kp * robot.timestep_s**2 / STIFFNESS_STEPS**2
     for joint in robot.leg_joints:
         add_ideal_servo(xml, joint, servo)
-        element = next(j for j in xml.iter("joint") if j.get("name") == joint)
+    for element in xml.iter("joint"):
+        name = element.get("name")
+        if name is None or element.get("type", "hinge") not in ("hinge", "slide"):
+            continue
+        if name not in robot.leg_joints:  # held where it starts, as a servo would hold it
+            element.set("stiffness", f"{servo.kp:.9g}")
+            element.set("springref", element.get("ref", "0"))
+            element.set("damping", f"{max(float(element.get('damping', '0')), servo.kd):.9g}")
         armature = max(float(element.get("armature", "0")), minimum)
         element.set("armature", f"{armature:.9g}")
