@@ -85,7 +85,7 @@ def test_zmp_needs_exactly_one_feet_source(
 
 def test_unknown_robot_lists_choices(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     assert main(["zmp", "log.csv", "--robot", "atlas", "--out", str(tmp_path)]) == 2
-    assert "robot must be one of nao, teo; got 'atlas'" in capsys.readouterr().err
+    assert "robot must be one of nao, op3, teo; got 'atlas'" in capsys.readouterr().err
 
 
 def test_zmp_with_builtin_teo_mounts(tmp_path: Path) -> None:

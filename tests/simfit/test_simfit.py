@@ -165,7 +165,7 @@ def test_a_fallen_rollout_costs_more_the_earlier_it_falls() -> None:
 
 
 def test_config_errors_say_what_is_valid() -> None:
-    with pytest.raises(ParameterError, match="robot must be one of nao, teo; got 'asimo'"):
+    with pytest.raises(ParameterError, match="robot must be one of nao, op3, teo; got 'asimo'"):
         IdentifySimConfig(data=("x",), robot="asimo")
     with pytest.raises(ParameterError, match="give at least one DATA folder"):
         IdentifySimConfig()

