@@ -19,9 +19,12 @@ $(VENV)/.installed: pyproject.toml | $(BIN)/python
 	$(BIN)/python -m pip install --quiet -e .
 	touch $@
 
-# The tests install Ray too, so the cluster backend is exercised live (on a local instance).
+# The tests install Ray too, so the cluster backend is exercised live (on a local instance),
+# and qibullet without its dependencies: a test reads NAO's URDF out of it (never imports it,
+# so pybullet is not needed).
 $(VENV)/.installed-test: pyproject.toml | $(BIN)/python
 	$(BIN)/python -m pip install --quiet -e '.[test,ray]'
+	$(BIN)/python -m pip install --quiet --no-deps 'qibullet==1.4.6'
 	touch $@ $(VENV)/.installed
 
 demo: $(VENV)/.installed
