@@ -149,8 +149,8 @@ def apply_servo_effects(
     M replaces each joint's ideal servo by the DC motor and its PID drive (I adds the winding
     inductance), and the model's own servo dynamics on that joint (its ``armature``,
     ``damping`` and ``frictionloss``, e.g. a Menagerie model's system-identified values) by
-    the motor's rotor inertia, friction and drive; G splits each joint into motor side and gear deflection with backlash; F adds
-    the flexible-link joints.
+    the motor's rotor inertia, friction and drive; G splits each joint into motor side and
+    gear deflection with backlash; F adds the flexible-link joints.
     """
     root = ET.fromstring(mjcf)
     for joint in joints:
