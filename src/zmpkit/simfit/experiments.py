@@ -110,7 +110,9 @@ def _read_summary(folder: Path) -> dict:
     return summary
 
 
-def _walk_signals(path: Path, header: list[str], table: NDArray[np.float64]) -> RecordedSignals:
+def _walk_signals(
+    path: Path, header: list[str], table: NDArray[np.float64], joints: tuple[str, ...]
+) -> RecordedSignals:
 
     col = {name: table[:, header.index(name)] for name in header}
     time = col["time_s"]
@@ -118,14 +120,14 @@ def _walk_signals(path: Path, header: list[str], table: NDArray[np.float64]) -> 
         raise InputFileError(
             path, "time_s must rise strictly over at least 16 rows", column="time_s"
         )
-    for name in ("time_s", "trunk_pitch_rad", *(f"{j}_meas_rad" for j in PITCH_JOINTS)):
+    for name in ("time_s", "trunk_pitch_rad", *(f"{j}_meas_rad" for j in joints)):
         if not np.all(np.isfinite(col[name])):
             raise InputFileError(path, "expected finite numbers", column=name)
     return RecordedSignals(
         time_s=time,
-        joint_names=PITCH_JOINTS,
-        q_cmd_rad=np.column_stack([col[f"{j}_cmd_rad"] for j in PITCH_JOINTS]),
-        q_meas_rad=np.column_stack([col[f"{j}_meas_rad"] for j in PITCH_JOINTS]),
+        joint_names=joints,
+        q_cmd_rad=np.column_stack([col[f"{j}_cmd_rad"] for j in joints]),
+        q_meas_rad=np.column_stack([col[f"{j}_meas_rad"] for j in joints]),
         zmp_m=np.column_stack([col["zmp_x_m"], col["zmp_y_m"]]),
         trunk_tilt_rad=col["trunk_pitch_rad"],
     )
@@ -141,7 +143,8 @@ def read_walk_folder(folder: str | Path, robot: str) -> WalkExperiment:
     folder = Path(folder)
     summary = _read_summary(folder)
     path = folder / SERIES_FILE
-    signals = _walk_signals(path, *read_series(path))
+    joints = get_robot(robot, needs="walking").require_walking().series_joints or PITCH_JOINTS
+    signals = _walk_signals(path, *read_series(path), tuple(joints))
     speed = float(summary["commanded_speed_mps"])
     step_s = 1.0 / float(summary["step_frequency_hz"])
     duration, height = match_walk_plan(robot, path, speed, step_s, signals)

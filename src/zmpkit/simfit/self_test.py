@@ -32,7 +32,13 @@ from numpy.typing import NDArray
 from zmpkit.experiments import StepExperimentConfig, run_step_sweep
 from zmpkit.experiments.walk import run_walk_trial
 from zmpkit.experiments.walk_config import WalkConfig
-from zmpkit.experiments.walk_dataset import SERIES_FILE, SUMMARY_FILE, write_series, write_summary
+from zmpkit.experiments.walk_dataset import (
+    PITCH_JOINTS,
+    SERIES_FILE,
+    SUMMARY_FILE,
+    write_series,
+    write_summary,
+)
 from zmpkit.robots.registry import get_robot
 from zmpkit.simfit.parameters import FitParameter
 from zmpkit.simfit.truth_doc import truth_doc_with, write_truth_doc
@@ -71,14 +77,24 @@ class SelfTestPlan:
 
 
 def self_test_plan(robot: str, quick: bool) -> SelfTestPlan:
-    """The plan for ``robot``; ``quick`` keeps it small (2 short walks or 3 steps)."""
+    """The plan for ``robot``; ``quick`` keeps it small (2 short walks or 3 steps).
+
+    Step targets are shares of the robot's largest balance target
+    (:attr:`~zmpkit.robots.robot.BalanceModel.max_target_m`).
+    """
     if _replays_walks(robot):
         if quick:
             return SelfTestPlan(((0.2, 3.0), (0.15, 3.0)), ((0.175, 10.0),))
         return SelfTestPlan(((0.1, 6.0), (0.15, 6.0), (0.2, 6.0)), ((0.175, 10.0), (0.2, 10.0)))
+    span = get_robot(robot, needs="balance").require_balance().max_target_m
     if quick:
-        return SelfTestPlan((0.02, 0.05, 0.08), (0.065,))
-    return SelfTestPlan((0.02, 0.04, 0.06, 0.08), (0.03, 0.07), hold_s=5.0)
+        return SelfTestPlan(_shares((0.2, 0.5, 0.8), span), _shares((0.65,), span))
+    return SelfTestPlan(_shares((0.2, 0.4, 0.6, 0.8), span), _shares((0.3, 0.7), span), hold_s=5.0)
+
+
+def _shares(shares: tuple[float, ...], span_m: float) -> tuple[float, ...]:
+    """Step targets at ``shares`` of the robot's largest balance target ``span_m`` [m]."""
+    return tuple(round(share * span_m, 6) for share in shares)
 
 
 def _replays_walks(robot: str) -> bool:
@@ -116,7 +132,8 @@ def _walks(robot: str, specs: tuple, truth: Path, effects: str, seed: int, out: 
         trial = run_walk_trial(config)
         folder.mkdir(parents=True, exist_ok=True)
         write_summary(folder / SUMMARY_FILE, trial.summary)
-        write_series(folder / SERIES_FILE, trial.pattern, trial.record)
+        joints = get_robot(robot, needs="walking").require_walking().series_joints
+        write_series(folder / SERIES_FILE, trial.pattern, trial.record, joints or PITCH_JOINTS)
         folders.append(folder)
     return folders
 

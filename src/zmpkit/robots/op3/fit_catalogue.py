@@ -12,8 +12,8 @@ from zmpkit.robots.fit_parameter import fit_parameter as _p
 __all__ = ["FIT_CATALOGUE", "QUICK_FIT_PARAMETERS"]
 
 FIT_CATALOGUE: tuple[FitParameter, ...] = (
-    _p("M", "pid_p_gain", "pid.kp", 60.0, (15.0, 240.0), "N·m/rad"),
-    _p("M", "pid_d_gain", "pid.kd", 0.5, (0.1, 2.5), "N·m·s/rad"),
+    _p("M", "pid_p_gain", "pid.kp", 18.9, (5.0, 75.0), "N·m/rad"),
+    _p("M", "back_emf_damping", "friction.viscous_motor", 6.813e-6, (1.7e-6, 2.7e-5), "N·m·s/rad"),
     _p("M", "coulomb_friction", "friction.coulomb_link", 0.03, (0.003, 0.3), "N·m"),
     _p("I", "inductance", "motor.inductance", 1.0e-4, (2e-5, 1e-3), "H"),
     _p("G", "gear_stiffness", "gear.stiffness", 400.0, (100.0, 1600.0), "N·m/rad"),
@@ -23,5 +23,5 @@ FIT_CATALOGUE: tuple[FitParameter, ...] = (
 )
 """Every fit parameter of the virtual OP3, by effect letter."""
 QUICK_FIT_PARAMETERS: tuple[str, ...] = ("pid_p_gain", "gear_stiffness")
-"""A quick fit's two parameters: the PID gain sets the joint tracking error (the encoders
-see it directly); the gear stiffness the trunk oscillation."""
+"""A quick fit's two parameters: the servos' P gain sets the static error of a lean (the
+servo is P-only); the gear, in series with it, the step's transient."""
