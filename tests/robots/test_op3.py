@@ -7,6 +7,8 @@ it is tested by hiding the model.
 
 from __future__ import annotations
 
+import csv
+import json
 import math
 import xml.etree.ElementTree as ET
 from pathlib import Path
@@ -92,3 +94,29 @@ def test_the_op3_with_every_effect_compiles_and_stands() -> None:
     shoulder = model.jnt_qposadr[model.joint("l_sho_roll").id]
     assert abs(sim.data.qpos[shoulder]) < 0.01
     assert sim.data.qpos[2] > 0.25
+
+
+@pytest.mark.slow
+def test_the_op3_walks_with_its_motors_ideal_and_leans_with_every_effect(
+    tmp_path: Path,
+) -> None:
+    """3 s of ZMP/IP walking with the effects off (with the motor effect on it falls: see
+    the README), and a frontal lean step with every effect on, which the LIPM misses."""
+    pytest.importorskip(preset.OP3_ASSETS_PACKAGE)
+    walk = tmp_path / "walk"
+    args = ["--robot", "op3", "--effects", "none", "--duration", "3", "--out", str(walk)]
+    assert main(["walk", *args]) == 0
+    summary = json.loads((walk / "summary.json").read_text(encoding="utf-8"))
+    assert not summary["fell"]
+    assert summary["mean_speed_mps"] == pytest.approx(0.2, rel=0.1)
+    push = tmp_path / "push"
+    target = get_robot("op3").require_balance().max_target_m
+    args = ["--robot", "op3", "--plane", "frontal", "--targets", f"{target:g}", "--hold", "4"]
+    assert main(["sim", "push", *args, "--workers", "1", "--out", str(push)]) == 0
+    with (push / "steady_state.csv").open(encoding="utf-8") as f:
+        (row,) = list(csv.DictReader(f))
+    assert float(row["zmp_measured"]) > target  # the soft servos lean past the target
+    assert (
+        float(row["zmp_measured"])
+        < get_robot("op3").require_balance().support_polygon_m["frontal"][1]
+    )

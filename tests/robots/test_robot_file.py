@@ -123,10 +123,11 @@ def test_bad_robot_files_get_one_line_naming_the_valid_names(
 def test_robot_list_names_the_built_in_robots(capsys: pytest.CaptureFixture[str]) -> None:
     assert main(["robot", "list"]) == 0
     names = [line.split(":")[0] for line in capsys.readouterr().out.splitlines()]
-    assert names == ["nao", "teo"]
+    assert names == ["nao", "op3", "teo"]  # op3 listed whether or not its model is installed
 
 
 def test_unknown_robot_is_exit_2_with_one_line(capsys: pytest.CaptureFixture[str]) -> None:
     assert main(["balance", "--robot", "atlas", "--out", "unused"]) == 2
     err = capsys.readouterr().err.strip().splitlines()
-    assert err == ["zmpkit: error: robot must be one of teo; got 'atlas' (or a robot.yaml file)"]
+    expected = "robot must be one of op3, teo; got 'atlas' (or a robot.yaml file)"
+    assert err == [f"zmpkit: error: {expected}"]
