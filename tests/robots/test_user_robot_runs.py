@@ -14,6 +14,7 @@ import pytest
 
 from helpers.biped import BIPED_MJCF, BIPED_URDF, LEG_M
 from zmpkit.cli import main
+from zmpkit.errors import InputFileError, ParameterError
 from zmpkit.robots.registry import get_robot
 
 
@@ -78,3 +79,42 @@ def test_the_feedback_walks_stand_on_a_users_robot(
     summary = json.loads((walk / "summary.json").read_text(encoding="utf-8"))
     assert not summary["fell"], summary["fall_kind"]
     assert summary["mean_speed_mps"] == pytest.approx(0.2, rel=0.15)
+
+
+_BIPED_TRUTH = """
+servo_rate_hz: 1000.0
+motor: {gear_ratio: 200.0, supply_voltage: 24.0, torque_constant: 0.02, resistance: 1.0,
+        inductance: 1.0e-4, rotor_inertia: 1.0e-6}
+pid: {kp: 400.0, ki: 200.0, kd: 4.0, integral_limit_link: 0.05}
+friction: {coulomb_link: 0.05}
+gear: {stiffness: 3000.0, damping: 1.0, backlash: 0.002, inertia_link: 1.0e-3}
+flex:
+  - {name: r_shank_flex, body: r_shank, axis: [0, 1, 0], anchor: [0, 0, -0.1],
+     stiffness: [4000.0, 0.0, 0.0], damping: 1.0}
+"""
+
+
+def test_a_robot_file_with_a_truth_gets_the_effects(robot_yaml: Path) -> None:
+    """``truth:`` in robot.yaml: motors, gears and a flexible shank; without it, no effects."""
+    with pytest.raises(ParameterError, match="effects"):
+        get_robot(robot_yaml).make_simulation("M")
+    (robot_yaml.parent / "truth.yaml").write_text(_BIPED_TRUTH, encoding="utf-8")
+    with_truth = robot_yaml.with_name("robot_with_truth.yaml")
+    text = robot_yaml.read_text(encoding="utf-8")
+    with_truth.write_text(text + "truth: truth.yaml\n", encoding="utf-8")
+    robot = get_robot(with_truth)
+    sim = robot.make_simulation("all")
+    model = sim.model
+    assert model.nu == len(robot.driven_joints) == 10
+    assert model.joint("r_shank_flex").id > 0
+    sim.step(500)  # it stands on its DC motors (stall: N K V / R = 96 N·m at the joint)
+    weight = float(model.body_subtreemass[0]) * 9.81
+    assert sim.ft("left")[2] + sim.ft("right")[2] == pytest.approx(weight, rel=0.05)
+    assert robot.truth.default_path == (robot_yaml.parent / "truth.yaml").resolve()
+
+
+def test_a_robot_file_names_a_missing_truth(robot_yaml: Path) -> None:
+    with robot_yaml.open("a", encoding="utf-8") as handle:
+        handle.write("truth: nowhere.yaml\n")
+    with pytest.raises(InputFileError, match="truth: no such file"):
+        get_robot(robot_yaml)

@@ -16,6 +16,9 @@ Layout (lengths in m; every path relative to the YAML's folder)::
     servo: {kp: 2000.0, ki: 2000.0, kd: 10.0}         # default: scaled from weight × CoM height
     contact_threshold_n: 2.5         # default: 5 % of the robot's weight [N]
     timestep: 0.001                  # physics step [s]
+    truth: truth.yaml                # optional: motors, gears, flex, sensors for the effects
+                                     # M, I, G, F (layout: zmpkit.robots.servo_truth); without
+                                     # it the robot has the ideal servo only (effects "none")
     walking:                         # every key optional; defaults derived from the model
       com_height: 0.45               # CoM height of the walk [m]; default: the crouch's
       crouch: 0.08                   # the crouch lowers the hips by this share of the leg [-]
@@ -61,6 +64,7 @@ _FIELDS = (
     "servo",
     "contact_threshold_n",
     "timestep",
+    "truth",
     "walking",
 )
 WALKING_FIELDS = (
@@ -114,6 +118,7 @@ class RobotFile:
         contact_threshold_n: contact threshold, or None for 5 % of the weight [N].
         timestep_s: physics step [s].
         walking: the ``walking:`` values given (others derived from the model).
+        truth: the servo truth file for the effects, or None (the ideal servo only).
     """
 
     path: Path
@@ -130,6 +135,7 @@ class RobotFile:
     contact_threshold_n: float | None
     timestep_s: float
     walking: WalkingOverrides = WalkingOverrides()
+    truth: Path | None = None
 
     @property
     def leg_joints(self) -> tuple[str, ...]:
@@ -193,6 +199,17 @@ def _model_path(path: Path, doc: Mapping[str, Any]) -> Path:
         raise _fail(path, "model", f"no such file {file}")
     if file.suffix.lower() not in (".xml", ".urdf", ".mjcf"):
         raise _fail(path, "model", f"expected an .xml (MJCF) or .urdf file, got {file.name}")
+    return file
+
+
+def _truth_path(path: Path, value: Any) -> Path | None:
+    if value is None:
+        return None
+    if not isinstance(value, str):
+        raise _fail(path, "truth", f"expected the truth YAML's path, got {shorten(repr(value))}")
+    file = (path.parent / value).resolve()
+    if not file.is_file():
+        raise _fail(path, "truth", f"no such file {file}")
     return file
 
 
@@ -271,4 +288,5 @@ def read_robot_file(path: str | Path, model: Path | None = None) -> RobotFile:
         timestep_s=_number(file, "timestep", doc.get("timestep"), DEFAULT_TIMESTEP_S)
         or DEFAULT_TIMESTEP_S,
         walking=_walking(file, doc.get("walking")),
+        truth=_truth_path(file, doc.get("truth")),
     )

@@ -152,7 +152,8 @@ def load_robot_file(path: str | Path) -> Robot:
     Raises:
         InputFileError: one line naming the file, the field and the valid names.
     """
-    return build_user_robot(read_robot_file(path))
+    file = read_robot_file(path)
+    return build_user_robot(file, truth_path=file.truth)
 
 
 def build_user_robot(
@@ -170,7 +171,8 @@ def build_user_robot(
 
     Args:
         file: the parsed robot file.
-        truth_path: the shipped servo truth, or None (a user's robot: the ideal servo only).
+        truth_path: the servo truth (shipped, or a robot file's ``truth:``), or None (the
+            ideal servo only).
         title: the name in reports; default: the file's name.
         summary: the line of ``zmpkit robot list`` (``{mass_kg}`` is replaced by the model's
             mass [kg]); default: the model file and the mass.
