@@ -92,3 +92,33 @@ def test_no_contact_gives_no_zmp_and_keeps_the_last_anchor() -> None:
     estimator.update(m, soles)
     assert np.all(np.isnan(estimator.zmp_in_world))
     np.testing.assert_allclose(estimator.com_in_world, first, atol=1e-12)
+
+
+@pytest.mark.parametrize("imu_yaw_error_rad", [0.0, 0.3, -0.6, 2.5])
+def test_the_feet_give_the_yaw_that_a_drifting_imu_gets_wrong(imu_yaw_error_rad: float) -> None:
+    """With the planned sole headings, the estimate is the model's own whatever the IMU's yaw
+    says (a gyro bias turns it); roll and pitch still come from the IMU."""
+    joints = {"LHipPitch": -0.4, "LKneePitch": 0.8, "LAnklePitch": -0.35, "RHipPitch": -0.5,
+              "RKneePitch": 0.9, "RAnklePitch": -0.45, "LHipYawPitch": -0.1}  # fmt: skip
+    model, data = _posed((0.42, -0.13, 0.31), (0.03, -0.05, 0.4), joints)
+    force = np.array([[1.0, -2.0, 18.0], [-0.5, 1.5, 30.0]])
+    moment = np.array([[0.3, -0.2, 0.01], [-0.1, 0.4, 0.0]])
+    m = _measurement(model, data, joints, force, moment)
+    turn = np.array([np.cos(imu_yaw_error_rad / 2), 0.0, 0.0, np.sin(imu_yaw_error_rad / 2)])
+    mujoco.mju_mulQuat(m.imu_quaternion, turn, m.imu_quaternion.copy())  # yaw error in world
+    soles = np.array([data.site(f"{f}_sole").xpos for f in FEET])
+    yaws = np.array([np.arctan2(data.site(f"{f}_sole").xmat[3], data.site(f"{f}_sole").xmat[0])
+                     for f in FEET])  # fmt: skip
+    estimator = _estimator(model)
+    estimator.update(m, soles, yaws)
+    np.testing.assert_allclose(estimator.com_in_world, data.subtree_com[1], atol=1e-9)
+    sensors = np.array([data.site(f"{f}_ft").xpos for f in FEET])
+    expected = zmp_in_world(force[None], moment[None], sensors[None], 5.0)[0]
+    np.testing.assert_allclose(estimator.zmp_in_world, expected, atol=1e-9)
+    assert estimator.yaw_correction_rad == pytest.approx(
+        (-imu_yaw_error_rad + np.pi) % (2 * np.pi) - np.pi, abs=1e-9
+    )
+    unaided = _estimator(model)
+    unaided.update(m, soles)  # the IMU's yaw alone
+    miss = np.linalg.norm(unaided.com_in_world[:2] - data.subtree_com[1][:2])
+    assert (miss > 1e-3) == (imu_yaw_error_rad != 0.0)

@@ -114,6 +114,10 @@ class OpenLoopWalk:
         return self.trajectory.q_rad[frame]
 
 
+YAW_FROM_FEET = True
+"""Whether the feedback walks take the base's yaw from the feet in contact (not the IMU)."""
+
+
 class _OnlineTargets:
     """What the IK reads of a pattern: the CoM and the feet's yaw are written frame by frame."""
 
@@ -152,6 +156,10 @@ class _OnlineWalk:
         feet = pattern.feet
         by_side = {"left": feet.left.position_in_world, "right": feet.right.position_in_world}
         self._soles = np.stack([by_side[f] for f in self.estimator.feet], axis=1)  # (N, F, 3)
+        targets = self.heading.targets
+        yaws = {"left": targets.left.yaw_in_world, "right": targets.right.yaw_in_world}
+        self._sole_yaws = [yaws[f] for f in self.estimator.feet]  # written by the heading
+        self._yaw_now = np.zeros(len(self._sole_yaws))
         self.omega = math.sqrt(STANDARD_GRAVITY_MPS2 / pattern.com.com_height_m)
         self.com_target_in_world = np.full((pattern.time_s.size, 2), np.nan)
         """The CoM each frame was commanded to [m], shape (N, 2)."""
@@ -165,7 +173,12 @@ class _OnlineWalk:
     def step(self, frame: int, measurement: WalkMeasurement) -> NDArray[np.float64]:
         """Joint targets of ``frame`` [rad] from the readings of ``frame - 1``."""
         last = min(frame - 1, self._soles.shape[0] - 1)
-        self.estimator.update(measurement, self._soles[last])
+        yaw = None
+        if YAW_FROM_FEET:
+            yaw = self._yaw_now
+            for i, planned in enumerate(self._sole_yaws):
+                yaw[i] = planned[last]
+        self.estimator.update(measurement, self._soles[last], yaw)
         self.com_estimate_in_world[last] = self.estimator.com_in_world[:2]
         self.heading.update(min(frame, self._soles.shape[0] - 1), measurement.imu_quaternion)
         self._correct(frame)
