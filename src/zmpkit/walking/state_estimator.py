@@ -24,7 +24,7 @@ rotated into the world, ``R_i f_i`` and ``R_i τ_i``, about ``\hat o_i``
 
 The IMU gives the base's roll and pitch, which gravity keeps honest; its yaw is the
 integral of a gyroscope and drifts with its bias (0.05 rad/s turns it 0.5 rad in 10 s, and
-the estimate with it: the virtual NAO's feedback walks then fell on 3 of 4 seeds). Given the
+the estimate with it: the built-in walker's feedback walks then fell on 3 of 4 seeds). Given the
 planned headings ``ψ̂_i`` of the soles, the yaw comes from the feet in contact instead (leg
 odometry, as the positions do): the posed robot is turned about the vertical through its base
 by the contact-weighted heading error
