@@ -56,7 +56,7 @@ def test_algorithm2_without_deviation_keeps_the_planned_walk(short_walk) -> None
     hook = OnlineZmpCompensator(pattern, nao_ik_model(), Algorithm2Parameters(), settings)
     for frame in range(1, 60):  # measured ZMP = desired ZMP: no offset, the planned CoM
         hook.update(frame - 1, pattern.linear_zmp_reference.zmp_in_world[frame - 1])
-        window = hook.reference_window(frame - 1)
+        window = hook.reference_window(frame - 1, hook.window)
         np.testing.assert_array_equal(
             window[0], pattern.linear_zmp_reference.zmp_in_world[frame - 1]
         )

@@ -41,9 +41,10 @@ def test_open_loop_keeps_paper_b_validation_on_one_robot() -> None:
     assert all(w.truth is None for w in config.validation_walks())
 
 
-def test_algorithm_2_with_feedback_is_refused_with_its_remedy() -> None:
-    with pytest.raises(ParameterError, match="run it with controller open"):
-        CompensateConfig(method="alg2", controller="zmpip")
+def test_algorithm_2_runs_with_a_preview_controller_and_refuses_dcm_with_its_remedy() -> None:
+    assert CompensateConfig(method="alg2", controller="zmpip").held_out
+    with pytest.raises(ParameterError, match="run it with controller zmpip"):
+        CompensateConfig(method="alg2", controller="dcm")
 
 
 def test_a_held_out_robot_has_the_varied_value_and_nothing_else_changed(tmp_path) -> None:

@@ -69,7 +69,7 @@ def test_summary_json_has_exactly_the_contract_keys(tmp_path, method) -> None:
     report = files["report"].read_text()
     assert files["report"].name == "report.html"
     assert "lowers the step-frequency peak of the trunk pitch" in report
-    assert "+50.0 % lower on average over 1 held-out walks" in report
+    assert "50.0 % lower on average over 1 held-out walks" in report
     assert (
         "half-sine: tuned objective J = 1.400 (2 = no change), offset amplitude_m = 0.004, "
         "phase = 0.25, fourier_m = [0.001, -0.002], reference_speed_mps = 0.2"

@@ -162,7 +162,7 @@ def walk_group(
     show_default=True,
     help="Walking controller of every walk. With feedback, tuning uses two speeds and two step "
     "durations and validation walks differ from them in speed, step duration and robot; open "
-    "repeats paper B's open-loop simulation (alg2 needs open).",
+    "repeats paper B's open-loop simulation (alg2 runs with zmpip, as paper B's robot, or open).",
 )
 @click.option("--effects", default="all", show_default=True, help="Simulated effects.")
 @click.option("--seed", type=int, default=0, show_default=True, help="Seed of the sensor noise.")
@@ -204,8 +204,8 @@ def walk_compensate_command(
         click.echo(f"{s.method}: no validation walk where both versions stood to compare")
     else:
         click.echo(
-            f"{s.method}: step-frequency peak {s.peak_reduction_pct:.1f} % lower, "
-            f"oscillation std {s.std_reduction_pct:.1f} % lower on "
+            f"{s.method}: step-frequency peak {_change(s.peak_reduction_pct)}, "
+            f"oscillation std {_change(s.std_reduction_pct)} on "
             f"{s.walks_compared} validation walks; compensated falls: "
             f"{s.compensated_falls}"
         )
@@ -264,3 +264,9 @@ def walk_sweep_command(
         click.echo(f"{controller}: {falls} of {cases} walks fell")
     click.echo(f"robustness: {Path(out_dir) / 'robustness.csv'}")
     click.echo(f"report: {write_walk_sweep_report(result, out_dir, report_format)}")
+
+
+def _change(reduction_pct: float) -> str:
+    """``12.3 % lower`` or ``4.5 % higher`` for a reduction of ``reduction_pct`` [%]."""
+    word = "lower" if reduction_pct >= 0.0 else "higher"
+    return f"{abs(reduction_pct):.1f} % {word}"

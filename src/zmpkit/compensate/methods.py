@@ -8,16 +8,22 @@ module-level so a process pool can run them.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import partial
 
 import numpy as np
 from numpy.typing import NDArray
 
 from zmpkit.compensate.algorithm1 import DEFAULT_ITERATIONS, compensate_abstraction
-from zmpkit.compensate.algorithm2 import Algorithm2Parameters, OnlineZmpCompensator
+from zmpkit.compensate.algorithm2 import (
+    Algorithm2Offsets,
+    Algorithm2Parameters,
+    OnlineZmpCompensator,
+)
 from zmpkit.compensate.evaluate import oscillation_of, simulate_with_offset
 from zmpkit.compensate.evaluations import WalkSpec
 from zmpkit.compensate.offsets import OffsetParameters, offset_in_world
 from zmpkit.errors import SimulationDivergedError
+from zmpkit.experiments.walk import make_controller
 from zmpkit.experiments.walk_summary import summarise_walk
 from zmpkit.experiments.walk_trial import WalkRecord, simulate_walk
 from zmpkit.robots.registry import get_robot
@@ -99,17 +105,33 @@ def walk_with_algorithm1(walk: WalkSpec, iterations: int = DEFAULT_ITERATIONS) -
 
 
 def walk_with_algorithm2(walk: WalkSpec, parameters: Algorithm2Parameters) -> CompensatedWalk:
-    """``walk`` with Algorithm 2 running online on the measured ZMP."""
+    """``walk`` with Algorithm 2 running online on the measured ZMP.
+
+    Open loop (``walk.controller`` ``open``): Algorithm 2's own preview controller plans the
+    CoM on ``p'`` with no state feedback. With ``zmpip`` (paper B's line 3, "ZMP/IP-
+    Controller(p')"): the feedback walk's observed preview control tracks ``p'``, which
+    Algorithm 2 rewrites each frame from the F-T sensors' ZMP.
+    """
     config = walk.walk_config()
     pattern = generate_pattern(config.pattern_config())
     robot = get_robot(config.robot, needs="walking")
     model, settings = robot.ik_model(), robot.ik_settings
     trajectory = solve_walking_ik(pattern, model, settings)
-    hook = OnlineZmpCompensator(pattern, model, parameters, settings)
+    sim = robot.make_simulation(config.effects, config.truth, seed=config.seed)
+    learner: Algorithm2Offsets
+    if config.controller == "open":
+        hook = OnlineZmpCompensator(pattern, model, parameters, settings)
+        learner = hook
+        run = partial(simulate_walk, sim, trajectory, frame_hook=hook)
+    else:
+        learner = Algorithm2Offsets(pattern, parameters)
+        controller = make_controller(
+            config.controller, pattern, trajectory, model, settings, sim, reference_adapter=learner
+        )
+        run = partial(simulate_walk, sim, trajectory, controller=controller)
     try:
-        record = simulate_walk(robot.make_simulation(config.effects, seed=config.seed), trajectory,
-                               frame_hook=hook)  # fmt: skip
+        record = run()
     except SimulationDivergedError:
-        return _result(walk, pattern, None, None, hook.target)
+        return _result(walk, pattern, None, None, learner.target)
     summary = summarise_walk(pattern, trajectory, record, config.effects, config.seed)
-    return _result(walk, pattern, record, summary, hook.target)
+    return _result(walk, pattern, record, summary, learner.target)

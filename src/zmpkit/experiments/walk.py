@@ -14,6 +14,7 @@ from dataclasses import dataclass
 
 import mujoco
 
+from zmpkit.errors import ParameterError
 from zmpkit.experiments.walk_config import WalkConfig
 from zmpkit.experiments.walk_summary import WalkSummary, summarise_walk
 from zmpkit.experiments.walk_trial import ProgressCallback, WalkRecord, simulate_walk
@@ -26,6 +27,7 @@ from zmpkit.walking.pattern import WalkingPattern
 from zmpkit.walking.walk_controllers import (
     DcmWalk,
     OpenLoopWalk,
+    ReferenceAdapter,
     SensorLayout,
     WalkController,
     ZmpIpWalk,
@@ -80,17 +82,28 @@ def make_controller(
     settings: IkSettings,
     sim: Simulation,
     heading_feedback: bool = True,
+    reference_adapter: ReferenceAdapter | None = None,
 ) -> WalkController:
     """The walking controller ``name`` for this walk (``open``, ``zmpip`` or ``dcm``).
 
-    ``heading_feedback`` False switches the feedback walks' IMU yaw feedback off.
+    ``heading_feedback`` False switches the feedback walks' IMU yaw feedback off;
+    ``reference_adapter`` adapts ``zmpip``'s ZMP reference online (paper B's Algorithm 2).
+
+    Raises:
+        ParameterError: a reference adapter for a controller that tracks no ZMP reference.
     """
+    if reference_adapter is not None and name != "zmpip":
+        raise ParameterError(
+            f"an online ZMP reference adapter needs the zmpip controller (it adapts the "
+            f"reference of zmpip's preview control); got {name!r}"
+        )
     if name == "open":
         return OpenLoopWalk(trajectory)
     layout = sensor_layout(sim, settings.sole_sites)
     heading = None if heading_feedback else HeadingFeedbackGains(gain_per_step=0.0)
     if name == "zmpip":
-        return ZmpIpWalk(pattern, model, settings, layout, sim.joint_names, heading_gains=heading)
+        return ZmpIpWalk(pattern, model, settings, layout, sim.joint_names, heading_gains=heading,
+                         reference_adapter=reference_adapter)  # fmt: skip
     return DcmWalk(pattern, model, settings, layout, sim.joint_names, heading_gains=heading)
 
 

@@ -1,10 +1,11 @@
 """The ``zmpkit walk compensate`` pipeline: paper B §III.C and §III.E on a walking robot.
 
 Methods: ``alg1`` (Algorithm 1, offline multibody-ZMP compensation on the design model),
-``alg2`` (Algorithm 2, online on the measured ZMP), ``half-sine``, ``sawtooth``, ``fourier``
-(periodic offsets tuned over simulated walks, :mod:`zmpkit.compensate.tuning`), and ``auto``
-(tunes every shape, keeps the one with the lowest tuning objective). Every method is judged
-on validation walks that tuning never saw, against the same walks without compensation:
+``alg2`` (Algorithm 2, online on the measured ZMP; with ``zmpip`` it rewrites the reference of
+the feedback walk's observed preview control, paper B's line 3), ``half-sine``, ``sawtooth``,
+``fourier`` (periodic offsets tuned over simulated walks, :mod:`zmpkit.compensate.tuning`),
+and ``auto`` (tunes every shape, keeps the one with the lowest tuning objective). Every method
+is judged on validation walks that tuning never saw, against the same walks without compensation:
 open loop (paper B's simulation), other noise seeds and 0.15 and 0.25 m/s; with feedback
 (``controller`` ``zmpip`` or ``dcm``, as paper B's robot walks), tuning scores each candidate
 on walks at two speeds and two step durations (a fall is a failure), and every validation
@@ -158,10 +159,10 @@ class CompensateConfig:
             raise ParameterError(
                 f"controller must be one of {', '.join(CONTROLLERS)}; got {self.controller!r}"
             )
-        if self.controller != "open" and self.method == "alg2":
+        if self.method == "alg2" and self.controller not in ("open", "zmpip"):
             raise ParameterError(
-                "method alg2 replaces the walking controller's joint targets; run it with "
-                "controller open"
+                f"method alg2 adapts the ZMP reference of a preview controller: run it with "
+                f"controller zmpip (paper B's) or open; got {self.controller!r}"
             )
         if self.held_out and self.speed_mps - 0.08 < 0.05:
             raise ParameterError(

@@ -120,7 +120,8 @@ def compensation_checks(result: CompensateResult) -> tuple[Check, ...]:
                 "undefined" if value is None else ("met" if value > 0.0 else "missed"),
                 undefined
                 if value is None
-                else f"{value:+.1f} % lower on average over {s.walks_compared} held-out walks",
+                else f"{abs(value):.1f} % {'lower' if value >= 0.0 else 'higher'} on average "
+                f"over {s.walks_compared} held-out walks",
             )
         )
     return tuple(checks)

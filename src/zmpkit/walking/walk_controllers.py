@@ -38,6 +38,7 @@ F-T) and the plan; the simulator's state is not theirs to see.
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Protocol
 
@@ -60,6 +61,7 @@ __all__ = [
     "DcmParameters",
     "DcmWalk",
     "OpenLoopWalk",
+    "ReferenceAdapter",
     "SensorLayout",
     "WalkController",
     "ZmpIpWalk",
@@ -80,6 +82,22 @@ class WalkController(Protocol):
 
     def step(self, frame: int, measurement: WalkMeasurement) -> NDArray[np.float64]:
         """Joint targets of ``frame`` [rad] (trajectory order) from the readings of ``frame-1``."""
+        ...
+
+
+class ReferenceAdapter(Protocol):
+    """Adapts a preview controller's ZMP reference online from the measured ZMP.
+
+    Paper B's Algorithm 2 is one (:class:`~zmpkit.compensate.algorithm2.Algorithm2Offsets`).
+    """
+
+    def adapt(
+        self,
+        frame: int,
+        zmp_in_world: NDArray[np.float64],
+        reference_by_axis: Sequence[NDArray[np.float64]],
+    ) -> None:
+        """Learn from the measured ZMP (x, y) [m] of ``frame``; rewrite the reference from it on."""
         ...
 
 
@@ -199,6 +217,9 @@ class ZmpIpWalk(_OnlineWalk):
         joint_names: the encoders' joints, in the measurement's order.
         parameters: the observer's noise levels.
         heading_gains: the IMU yaw feedback to the footsteps (default gains; gain 0: off).
+        reference_adapter: adapts the tracked ZMP reference online from the measured ZMP
+            before each correction (paper B's Algorithm 2, line 3: the ZMP/IP controller
+            walks on ``p'``); None: the plan's reference.
     """
 
     name = "zmpip"
@@ -212,8 +233,10 @@ class ZmpIpWalk(_OnlineWalk):
         joint_names: tuple[str, ...],
         parameters: ZmpObserverParameters | None = None,
         heading_gains: HeadingFeedbackGains | None = None,
+        reference_adapter: ReferenceAdapter | None = None,
     ) -> None:
         super().__init__(pattern, model, ik_settings, sensors, joint_names, heading_gains)
+        self.reference_adapter = reference_adapter
         com = pattern.com
         initial = np.column_stack(
             [
@@ -230,6 +253,9 @@ class ZmpIpWalk(_OnlineWalk):
 
     def _correct(self, frame: int) -> None:
         est = self.estimator
+        adapter = self.reference_adapter
+        if adapter is not None:
+            adapter.adapt(frame - 1, est.zmp_in_world, self.control.reference_by_axis)
         com = self.control.update(frame - 1, est.com_in_world, est.zmp_in_world)
         self.offset_in_world[frame - 1] = self.control.offset_in_world
         self.targets.com_position_in_world[frame, :2] = com

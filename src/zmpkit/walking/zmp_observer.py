@@ -163,6 +163,15 @@ class ObservedPreviewControl:
         """The jerk of the last period, (x, y) [m/s³]."""
 
     @property
+    def reference_by_axis(self) -> list[NDArray[np.float64]]:
+        """p^{ref} of every period, one writable array per axis (x, y) [m].
+
+        Padded past the walk's end with its last value. A compensation that adapts the
+        reference online (paper B's Algorithm 2) writes the periods still to come here.
+        """
+        return self._reference
+
+    @property
     def offset_in_world(self) -> NDArray[np.float64]:
         """The estimated ZMP offset d̂ (x, y) [m], a view."""
         return self.state[:, 3]
