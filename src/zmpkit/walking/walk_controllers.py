@@ -26,7 +26,9 @@ a robot whose control loop runs at the motion-frame rate). Three are built in:
   ``p^d = p^{ref} - Δ\ddot c/ω^2`` (the LIPM's ``p = c - \ddot c/ω^2``): a forward DCM error
   moves the ZMP forward. ``Δ\ddot c`` is clamped so that ``|p^d - p^{ref}|`` stays within
   ``max_zmp_shift_m``, ``Δc`` within ``max_com_shift_m``. The CoM admittance ``A_c`` (off by
-  default) moves the measured ZMP ``p`` towards ``p^d``.
+  default) moves the measured ZMP ``p`` towards ``p^d``; foot damping control (off by
+  default, :mod:`zmpkit.walking.foot_damping`) turns the stance ankles so that the feet's CoP
+  tracks ``p^d``.
 
 Both feedback walks also keep their heading: the IMU's yaw turns the feet still to land back
 to the plan (:mod:`zmpkit.walking.heading_feedback`).
@@ -39,7 +41,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Protocol
 
 import mujoco
@@ -49,6 +51,7 @@ from numpy.typing import NDArray
 from zmpkit import _validate
 from zmpkit.errors import ParameterError
 from zmpkit.models.pendulum import STANDARD_GRAVITY_MPS2
+from zmpkit.walking.foot_damping import FootDamping, FootDampingParameters, ankle_joints
 from zmpkit.walking.heading_feedback import HeadingFeedback, HeadingFeedbackGains
 from zmpkit.walking.ik import IkSettings, JointTrajectory, WalkingIk
 from zmpkit.walking.measurement import WalkMeasurement
@@ -274,6 +277,8 @@ class DcmParameters:
         integral_limit_m_s: clamp of the DCM error's integral [m·s].
         dcm_deadband_m: DCM errors within ±this are the walk's own sway, not a disturbance,
             and get no feedback (beyond it, only the excess does) [m].
+        foot_damping: the stance ankles' CoP tracking of ``p^d``
+            (:mod:`zmpkit.walking.foot_damping`; admittance 0: off).
     """
 
     dcm_gain_per_s: float = 3.0
@@ -283,6 +288,7 @@ class DcmParameters:
     max_com_shift_m: float = 0.03
     integral_limit_m_s: float = 0.01
     dcm_deadband_m: float = 0.03
+    foot_damping: FootDampingParameters = field(default_factory=FootDampingParameters)
 
     def __post_init__(self) -> None:
         for name in ("dcm_gain_per_s", "max_zmp_shift_m", "max_com_shift_m"):
@@ -334,6 +340,23 @@ class DcmWalk(_OnlineWalk):
         self._integral = np.zeros(2)  # ∫ (ξ - ξ_ref) dt [m·s]
         self.desired_zmp_in_world = np.full((pattern.time_s.size, 2), np.nan)
         """The ZMP p^d the stabiliser asked for at each frame [m], shape (N, 2)."""
+        self.foot_damping: FootDamping | None = None
+        """The ankles' CoP tracking of ``p^d``, or None (off)."""
+        if any(a > 0.0 for a in self.parameters.foot_damping.admittance_rad_per_n_m_s):
+            ankles = {f: ankle_joints(model, sensors.sole_sites[f]) for f in self.estimator.feet}
+            self.foot_damping = FootDamping(
+                self.parameters.foot_damping, ankles, ik_settings.joint_names, self.dt
+            )
+            self._threshold_n = sensors.contact_threshold_n
+            self._zmp_error = np.zeros(2)
+            self._foot_yaw = np.zeros(len(ankles))
+
+    def step(self, frame: int, measurement: WalkMeasurement) -> NDArray[np.float64]:
+        """Joint targets of ``frame`` [rad]: the IK's, with the ankles' CoP tracking added."""
+        q = super().step(frame, measurement)
+        if self.foot_damping is not None:
+            self.foot_damping.apply(q)
+        return q
 
     def _correct(self, frame: int) -> None:
         k = frame - 1
@@ -365,3 +388,10 @@ class DcmWalk(_OnlineWalk):
             self._shift[axis] = value
         com = self.pattern.com.com_position_in_world[frame]
         self.targets.com_position_in_world[frame, :2] = com + self._shift
+        if self.foot_damping is not None:
+            np.subtract(self.desired_zmp_in_world[k], zmp, out=self._zmp_error)
+            for i, yaws in enumerate(self._sole_yaws):
+                self._foot_yaw[i] = yaws[min(k, yaws.shape[0] - 1)]
+            self.foot_damping.update(
+                self._zmp_error, est.force_z_n, self._foot_yaw, self._threshold_n
+            )
