@@ -54,9 +54,23 @@ def test_a_constant_heading_error_is_taken_out_by_the_gain_at_each_lift_off() ->
     assert feedback.correction_rad == 0.0
     feedback = HeadingFeedback(_feet(), gains)
     _run(feedback, lambda frame: 0.0 if frame < 50 else 0.04)  # turned 0.04 rad at frame 50
-    # c = −K e at each lift-off with e measured unchanged (the robot does not move here)
-    assert feedback.heading_error_rad[100] == pytest.approx(0.04)
-    assert feedback.correction_rad == pytest.approx(-0.5 * 0.04 * 3)  # three lift-offs
+    # e_k is the mean error over the last two steps (the robot does not move here), and
+    # c = −K Σ e_k over the three lift-offs
+    errors = _lift_off_errors()
+    for frame, expected in errors.items():
+        assert feedback.heading_error_rad[frame] == pytest.approx(expected, rel=1e-12)
+    assert errors[300] == pytest.approx(0.04)  # two whole steps after the turn: all of it
+    assert feedback.correction_rad == pytest.approx(-0.5 * sum(errors.values()), rel=1e-12)
+
+
+def _lift_off_errors() -> dict[int, float]:
+    """e at the lift-offs 100, 200, 300 for a turn of 0.04 rad at frame 50, by hand.
+
+    Step means: frames 0–100 (51 of 101 frames turned), 101–200 and 201–300 (all turned);
+    e_k averages the step that ends at k with the one before (the first has none before).
+    """
+    first = 0.04 * 51 / 101
+    return {100: first, 200: 0.5 * (first + 0.04), 300: 0.04}
 
 
 def test_the_landing_yaw_ramps_over_the_swing_and_the_standing_foot_is_untouched() -> None:
@@ -68,12 +82,15 @@ def test_the_landing_yaw_ramps_over_the_swing_and_the_standing_foot_is_untouched
     left = feedback.targets.left.yaw_in_world
     right = feedback.targets.right.yaw_in_world
     assert np.all(left[:100] == 0.0)  # before its first lift-off
-    assert left[100] == pytest.approx(-0.02 * (0.5 - 0.5 * math.cos(math.pi / 50)))  # ramp start
-    assert left[149] == pytest.approx(-0.02)  # landed turned by c₁ = −0.02 rad
+    errors = _lift_off_errors()
+    c1 = -0.5 * errors[100]
+    c2 = c1 - 0.5 * errors[200]
+    assert left[100] == pytest.approx(c1 * (0.5 - 0.5 * math.cos(math.pi / 50)))  # ramp start
+    assert left[149] == pytest.approx(c1)  # landed turned by c₁
     assert np.all(np.diff(left[100:150]) <= 1e-15)  # monotone, no jump
-    assert np.all(left[150:300] == pytest.approx(-0.02))  # held while it stands
+    assert np.all(left[150:300] == pytest.approx(c1))  # held while it stands
     assert np.all(right[:200] == 0.0)  # the right foot stood still during the left swing
-    assert right[249] == pytest.approx(-0.04)
+    assert right[249] == pytest.approx(c2)
     torso = feedback.targets.torso_yaw_in_world
     assert torso[260] == pytest.approx(0.5 * (left[260] + right[260]))
     assert np.all(plan.left.yaw_in_world == 0.0)  # the plan itself is not changed

@@ -67,7 +67,7 @@ def test_a_constant_zmp_offset_is_estimated_and_removed() -> None:
     """Closed form: standing with p_ref = 0 and a robot whose ZMP reads d higher than the cart
     table's, the steady state has d̂ = d, the CoM at -d and the measured ZMP at 0."""
     gains = compute_preview_gains(PreviewParameters(sampling_period_s=T, com_height_m=ZC))
-    n = 1500
+    n = 6000  # 60 s: the offset's estimate settles in tens of seconds (σ_d 0.1 mm a period)
     reference = np.zeros((n, 2))
     offset = np.array([0.012, -0.008])  # [m]
     control = ObservedPreviewControl(gains, reference, np.zeros((2, 3)))
