@@ -43,7 +43,7 @@ from numpy.typing import NDArray
 
 from zmpkit import _validate
 from zmpkit.sensors.imu import quaternion_yaw
-from zmpkit.walking.swing import FeetTrajectories
+from zmpkit.walking.swing import FeetTrajectories, swing_edges
 
 __all__ = ["HeadingFeedback", "HeadingFeedbackGains"]
 
@@ -100,7 +100,7 @@ class HeadingFeedback:
         n = feet.time_s.size
         self._offset = {"left": np.zeros(n), "right": np.zeros(n)}
         self._lift_offs = {
-            side: self._edges(getattr(feet, side).in_contact) for side in ("left", "right")
+            side: swing_edges(getattr(feet, side).in_contact) for side in ("left", "right")
         }
         self.correction_rad = 0.0
         self.heading_error_rad = np.full(n, np.nan)
@@ -110,18 +110,6 @@ class HeadingFeedback:
         self._error_sum = 0.0  # Σ e since the last lift-off [rad]
         self._error_frames = 0
         self._last_step_mean: float | None = None  # mean e over the step before [rad]
-
-    @staticmethod
-    def _edges(in_contact: NDArray[np.bool_]) -> dict[int, int]:
-        """Lift-off frame → touch-down frame of each swing of one foot."""
-        contact = np.asarray(in_contact, dtype=bool)
-        lifts = np.flatnonzero(contact[:-1] & ~contact[1:]) + 1
-        lands = np.flatnonzero(~contact[:-1] & contact[1:]) + 1
-        edges = {}
-        for lift in lifts:
-            later = lands[lands > lift]
-            edges[int(lift)] = int(later[0]) if later.size else contact.size
-        return edges
 
     def _imu_heading(self, quat_wxyz: NDArray[np.float64]) -> float:
         """The IMU's yaw since the first reading, unwrapped [rad]."""

@@ -153,3 +153,18 @@ def foot_trajectories(
     torso_yaw = _frozen((left.yaw_in_world + right.yaw_in_world) / 2)
     time.setflags(write=False)
     return FeetTrajectories(time, left, right, torso_yaw, height)
+
+
+def swing_edges(in_contact: NDArray[np.bool_]) -> dict[int, int]:
+    """Lift-off frame → touch-down frame of each swing of one foot.
+
+    A swing still in the air at the end touches down at ``in_contact.size``.
+    """
+    contact = np.asarray(in_contact, dtype=bool)
+    lifts = np.flatnonzero(contact[:-1] & ~contact[1:]) + 1
+    lands = np.flatnonzero(~contact[:-1] & contact[1:]) + 1
+    edges = {}
+    for lift in lifts:
+        later = lands[lands > lift]
+        edges[int(lift)] = int(later[0]) if later.size else contact.size
+    return edges
