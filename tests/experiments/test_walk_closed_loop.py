@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 
 from zmpkit.errors import ParameterError
+from zmpkit.experiments import walk_trial
 from zmpkit.experiments.walk import run_walk_trial
 from zmpkit.experiments.walk_config import WalkConfig
 from zmpkit.experiments.walk_summary import stall_time, summarise_walk
@@ -62,6 +63,20 @@ def test_a_sideways_push_is_a_roll_fall_with_every_metric_null(pushed_over) -> N
 @pytest.fixture(scope="module")
 def rigid_walk():
     return run_walk_trial(WalkConfig(effects="none", duration_s=4.0, controller="open"))
+
+
+def test_the_fall_height_is_a_share_of_the_robot_s_own_starting_height(monkeypatch) -> None:
+    """Not an absolute height: a rule at 101 % of the posed torso fires at once (``height``),
+    the default 60 % never on a walk that stands, whatever the robot's size."""
+    config = WalkConfig(effects="none", duration_s=1.0, controller="open")
+    monkeypatch.setattr(walk_trial, "FALL_TORSO_HEIGHT_FRACTION", 1.01)
+    record = run_walk_trial(config).record
+    assert record.fall_kind == "height"
+    assert record.time_s.size <= 3
+    monkeypatch.setattr(walk_trial, "FALL_TORSO_HEIGHT_FRACTION", 0.6)
+    record = run_walk_trial(config).record
+    assert not record.fell
+    assert record.torso_in_world[:, 2].min() > 0.6 * record.torso_in_world[0, 2]
 
 
 def test_a_walk_that_stays_in_place_is_a_stall(rigid_walk) -> None:

@@ -13,8 +13,9 @@ Recorded once per motion frame:
   which the measured ZMP follows (:func:`zmpkit.sensors.zmp.zmp_in_world`);
 - each sole centre's world position and the torso position: a motion capture of the robot.
 
-A fall (trunk tilt beyond :data:`FALL_TILT_RAD` or torso below :data:`FALL_TORSO_HEIGHT_M`)
-stops the run; the record then ends at the fall and says which (``fall_kind``: ``roll``,
+A fall (trunk tilt beyond :data:`FALL_TILT_RAD`, or the torso below
+:data:`FALL_TORSO_HEIGHT_FRACTION` of its height in the starting pose, whatever the robot's
+size) stops the run; the record then ends at the fall and says which (``fall_kind``: ``roll``,
 ``pitch`` or ``height``).
 
 A walking controller (:mod:`zmpkit.walking.walk_controllers`) reads, before each motion frame
@@ -48,7 +49,7 @@ from zmpkit.walking.walk_controllers import WalkController
 
 __all__ = [
     "FALL_TILT_RAD",
-    "FALL_TORSO_HEIGHT_M",
+    "FALL_TORSO_HEIGHT_FRACTION",
     "FrameHook",
     "FrameReading",
     "ProgressCallback",
@@ -61,8 +62,9 @@ __all__ = [
 
 FALL_TILT_RAD = 0.8
 """Trunk tilt (pitch or roll) beyond which the robot has fallen [rad]."""
-FALL_TORSO_HEIGHT_M = 0.18
-"""Torso height below which the robot has fallen [m]."""
+FALL_TORSO_HEIGHT_FRACTION = 0.6
+"""Share of its starting height below which the torso has fallen [-] (the built-in walker's
+absolute 0.18 m of its 0.30 m, scaled with the robot)."""
 PROGRESS_EVERY_S = 0.5
 """Simulated time between two progress reports [s]."""
 
@@ -343,11 +345,14 @@ class SensorFault:
             measurement.force_in_sensor[right, 2] += self.SPIKE_N
 
 
-def _fall_kind(sim: Simulation, pitch: float, roll: float) -> str | None:
-    """``roll`` or ``pitch`` past :data:`FALL_TILT_RAD`, ``height`` (torso too low), or None."""
+def _fall_kind(sim: Simulation, pitch: float, roll: float, fall_height_m: float) -> str | None:
+    """``roll`` or ``pitch`` past :data:`FALL_TILT_RAD`, ``height``, or None.
+
+    ``height``: the torso is below ``fall_height_m`` [m].
+    """
     if max(abs(pitch), abs(roll)) > FALL_TILT_RAD:
         return "roll" if abs(roll) >= abs(pitch) else "pitch"
-    if float(sim.data.qpos[2]) < FALL_TORSO_HEIGHT_M:
+    if float(sim.data.qpos[2]) < fall_height_m:
         return "height"
     return None
 
@@ -417,6 +422,7 @@ def simulate_walk(
     measurement = WalkMeasurement.empty(sim.joint_names, feet)
     pusher = _Pusher(sim, pushes)
     start_pose(sim, trajectory)
+    fall_height_m = FALL_TORSO_HEIGHT_FRACTION * float(sim.data.qpos[2])
     recorder.record(q_frames[0])
     total = float(trajectory.time_s[-1])
     every = max(1, round(PROGRESS_EVERY_S / frame_s))
@@ -440,7 +446,7 @@ def simulate_walk(
             pusher.apply()
             sim.step(1)
         pitch, roll = recorder.record(q_frames[k])
-        kind = _fall_kind(sim, pitch, roll)
+        kind = _fall_kind(sim, pitch, roll, fall_height_m)
         if kind is not None:
             return recorder.result(kind, name)
         if progress is not None and k % every == 0:

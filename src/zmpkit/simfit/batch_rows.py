@@ -11,7 +11,7 @@ from collections.abc import Sequence
 import numpy as np
 from numpy.typing import NDArray
 
-from zmpkit.experiments.walk_trial import FALL_TILT_RAD, FALL_TORSO_HEIGHT_M
+from zmpkit.experiments.walk_trial import FALL_TILT_RAD, FALL_TORSO_HEIGHT_FRACTION
 from zmpkit.sensors.imu import quaternion_pitch_roll, tilt_from_quaternions
 from zmpkit.sensors.mount import wrench_in_world
 from zmpkit.sensors.zmp import zmp_in_world
@@ -43,6 +43,8 @@ class BatchRows:
         self.diverged = [False] * n
         self.blocks: list[list[dict[str, NDArray[np.float64]]]] = [[] for _ in range(n)]
         self.ft_now = [np.array([s.ft_channel(f).output for f in self.feet]) for s in sims]
+        self.fall_height_m = [FALL_TORSO_HEIGHT_FRACTION * float(s.data.qpos[2]) for s in sims]
+        """Each candidate's fall height, from its posed torso (the serial path's rule) [m]."""
         if schedule.record_steps[0] == schedule.start_step:
             for i in range(n):
                 self.read_posed(i)
@@ -90,7 +92,9 @@ class BatchRows:
         """
         wanted = np.flatnonzero(np.isin(steps[:limit], self.schedule.record_steps))
         if self.walk:
-            fall = _first_fall(rows["qpos"][wanted], rows["sensordata"][wanted, self.quat])
+            fall = _first_fall(
+                rows["qpos"][wanted], rows["sensordata"][wanted, self.quat], self.fall_height_m[i]
+            )
             if fall is not None:
                 wanted = wanted[: fall + 1]
                 self.done[i] = True
@@ -137,8 +141,12 @@ class BatchRows:
         )
 
 
-def _first_fall(qpos: NDArray[np.float64], quat: NDArray[np.float64]) -> int | None:
+def _first_fall(
+    qpos: NDArray[np.float64], quat: NDArray[np.float64], fall_height_m: float
+) -> int | None:
     """The first row where the serial path's fall rule fires, or None.
+
+    ``fall_height_m``: the torso height below which it has fallen [m].
 
     Screened with numpy, decided with the serial path's own scalar rule (so a tilt within
     rounding of the limit is judged exactly as there).
@@ -148,9 +156,9 @@ def _first_fall(qpos: NDArray[np.float64], quat: NDArray[np.float64]) -> int | N
     roll = np.arctan2(2.0 * (w * x + y * z), 1.0 - 2.0 * (x * x + y * y))
     margin = 1e-9
     near = np.maximum(np.abs(pitch), np.abs(roll)) > FALL_TILT_RAD - margin
-    near |= qpos[:, 2] < FALL_TORSO_HEIGHT_M + margin
+    near |= qpos[:, 2] < fall_height_m + margin
     for r in np.flatnonzero(near):
         p, q = quaternion_pitch_roll(quat[r])
-        if max(abs(p), abs(q)) > FALL_TILT_RAD or float(qpos[r, 2]) < FALL_TORSO_HEIGHT_M:
+        if max(abs(p), abs(q)) > FALL_TILT_RAD or float(qpos[r, 2]) < fall_height_m:
             return int(r)
     return None
