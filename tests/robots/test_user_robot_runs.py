@@ -118,3 +118,26 @@ def test_a_robot_file_names_a_missing_truth(robot_yaml: Path) -> None:
         handle.write("truth: nowhere.yaml\n")
     with pytest.raises(InputFileError, match="truth: no such file"):
         get_robot(robot_yaml)
+
+
+@pytest.mark.slow
+def test_identify_sim_self_test_recovers_a_users_robot_with_a_truth(tmp_path: Path) -> None:
+    """``zmpkit identify sim --self-test --quick`` on the biped with its servo truth: the fit
+    catalogue derived from the truth (:mod:`zmpkit.robots.servo_fit`), balance steps
+    replayed, the perturbed P gain and gear stiffness recovered."""
+    model = tmp_path / "biped.xml"
+    model.write_text(BIPED_MJCF, encoding="utf-8")
+    robot_file = tmp_path / "robot.yaml"
+    assert main(["robot", "init", str(model), "--out", str(robot_file)]) == 0
+    (tmp_path / "truth.yaml").write_text(_BIPED_TRUTH, encoding="utf-8")
+    with robot_file.open("a", encoding="utf-8") as handle:
+        handle.write("truth: truth.yaml\n")
+    out = tmp_path / "fit"
+    argv = ["identify", "sim", "--robot", str(robot_file), "--self-test", "--quick",
+            "--out", str(out)]  # fmt: skip
+    assert main(argv) == 0
+    with (out / "recovery.csv").open(encoding="utf-8") as handle:
+        rows = {row["parameter"]: row for row in csv.DictReader(handle)}
+    assert set(rows) == {"pid_p_gain", "gear_stiffness"}
+    for row in rows.values():
+        assert abs(float(row["error_pct"])) < 2.0

@@ -1,11 +1,12 @@
 """A :class:`~zmpkit.robots.robot.Robot` from a user's ``robot.yaml`` and MJCF or URDF.
 
 The simulator's description comes from :func:`~zmpkit.robots.user_model.user_model`; its
-truth is only what the file gives (the ideal servo's gains, sensor errors at their defaults):
-a user's robot has no motor, gear or flexibility values, so the effects M, I, G and F are
-refused rather than silently left out. The balance model
+truth is what the file gives: the ideal servo's gains and sensor errors at their defaults,
+and the effects M, I, G and F only when it names a servo truth file (``truth:``); without one
+they are refused rather than silently left out. The balance model
 (:mod:`~zmpkit.robots.user_balance`) and the walking defaults
-(:mod:`~zmpkit.robots.user_walking`) are derived from the model; there is no fit catalogue.
+(:mod:`~zmpkit.robots.user_walking`) are derived from the model; with a servo truth file,
+so is its fit catalogue (:mod:`~zmpkit.robots.servo_fit`).
 """
 
 from __future__ import annotations
@@ -22,6 +23,7 @@ import mujoco
 from zmpkit.errors import ParameterError
 from zmpkit.robots.robot import FitSpec, Robot, TruthSpec
 from zmpkit.robots.robot_file import SIDES, RobotFile, read_robot_file
+from zmpkit.robots.servo_fit import SERVO_QUICK_PARAMETERS, servo_fit_catalogue
 from zmpkit.robots.servo_truth import (
     ServoTruth,
     apply_servo_effects,
@@ -35,6 +37,7 @@ from zmpkit.sim.description import FootSensor, RobotDescription
 from zmpkit.sim.effect_set import EffectSet
 from zmpkit.sim.effects import IdealServoParams, SensorParams
 from zmpkit.sim.servo import ServoLimits
+from zmpkit.sim.truth_file import read_truth_file
 
 if TYPE_CHECKING:
     from zmpkit.io.feet import FootMountEntry
@@ -138,6 +141,20 @@ def _description(
     return describe
 
 
+def _servo_fit(path: Path) -> FitSpec | None:
+    """The fit catalogue derived from a servo truth file (:mod:`~zmpkit.robots.servo_fit`).
+
+    The fit replays balance steps: every robot file has a balance model, and a step needs
+    no walk that stands.
+    """
+    catalogue = read_truth_file(path, lambda doc, _: servo_fit_catalogue(doc))
+    if not catalogue:
+        return None
+    names = {p.name for p in catalogue}
+    quick = tuple(n for n in SERVO_QUICK_PARAMETERS if n in names) or (catalogue[0].name,)
+    return FitSpec(catalogue, quick, "step")
+
+
 def _servo_truth_spec(path: Path) -> TruthSpec:
     def load(other: str | Path | None) -> ServoTruth:
         return read_servo_truth(path if other is None else other)
@@ -182,6 +199,8 @@ def build_user_robot(
     built = user_model(file)
     threshold = file.contact_threshold_n or CONTACT_WEIGHT_FRACTION * built.mass_kg * 9.81
     servo = None if truth_path is None else _servo_truth_spec(truth_path)
+    if fit is None and truth_path is not None:
+        fit = _servo_fit(truth_path)
     mounts = _feet_mounts(built.mjcf, file.sole_height_m)
     return Robot(
         name=file.name,
