@@ -35,10 +35,11 @@ import numpy as np
 from numpy.typing import NDArray
 
 from zmpkit.errors import ModelError, ParameterError
+from zmpkit.sim.warp_cache import configure_kernel_cache
 from zmpkit.sim.warp_model import batched_fields, check_supported, put_models
 from zmpkit.sim.world import DIVERGED_SPEED_RAD_S
 
-__all__ = ["WarpRollout", "rollout_warp"]
+__all__ = ["WarpRollout", "rollout_warp", "warp_runtime"]
 
 _INSTALL_HINT = "pip install 'zmpkit[gpu]'"  # the extra: mujoco-warp==4.0.0 (brings warp-lang)
 _FULL = int(mujoco.mjtState.mjSTATE_FULLPHYSICS)
@@ -82,6 +83,7 @@ def _import_warp() -> tuple[Any, Any]:
             f"rollout_warp needs MuJoCo Warp, which is not installed ({exc}); "
             f"install it with: {_INSTALL_HINT}"
         ) from exc
+    configure_kernel_cache(warp)  # before warp.init(): zmpkit's persistent kernel cache
     return warp, mujoco_warp
 
 
@@ -111,6 +113,23 @@ def _check_inputs(
             f"record_every must be an integer in [1, nstep={len(ctrl)}], got {record_every!r}"
         )
     return state, ctrl
+
+
+def warp_runtime(device: str | None = None) -> tuple[Any, str]:
+    """Warp, started with zmpkit's kernel cache, and the name of ``device`` on it.
+
+    Args:
+        device: Warp device (``"cuda:0"``, ``"cpu"``); ``None`` is Warp's default.
+
+    Returns:
+        The ``warp`` module and the device's name, e.g. ``"cuda:0"`` or ``"cpu"``.
+
+    Raises:
+        ModuleNotFoundError: MuJoCo Warp is not installed (``pip install 'zmpkit[gpu]'``).
+        ParameterError: an unknown device.
+    """
+    wp, _ = _import_warp()
+    return wp, str(_device(wp, device))
 
 
 def _device(wp: Any, device: str | None) -> Any:

@@ -6,7 +6,7 @@ which it derives code paths (zero patterns) is a :class:`~zmpkit.errors.Paramete
 
 The comparison is vectorised over fields: each model's fields are read with one look-up per
 dtype and compared with the first model's in one numpy operation (about 0.3 ms per model of
-a 25-joint humanoid, 7 times faster than field by field; ``benchmarks/bench_warp_fields.py``).
+a 24-joint humanoid, 7 times faster than field by field; ``benchmarks/bench_warp_fields.py``).
 """
 
 import dataclasses
