@@ -21,7 +21,15 @@ from numpy.typing import NDArray
 
 from zmpkit.errors import ParameterError
 
-__all__ = ["batched_fields", "check_supported", "per_world_values", "put_models"]
+__all__ = [
+    "assign_per_world",
+    "batched_fields",
+    "check_supported",
+    "model_differences",
+    "per_world_values",
+    "put_models",
+    "size_key",
+]
 
 _OPTION_BATCHABLE = ("timestep", "gravity", "magnetic")
 """``opt`` fields that MuJoCo Warp keeps per world and copies unchanged."""
@@ -224,15 +232,49 @@ def put_models(wp: Any, mjw: Any, models: Sequence[mujoco.MjModel], fields: Sequ
             "run it on the CPU (the fit's backend 'local', or mujoco.rollout)"
         ) from exc
     m.opt.warn_overflow = 0  # overflows are read from Data.overflow and raised below
+    assign_per_world(wp, m, models, fields)
+    return m
+
+
+def assign_per_world(
+    wp: Any, m: Any, models: Sequence[mujoco.MjModel], fields: Sequence[str]
+) -> None:
+    """Copy each of ``fields``, stacked over ``models``, into the Warp model ``m``.
+
+    Arrays that already hold one row per model are written in place (a captured graph
+    that reads them stays valid); an option still shared by all worlds is replaced by a
+    per-world array.
+    """
     for name, values in per_world_values(models, fields).items():
         if name.startswith("opt."):
-            dtype = getattr(m.opt, name[4:]).dtype
-            setattr(m.opt, name[4:], wp.array(values, dtype=dtype))
+            current = getattr(m.opt, name[4:])
+            if current.shape[0] == len(models):
+                current.assign(wp.array(values, dtype=current.dtype))
+            else:
+                setattr(m.opt, name[4:], wp.array(values, dtype=current.dtype))
         else:
             array = getattr(m, name)
             shape = array.shape + getattr(array.dtype, "_shape_", ())
             array.assign(wp.array(values.reshape(shape), dtype=array.dtype))
-    return m
+
+
+def size_key(model: mujoco.MjModel) -> tuple[int, ...]:
+    """``model``'s sizes (``nq``, ``nv``, ...): models with the same have the same layout."""
+    return tuple(operator.attrgetter(*_size_names(model))(model))
+
+
+def model_differences(model: mujoco.MjModel, other: mujoco.MjModel, allowed: Sequence[str]) -> bool:
+    """Whether ``other`` differs from ``model`` beyond the values of the ``allowed`` fields.
+
+    A different size, a field outside ``allowed`` or a zero pattern of a field from which
+    MuJoCo Warp derives code paths counts; a Warp model of ``model`` with ``allowed`` per
+    world serves ``other`` if this is False.
+    """
+    try:
+        _differing_fields([model, other], set(allowed))
+    except ParameterError:
+        return True
+    return False
 
 
 def batched_fields(mjw: Any, models: Sequence[mujoco.MjModel]) -> tuple[str, ...]:

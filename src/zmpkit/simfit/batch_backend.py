@@ -6,9 +6,11 @@ generation runs as one :class:`mujoco.batch.Batch` per experiment, all candidate
 physics step. The costs are those of the serial backend, bit for bit (tested).
 
 With ``warp_device`` the batch runs on MuJoCo Warp instead (``pip install 'zmpkit[gpu]'``;
-backend ``"warp"``): one kernel launch per physics step for all candidates on a GPU, float32
-physics, so the costs approximate the serial backend's (on the test walk within 0.1 % for
-candidates that walk, and the same fall frame for one that falls).
+backend ``"warp"``): all candidates stepped together on a GPU, many steps per graph launch,
+only the rows the signals read recorded on the device, the Warp model kept between
+generations (:mod:`zmpkit.sim.warp_batch`); float32 physics, so the costs approximate the
+serial backend's (on the test walk within 0.1 % for candidates that walk, and the same fall
+frame for one that falls).
 """
 
 from __future__ import annotations

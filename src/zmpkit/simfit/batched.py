@@ -46,10 +46,12 @@ from zmpkit.simfit.recorded import RecordedSignals
 from zmpkit.simfit.rollout import simulate_experiment
 from zmpkit.simfit.truth_doc import RobotTruth
 
-__all__ = ["CHUNK_S", "simulate_batch"]
+__all__ = ["CHUNK_S", "WARP_RECORDS", "simulate_batch"]
 
 CHUNK_S = 1.0
 """Simulated time per batch call [s]: fallen and diverged candidates drop out between calls."""
+WARP_RECORDS = ("qpos", "sensordata", "site_xpos", "site_xmat")
+"""What the signals read of each row on MuJoCo Warp (the rest stays on the device)."""
 _TIME = mujoco.mjtState.mjSTATE_TIME
 _INTEGRATION = mujoco.mjtState.mjSTATE_INTEGRATION
 _BADQACC = int(mujoco.mjtWarning.mjWARN_BADQACC)
@@ -161,8 +163,10 @@ def _read_candidates(
     Args:
         rows: what each candidate records; filled, and its done/rerun/diverged flags set.
         alive: the candidates (indices into ``rows``) simulated in this chunk.
-        out: the chunk's records, ``(alive, steps, ...)`` per item.
-        steps: the step each recorded row ends.
+        out: the chunk's records, ``(alive, rows, ...)`` per item (``qvel`` optional when
+            ``valid`` covers the speeds).
+        steps: the step each recorded row ends (every step, or, on MuJoCo Warp, those the
+            signals read).
         ft_rows: the rows that are F-T sample steps.
         measured: the F-T readings at those samples, (alive, samples, feet, 6).
         warned: per alive candidate, which MuJoCo warnings rose in the chunk.
@@ -177,8 +181,10 @@ def _read_candidates(
             continue
         expected = t0[i] + (steps - start) * dt
         bad = np.flatnonzero(np.abs(out["time"][a, :, 0] - expected) > 0.5 * dt)
-        speed = out["qvel"][a, ft_rows]
-        fast = ft_rows[~np.all(np.abs(speed) <= DIVERGED_SPEED_RAD_S, axis=1)]
+        fast = ft_rows[:0]  # MuJoCo Warp checks the speeds itself (``valid``)
+        if "qvel" in out:
+            speed = out["qvel"][a, ft_rows]
+            fast = ft_rows[~np.all(np.abs(speed) <= DIVERGED_SPEED_RAD_S, axis=1)]
         limit = min(bad[0] if len(bad) else len(steps), fast[0] if len(fast) else len(steps))
         if valid is not None:
             limit = min(limit, int(valid[a]))
@@ -191,7 +197,13 @@ def _read_candidates(
 def _run_warp(
     rows: BatchRows, sims: Sequence[Simulation], schedule: OpenLoopSchedule, device: str
 ) -> None:
-    """Roll every candidate out on MuJoCo Warp at once, filling ``rows``."""
+    """Roll every candidate out on MuJoCo Warp at once, filling ``rows``.
+
+    Only the rows the signals read are recorded, on the device: the recorded frames, the
+    F-T sample steps and the last step (a divergence up to the end still counts, as when
+    every step was kept), with ``qpos``, ``sensordata`` and the site kinematics (which lag
+    one step, as after ``mj_step``). MuJoCo Warp checks every step for divergence.
+    """
     from zmpkit.sim.warp_batch import rollout_warp
 
     n, model0 = len(sims), sims[0].model
@@ -203,28 +215,28 @@ def _run_warp(
     initial = np.empty((n, mujoco.mj_stateSize(model0, full)))
     for i, sim in enumerate(sims):
         mujoco.mj_getState(sim.model, sim.data, initial[i], full)
-    result = rollout_warp([s.model for s in sims], initial, controls, 1, device or None)
-    nq, nv = model0.nq, model0.nv
-    nstep = len(controls)
-    steps = start + np.arange(1, nstep + 1)
-    ft_rows = np.flatnonzero(steps % sims[0].ft_sample_every == 0)
-    wanted = np.flatnonzero(np.isin(steps, schedule.record_steps))
-    qpos = result.state[:, :, 1 : 1 + nq]
+    ft_every = sims[0].ft_sample_every
+    all_steps = start + np.arange(1, len(controls) + 1)
+    keep = (all_steps % ft_every == 0) | np.isin(all_steps, schedule.record_steps)
+    keep[-1] = True
+    result = rollout_warp(
+        [s.model for s in sims],
+        initial,
+        controls,
+        device=device or None,
+        record_steps=np.flatnonzero(keep) + 1,
+        record=WARP_RECORDS,
+    )
+    steps = start + result.steps
+    ft_rows = np.flatnonzero(steps % ft_every == 0)
+    nrec, nsite = len(steps), model0.nsite
     out = {
-        "time": result.state[:, :, :1],
-        "qpos": qpos,
-        "qvel": result.state[:, :, 1 + nq : 1 + nq + nv],
+        "time": result.time[:, :, None],
+        "qpos": result.records["qpos"],
         "sensordata": result.sensordata,
-        "site_xpos": np.zeros((n, nstep, model0.nsite, 3)),
-        "site_xmat": np.zeros((n, nstep, model0.nsite, 9)),
+        "site_xpos": result.records["site_xpos"].reshape(n, nrec, nsite, 3),
+        "site_xmat": result.records["site_xmat"].reshape(n, nrec, nsite, 9),
     }
-    for i, sim in enumerate(sims):  # derived fields lag one step, as after mj_step
-        before = np.concatenate([initial[i, None, 1 : 1 + nq], qpos[i, :-1]])
-        data = mujoco.MjData(sim.model)
-        for r in wanted:
-            data.qpos[:] = before[r]
-            mujoco.mj_kinematics(sim.model, data)
-            out["site_xpos"][i, r], out["site_xmat"][i, r] = data.site_xpos, data.site_xmat
     alive = list(range(n))
     measured = _ft_samples(rows, sims, alive, result.sensordata[:, ft_rows])
     warned = np.zeros((n, int(mujoco.mjtWarning.mjNWARNING)), dtype=bool)

@@ -19,6 +19,7 @@ import numpy as np
 from zmpkit.errors import ParameterError
 from zmpkit.robots.registry import get_robot
 from zmpkit.sim.warp_cache import cache_file_count
+from zmpkit.simfit.batched import WARP_RECORDS
 
 __all__ = ["WARM_UP_STEPS", "WarmUpResult", "WarmedRobot", "warm_up_warp"]
 
@@ -94,8 +95,15 @@ def warm_up_warp(robots: Sequence[str], effects: str, device: str | None) -> War
         mujoco.mj_getState(sim.model, sim.data, state, full)
         control = np.tile(sim.data.ctrl, (WARM_UP_STEPS, 1))
         t0 = time.perf_counter()
-        try:
-            rollout_warp([sim.model] * _WORLDS, state, control, 1, name)
+        try:  # recorded as the fit records (batched.py): some rows, no full state
+            rollout_warp(
+                [sim.model] * _WORLDS,
+                state,
+                control,
+                device=name,
+                record_steps=[1, WARM_UP_STEPS],
+                record=WARP_RECORDS,
+            )
         except ParameterError as exc:
             done.append(WarmedRobot(robot.name, time.perf_counter() - t0, str(exc)))
             continue
