@@ -135,7 +135,7 @@ def test_unsupported_model_names_feature_and_cpu_backend(nao) -> None:
             lambda s, c: (s[:-1], c),
             r"initial_state must .* shape \(71,\) or \(\d+, 71\), got shape \(70,\)",
         ),
-        (lambda s, c: (s, c[:, :-1]), r"control must have shape \(nstep, nu=11\).*\(300, 10\)"),
+        (lambda s, c: (s, c[:, :-1]), r"control must have shape \(nstep, nu=11\) or .*\(300, 10\)"),
         (lambda s, c: (s, c[:0]), r"nstep >= 1"),
         (lambda s, c: (s, np.where(c == c[0, 0], np.nan, c)), r"control must be finite"),
     ],
@@ -331,6 +331,27 @@ def test_a_second_call_reuses_the_warp_model_and_gives_the_same_result(nao) -> N
 
 
 @pytest.mark.needs_warp
+def test_control_groups_run_as_separate_batches(nao) -> None:
+    """Several control sequences (experiments) in one batch: each world as if alone."""
+    model, state, wave = nao
+    short = wave[:24]
+    sequences = np.stack([short, 0.5 * short, -short])
+    models = pair(model) + pair(model)  # candidate 0 and 1, in two experiments
+    group = [2, 2, 1, 1]
+    one = rollout_warp(
+        models, state, sequences, device="cpu", record_steps=[3, 24], control_group=group
+    )
+    for worlds, sequence in (([0, 1], sequences[2]), ([2, 3], sequences[1])):
+        alone = rollout_warp(pair(model), state, sequence, device="cpu", record_steps=[3, 24])
+        for name in ("state", "sensordata"):
+            np.testing.assert_array_equal(one.records[name][worlds], alone.records[name])
+    per_item = rollout_warp(pair(model), state, sequences[:2], 4, "cpu")  # item i runs i
+    np.testing.assert_array_equal(
+        per_item.state[1], rollout_warp(pair(model), state, sequences[1], 4, "cpu").state[1]
+    )
+
+
+@pytest.mark.needs_warp
 @pytest.mark.slow
 def test_divergence_is_found_between_recorded_rows(nao) -> None:
     """Valid rows: those before the first failing step, recorded or not."""
@@ -362,9 +383,50 @@ def test_divergence_is_found_between_recorded_rows(nao) -> None:
         ({"record_steps": [3], "record_every": 3}, r"give record_every or record_steps, not both"),
         ({"steps_per_launch": 0}, r"steps_per_launch must be an integer >= 1, got 0"),
         ({"steps_per_launch": 2.0}, r"steps_per_launch must be an integer >= 1, got 2.0"),
+        ({"control_group": [0]}, r"control_group needs control of shape \(ngroup, nstep, nu\)"),
     ],
 )
 def test_bad_records_are_named(nao, options, message) -> None:
     model, state, control = nao
     with pytest.raises(ParameterError, match=message):
         rollout_warp([model], state, control, device="cpu", **options)
+
+
+@pytest.mark.needs_warp
+@pytest.mark.parametrize("group", [None, [0, 2], [0], [-1, 0], [0.0, 1.0]])
+def test_bad_control_groups(nao, group) -> None:
+    model, state, control = nao
+    sequences = np.stack([control, control])
+    with pytest.raises(ParameterError, match=r"control_group must give each of the 3 items"):
+        rollout_warp(pair(model)[:1] * 3, state, sequences, device="cpu", control_group=group)
+
+
+@pytest.mark.needs_warp
+@pytest.mark.slow
+def test_all_experiments_and_candidates_in_one_batch(tmp_path) -> None:
+    """Two walks of different lengths x two candidates in one Warp batch: each experiment's
+    signals are those of its own batch, bit for bit (worlds do not interact)."""
+    import dataclasses
+
+    from helpers.simfit_data import SEED, small_case
+    from zmpkit.simfit.batched import simulate_batch, simulate_batches_warp
+    from zmpkit.simfit.experiments import read_experiments
+    from zmpkit.simfit.self_test import SelfTestPlan, record_experiments
+
+    params, doc, truth = small_case()
+    plan = SelfTestPlan(((0.2, 1.5), (0.1, 1.0)), ())
+    paths, _ = record_experiments("nao", plan, doc, params, truth, "M,G", SEED, tmp_path)
+    experiments = read_experiments(paths, "nao")
+    from zmpkit.simfit.problem import FitProblem
+
+    problem = FitProblem("nao", "M,G,S", params, doc, tuple(experiments))
+    truths = [problem.truth([p.nominal for p in params]), problem.truth(list(truth))]
+    together = simulate_batches_warp(experiments, truths, "M,G,S", "cpu")
+    assert len(together) == 2
+    assert len(together[0][0].time_s) != len(together[1][0].time_s)  # different lengths
+    for experiment, joint in zip(experiments, together, strict=True):
+        alone = simulate_batch(experiment, truths, "M,G,S", warp_device="cpu")
+        for a, b in zip(joint, alone, strict=True):
+            assert len(a.time_s) > 0
+            for f in dataclasses.fields(a):
+                np.testing.assert_array_equal(getattr(a, f.name), getattr(b, f.name), f.name)

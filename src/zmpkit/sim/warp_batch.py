@@ -153,22 +153,41 @@ def _check_inputs(
     nbatch: int,
     initial_state: NDArray[Any],
     control: NDArray[Any],
-) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    control_group: NDArray[Any] | Sequence[int] | None,
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.int32]]:
+    """The initial states, the controls as ``(ngroup, nstep, nu)`` and each item's group."""
     nstate = mujoco.mj_stateSize(model, _FULL)
     state = np.asarray(initial_state, dtype=np.float64)
     ctrl = np.asarray(control, dtype=np.float64)
+    if ctrl.ndim == 3:
+        groups = np.arange(nbatch) if control_group is None else np.asarray(control_group)
+        if (
+            groups.shape != (nbatch,)
+            or not np.issubdtype(groups.dtype, np.integer)
+            or groups.min() < 0
+            or groups.max() >= len(ctrl)
+        ):
+            raise ParameterError(
+                f"control_group must give each of the {nbatch} items a control sequence in "
+                f"[0, {len(ctrl)}), got {control_group!r}"
+            )
+    elif control_group is not None:
+        raise ParameterError("control_group needs control of shape (ngroup, nstep, nu)")
+    else:
+        groups, ctrl = np.zeros(nbatch, dtype=np.int64), ctrl[None]
     if state.shape not in ((nstate,), (nbatch, nstate)) or not np.all(np.isfinite(state)):
         raise ParameterError(
             f"initial_state must be finite mjSTATE_FULLPHYSICS states of shape ({nstate},) or "
             f"({nbatch}, {nstate}), got shape {state.shape}"
         )
-    if ctrl.ndim != 2 or ctrl.shape[1] != model.nu or len(ctrl) == 0:
+    if ctrl.ndim != 3 or ctrl.shape[2] != model.nu or ctrl.shape[1] == 0:
         raise ParameterError(
-            f"control must have shape (nstep, nu={model.nu}) with nstep >= 1, got {ctrl.shape}"
+            f"control must have shape (nstep, nu={model.nu}) or (ngroup, nstep, nu) with "
+            f"nstep >= 1, got {np.shape(control)}"
         )
     if not np.all(np.isfinite(ctrl)):
         raise ParameterError("control must be finite")
-    return state, ctrl
+    return state, ctrl, groups.astype(np.int32)
 
 
 def _record_steps(
@@ -242,12 +261,13 @@ def _kernels() -> dict[str, Any]:
     # no static checker accepts as types, hence the ignores on each kernel parameter.
     @wp.kernel(enable_backward=False)
     def set_ctrl(
-        control: wp.array2d(dtype=float),  # type: ignore[valid-type]  # Warp's kernel DSL
+        control: wp.array3d(dtype=float),  # type: ignore[valid-type]  # Warp's kernel DSL
+        group: wp.array(dtype=wp.int32),  # type: ignore[valid-type]  # Warp's kernel DSL
         counter: wp.array(dtype=wp.int32),  # type: ignore[valid-type]  # Warp's kernel DSL
         ctrl: wp.array2d(dtype=float),  # type: ignore[valid-type]  # Warp's kernel DSL
     ):
         world, j = wp.tid()
-        ctrl[world, j] = control[counter[0], j]
+        ctrl[world, j] = control[group[world], counter[0], j]
 
     @wp.kernel(enable_backward=False)
     def check(
@@ -352,6 +372,7 @@ class _Plan:
     """
 
     control: Any
+    group: Any
     row_of_step: Any
     counter: Any
     first_bad: Any
@@ -410,17 +431,20 @@ def _session(
     return session
 
 
-def _plan(wp: Any, session: _Session, nstep: int, nrec: int, records: tuple[str, ...]) -> _Plan:
-    """The cached buffers for a rollout of ``nstep`` steps keeping ``nrec`` rows."""
+def _plan(
+    wp: Any, session: _Session, ngroup: int, nstep: int, nrec: int, records: tuple[str, ...]
+) -> _Plan:
+    """The cached buffers for ``ngroup`` control sequences of ``nstep`` steps, ``nrec`` rows."""
     template, nworld = session.template, session.d.nworld
-    key = (nstep, nrec, records)
+    key = (ngroup, nstep, nrec, records)
     plan = session.plans.get(key)
     if plan is not None:
         session.plans.move_to_end(key)
         return plan
     nstate = mujoco.mj_stateSize(template, _FULL)
     plan = _Plan(
-        control=wp.zeros((nstep, max(template.nu, 1)), dtype=float),
+        control=wp.zeros((ngroup, nstep, max(template.nu, 1)), dtype=float),
+        group=wp.zeros(nworld, dtype=wp.int32),
         row_of_step=wp.zeros(nstep, dtype=wp.int32),
         counter=wp.zeros(1, dtype=wp.int32),
         first_bad=wp.zeros(nworld, dtype=wp.int32),
@@ -464,7 +488,7 @@ def _one_step(wp: Any, mjw: Any, session: _Session, plan: _Plan) -> Callable[[],
             wp.launch(
                 k["set_ctrl"],
                 dim=(nworld, nu),
-                inputs=[plan.control, plan.counter],
+                inputs=[plan.control, plan.group, plan.counter],
                 outputs=[d.ctrl],
             )
         mjw.step(m, d)
@@ -540,10 +564,11 @@ def rollout_warp(
     record_steps: Sequence[int] | NDArray[Any] | None = None,
     record: Sequence[str] = ("state", "sensordata"),
     steps_per_launch: int = DEFAULT_STEPS_PER_LAUNCH,
+    control_group: NDArray[Any] | Sequence[int] | None = None,
     nconmax: int | None = None,
     njmax: int | None = None,
 ) -> WarpRollout:
-    """Roll out every model from its state under one open-loop control sequence, batched.
+    """Roll out every model from its state under open-loop control sequences, batched.
 
     Args:
         models: one model per batch item, all compiled from the same MJCF; the fields in
@@ -551,7 +576,9 @@ def rollout_warp(
         initial_state: ``mjSTATE_FULLPHYSICS`` state, ``(nstate,)`` shared by all items or
             ``(nbatch, nstate)`` one each.
         control: ``(nstep, nu)`` ``ctrl`` for every step, shared by all items (actuator
-            units, e.g. motor-side position setpoints [rad] for zmpkit's dcmotors).
+            units, e.g. motor-side position setpoints [rad] for zmpkit's dcmotors), or
+            ``(ngroup, nstep, nu)``: several sequences (experiments), one per item or
+            chosen by ``control_group``; pad a shorter one (e.g. by holding its last row).
         record_every: keep a row after every ``record_every``-th step; ``nstep %
             record_every`` trailing steps are not simulated.
         device: Warp device (``"cuda:0"``, ``"cpu"``); ``None`` is Warp's default.
@@ -561,6 +588,8 @@ def rollout_warp(
         record: what each row keeps (:data:`RECORDABLE`); the rest never leaves the device.
         steps_per_launch: steps per captured graph on CUDA (a loop of launches on the CPU;
             the result does not depend on it).
+        control_group: with 3-D ``control``, ``(nbatch,)`` the sequence each item runs
+            (``None``: item ``i`` runs sequence ``i``).
         nconmax: contacts per world to allocate (MuJoCo Warp's default if ``None``).
         njmax: constraint rows per world to allocate (MuJoCo Warp's default if ``None``).
 
@@ -577,8 +606,10 @@ def rollout_warp(
     if len(models) == 0 or not all(isinstance(m, mujoco.MjModel) for m in models):
         raise ParameterError("models must be a non-empty sequence of mujoco.MjModel")
     template = models[0]
-    state0, ctrl = _check_inputs(template, len(models), initial_state, control)
-    steps = _record_steps(len(ctrl), record_every, record_steps)
+    state0, ctrl, groups = _check_inputs(
+        template, len(models), initial_state, control, control_group
+    )
+    steps = _record_steps(ctrl.shape[1], record_every, record_steps)
     records = _check_records(record, steps_per_launch)
     state0 = np.broadcast_to(state0, (len(models), state0.shape[-1]))
     check_supported(mjw, template)
@@ -589,12 +620,13 @@ def rollout_warp(
     with wp.ScopedDevice(_device(wp, device)):
         name = str(wp.get_device())
         session = _session(wp, mjw, models, fields, name, nconmax, njmax)
-        plan = _plan(wp, session, nstep, len(steps), records)
+        plan = _plan(wp, session, len(ctrl), nstep, len(steps), records)
         m, d = session.m, session.d
         mjw.reset_data(m, d)
         mjw.set_state(m, d, wp.array(np.ascontiguousarray(state0), dtype=float), _FULL)
         if template.nu:
-            plan.control.assign(ctrl[:nstep])
+            plan.control.assign(ctrl[:, :nstep])
+        plan.group.assign(groups)
         plan.row_of_step.assign(row_of_step)
         plan.counter.zero_()
         plan.first_bad.fill_(_NEVER)
