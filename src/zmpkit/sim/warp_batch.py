@@ -364,11 +364,11 @@ def _width(model: mujoco.MjModel, name: str) -> int:
     return widths[name]
 
 
-@dataclass
+@dataclass(frozen=True)
 class _Plan:
     """Device buffers (and, on CUDA, graphs) of one rollout length and set of records.
 
-    Mutable: the graphs are captured on first use.
+    ``graphs`` (steps per launch -> captured graph) fills on first use.
     """
 
     control: Any
@@ -382,9 +382,9 @@ class _Plan:
     graphs: dict[int, Any] = field(default_factory=dict)
 
 
-@dataclass
+@dataclass(frozen=True)
 class _Session:
-    """A Warp model and data of one batch layout, kept between calls; mutable (its plans)."""
+    """A Warp model and data of one batch layout, kept between calls, with its plans."""
 
     template: mujoco.MjModel
     fields: tuple[str, ...]
