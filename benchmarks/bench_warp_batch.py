@@ -3,7 +3,8 @@
 Usage::
 
     python benchmarks/bench_warp_batch.py [--device cpu|cuda:0] [--nbatch N] [--steps S]
-                                          [--record-every K] [--repeats R] [--json PATH]
+                                          [--record-every K] [--record full|cost]
+                                          [--steps-per-launch L] [--repeats R] [--json PATH]
 
 A batch is ``--nbatch`` NAO models (M, G and S on: dcmotor actuators, tendon gears), one
 per candidate of a CMA-ES generation (PID gain scale and gear stiffness spread over their
@@ -11,13 +12,17 @@ bounds), rolled out ``--steps`` steps of 1 ms from standing under a 2 Hz setpoin
 Measured in the same run, best of ``--repeats``:
 
 1. ``mujoco.rollout`` on ``os.cpu_count()`` threads (the CPU baseline);
-2. :func:`~zmpkit.sim.warp_batch.rollout_warp` on ``--device``; its first call (kernel
-   compilation or cache load, and graph capture on CUDA) is reported apart.
+2. :func:`~zmpkit.sim.warp_batch.rollout_warp` on ``--device``, ``--steps-per-launch``
+   steps per captured graph on CUDA; its first call (kernel compilation or cache load,
+   the Warp model and data, graph capture on CUDA) is reported apart: the later calls
+   reuse the model, data and graphs (the candidates' fields and states copied in).
 
 Both record state and sensordata after every step by default (``mujoco.rollout`` always
-does; ``--record-every`` thins Warp's records only). Throughput is in physics steps per
-second summed over the batch. Ratios are reported,
-never asserted. Without ``mujoco_warp`` installed it says so and exits 0.
+does; ``--record-every`` thins Warp's records only). ``--record cost`` records on Warp
+what the fit's signals read instead: ``qpos``, ``sensordata`` and the site kinematics
+every ``--record-every`` steps, no full state. Throughput is in physics steps per second
+summed over the batch. Ratios are reported, never asserted. Without ``mujoco_warp``
+installed it says so and exits 0.
 """
 
 from __future__ import annotations
@@ -75,9 +80,22 @@ def best_wall(run: Any, repeats: int) -> float:
     return best
 
 
-def measure(device: str, nbatch: int, nstep: int, every: int, repeats: int) -> dict[str, Any]:
+COST_RECORDS = ("qpos", "sensordata", "site_xpos", "site_xmat")
+"""What the fit's signals read of each row (``zmpkit.simfit.batched``)."""
+
+
+def measure(
+    device: str, nbatch: int, nstep: int, every: int, repeats: int, record: str, per_launch: int
+) -> dict[str, Any]:
     """Walls of the CPU baseline and of MuJoCo Warp, and Warp's first call [s]."""
     from zmpkit.sim.warp_batch import rollout_warp
+
+    names = ("state", "sensordata") if record == "full" else COST_RECORDS
+
+    def warp() -> Any:
+        return rollout_warp(
+            models, state, control, every, device, record=names, steps_per_launch=per_launch
+        )
 
     models, state, control = batch(nbatch, nstep)
     nthread = os.cpu_count() or 1
@@ -86,15 +104,19 @@ def measure(device: str, nbatch: int, nstep: int, every: int, repeats: int) -> d
     with rollout.Rollout(nthread=nthread) as pool:
         cpu_s = best_wall(lambda: pool.rollout(models, datas, states, controls), repeats)
     start = time.perf_counter()
-    out = rollout_warp(models, state, control, every, device)
+    out = warp()
     first_s = time.perf_counter() - start
-    warp_s = best_wall(lambda: rollout_warp(models, state, control, every, device), repeats)
+    warp_s = best_wall(warp, repeats)
     steps = nbatch * (nstep // every) * every
     return {
         "device": out.device,
         "rows": [
             {"backend": f"mujoco.rollout ({nthread} threads)", "wall_s": cpu_s, "steps": steps},
-            {"backend": f"rollout_warp ({out.device})", "wall_s": warp_s, "steps": steps},
+            {
+                "backend": f"rollout_warp ({out.device}, record {record}, {per_launch}/launch)",
+                "wall_s": warp_s,
+                "steps": steps,
+            },
         ],
         "warp_first_call_s": first_s,
         "warp_diverged": int(out.diverged.sum()),
@@ -133,12 +155,22 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--nbatch", type=int, default=16)
     parser.add_argument("--steps", type=int, default=1000)
     parser.add_argument("--record-every", type=int, default=1)
+    parser.add_argument("--record", choices=("full", "cost"), default="full")
+    parser.add_argument("--steps-per-launch", type=int, default=50)
     parser.add_argument("--repeats", type=int, default=2)
     args = parser.parse_args(argv)
     if importlib.util.find_spec("mujoco_warp") is None:
         print("mujoco_warp is not installed: nothing to measure (pip install 'zmpkit[gpu]')")
         return 0
-    result = measure(args.device, args.nbatch, args.steps, args.record_every, args.repeats)
+    result = measure(
+        args.device,
+        args.nbatch,
+        args.steps,
+        args.record_every,
+        args.repeats,
+        args.record,
+        args.steps_per_launch,
+    )
     show(result, args.nbatch, args.steps)
     write_run(args, result)
     return 0

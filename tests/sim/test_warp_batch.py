@@ -135,7 +135,7 @@ def test_unsupported_model_names_feature_and_cpu_backend(nao) -> None:
             lambda s, c: (s[:-1], c),
             r"initial_state must .* shape \(71,\) or \(\d+, 71\), got shape \(70,\)",
         ),
-        (lambda s, c: (s, c[:, :-1]), r"control must have shape \(nstep, nu=11\).*\(300, 10\)"),
+        (lambda s, c: (s, c[:, :-1]), r"control must have shape \(nstep, nu=11\) or .*\(300, 10\)"),
         (lambda s, c: (s, c[:0]), r"nstep >= 1"),
         (lambda s, c: (s, np.where(c == c[0, 0], np.nan, c)), r"control must be finite"),
     ],
@@ -228,3 +228,205 @@ def test_warp_backend_costs_follow_the_cpu_batch(tmp_path) -> None:
             total = c.total(problem.weights)
             assert abs(w.total(problem.weights) - total) <= 0.01 * total
     assert cpu[2][0].completed < 1.0  # the third candidate falls, on both
+
+
+# The step loop: steps per launch, recorded rows and arrays, and the cache between calls.
+# Each compares MuJoCo Warp with itself, so the results must be equal bit for bit.
+
+ALL = ("state", "qpos", "qvel", "act", "sensordata", "site_xpos", "site_xmat")
+
+
+def pair(model: mujoco.MjModel) -> list[mujoco.MjModel]:
+    """Two candidates differing in two per-world fields (as a fit's generation does)."""
+    return [model, variant(model, tendon_stiffness=0.5, actuator_gainprm=1.5)]
+
+
+def assert_same_rollout(a, b) -> None:
+    assert sorted(a.records) == sorted(b.records)
+    for name in a.records:
+        np.testing.assert_array_equal(a.records[name], b.records[name], err_msg=name)
+    for name in ("steps", "time", "valid_rows", "solver_capped"):
+        np.testing.assert_array_equal(getattr(a, name), getattr(b, name), err_msg=name)
+
+
+@pytest.mark.needs_warp
+def test_steps_per_launch_does_not_change_the_result(nao) -> None:
+    model, state, control = nao
+    short = control[:40]
+    one = rollout_warp(pair(model), state, short, 3, "cpu", record=ALL, steps_per_launch=1)
+    seven = rollout_warp(pair(model), state, short, 3, "cpu", record=ALL, steps_per_launch=7)
+    assert_same_rollout(one, seven)  # 39 steps: 5 launches of 7 and one of 4 on CUDA
+
+
+@pytest.mark.needs_warp
+def test_recorded_rows_are_the_full_records_at_those_steps(nao) -> None:
+    model, state, control = nao
+    short = control[:40]
+    full = rollout_warp(pair(model), state, short, 1, "cpu", record=ALL)
+    wanted = [31, 5, 12, 12, 6]  # any order, duplicates dropped; steps past 31 not simulated
+    some = rollout_warp(pair(model), state, short, device="cpu", record_steps=wanted, record=ALL)
+    np.testing.assert_array_equal(some.steps, [5, 6, 12, 31])
+    np.testing.assert_array_equal(full.steps, np.arange(1, 41))
+    for name in ALL:
+        np.testing.assert_array_equal(some.records[name], full.records[name][:, some.steps - 1])
+    np.testing.assert_array_equal(some.time, full.time[:, some.steps - 1])
+    np.testing.assert_array_equal(some.state[:, :, 0], some.time)
+
+
+@pytest.mark.needs_warp
+def test_only_the_arrays_asked_for_are_recorded(nao) -> None:
+    model, state, control = nao
+    out = rollout_warp([model], state, control[:6], device="cpu", record=("qpos", "site_xmat"))
+    assert sorted(out.records) == ["qpos", "site_xmat"]
+    assert out.records["qpos"].shape == (1, 6, model.nq)
+    assert out.records["site_xmat"].shape == (1, 6, 9 * model.nsite)
+    with pytest.raises(KeyError, match=r"'state' was not recorded; recorded: \['qpos'"):
+        _ = out.state
+
+
+@pytest.mark.needs_warp
+def test_site_kinematics_lag_one_step_as_after_mj_step(nao) -> None:
+    """A row's site pose is that of the previous row's qpos (MuJoCo's ``mj_step`` order)."""
+    model, state, control = nao
+    out = rollout_warp([model], state, control[:20], device="cpu", record=ALL)
+    data = mujoco.MjData(model)
+    for row in range(1, 20):
+        data.qpos[:] = out.records["qpos"][0, row - 1]
+        mujoco.mj_kinematics(model, data)
+        xpos = out.records["site_xpos"][0, row].reshape(model.nsite, 3)
+        xmat = out.records["site_xmat"][0, row].reshape(model.nsite, 9)
+        # float32 kinematics against float64 ones of the same qpos: measured over the 300
+        # steps, at most 7.5e-8 m in site_xpos and 2.9e-7 in site_xmat (QPOS_TOL: 34 x)
+        np.testing.assert_allclose(xpos, data.site_xpos, rtol=0, atol=QPOS_TOL)
+        np.testing.assert_allclose(xmat, data.site_xmat, rtol=0, atol=QPOS_TOL)
+
+
+@pytest.mark.needs_warp
+def test_a_second_call_reuses_the_warp_model_and_gives_the_same_result(nao) -> None:
+    from zmpkit.sim import warp_batch
+
+    model, state, control = nao
+    short = control[:30]
+    warp_batch.clear_warp_cache()
+    first = rollout_warp(pair(model), state, short, 2, "cpu", record=ALL)
+    (session,) = warp_batch._SESSIONS.values()
+    again = rollout_warp(pair(model), state, short, 2, "cpu", record=ALL)
+    assert list(warp_batch._SESSIONS.values()) == [session]  # the same Warp model and data
+    assert len(session.plans) == 1  # and the same buffers
+    assert_same_rollout(first, again)
+    # Other candidates of the same layout reuse it too, with their own per-world values...
+    others = [variant(model, tendon_stiffness=2.0, actuator_gainprm=0.8), pair(model)[1]]
+    reused = rollout_warp(others, state, short, 2, "cpu", record=ALL)
+    assert list(warp_batch._SESSIONS.values()) == [session]
+    warp_batch.clear_warp_cache()
+    fresh = rollout_warp(others, state, short, 2, "cpu", record=ALL)
+    assert_same_rollout(reused, fresh)  # ...and nothing of the earlier calls stays in it
+    # A shared field that changes (not per world in the cached model) builds a new one.
+    (cached,) = warp_batch._SESSIONS.values()
+    heavier = [variant(m, body_mass=1.1) for m in others]
+    rebuilt = rollout_warp(heavier, state, short, 2, "cpu", record=ALL)
+    (session,) = warp_batch._SESSIONS.values()  # in the place of the stale one
+    assert session is not cached
+    assert not np.array_equal(rebuilt.records["qpos"], fresh.records["qpos"])
+
+
+@pytest.mark.needs_warp
+def test_control_groups_run_as_separate_batches(nao) -> None:
+    """Several control sequences (experiments) in one batch: each world as if alone."""
+    model, state, wave = nao
+    short = wave[:24]
+    sequences = np.stack([short, 0.5 * short, -short])
+    models = pair(model) + pair(model)  # candidate 0 and 1, in two experiments
+    group = [2, 2, 1, 1]
+    one = rollout_warp(
+        models, state, sequences, device="cpu", record_steps=[3, 24], control_group=group
+    )
+    for worlds, sequence in (([0, 1], sequences[2]), ([2, 3], sequences[1])):
+        alone = rollout_warp(pair(model), state, sequence, device="cpu", record_steps=[3, 24])
+        for name in ("state", "sensordata"):
+            np.testing.assert_array_equal(one.records[name][worlds], alone.records[name])
+    per_item = rollout_warp(pair(model), state, sequences[:2], 4, "cpu")  # item i runs i
+    np.testing.assert_array_equal(
+        per_item.state[1], rollout_warp(pair(model), state, sequences[1], 4, "cpu").state[1]
+    )
+
+
+@pytest.mark.needs_warp
+@pytest.mark.slow
+def test_divergence_is_found_between_recorded_rows(nao) -> None:
+    """Valid rows: those before the first failing step, recorded or not."""
+    model, state, wave = nao
+    hold = np.zeros_like(wave)
+    unstable = variant(model, tendon_stiffness=-1000.0)
+    full = rollout_warp([model, unstable], state, hold, 1, "cpu", record=("qpos",))
+    first_bad_step = full.steps[full.valid_rows[1]]
+    sparse = np.arange(10, NSTEP + 1, 10)
+    some = rollout_warp(
+        [model, unstable], state, hold, device="cpu", record_steps=sparse, record=("qpos",)
+    )
+    assert some.valid_rows[0] == len(sparse)
+    assert some.valid_rows[1] == np.searchsorted(sparse, first_bad_step)
+    assert some.diverged.tolist() == [False, True]
+
+
+@pytest.mark.needs_warp
+@pytest.mark.parametrize(
+    ("options", "message"),
+    [
+        ({"record": ()}, r"record must name distinct arrays among \('state'"),
+        ({"record": ("qpos", "qpos")}, r"record must name distinct arrays"),
+        ({"record": ("xpos",)}, r"record must name distinct arrays"),
+        ({"record_steps": []}, r"record_steps must be a non-empty 1-D set of integer steps"),
+        ({"record_steps": [0, 3]}, r"in \[1, nstep=300\]"),
+        ({"record_steps": [301]}, r"in \[1, nstep=300\]"),
+        ({"record_steps": [1.5]}, r"integer steps"),
+        ({"record_steps": [3], "record_every": 3}, r"give record_every or record_steps, not both"),
+        ({"steps_per_launch": 0}, r"steps_per_launch must be an integer >= 1, got 0"),
+        ({"steps_per_launch": 2.0}, r"steps_per_launch must be an integer >= 1, got 2.0"),
+        ({"control_group": [0]}, r"control_group needs control of shape \(ngroup, nstep, nu\)"),
+    ],
+)
+def test_bad_records_are_named(nao, options, message) -> None:
+    model, state, control = nao
+    with pytest.raises(ParameterError, match=message):
+        rollout_warp([model], state, control, device="cpu", **options)
+
+
+@pytest.mark.needs_warp
+@pytest.mark.parametrize("group", [None, [0, 2], [0], [-1, 0], [0.0, 1.0]])
+def test_bad_control_groups(nao, group) -> None:
+    model, state, control = nao
+    sequences = np.stack([control, control])
+    with pytest.raises(ParameterError, match=r"control_group must give each of the 3 items"):
+        rollout_warp(pair(model)[:1] * 3, state, sequences, device="cpu", control_group=group)
+
+
+@pytest.mark.needs_warp
+@pytest.mark.slow
+def test_all_experiments_and_candidates_in_one_batch(tmp_path) -> None:
+    """Two walks of different lengths x two candidates in one Warp batch: each experiment's
+    signals are those of its own batch, bit for bit (worlds do not interact)."""
+    import dataclasses
+
+    from helpers.simfit_data import SEED, small_case
+    from zmpkit.simfit.batched import simulate_batch, simulate_batches_warp
+    from zmpkit.simfit.experiments import read_experiments
+    from zmpkit.simfit.self_test import SelfTestPlan, record_experiments
+
+    params, doc, truth = small_case()
+    plan = SelfTestPlan(((0.2, 1.5), (0.1, 1.0)), ())
+    paths, _ = record_experiments("nao", plan, doc, params, truth, "M,G", SEED, tmp_path)
+    experiments = read_experiments(paths, "nao")
+    from zmpkit.simfit.problem import FitProblem
+
+    problem = FitProblem("nao", "M,G,S", params, doc, tuple(experiments))
+    truths = [problem.truth([p.nominal for p in params]), problem.truth(list(truth))]
+    together = simulate_batches_warp(experiments, truths, "M,G,S", "cpu")
+    assert len(together) == 2
+    assert len(together[0][0].time_s) != len(together[1][0].time_s)  # different lengths
+    for experiment, joint in zip(experiments, together, strict=True):
+        alone = simulate_batch(experiment, truths, "M,G,S", warp_device="cpu")
+        for a, b in zip(joint, alone, strict=True):
+            assert len(a.time_s) > 0
+            for f in dataclasses.fields(a):
+                np.testing.assert_array_equal(getattr(a, f.name), getattr(b, f.name), f.name)

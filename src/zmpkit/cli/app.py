@@ -49,6 +49,10 @@ COMMANDS: dict[str, tuple[str, str]] = {
         "zmpkit.cli.walk:walk_group",
         "Walk the virtual robot with the 3D-LIPM pattern (paper B) and analyse the walk.",
     ),
+    "warp": (
+        "zmpkit.cli.warp:warp_group",
+        "MuJoCo Warp (the fit's --backend warp): its kernel cache and warm-up.",
+    ),
     "zmp": (
         "zmpkit.cli.zmp:zmp_command",
         "ZMP of a recorded force-torque LOG; writes zmp.csv and zmp.png.",

@@ -1,12 +1,24 @@
 """Batched open-loop rollouts on MuJoCo Warp: one world per model, all stepped together.
 
 :func:`rollout_warp` has the contract of :func:`mujoco.rollout.rollout` for open-loop
-controls shared by every batch item, subsampled: row ``k`` of the outputs is the state
-(``mjSTATE_FULLPHYSICS``) and ``sensordata`` after step ``(k + 1) * record_every``.
+controls shared by every batch item, with only the rows and the arrays asked for kept:
+row ``k`` of the outputs is taken after step ``steps[k]`` (every ``record_every``-th step,
+or the explicit ``record_steps``), and holds the arrays named in ``record`` (the full
+``mjSTATE_FULLPHYSICS`` state, ``qpos``, ``qvel``, ``act``, ``sensordata``, and the site
+kinematics ``site_xpos``/``site_xmat``, which lag one step as after ``mj_step``). The
+rows are written on the device inside the step loop; nothing else leaves it.
 The models are one MJCF with different parameters (a CMA-ES generation's candidates);
 the fields in which they differ become per-world ("batched") MuJoCo Warp model arrays.
 Runs on a CUDA device (the point) or on Warp's CPU device (tests); ``pip install
-'zmpkit[gpu]'``. On CUDA each step and each record is replayed as a captured graph.
+'zmpkit[gpu]'``.
+
+Launches: each physics step is a few kernel launches (controls, ``mujoco_warp.step``, the
+divergence check, the records). On CUDA ``steps_per_launch`` steps are captured as one
+graph and replayed; on the CPU the same steps run as a loop of launches. The Warp model,
+data, buffers and graphs are kept between calls of the same shapes (a small cache keyed by
+the model layout, the per-world fields, the number of worlds and the buffers' sizes): a
+fit's next generation only copies its candidates' per-world fields, initial states and
+controls in, resets the data and replays. :func:`clear_warp_cache` releases them.
 
 Differences from CPU MuJoCo, measured in ``tests/sim/test_warp_batch.py`` and the report of
 issue 7:
@@ -14,10 +26,11 @@ issue 7:
 - MuJoCo Warp computes in float32 (state in, state out, solver ``tolerance >= 1e-6``).
   The time column is recomputed here in float64 as ``t0 + n * timestep``.
 - A world that diverges is not reset (CPU ``mj_step`` resets to ``qpos0`` on a bad
-  ``qacc``): its state runs away or turns non-finite (NaN stays NaN), and
-  :attr:`WarpRollout.valid_rows` counts its leading rows that are finite with every
-  ``|qvel|`` within :data:`~zmpkit.sim.world.DIVERGED_SPEED_RAD_S` (the limit of
-  :class:`~zmpkit.sim.world.Simulation`). The other worlds are unaffected.
+  ``qacc``): its state runs away or turns non-finite (NaN stays NaN). Every step, on the
+  device, a world's ``qpos``, ``qvel`` and ``act`` are checked (finite, every ``|qvel|``
+  within :data:`~zmpkit.sim.world.DIVERGED_SPEED_RAD_S`, the limit of
+  :class:`~zmpkit.sim.world.Simulation`); :attr:`WarpRollout.valid_rows` counts the rows
+  taken before its first failing step, recorded or not. The other worlds are unaffected.
 - Unsupported features (e.g. the ``pid`` servo of zmpkit's ideal joint: ``mjDYN_PID``)
   raise :class:`~zmpkit.errors.ParameterError`; the CPU backend handles every model.
 
@@ -25,9 +38,11 @@ This module does not import ``from __future__ import annotations``: Warp reads t
 annotations of the kernels defined below at run time.
 """
 
+import copy
 import functools
-from collections.abc import Callable, Sequence
-from dataclasses import dataclass
+from collections import OrderedDict
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass, field
 from typing import Any
 
 import mujoco
@@ -35,13 +50,40 @@ import numpy as np
 from numpy.typing import NDArray
 
 from zmpkit.errors import ModelError, ParameterError
-from zmpkit.sim.warp_model import batched_fields, check_supported, put_models
+from zmpkit.sim.warp_cache import configure_kernel_cache
+from zmpkit.sim.warp_model import (
+    assign_per_world,
+    batched_fields,
+    check_supported,
+    model_differences,
+    put_models,
+    size_key,
+)
 from zmpkit.sim.world import DIVERGED_SPEED_RAD_S
 
-__all__ = ["WarpRollout", "rollout_warp"]
+__all__ = [
+    "DEFAULT_STEPS_PER_LAUNCH",
+    "RECORDABLE",
+    "WarpRollout",
+    "clear_warp_cache",
+    "rollout_warp",
+    "warp_runtime",
+]
 
 _INSTALL_HINT = "pip install 'zmpkit[gpu]'"  # the extra: mujoco-warp==4.0.0 (brings warp-lang)
 _FULL = int(mujoco.mjtState.mjSTATE_FULLPHYSICS)
+DEFAULT_STEPS_PER_LAUNCH = 50
+"""Physics steps per graph launch on CUDA (a loop of launches on the CPU). Not tuned: no
+GPU has measured it; ``benchmarks/bench_warp_batch.py --steps-per-launch`` compares."""
+RECORDABLE = ("state", "qpos", "qvel", "act", "sensordata", "site_xpos", "site_xmat")
+"""What :func:`rollout_warp` can record per row: the ``mjSTATE_FULLPHYSICS`` state, or the
+named ``mjData`` arrays (``site_xpos`` as ``(nsite * 3)``, ``site_xmat`` as ``(nsite * 9)``)."""
+_NEVER = np.iinfo(np.int32).max
+"""The first failing step of a world that never failed."""
+_MAX_SESSIONS = 4
+"""Warp models and data kept between calls (device memory: one batch each)."""
+_MAX_PLANS = 4
+"""Buffer and graph sets kept per model and data (one per rollout length and records)."""
 
 
 @dataclass(frozen=True)
@@ -49,28 +91,48 @@ class WarpRollout:
     """Recorded rollouts of a batch, as float64 numpy arrays.
 
     Attributes:
-        state: ``(nbatch, nrec, nstate)`` ``mjSTATE_FULLPHYSICS`` state after each recorded
-            step (time [s], qpos, qvel, act, ...; MuJoCo units and frames).
-        sensordata: ``(nbatch, nrec, nsensordata)`` noiseless MuJoCo sensor readings.
-        valid_rows: ``(nbatch,)`` number of leading rows whose state is finite with
-            every ``|qvel|`` <= ``DIVERGED_SPEED_RAD_S``; rows after are not to be used.
+        records: per recorded name (:data:`RECORDABLE`), ``(nbatch, nrec, n)``: the
+            ``mjSTATE_FULLPHYSICS`` state (time [s], qpos, qvel, act, ...), ``qpos``,
+            ``qvel``, ``act``, noiseless ``sensordata``, ``site_xpos`` [m] (``nsite * 3``)
+            and ``site_xmat`` (``nsite * 9``, row-major) in MuJoCo units and frames.
+        steps: ``(nrec,)`` the step after which each row was taken (1 is after the first).
+        time: ``(nbatch, nrec)`` the time of each row [s] (``t0 + step * timestep``).
+        valid_rows: ``(nbatch,)`` number of leading rows taken before the world's first
+            step with a non-finite ``qpos``/``qvel``/``act`` or a ``|qvel|`` above
+            ``DIVERGED_SPEED_RAD_S``; rows after are not to be used.
         solver_capped: ``(nbatch,)`` the constraint solver or its line search hit the
             iteration limit at least once (as CPU MuJoCo's unconverged solver: tolerated).
         batched_fields: model fields given per world (``opt.`` prefix for options).
         device: the Warp device that ran it, e.g. ``"cuda:0"`` or ``"cpu"``.
     """
 
-    state: NDArray[np.float64]
-    sensordata: NDArray[np.float64]
+    records: Mapping[str, NDArray[np.float64]]
+    steps: NDArray[np.int64]
+    time: NDArray[np.float64]
     valid_rows: NDArray[np.int64]
     solver_capped: NDArray[np.bool_]
     batched_fields: tuple[str, ...]
     device: str
 
     @property
+    def state(self) -> NDArray[np.float64]:
+        """``(nbatch, nrec, nstate)`` the recorded ``mjSTATE_FULLPHYSICS`` states."""
+        return self._record("state")
+
+    @property
+    def sensordata(self) -> NDArray[np.float64]:
+        """``(nbatch, nrec, nsensordata)`` the recorded noiseless sensor readings."""
+        return self._record("sensordata")
+
+    @property
     def diverged(self) -> NDArray[np.bool_]:
         """``(nbatch,)`` worlds that diverged (non-finite state or runaway speed)."""
-        return self.valid_rows < self.state.shape[1]
+        return self.valid_rows < len(self.steps)
+
+    def _record(self, name: str) -> NDArray[np.float64]:
+        if name not in self.records:
+            raise KeyError(f"{name!r} was not recorded; recorded: {sorted(self.records)}")
+        return self.records[name]
 
 
 def _import_warp() -> tuple[Any, Any]:
@@ -82,6 +144,7 @@ def _import_warp() -> tuple[Any, Any]:
             f"rollout_warp needs MuJoCo Warp, which is not installed ({exc}); "
             f"install it with: {_INSTALL_HINT}"
         ) from exc
+    configure_kernel_cache(warp)  # before warp.init(): zmpkit's persistent kernel cache
     return warp, mujoco_warp
 
 
@@ -90,27 +153,95 @@ def _check_inputs(
     nbatch: int,
     initial_state: NDArray[Any],
     control: NDArray[Any],
-    record_every: int,
-) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    control_group: NDArray[Any] | Sequence[int] | None,
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.int32]]:
+    """The initial states, the controls as ``(ngroup, nstep, nu)`` and each item's group."""
     nstate = mujoco.mj_stateSize(model, _FULL)
     state = np.asarray(initial_state, dtype=np.float64)
     ctrl = np.asarray(control, dtype=np.float64)
+    if ctrl.ndim == 3:
+        groups = np.arange(nbatch) if control_group is None else np.asarray(control_group)
+        if (
+            groups.shape != (nbatch,)
+            or not np.issubdtype(groups.dtype, np.integer)
+            or groups.min() < 0
+            or groups.max() >= len(ctrl)
+        ):
+            raise ParameterError(
+                f"control_group must give each of the {nbatch} items a control sequence in "
+                f"[0, {len(ctrl)}), got {control_group!r}"
+            )
+    elif control_group is not None:
+        raise ParameterError("control_group needs control of shape (ngroup, nstep, nu)")
+    else:
+        groups, ctrl = np.zeros(nbatch, dtype=np.int64), ctrl[None]
     if state.shape not in ((nstate,), (nbatch, nstate)) or not np.all(np.isfinite(state)):
         raise ParameterError(
             f"initial_state must be finite mjSTATE_FULLPHYSICS states of shape ({nstate},) or "
             f"({nbatch}, {nstate}), got shape {state.shape}"
         )
-    if ctrl.ndim != 2 or ctrl.shape[1] != model.nu or len(ctrl) == 0:
+    if ctrl.ndim != 3 or ctrl.shape[2] != model.nu or ctrl.shape[1] == 0:
         raise ParameterError(
-            f"control must have shape (nstep, nu={model.nu}) with nstep >= 1, got {ctrl.shape}"
+            f"control must have shape (nstep, nu={model.nu}) or (ngroup, nstep, nu) with "
+            f"nstep >= 1, got {np.shape(control)}"
         )
     if not np.all(np.isfinite(ctrl)):
         raise ParameterError("control must be finite")
-    if not isinstance(record_every, int | np.integer) or not 1 <= record_every <= len(ctrl):
+    return state, ctrl, groups.astype(np.int32)
+
+
+def _record_steps(
+    nstep: int, record_every: int, record_steps: Sequence[int] | NDArray[Any] | None
+) -> NDArray[np.int64]:
+    """The steps after which rows are taken, sorted (1 is after the first step)."""
+    if record_steps is None:
+        if not isinstance(record_every, int | np.integer) or not 1 <= record_every <= nstep:
+            raise ParameterError(
+                f"record_every must be an integer in [1, nstep={nstep}], got {record_every!r}"
+            )
+        return (np.arange(nstep // int(record_every)) + 1) * int(record_every)
+    if record_every != 1:
+        raise ParameterError("give record_every or record_steps, not both")
+    steps = np.asarray(record_steps)
+    if (
+        steps.ndim != 1
+        or len(steps) == 0
+        or not np.issubdtype(steps.dtype, np.integer)
+        or steps.min() < 1
+        or steps.max() > nstep
+    ):
         raise ParameterError(
-            f"record_every must be an integer in [1, nstep={len(ctrl)}], got {record_every!r}"
+            f"record_steps must be a non-empty 1-D set of integer steps in [1, nstep={nstep}]"
         )
-    return state, ctrl
+    return np.unique(steps).astype(np.int64)
+
+
+def _check_records(record: Sequence[str], steps_per_launch: int) -> tuple[str, ...]:
+    names = tuple(record)
+    if not names or len(set(names)) != len(names) or not set(names) <= set(RECORDABLE):
+        raise ParameterError(f"record must name distinct arrays among {RECORDABLE}, got {names!r}")
+    if isinstance(steps_per_launch, bool) or not isinstance(steps_per_launch, int | np.integer):
+        raise ParameterError(f"steps_per_launch must be an integer >= 1, got {steps_per_launch!r}")
+    if steps_per_launch < 1:
+        raise ParameterError(f"steps_per_launch must be an integer >= 1, got {steps_per_launch!r}")
+    return names
+
+
+def warp_runtime(device: str | None = None) -> tuple[Any, str]:
+    """Warp, started with zmpkit's kernel cache, and the name of ``device`` on it.
+
+    Args:
+        device: Warp device (``"cuda:0"``, ``"cpu"``); ``None`` is Warp's default.
+
+    Returns:
+        The ``warp`` module and the device's name, e.g. ``"cuda:0"`` or ``"cpu"``.
+
+    Raises:
+        ModuleNotFoundError: MuJoCo Warp is not installed (``pip install 'zmpkit[gpu]'``).
+        ParameterError: an unknown device.
+    """
+    wp, _ = _import_warp()
+    return wp, str(_device(wp, device))
 
 
 def _device(wp: Any, device: str | None) -> Any:
@@ -122,109 +253,291 @@ def _device(wp: Any, device: str | None) -> Any:
 
 
 @functools.cache
-def _kernels() -> tuple[Any, Any, Any]:
-    """(set_ctrl, record, advance) Warp kernels, built once per process."""
+def _kernels() -> dict[str, Any]:
+    """The Warp kernels of the step loop, built once per process."""
     import warp as wp
 
     # Warp's kernel DSL reads these annotations at run time: its array types are calls, which
     # no static checker accepts as types, hence the ignores on each kernel parameter.
     @wp.kernel(enable_backward=False)
     def set_ctrl(
-        control: wp.array2d(dtype=float),  # type: ignore[valid-type]  # Warp's kernel DSL
+        control: wp.array3d(dtype=float),  # type: ignore[valid-type]  # Warp's kernel DSL
+        group: wp.array(dtype=wp.int32),  # type: ignore[valid-type]  # Warp's kernel DSL
         counter: wp.array(dtype=wp.int32),  # type: ignore[valid-type]  # Warp's kernel DSL
         ctrl: wp.array2d(dtype=float),  # type: ignore[valid-type]  # Warp's kernel DSL
     ):
         world, j = wp.tid()
-        ctrl[world, j] = control[counter[0], j]
+        ctrl[world, j] = control[group[world], counter[0], j]
+
+    @wp.kernel(enable_backward=False)
+    def check(
+        qpos: wp.array2d(dtype=float),  # type: ignore[valid-type]  # Warp's kernel DSL
+        qvel: wp.array2d(dtype=float),  # type: ignore[valid-type]  # Warp's kernel DSL
+        act: wp.array2d(dtype=float),  # type: ignore[valid-type]  # Warp's kernel DSL
+        counter: wp.array(dtype=wp.int32),  # type: ignore[valid-type]  # Warp's kernel DSL
+        limit: wp.float64,
+        never: wp.int32,
+        first_bad: wp.array(dtype=wp.int32),  # type: ignore[valid-type]  # Warp's kernel DSL
+    ):
+        world = wp.tid()
+        if first_bad[world] != never:
+            return
+        bad = wp.int32(0)  # a dynamic variable (a constant cannot change in a loop)
+        for i in range(qpos.shape[1]):
+            if not wp.isfinite(qpos[world, i]):
+                bad = 1
+        for i in range(qvel.shape[1]):
+            if not (wp.isfinite(qvel[world, i]) and wp.float64(wp.abs(qvel[world, i])) <= limit):
+                bad = 1
+        for i in range(act.shape[1]):
+            if not wp.isfinite(act[world, i]):
+                bad = 1
+        if bad != 0:
+            first_bad[world] = counter[0] + 1
 
     @wp.kernel(enable_backward=False)
     def record(
-        state: wp.array2d(dtype=float),  # type: ignore[valid-type]  # Warp's kernel DSL
-        sensordata: wp.array2d(dtype=float),  # type: ignore[valid-type]  # Warp's kernel DSL
+        source: wp.array2d(dtype=float),  # type: ignore[valid-type]  # Warp's kernel DSL
         counter: wp.array(dtype=wp.int32),  # type: ignore[valid-type]  # Warp's kernel DSL
-        state_out: wp.array3d(dtype=float),  # type: ignore[valid-type]  # Warp's kernel DSL
-        sensordata_out: wp.array3d(dtype=float),  # type: ignore[valid-type]  # Warp's kernel DSL
+        row_of_step: wp.array(dtype=wp.int32),  # type: ignore[valid-type]  # Warp's kernel DSL
+        out: wp.array3d(dtype=float),  # type: ignore[valid-type]  # Warp's kernel DSL
     ):
-        world = wp.tid()
-        row = counter[0]
-        for i in range(state.shape[1]):
-            state_out[row, world, i] = state[world, i]
-        for i in range(sensordata.shape[1]):
-            sensordata_out[row, world, i] = sensordata[world, i]
+        world, i = wp.tid()
+        row = row_of_step[counter[0]]
+        if row >= 0:
+            out[row, world, i] = source[world, i]
+
+    @wp.kernel(enable_backward=False)
+    def record_vec3(
+        source: wp.array2d(dtype=wp.vec3),  # type: ignore[valid-type]  # Warp's kernel DSL
+        counter: wp.array(dtype=wp.int32),  # type: ignore[valid-type]  # Warp's kernel DSL
+        row_of_step: wp.array(dtype=wp.int32),  # type: ignore[valid-type]  # Warp's kernel DSL
+        out: wp.array3d(dtype=float),  # type: ignore[valid-type]  # Warp's kernel DSL
+    ):
+        world, i = wp.tid()
+        row = row_of_step[counter[0]]
+        if row >= 0:
+            v = source[world, i]
+            for k in range(3):
+                out[row, world, 3 * i + k] = v[k]
+
+    @wp.kernel(enable_backward=False)
+    def record_mat33(
+        source: wp.array2d(dtype=wp.mat33),  # type: ignore[valid-type]  # Warp's kernel DSL
+        counter: wp.array(dtype=wp.int32),  # type: ignore[valid-type]  # Warp's kernel DSL
+        row_of_step: wp.array(dtype=wp.int32),  # type: ignore[valid-type]  # Warp's kernel DSL
+        out: wp.array3d(dtype=float),  # type: ignore[valid-type]  # Warp's kernel DSL
+    ):
+        world, i = wp.tid()
+        row = row_of_step[counter[0]]
+        if row >= 0:
+            m = source[world, i]
+            for r in range(3):
+                for c in range(3):
+                    out[row, world, 9 * i + 3 * r + c] = m[r, c]
 
     @wp.kernel(enable_backward=False)
     def advance(counter: wp.array(dtype=wp.int32)):  # type: ignore[valid-type]  # Warp's kernel DSL
         counter[0] = counter[0] + 1
 
-    return set_ctrl, record, advance
+    return {
+        "set_ctrl": set_ctrl,
+        "check": check,
+        "record": record,
+        "record_vec3": record_vec3,
+        "record_mat33": record_mat33,
+        "advance": advance,
+    }
 
 
-def _graphed(wp: Any, fn: Callable[[], None]) -> Callable[[], None]:
-    """``fn`` on the CPU; on CUDA run once eagerly (compiles), then capture and replay."""
-    if not wp.get_device().is_cuda:
-        return fn
-    graph: list[Any] = []
-
-    def run() -> None:
-        if not graph:
-            graph.append(None)
-            fn()
-            return
-        if graph[0] is None:
-            with wp.ScopedCapture() as capture:
-                fn()
-            graph[0] = capture.graph
-        wp.capture_launch(graph[0])
-
-    return run
+def _width(model: mujoco.MjModel, name: str) -> int:
+    """Columns of the recorded array ``name`` (:data:`RECORDABLE`)."""
+    widths = {
+        "state": mujoco.mj_stateSize(model, _FULL),
+        "qpos": model.nq,
+        "qvel": model.nv,
+        "act": model.na,
+        "sensordata": model.nsensordata,
+        "site_xpos": 3 * model.nsite,
+        "site_xmat": 9 * model.nsite,
+    }
+    return widths[name]
 
 
-def _simulate(
-    wp: Any, mjw: Any, m: Any, d: Any, control: NDArray[np.float64], every: int, nstate: int
-) -> tuple[NDArray[np.float32], NDArray[np.float32]]:
-    """Step every world through ``control``; state and sensordata, ``(nrec, nworld, n)``."""
-    set_ctrl, record, advance = _kernels()
-    nworld, nu, nsens = d.nworld, control.shape[1], d.sensordata.shape[1]
-    nrec = len(control) // every
-    ctrl_all = wp.array(control, dtype=float)
-    step_no, row_no = wp.zeros(1, dtype=wp.int32), wp.zeros(1, dtype=wp.int32)
-    scratch = wp.zeros((nworld, nstate), dtype=float)
-    every_world = wp.ones(nworld, dtype=bool)  # get_state would allocate it per call
-    state_out = wp.zeros((nrec, nworld, nstate), dtype=float)
-    sens_out = wp.zeros((nrec, nworld, nsens), dtype=float)
+@dataclass(frozen=True)
+class _Plan:
+    """Device buffers (and, on CUDA, graphs) of one rollout length and set of records.
 
-    def one_step() -> None:
-        if nu:
-            wp.launch(set_ctrl, dim=(nworld, nu), inputs=[ctrl_all, step_no], outputs=[d.ctrl])
-        mjw.step(m, d)
-        wp.launch(advance, dim=1, inputs=[step_no])
+    ``graphs`` (steps per launch -> captured graph) fills on first use.
+    """
 
-    def one_record() -> None:
-        mjw.get_state(m, d, scratch, _FULL, every_world)
-        wp.launch(
-            record,
-            dim=nworld,
-            inputs=[scratch, d.sensordata, row_no],
-            outputs=[state_out, sens_out],
-        )
-        wp.launch(advance, dim=1, inputs=[row_no])
-
-    step_fn, record_fn = _graphed(wp, one_step), _graphed(wp, one_record)
-    for _ in range(nrec):
-        for _ in range(every):
-            step_fn()
-        record_fn()
-    wp.synchronize_device()
-    return state_out.numpy(), sens_out.numpy()
+    control: Any
+    group: Any
+    row_of_step: Any
+    counter: Any
+    first_bad: Any
+    outputs: dict[str, Any]
+    scratch: Any
+    every_world: Any
+    graphs: dict[int, Any] = field(default_factory=dict)
 
 
-def _valid_rows(state: NDArray[np.float64], nq: int, nv: int) -> NDArray[np.int64]:
-    """Per world, the leading rows that are finite and within the divergence speed."""
-    qvel = np.abs(state[:, :, 1 + nq : 1 + nq + nv])
-    sane: NDArray[np.bool_] = np.all(np.isfinite(state), axis=2) & np.all(
-        qvel <= DIVERGED_SPEED_RAD_S, axis=2
+@dataclass(frozen=True)
+class _Session:
+    """A Warp model and data of one batch layout, kept between calls, with its plans."""
+
+    template: mujoco.MjModel
+    fields: tuple[str, ...]
+    m: Any
+    d: Any
+    plans: "OrderedDict[tuple[Any, ...], _Plan]" = field(default_factory=OrderedDict)
+
+
+_SESSIONS: "OrderedDict[tuple[Any, ...], _Session]" = OrderedDict()
+"""This process's Warp models and data, least recently used first."""
+
+
+def clear_warp_cache() -> None:
+    """Release the Warp models, data, buffers and graphs kept between calls."""
+    _SESSIONS.clear()
+
+
+def _session(
+    wp: Any,
+    mjw: Any,
+    models: Sequence[mujoco.MjModel],
+    fields: tuple[str, ...],
+    device: str,
+    nconmax: int | None,
+    njmax: int | None,
+) -> _Session:
+    """The cached Warp model and data for ``models`` (built on a miss), per-world fields set."""
+    template = models[0]
+    key = (device, size_key(template), fields, len(models), nconmax, njmax)
+    session = _SESSIONS.get(key)
+    if session is not None and not model_differences(session.template, template, fields):
+        _SESSIONS.move_to_end(key)
+        assign_per_world(wp, session.m, models, fields)
+        return session
+    m = put_models(wp, mjw, models, fields)
+    d = mjw.put_data(
+        template, mujoco.MjData(template), nworld=len(models), nconmax=nconmax, njmax=njmax
     )
-    return np.where(sane.all(axis=1), sane.shape[1], np.argmin(sane, axis=1)).astype(np.int64)
+    session = _Session(copy.deepcopy(template), fields, m, d)
+    _SESSIONS[key] = session
+    _SESSIONS.move_to_end(key)
+    while len(_SESSIONS) > _MAX_SESSIONS:
+        _SESSIONS.popitem(last=False)
+    return session
+
+
+def _plan(
+    wp: Any, session: _Session, ngroup: int, nstep: int, nrec: int, records: tuple[str, ...]
+) -> _Plan:
+    """The cached buffers for ``ngroup`` control sequences of ``nstep`` steps, ``nrec`` rows."""
+    template, nworld = session.template, session.d.nworld
+    key = (ngroup, nstep, nrec, records)
+    plan = session.plans.get(key)
+    if plan is not None:
+        session.plans.move_to_end(key)
+        return plan
+    nstate = mujoco.mj_stateSize(template, _FULL)
+    plan = _Plan(
+        control=wp.zeros((ngroup, nstep, max(template.nu, 1)), dtype=float),
+        group=wp.zeros(nworld, dtype=wp.int32),
+        row_of_step=wp.zeros(nstep, dtype=wp.int32),
+        counter=wp.zeros(1, dtype=wp.int32),
+        first_bad=wp.zeros(nworld, dtype=wp.int32),
+        outputs={
+            name: wp.zeros((nrec, nworld, _width(template, name)), dtype=float) for name in records
+        },
+        scratch=wp.zeros((nworld, nstate), dtype=float) if "state" in records else None,
+        every_world=wp.ones(nworld, dtype=bool),  # get_state would allocate it per call
+    )
+    session.plans[key] = plan
+    while len(session.plans) > _MAX_PLANS:
+        session.plans.popitem(last=False)
+    return plan
+
+
+def _one_step(wp: Any, mjw: Any, session: _Session, plan: _Plan) -> Callable[[], None]:
+    """One physics step of every world: controls, step, divergence check, records."""
+    k = _kernels()
+    m, d = session.m, session.d
+    nworld, nu = d.nworld, session.template.nu
+    sources = {
+        "qpos": d.qpos,
+        "qvel": d.qvel,
+        "act": d.act,
+        "sensordata": d.sensordata,
+        "state": plan.scratch,
+    }
+    nsite = session.template.nsite
+    launches = []  # (kernel, source, output, columns launched)
+    for name, out in plan.outputs.items():
+        if name == "site_xpos":
+            launches.append((k["record_vec3"], d.site_xpos, out, nsite))
+        elif name == "site_xmat":
+            launches.append((k["record_mat33"], d.site_xmat, out, nsite))
+        else:
+            launches.append((k["record"], sources[name], out, out.shape[2]))
+    limit, never = wp.float64(DIVERGED_SPEED_RAD_S), wp.int32(_NEVER)
+
+    def step() -> None:
+        if nu:
+            wp.launch(
+                k["set_ctrl"],
+                dim=(nworld, nu),
+                inputs=[plan.control, plan.group, plan.counter],
+                outputs=[d.ctrl],
+            )
+        mjw.step(m, d)
+        wp.launch(
+            k["check"],
+            dim=nworld,
+            inputs=[d.qpos, d.qvel, d.act, plan.counter, limit, never],
+            outputs=[plan.first_bad],
+        )
+        if plan.scratch is not None:
+            mjw.get_state(m, d, plan.scratch, _FULL, plan.every_world)
+        for kernel, source, out, columns in launches:
+            if not columns:
+                continue
+            wp.launch(
+                kernel,
+                dim=(nworld, columns),
+                inputs=[source, plan.counter, plan.row_of_step],
+                outputs=[out],
+            )
+        wp.launch(k["advance"], dim=1, inputs=[plan.counter])
+
+    return step
+
+
+def _run_steps(wp: Any, step: Callable[[], None], plan: _Plan, nstep: int, per_launch: int) -> None:
+    """``nstep`` steps: on CUDA as replays of captured graphs of ``per_launch`` steps."""
+    if not wp.get_device().is_cuda:
+        for _ in range(nstep):
+            step()
+        return
+    done = 0
+    if not plan.graphs:  # the first step runs eagerly: it compiles and loads the modules
+        step()
+        done = 1
+    while done < nstep:
+        count = min(per_launch, nstep - done)
+        if count not in plan.graphs:
+            with wp.ScopedCapture() as capture:
+                for _ in range(count):
+                    step()
+            plan.graphs[count] = capture.graph
+        wp.capture_launch(plan.graphs[count])
+        done += count
+
+
+def _valid_rows(first_bad: NDArray[Any], steps: NDArray[np.int64]) -> NDArray[np.int64]:
+    """Per world, the rows taken before its first failing step."""
+    return np.searchsorted(steps, first_bad, side="left").astype(np.int64)
 
 
 def _overflow_check(mjw: Any, overflow: NDArray[Any], healthy: NDArray[np.bool_]) -> NDArray[Any]:
@@ -248,10 +561,14 @@ def rollout_warp(
     record_every: int = 1,
     device: str | None = None,
     *,
+    record_steps: Sequence[int] | NDArray[Any] | None = None,
+    record: Sequence[str] = ("state", "sensordata"),
+    steps_per_launch: int = DEFAULT_STEPS_PER_LAUNCH,
+    control_group: NDArray[Any] | Sequence[int] | None = None,
     nconmax: int | None = None,
     njmax: int | None = None,
 ) -> WarpRollout:
-    """Roll out every model from its state under one open-loop control sequence, batched.
+    """Roll out every model from its state under open-loop control sequences, batched.
 
     Args:
         models: one model per batch item, all compiled from the same MJCF; the fields in
@@ -259,15 +576,25 @@ def rollout_warp(
         initial_state: ``mjSTATE_FULLPHYSICS`` state, ``(nstate,)`` shared by all items or
             ``(nbatch, nstate)`` one each.
         control: ``(nstep, nu)`` ``ctrl`` for every step, shared by all items (actuator
-            units, e.g. motor-side position setpoints [rad] for zmpkit's dcmotors).
-        record_every: keep state and sensordata after every ``record_every``-th step;
-            ``nstep % record_every`` trailing steps are not simulated.
+            units, e.g. motor-side position setpoints [rad] for zmpkit's dcmotors), or
+            ``(ngroup, nstep, nu)``: several sequences (experiments), one per item or
+            chosen by ``control_group``; pad a shorter one (e.g. by holding its last row).
+        record_every: keep a row after every ``record_every``-th step; ``nstep %
+            record_every`` trailing steps are not simulated.
         device: Warp device (``"cuda:0"``, ``"cpu"``); ``None`` is Warp's default.
+        record_steps: instead of ``record_every``, the steps after which to keep a row
+            (1 is after the first step; sorted, duplicates dropped); steps after the last
+            are not simulated.
+        record: what each row keeps (:data:`RECORDABLE`); the rest never leaves the device.
+        steps_per_launch: steps per captured graph on CUDA (a loop of launches on the CPU;
+            the result does not depend on it).
+        control_group: with 3-D ``control``, ``(nbatch,)`` the sequence each item runs
+            (``None``: item ``i`` runs sequence ``i``).
         nconmax: contacts per world to allocate (MuJoCo Warp's default if ``None``).
         njmax: constraint rows per world to allocate (MuJoCo Warp's default if ``None``).
 
     Returns:
-        The recorded rows: row ``k`` is after step ``(k + 1) * record_every``.
+        The recorded rows: row ``k`` is after step ``steps[k]``.
 
     Raises:
         ModuleNotFoundError: MuJoCo Warp is not installed (``pip install 'zmpkit[gpu]'``).
@@ -279,25 +606,42 @@ def rollout_warp(
     if len(models) == 0 or not all(isinstance(m, mujoco.MjModel) for m in models):
         raise ParameterError("models must be a non-empty sequence of mujoco.MjModel")
     template = models[0]
-    state0, ctrl = _check_inputs(template, len(models), initial_state, control, record_every)
+    state0, ctrl, groups = _check_inputs(
+        template, len(models), initial_state, control, control_group
+    )
+    steps = _record_steps(ctrl.shape[1], record_every, record_steps)
+    records = _check_records(record, steps_per_launch)
     state0 = np.broadcast_to(state0, (len(models), state0.shape[-1]))
     check_supported(mjw, template)
     fields = batched_fields(mjw, models)
-    nbatch, nstate = state0.shape
+    nstep = int(steps[-1])
+    row_of_step = np.full(nstep, -1, dtype=np.int32)
+    row_of_step[steps - 1] = np.arange(len(steps), dtype=np.int32)
     with wp.ScopedDevice(_device(wp, device)):
-        m = put_models(wp, mjw, models, fields)
-        d = mjw.put_data(
-            template, mujoco.MjData(template), nworld=nbatch, nconmax=nconmax, njmax=njmax
-        )
-        mjw.set_state(m, d, wp.array(np.ascontiguousarray(state0), dtype=float), _FULL)
-        state32, sens32 = _simulate(wp, mjw, m, d, ctrl, int(record_every), nstate)
-        overflow = d.overflow.numpy()
         name = str(wp.get_device())
-    state = np.ascontiguousarray(state32.transpose(1, 0, 2), dtype=np.float64)
-    sens = np.ascontiguousarray(sens32.transpose(1, 0, 2), dtype=np.float64)
-    valid = _valid_rows(state, template.nq, template.nv)
-    steps = (np.arange(state.shape[1]) + 1) * int(record_every)
+        session = _session(wp, mjw, models, fields, name, nconmax, njmax)
+        plan = _plan(wp, session, len(ctrl), nstep, len(steps), records)
+        m, d = session.m, session.d
+        mjw.reset_data(m, d)
+        mjw.set_state(m, d, wp.array(np.ascontiguousarray(state0), dtype=float), _FULL)
+        if template.nu:
+            plan.control.assign(ctrl[:, :nstep])
+        plan.group.assign(groups)
+        plan.row_of_step.assign(row_of_step)
+        plan.counter.zero_()
+        plan.first_bad.fill_(_NEVER)
+        _run_steps(wp, _one_step(wp, mjw, session, plan), plan, nstep, int(steps_per_launch))
+        wp.synchronize_device()
+        out = {k: v.numpy() for k, v in plan.outputs.items()}
+        first_bad = plan.first_bad.numpy()
+        overflow = d.overflow.numpy()
+    recorded = {
+        k: np.ascontiguousarray(v.transpose(1, 0, 2), dtype=np.float64) for k, v in out.items()
+    }
     timestep = np.array([mm.opt.timestep for mm in models])
-    state[:, :, 0] = state0[:, :1] + timestep[:, None] * steps[None, :]
-    capped = _overflow_check(mjw, overflow, valid == state.shape[1])
-    return WarpRollout(state, sens, valid, capped, fields, name)
+    time = state0[:, :1] + timestep[:, None] * steps[None, :]
+    if "state" in recorded:
+        recorded["state"][:, :, 0] = time
+    valid = _valid_rows(first_bad, steps)
+    capped = _overflow_check(mjw, overflow, valid == len(steps))
+    return WarpRollout(recorded, steps, time, valid, capped, fields, name)

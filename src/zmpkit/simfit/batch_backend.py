@@ -6,9 +6,12 @@ generation runs as one :class:`mujoco.batch.Batch` per experiment, all candidate
 physics step. The costs are those of the serial backend, bit for bit (tested).
 
 With ``warp_device`` the batch runs on MuJoCo Warp instead (``pip install 'zmpkit[gpu]'``;
-backend ``"warp"``): one kernel launch per physics step for all candidates on a GPU, float32
-physics, so the costs approximate the serial backend's (on the test walk within 0.1 % for
-candidates that walk, and the same fall frame for one that falls).
+backend ``"warp"``): all experiments x candidates of a generation stepped together in one
+batch on a GPU (:func:`~zmpkit.simfit.batched.simulate_batches_warp`), many steps per graph
+launch, only the rows the signals read recorded on the device, the Warp model kept between
+generations (:mod:`zmpkit.sim.warp_batch`); float32 physics, so the costs approximate the
+serial backend's (on the test walk within 0.1 % for candidates that walk, and the same fall
+frame for one that falls).
 """
 
 from __future__ import annotations
@@ -18,7 +21,7 @@ from collections.abc import Sequence
 import numpy as np
 
 from zmpkit.errors import ParameterError
-from zmpkit.simfit.batched import simulate_batch
+from zmpkit.simfit.batched import simulate_batch, simulate_batches_warp
 from zmpkit.simfit.cost import CostTerms, experiment_cost
 from zmpkit.simfit.parameters import ParameterValues
 from zmpkit.simfit.problem import FitProblem
@@ -49,10 +52,15 @@ class BatchEvaluator:
         """Cost terms per candidate and experiment."""
         problem = self.problem
         truths = [problem.truth(np.asarray(c, dtype=float).tolist()) for c in candidates]
-        per_experiment = [
-            simulate_batch(experiment, truths, problem.sim_effects, self.threads, self.warp_device)
-            for experiment in problem.experiments
-        ]
+        if self.warp_device is not None:  # every experiment x candidate in one batch
+            per_experiment = simulate_batches_warp(
+                problem.experiments, truths, problem.sim_effects, self.warp_device
+            )
+        else:
+            per_experiment = [
+                simulate_batch(experiment, truths, problem.sim_effects, self.threads)
+                for experiment in problem.experiments
+            ]
         return [
             [
                 experiment_cost(experiment.signals, simulated[c], problem.keeps_zmp_mean)

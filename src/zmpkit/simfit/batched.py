@@ -26,6 +26,7 @@ not in the serial path) is re-run on the serial path.
 from __future__ import annotations
 
 from collections.abc import Sequence
+from dataclasses import dataclass
 
 import mujoco
 import mujoco.batch
@@ -46,10 +47,12 @@ from zmpkit.simfit.recorded import RecordedSignals
 from zmpkit.simfit.rollout import simulate_experiment
 from zmpkit.simfit.truth_doc import RobotTruth
 
-__all__ = ["CHUNK_S", "simulate_batch"]
+__all__ = ["CHUNK_S", "WARP_RECORDS", "simulate_batch", "simulate_batches_warp"]
 
 CHUNK_S = 1.0
 """Simulated time per batch call [s]: fallen and diverged candidates drop out between calls."""
+WARP_RECORDS = ("qpos", "sensordata", "site_xpos", "site_xmat")
+"""What the signals read of each row on MuJoCo Warp (the rest stays on the device)."""
 _TIME = mujoco.mjtState.mjSTATE_TIME
 _INTEGRATION = mujoco.mjtState.mjSTATE_INTEGRATION
 _BADQACC = int(mujoco.mjtWarning.mjWARN_BADQACC)
@@ -84,21 +87,70 @@ def simulate_batch(
     """
     if not truths:
         return []
+    if warp_device is not None:
+        return simulate_batches_warp([experiment], truths, effects, warp_device)[0]
     sims = [posed_simulation(experiment, truth, effects) for truth in truths]
     schedule = open_loop_schedule(experiment, sims[0])
     out: list[RecordedSignals | None] = [None] * len(sims)
     for group in _layout_groups(sims):
         rows = BatchRows(experiment, [sims[i] for i in group], schedule)
-        if warp_device is None:
-            _run(rows, [sims[i] for i in group], schedule, nthread)
-        else:
-            _run_warp(rows, [sims[i] for i in group], schedule, warp_device)
+        _run(rows, [sims[i] for i in group], schedule, nthread)
         for i, j in enumerate(group):
             if rows.rerun[i]:
                 out[j] = simulate_experiment(experiment, truths[j], effects)
             else:
                 out[j] = rows.signals(i)
     return [s for s in out if s is not None]
+
+
+def simulate_batches_warp(
+    experiments: Sequence[Experiment],
+    truths: Sequence[RobotTruth],
+    effects: str,
+    device: str,
+) -> list[list[RecordedSignals]]:
+    """Every candidate in every experiment, all in one MuJoCo Warp batch (per model layout).
+
+    A world per (experiment, candidate): each experiment's controls are one sequence of
+    the batch (a shorter one holds its last row until the longest ends), each world
+    starts from its experiment's pose, and each experiment reads its own rows.
+
+    Args:
+        experiments: the recorded experiments to replay (of one robot).
+        truths: one truth object per candidate.
+        effects: effect letters switched on, e.g. ``"M,G,S"``.
+        device: the Warp device (``"cuda:0"``; ``"cpu"`` for testing; ``""`` for Warp's
+            default).
+
+    Returns:
+        Per experiment, per candidate, the float32 approximation of what
+        :func:`~zmpkit.simfit.rollout.simulate_experiment` returns.
+    """
+    if not truths or not experiments:
+        return [[] for _ in experiments]
+    parts = []
+    for experiment in experiments:
+        sims = [posed_simulation(experiment, truth, effects) for truth in truths]
+        parts.append((experiment, sims, open_loop_schedule(experiment, sims[0])))
+    worlds = [(e, c) for e in range(len(parts)) for c in range(len(truths))]
+    out: list[list[RecordedSignals | None]] = [[None] * len(truths) for _ in parts]
+    for group in _layout_groups([parts[e][1][c] for e, c in worlds]):
+        chosen = [worlds[w] for w in group]
+        runs = []
+        for e, (experiment, sims, schedule) in enumerate(parts):
+            mine = [c for f, c in chosen if f == e]
+            if mine:
+                rows = BatchRows(experiment, [sims[c] for c in mine], schedule)
+                runs.append(_WarpPart(rows, [sims[c] for c in mine], schedule, e, mine))
+        _run_warp(runs, device)
+        for run in runs:
+            for i, c in enumerate(run.candidates):
+                experiment = parts[run.experiment][0]
+                if run.rows.rerun[i]:
+                    out[run.experiment][c] = simulate_experiment(experiment, truths[c], effects)
+                else:
+                    out[run.experiment][c] = run.rows.signals(i)
+    return [[s for s in per if s is not None] for per in out]
 
 
 def _layout_groups(sims: Sequence[Simulation]) -> list[list[int]]:
@@ -161,8 +213,10 @@ def _read_candidates(
     Args:
         rows: what each candidate records; filled, and its done/rerun/diverged flags set.
         alive: the candidates (indices into ``rows``) simulated in this chunk.
-        out: the chunk's records, ``(alive, steps, ...)`` per item.
-        steps: the step each recorded row ends.
+        out: the chunk's records, ``(alive, rows, ...)`` per item (``qvel`` optional when
+            ``valid`` covers the speeds).
+        steps: the step each recorded row ends (every step, or, on MuJoCo Warp, those the
+            signals read).
         ft_rows: the rows that are F-T sample steps.
         measured: the F-T readings at those samples, (alive, samples, feet, 6).
         warned: per alive candidate, which MuJoCo warnings rose in the chunk.
@@ -177,8 +231,10 @@ def _read_candidates(
             continue
         expected = t0[i] + (steps - start) * dt
         bad = np.flatnonzero(np.abs(out["time"][a, :, 0] - expected) > 0.5 * dt)
-        speed = out["qvel"][a, ft_rows]
-        fast = ft_rows[~np.all(np.abs(speed) <= DIVERGED_SPEED_RAD_S, axis=1)]
+        fast = ft_rows[:0]  # MuJoCo Warp checks the speeds itself (``valid``)
+        if "qvel" in out:
+            speed = out["qvel"][a, ft_rows]
+            fast = ft_rows[~np.all(np.abs(speed) <= DIVERGED_SPEED_RAD_S, axis=1)]
         limit = min(bad[0] if len(bad) else len(steps), fast[0] if len(fast) else len(steps))
         if valid is not None:
             limit = min(limit, int(valid[a]))
@@ -188,50 +244,105 @@ def _read_candidates(
             rows.diverged[i] = rows.done[i] = True
 
 
-def _run_warp(
-    rows: BatchRows, sims: Sequence[Simulation], schedule: OpenLoopSchedule, device: str
-) -> None:
-    """Roll every candidate out on MuJoCo Warp at once, filling ``rows``."""
+@dataclass(frozen=True)
+class _WarpPart:
+    """One experiment's candidates in a MuJoCo Warp batch.
+
+    Attributes:
+        rows: what each of them records (filled by :func:`_run_warp`).
+        sims: their posed simulations.
+        schedule: the experiment's open-loop schedule.
+        experiment: the experiment's index.
+        candidates: their indices among the candidates.
+    """
+
+    rows: BatchRows
+    sims: Sequence[Simulation]
+    schedule: OpenLoopSchedule
+    experiment: int
+    candidates: list[int]
+
+    def kept_steps(self) -> NDArray[np.int64]:
+        """The rollout steps the signals read (1 is the first).
+
+        The recorded frames, the F-T sample steps and the last step (a divergence up to
+        the end still counts, as when every step was kept).
+        """
+        start = self.schedule.start_step
+        nstep = len(self.schedule.setpoints_rad)
+        steps = start + np.arange(1, nstep + 1)
+        keep = (steps % self.sims[0].ft_sample_every == 0) | np.isin(
+            steps, self.schedule.record_steps
+        )
+        keep[-1] = True
+        return np.flatnonzero(keep) + 1
+
+
+def _run_warp(parts: Sequence[_WarpPart], device: str) -> None:
+    """Roll every part's candidates out on MuJoCo Warp in one batch, filling their rows.
+
+    Only the rows the signals read are recorded, on the device, with ``qpos``,
+    ``sensordata`` and the site kinematics (which lag one step, as after ``mj_step``);
+    MuJoCo Warp checks every step for divergence.
+    """
     from zmpkit.sim.warp_batch import rollout_warp
 
-    n, model0 = len(sims), sims[0].model
-    start = schedule.start_step
-    controls = sims[0].controls_of(schedule.setpoints_rad)
-    if any(not np.array_equal(s.controls_of(schedule.setpoints_rad), controls) for s in sims):
-        raise ParameterError("the Warp backend needs the same actuator gears in every candidate")
+    controls = []
+    for part in parts:
+        mine = part.sims[0].controls_of(part.schedule.setpoints_rad)
+        if any(
+            not np.array_equal(s.controls_of(part.schedule.setpoints_rad), mine) for s in part.sims
+        ):
+            raise ParameterError(
+                "the Warp backend needs the same actuator gears in every candidate"
+            )
+        controls.append(mine)
+    longest = max(len(c) for c in controls)
+    table = np.stack(
+        [np.concatenate([c, np.repeat(c[-1:], longest - len(c), 0)]) for c in controls]
+    )
+    sims = [s for part in parts for s in part.sims]
+    group = np.repeat(np.arange(len(parts)), [len(part.sims) for part in parts])
     full = mujoco.mjtState.mjSTATE_FULLPHYSICS
-    initial = np.empty((n, mujoco.mj_stateSize(model0, full)))
+    initial = np.empty((len(sims), mujoco.mj_stateSize(sims[0].model, full)))
     for i, sim in enumerate(sims):
         mujoco.mj_getState(sim.model, sim.data, initial[i], full)
-    result = rollout_warp([s.model for s in sims], initial, controls, 1, device or None)
-    nq, nv = model0.nq, model0.nv
-    nstep = len(controls)
-    steps = start + np.arange(1, nstep + 1)
-    ft_rows = np.flatnonzero(steps % sims[0].ft_sample_every == 0)
-    wanted = np.flatnonzero(np.isin(steps, schedule.record_steps))
-    qpos = result.state[:, :, 1 : 1 + nq]
-    out = {
-        "time": result.state[:, :, :1],
-        "qpos": qpos,
-        "qvel": result.state[:, :, 1 + nq : 1 + nq + nv],
-        "sensordata": result.sensordata,
-        "site_xpos": np.zeros((n, nstep, model0.nsite, 3)),
-        "site_xmat": np.zeros((n, nstep, model0.nsite, 9)),
-    }
-    for i, sim in enumerate(sims):  # derived fields lag one step, as after mj_step
-        before = np.concatenate([initial[i, None, 1 : 1 + nq], qpos[i, :-1]])
-        data = mujoco.MjData(sim.model)
-        for r in wanted:
-            data.qpos[:] = before[r]
-            mujoco.mj_kinematics(sim.model, data)
-            out["site_xpos"][i, r], out["site_xmat"][i, r] = data.site_xpos, data.site_xmat
-    alive = list(range(n))
-    measured = _ft_samples(rows, sims, alive, result.sensordata[:, ft_rows])
-    warned = np.zeros((n, int(mujoco.mjtWarning.mjNWARNING)), dtype=bool)
-    t0 = initial[:, 0]
-    _read_candidates(
-        rows, alive, out, steps, ft_rows, measured, warned, t0, sims[0].dt, result.valid_rows
+    kept = [part.kept_steps() for part in parts]
+    result = rollout_warp(
+        [s.model for s in sims],
+        initial,
+        table,
+        device=device or None,
+        record_steps=np.unique(np.concatenate(kept)),
+        record=WARP_RECORDS,
+        control_group=group,
     )
+    nsite = sims[0].model.nsite
+    first = 0
+    for part, steps_kept in zip(parts, kept, strict=True):
+        worlds = slice(first, first + len(part.sims))
+        first = worlds.stop
+        rows_of_part = np.flatnonzero(np.isin(result.steps, steps_kept))
+        n, nrec = len(part.sims), len(rows_of_part)
+
+        picked = {name: result.records[name][worlds][:, rows_of_part] for name in WARP_RECORDS}
+        steps = part.schedule.start_step + result.steps[rows_of_part]
+        ft_rows = np.flatnonzero(steps % part.sims[0].ft_sample_every == 0)
+        out = {
+            "time": result.time[worlds][:, rows_of_part, None],
+            "qpos": picked["qpos"],
+            "sensordata": picked["sensordata"],
+            "site_xpos": picked["site_xpos"].reshape(n, nrec, nsite, 3),
+            "site_xmat": picked["site_xmat"].reshape(n, nrec, nsite, 9),
+        }
+        valid = np.searchsorted(rows_of_part, result.valid_rows[worlds], side="left")
+        alive = list(range(n))
+        measured = _ft_samples(part.rows, part.sims, alive, out["sensordata"][:, ft_rows])
+        warned = np.zeros((n, int(mujoco.mjtWarning.mjNWARNING)), dtype=bool)
+        t0 = initial[worlds, 0]
+        _read_candidates(
+            part.rows, alive, out, steps, ft_rows, measured, warned, t0, part.sims[0].dt, valid
+        )
 
 
 def _ft_samples(
