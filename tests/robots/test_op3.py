@@ -16,7 +16,7 @@ from pathlib import Path
 import pytest
 
 from zmpkit.cli import main
-from zmpkit.errors import ParameterError
+from zmpkit.errors import InputFileError, ParameterError
 from zmpkit.pipelines.balance import BalanceConfig
 from zmpkit.robots.op3 import preset
 from zmpkit.robots.registry import get_robot, missing_reason
@@ -56,6 +56,19 @@ def test_the_xm430_truth_reproduces_its_datasheet() -> None:
     motor = read_servo_truth(preset.OP3_TRUTH_PATH).motor
     assert motor.stall_torque_link == pytest.approx(4.1, rel=1e-3)
     assert motor.no_load_speed_link * 60.0 / (2.0 * math.pi) == pytest.approx(46.0, rel=1e-3)
+
+
+def test_the_xm430_is_a_voltage_drive_and_a_bad_drive_is_named(tmp_path: Path) -> None:
+    """Position mode drives the PWM duty: the back-EMF damps the joint by N² K²/R."""
+    motor = read_servo_truth(preset.OP3_TRUTH_PATH).motor
+    assert motor.voltage_drive
+    assert motor.viscous_friction_motor == 0.0
+    assert motor.back_emf_damping_link == pytest.approx(0.851, rel=1e-3)
+    text = preset.OP3_TRUTH_PATH.read_text(encoding="utf-8")
+    bad = tmp_path / "truth.yaml"
+    bad.write_text(text.replace("drive: voltage", "drive: pwm"), encoding="utf-8")
+    with pytest.raises(InputFileError, match=r"motor.drive: expected one of current, voltage"):
+        read_servo_truth(bad)
 
 
 def _menagerie_mass(path: object) -> float:
