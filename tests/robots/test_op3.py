@@ -16,7 +16,7 @@ from pathlib import Path
 import pytest
 
 from zmpkit.cli import main
-from zmpkit.errors import ParameterError
+from zmpkit.errors import InputFileError, ParameterError
 from zmpkit.pipelines.balance import BalanceConfig
 from zmpkit.robots.op3 import preset
 from zmpkit.robots.registry import get_robot, missing_reason
@@ -58,6 +58,19 @@ def test_the_xm430_truth_reproduces_its_datasheet() -> None:
     assert motor.no_load_speed_link * 60.0 / (2.0 * math.pi) == pytest.approx(46.0, rel=1e-3)
 
 
+def test_the_xm430_is_a_voltage_drive_and_a_bad_drive_is_named(tmp_path: Path) -> None:
+    """Position mode drives the PWM duty: the back-EMF damps the joint by N² K²/R."""
+    motor = read_servo_truth(preset.OP3_TRUTH_PATH).motor
+    assert motor.voltage_drive
+    assert motor.viscous_friction_motor == 0.0
+    assert motor.back_emf_damping_link == pytest.approx(0.851, rel=1e-3)
+    text = preset.OP3_TRUTH_PATH.read_text(encoding="utf-8")
+    bad = tmp_path / "truth.yaml"
+    bad.write_text(text.replace("drive: voltage", "drive: pwm"), encoding="utf-8")
+    with pytest.raises(InputFileError, match=r"motor.drive: expected one of current, voltage"):
+        read_servo_truth(bad)
+
+
 def _menagerie_mass(path: object) -> float:
     root = ET.parse(str(path)).getroot()
     return sum(float(e.get("mass", "0")) for e in root.iter("inertial"))
@@ -96,15 +109,48 @@ def test_the_op3_with_every_effect_compiles_and_stands() -> None:
     assert sim.data.qpos[2] > 0.25
 
 
+def test_the_op3_walks_slower_and_preloads_its_soft_servos() -> None:
+    """Its robot.yaml: 0.1 m/s by default, the XM430's P gain and back-EMF damping for the
+    walk's feed-forward (the truth's own numbers, as the user sets and reads them)."""
+    pytest.importorskip(preset.OP3_ASSETS_PACKAGE)
+    walking = get_robot("op3").require_walking()
+    motor = read_servo_truth(preset.OP3_TRUTH_PATH).motor
+    assert walking.speed_mps == 0.1
+    assert walking.servo_stiffness_nm_per_rad == pytest.approx(motor.kp_link)
+    assert walking.servo_damping_nm_s_per_rad == pytest.approx(
+        motor.back_emf_damping_link, rel=1e-3
+    )
+    assert (walking.observer_com_noise_m, walking.observer_zmp_noise_m) == (0.1, 0.1)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("controller", ["zmpip", "open"])
+def test_the_op3_walks_with_every_effect_at_its_default_speed(
+    controller: str, tmp_path: Path
+) -> None:
+    """6 s at its default 0.1 m/s with every effect on (DC motors with its P-only factory
+    gains, gears, flexible shins, sensor errors): it stands, near the commanded speed."""
+    pytest.importorskip(preset.OP3_ASSETS_PACKAGE)
+    args = ["--robot", "op3", "--controller", controller, "--duration", "6"]
+    assert main(["walk", *args, "--report", "md", "--out", str(tmp_path)]) == 0
+    summary = json.loads((tmp_path / "summary.json").read_text(encoding="utf-8"))
+    assert summary["commanded_speed_mps"] == 0.1
+    assert not summary["fell"], summary["fall_kind"]
+    assert summary["mean_speed_mps"] == pytest.approx(0.1, rel=0.15)
+    assert summary["trunk_pitch_peak_amplitude_rad"] < 0.05
+
+
 @pytest.mark.slow
 def test_the_op3_walks_with_its_motors_ideal_and_leans_with_every_effect(
     tmp_path: Path,
 ) -> None:
-    """3 s of ZMP/IP walking with the effects off (with the motor effect on it falls: see
-    the README), and a frontal lean step with every effect on, which the LIPM misses."""
+    """3 s of ZMP/IP walking at paper B's 0.2 m/s with the effects off (with the motor effect
+    on it needs its slower default speed: see the README), and a frontal lean step with every
+    effect on, which the LIPM misses."""
     pytest.importorskip(preset.OP3_ASSETS_PACKAGE)
     walk = tmp_path / "walk"
-    args = ["--robot", "op3", "--effects", "none", "--duration", "3", "--out", str(walk)]
+    args = ["--robot", "op3", "--effects", "none", "--speed", "0.2", "--duration", "3"]
+    args += ["--out", str(walk)]
     assert main(["walk", *args]) == 0
     summary = json.loads((walk / "summary.json").read_text(encoding="utf-8"))
     assert not summary["fell"]

@@ -141,3 +141,29 @@ def test_identify_sim_self_test_recovers_a_users_robot_with_a_truth(tmp_path: Pa
     assert set(rows) == {"pid_p_gain", "gear_stiffness"}
     for row in rows.values():
         assert abs(float(row["error_pct"])) < 2.0
+
+
+def test_the_robot_file_gives_the_walk_speed_and_its_soft_servos(robot_yaml: Path) -> None:
+    """walking.speed is the walk's default speed; servo_stiffness/_damping the feed-forward's."""
+    from zmpkit.experiments.walk_config import WalkConfig
+
+    assert get_robot(robot_yaml).require_walking().speed_mps == 0.2
+    assert get_robot(robot_yaml).require_walking().servo_stiffness_nm_per_rad is None
+    text = robot_yaml.read_text(encoding="utf-8")
+    soft = robot_yaml.with_name("soft.yaml")
+    walking = (
+        "walking: {speed: 0.15, servo_stiffness: 30.0, servo_damping: 0.5, "
+        "observer_com_noise: 0.1, observer_zmp_noise: 0.2}\n"
+    )
+    soft.write_text(text + walking, encoding="utf-8")
+    defaults = get_robot(soft).require_walking()
+    assert defaults.speed_mps == 0.15
+    assert defaults.servo_stiffness_nm_per_rad == 30.0
+    assert defaults.servo_damping_nm_s_per_rad == 0.5
+    assert (defaults.observer_com_noise_m, defaults.observer_zmp_noise_m) == (0.1, 0.2)
+    assert WalkConfig(robot=str(soft)).speed_mps == 0.15
+    assert WalkConfig(robot=str(soft), speed_mps=0.05).speed_mps == 0.05
+    bad = robot_yaml.with_name("bad.yaml")
+    bad.write_text(text + "walking: {servo_damping: 0.5}\n", encoding="utf-8")
+    with pytest.raises(InputFileError, match=r"walking.servo_damping.*needs walking.servo_st"):
+        get_robot(bad)

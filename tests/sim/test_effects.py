@@ -233,6 +233,32 @@ def test_motor_holds_position_with_zero_static_error() -> None:
     assert model.actuator_armature[0] * motor.gear_ratio**2 == pytest.approx(motor.armature_link)
 
 
+@pytest.mark.parametrize("error_rad", [0.01, 0.2, 2.0])
+@pytest.mark.parametrize("speed_rps", [-3.0, 0.0, 1.5, 4.0])
+def test_voltage_drive_is_a_voltage_source_below_and_at_the_clamp(
+    error_rad: float, speed_rps: float
+) -> None:
+    """A PWM drive: v = clamp((R / (N K)) kp e), tau = (N K / R)(v - K N w) at every speed (the
+    back-EMF counted once: at the clamp the motor's speed-torque line, not half of it)."""
+    motor = MotorParams(
+        torque_constant=0.007, resistance=7.3, voltage_limit=12.0, gear_ratio=350.0,
+        kp_link=19.0, ki_link=0.0, kd_link=0.0, coulomb_friction_link=0.0,
+        viscous_friction_motor=0.0, voltage_drive=True,
+    )  # fmt: skip
+    root = _arm(gravity=False)
+    add_motor(root, "j", motor)
+    model, data = _compile(root)
+    data.qvel[0], data.ctrl[0] = speed_rps, motor.gear_ratio * error_rad
+    mujoco.mj_forward(model, data)
+    n, k, r, v = motor.gear_ratio, motor.torque_constant, motor.resistance, motor.voltage_limit
+    volts = float(np.clip(motor.kp_link * error_rad * r / (n * k), -v, v))
+    expected = n * k / r * (volts - k * n * speed_rps)
+    assert float(data.qfrc_actuator[0] + data.qfrc_passive[0]) == pytest.approx(expected, rel=1e-6)
+    if volts == v:
+        line = motor.stall_torque_link - motor.back_emf_damping_link * speed_rps
+        assert expected == pytest.approx(line)
+
+
 # --- servo trajectory -----------------------------------------------------------------------
 
 

@@ -27,7 +27,13 @@ __all__ = ["walk_compensate_command", "walk_group", "walk_sweep_command"]
 
 @click.group("walk", invoke_without_command=True)
 @robot_option(DEFAULT_WALK_ROBOT, needs="walking")
-@click.option("--speed", type=float, default=0.2, show_default=True, help="Forward speed [m/s].")
+@click.option(
+    "--speed",
+    type=float,
+    default=None,
+    show_default="the robot's walking speed, 0.2 unless it gives its own",
+    help="Forward speed [m/s].",
+)
 @click.option(
     "--step-duration", type=float, default=0.5, show_default=True, help="Duration of one step [s]."
 )
@@ -81,7 +87,7 @@ __all__ = ["walk_compensate_command", "walk_group", "walk_sweep_command"]
 def walk_group(
     ctx: click.Context,
     robot: str,
-    speed: float,
+    speed: float | None,
     step_duration: float,
     duration: float,
     lateral_speed: float,

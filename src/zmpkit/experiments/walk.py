@@ -10,7 +10,7 @@ positions of a motion capture; the truth file is read only by the simulator.
 from __future__ import annotations
 
 from collections.abc import Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import mujoco
 
@@ -19,21 +19,32 @@ from zmpkit.experiments.walk_config import WalkConfig
 from zmpkit.experiments.walk_summary import WalkSummary, summarise_walk
 from zmpkit.experiments.walk_trial import ProgressCallback, WalkRecord, simulate_walk
 from zmpkit.robots.registry import get_robot
+from zmpkit.robots.robot import WalkingDefaults
+from zmpkit.sim.effect_set import EffectSet
 from zmpkit.sim.world import Simulation
 from zmpkit.walking import generate_pattern
 from zmpkit.walking.heading_feedback import HeadingFeedbackGains
 from zmpkit.walking.ik import IkSettings, JointTrajectory, solve_walking_ik
 from zmpkit.walking.pattern import WalkingPattern
+from zmpkit.walking.servo_feedforward import servo_compliance_offsets
 from zmpkit.walking.walk_controllers import (
     DcmWalk,
+    OffsetWalk,
     OpenLoopWalk,
     ReferenceAdapter,
     SensorLayout,
     WalkController,
     ZmpIpWalk,
 )
+from zmpkit.walking.zmp_observer import ZmpObserverParameters
 
-__all__ = ["WalkTrial", "make_controller", "run_walk_trial", "sensor_layout"]
+__all__ = [
+    "WalkTrial",
+    "make_controller",
+    "run_walk_trial",
+    "sensor_layout",
+    "soft_servo_stiffness",
+]
 
 
 @dataclass(frozen=True)
@@ -82,12 +93,22 @@ def make_controller(
     settings: IkSettings,
     sim: Simulation,
     heading_feedback: bool = True,
+    servo_stiffness_nm_per_rad: float | None = None,
+    observer_com_noise_m: float | None = None,
+    servo_damping_nm_s_per_rad: float = 0.0,
+    observer_zmp_noise_m: float | None = None,
     reference_adapter: ReferenceAdapter | None = None,
 ) -> WalkController:
     """The walking controller ``name`` for this walk (``open``, ``zmpip`` or ``dcm``).
 
-    ``heading_feedback`` False switches the feedback walks' IMU yaw feedback off;
-    ``reference_adapter`` adapts ``zmpip``'s ZMP reference online (paper B's Algorithm 2).
+    ``heading_feedback`` False switches the feedback walks' IMU yaw feedback off. With
+    ``servo_stiffness_nm_per_rad`` (the robot's P-only servos' gain, joint side [N·m/rad]),
+    the targets carry the planned joint torques (plus ``servo_damping_nm_s_per_rad`` times
+    the planned joint speeds) over it
+    (:func:`~zmpkit.walking.servo_feedforward.servo_compliance_offsets`).
+    ``observer_com_noise_m`` and ``observer_zmp_noise_m`` replace the ZMP/IP observer's
+    default σ_c and σ_p [m]. ``reference_adapter`` adapts ``zmpip``'s ZMP reference online
+    (paper B's Algorithm 2).
 
     Raises:
         ParameterError: a reference adapter for a controller that tracks no ZMP reference.
@@ -97,14 +118,42 @@ def make_controller(
             f"an online ZMP reference adapter needs the zmpip controller (it adapts the "
             f"reference of zmpip's preview control); got {name!r}"
         )
+    controller: WalkController
     if name == "open":
-        return OpenLoopWalk(trajectory)
-    layout = sensor_layout(sim, settings.sole_sites)
-    heading = None if heading_feedback else HeadingFeedbackGains(gain_per_step=0.0)
-    if name == "zmpip":
-        return ZmpIpWalk(pattern, model, settings, layout, sim.joint_names, heading_gains=heading,
-                         reference_adapter=reference_adapter)  # fmt: skip
-    return DcmWalk(pattern, model, settings, layout, sim.joint_names, heading_gains=heading)
+        controller = OpenLoopWalk(trajectory)
+    else:
+        layout = sensor_layout(sim, settings.sole_sites)
+        heading = None if heading_feedback else HeadingFeedbackGains(gain_per_step=0.0)
+        joints = sim.joint_names
+        if name == "zmpip":
+            observer: ZmpObserverParameters | None = None
+            if observer_com_noise_m is not None or observer_zmp_noise_m is not None:
+                default = ZmpObserverParameters()
+                observer = replace(
+                    default,
+                    com_noise_m=observer_com_noise_m or default.com_noise_m,
+                    zmp_noise_m=observer_zmp_noise_m or default.zmp_noise_m,
+                )
+            controller = ZmpIpWalk(pattern, model, settings, layout, joints, observer, heading,
+                                   reference_adapter=reference_adapter)  # fmt: skip
+        else:
+            controller = DcmWalk(pattern, model, settings, layout, joints, heading_gains=heading)
+    if servo_stiffness_nm_per_rad is None:
+        return controller
+    offsets = servo_compliance_offsets(
+        pattern, trajectory, model, settings, servo_stiffness_nm_per_rad,
+        servo_damping_nm_s_per_rad,
+    )  # fmt: skip
+    return OffsetWalk(controller, offsets)
+
+
+def soft_servo_stiffness(walking: WalkingDefaults, effects: str) -> float | None:
+    """The servo gain the walk's feed-forward inverts [N·m/rad], or None for none.
+
+    The robot's soft servos are its motor effect: with ``M`` off its joints are the stiff
+    ideal servos, which a feed-forward for soft ones would only push off their targets.
+    """
+    return walking.servo_stiffness_nm_per_rad if EffectSet.parse(effects).motor else None
 
 
 def run_walk_trial(config: WalkConfig, progress: ProgressCallback | None = None) -> WalkTrial:
@@ -119,9 +168,12 @@ def run_walk_trial(config: WalkConfig, progress: ProgressCallback | None = None)
     model, settings = robot.ik_model(), robot.ik_settings
     trajectory = solve_walking_ik(pattern, model, settings)
     sim = robot.make_simulation(config.effects, config.truth, seed=config.seed)
+    walking = robot.require_walking()
     controller = make_controller(
-        config.controller, pattern, trajectory, model, settings, sim, config.heading_feedback
-    )
+        config.controller, pattern, trajectory, model, settings, sim, config.heading_feedback,
+        soft_servo_stiffness(walking, config.effects), walking.observer_com_noise_m,
+        walking.servo_damping_nm_s_per_rad, walking.observer_zmp_noise_m,
+    )  # fmt: skip
     record = simulate_walk(
         sim, trajectory, progress, controller=controller, pushes=config.pushes,
         faults=config.faults,

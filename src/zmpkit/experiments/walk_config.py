@@ -47,7 +47,9 @@ class WalkConfig:
     Attributes:
         robot: the robot's registry name or ``robot.yaml`` path (it needs walking defaults).
         speed_mps: commanded forward speed [m/s], from 0 to :data:`CLAMPED_SPEED_FACTOR` times
-            :func:`max_walk_speed_mps` (beyond it once, steps are shortened: a warning).
+            :func:`max_walk_speed_mps` (beyond it once, steps are shortened: a warning); None:
+            the robot's walking default (:attr:`~zmpkit.robots.robot.WalkingDefaults.speed_mps`,
+            0.2 unless the robot gives its own).
         step_duration_s: one step [s], in :data:`STEP_DURATION_RANGE_S`.
         duration_s: walking time [s] (plus standing before and after), from one step to
             :data:`MAX_WALK_DURATION_S`.
@@ -69,7 +71,7 @@ class WalkConfig:
     """
 
     robot: str = DEFAULT_WALK_ROBOT
-    speed_mps: float = 0.2
+    speed_mps: float | None = None
     step_duration_s: float = 0.5
     duration_s: float = 10.0
     effects: str = "all"
@@ -89,12 +91,14 @@ class WalkConfig:
         walking = get_robot(self.robot, needs="walking").require_walking()
         if self.com_height_m is None:
             object.__setattr__(self, "com_height_m", walking.com_height_m)
+        speed = walking.speed_mps if self.speed_mps is None else self.speed_mps
+        object.__setattr__(self, "speed_mps", speed)
         _validate.in_range(
             "WalkConfig.step_duration_s", self.step_duration_s, *STEP_DURATION_RANGE_S, "s"
         )
         fastest = max_walk_speed_mps(self.step_duration_s, walking.max_step_length_m)
         limit = round(CLAMPED_SPEED_FACTOR * fastest, 6)
-        _validate.in_range("WalkConfig.speed_mps (forward)", self.speed_mps, 0.0, limit, "m/s")
+        _validate.in_range("WalkConfig.speed_mps (forward)", speed, 0.0, limit, "m/s")
         _validate.in_range(
             "WalkConfig.lateral_speed_mps", self.lateral_speed_mps, -limit, limit, "m/s"
         )
@@ -123,7 +127,9 @@ class WalkConfig:
         length, width = walking.sole_size_m
         return PatternConfig(
             command=WalkCommand(
-                v_x=self.speed_mps, v_y=self.lateral_speed_mps, omega=self.turn_rate_rps
+                v_x=self.speed_mps,  # type: ignore[arg-type]  # set in __post_init__
+                v_y=self.lateral_speed_mps,
+                omega=self.turn_rate_rps,
             ),
             duration_s=self.duration_s,
             gait=GaitParameters(

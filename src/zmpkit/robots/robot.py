@@ -37,6 +37,7 @@ if TYPE_CHECKING:
     from zmpkit.io.feet import FootMountEntry
 
 __all__ = [
+    "DEFAULT_WALK_SPEED_MPS",
     "TARGET_SUPPORT_SHARE",
     "BalanceModel",
     "FitSpec",
@@ -50,6 +51,9 @@ TARGET_SUPPORT_SHARE = 0.3
 soft-servo robot's ZMP overshoots a lean step by up to its target and settles beyond it, so
 twice the target must stay on the sole with room to spare. (Paper A's TEO, with stiff
 servos, was run to 0.57 of its edge: 0.10 m of 0.175 m; its preset says so.)"""
+
+DEFAULT_WALK_SPEED_MPS = 0.2
+"""A robot's default walking speed unless it gives its own [m/s]: paper B's 20 cm/s walk."""
 
 Truth = Any
 """A robot's truth object (its own frozen dataclass); only its robot reads its fields."""
@@ -117,6 +121,20 @@ class WalkingDefaults:
         ik_mjcf: builds the rigid kinematic model's MJCF (the design, no actuators).
         series_joints: the hip, knee and ankle pitch joints of the left then the right leg,
             whose angles and torques the walk's time series and figures keep.
+        speed_mps: the walk's default forward speed [m/s] (paper B's walk: 0.2).
+        servo_stiffness_nm_per_rad: the proportional gain the user set on the leg servos,
+            at the joint [N·m/rad], when they are P-only and soft: the walk then pre-loads
+            them with the planned joint torques (:mod:`zmpkit.walking.servo_feedforward`);
+            None: the servos track (no feed-forward).
+        servo_damping_nm_s_per_rad: the leg servos' velocity damping at the joint
+            [N·m·s/rad] (a PWM drive's back-EMF: stall torque over no-load speed), which the
+            feed-forward also inverts; 0 with no ``servo_stiffness_nm_per_rad``.
+        observer_com_noise_m: σ_c of the ZMP/IP walk's observer, the error it assumes of the
+            kinematic CoM estimate [m]; larger: a slower observer, gentler feedback (a robot
+            whose joints lag their targets); None: the observer's default
+            (:class:`~zmpkit.walking.zmp_observer.ZmpObserverParameters`).
+        observer_zmp_noise_m: σ_p of that observer, the error it assumes of the measured ZMP
+            [m]; None: its default.
     """
 
     com_height_m: float
@@ -127,6 +145,11 @@ class WalkingDefaults:
     ik_settings: IkSettings
     ik_mjcf: Callable[[], str]
     series_joints: tuple[str, ...] = ()
+    speed_mps: float = DEFAULT_WALK_SPEED_MPS
+    servo_stiffness_nm_per_rad: float | None = None
+    servo_damping_nm_s_per_rad: float = 0.0
+    observer_com_noise_m: float | None = None
+    observer_zmp_noise_m: float | None = None
 
     @property
     def leg_joints(self) -> tuple[str, ...]:

@@ -26,6 +26,13 @@ Layout (lengths in m; every path relative to the YAML's folder)::
       foot_separation: 0.12          # default: the feet's distance at the initial pose [m]
       max_step_length: 0.15          # default: 0.4 × leg length (hip to sole) [m]
       control_period: 0.01           # motion frame [s]
+      speed: 0.1                     # default forward speed of `zmpkit walk` [m/s]; default 0.2
+      servo_stiffness: 18.9          # P gain of P-only leg servos at the joint [N·m/rad]: the
+                                     # walk adds the planned joint torques / it to its targets
+      servo_damping: 0.85            # their velocity damping [N·m·s/rad] (a PWM drive: stall
+                                     # torque / no-load speed), inverted too; needs the above
+      observer_com_noise: 0.1        # the ZMP/IP observer's σ_c [m]; default 0.03
+      observer_zmp_noise: 0.1        # the ZMP/IP observer's σ_p [m]; default 0.03
 
 zmpkit adds a 6-axis F-T sensor under each foot: a thin sole plate ``sole.height`` thick,
 the only part of the foot that touches the floor, whose wrench on the foot the sensor at its
@@ -74,6 +81,11 @@ WALKING_FIELDS = (
     "foot_separation",
     "max_step_length",
     "control_period",
+    "speed",
+    "servo_stiffness",
+    "servo_damping",
+    "observer_com_noise",
+    "observer_zmp_noise",
 )
 """The keys of ``walking:`` in a robot file."""
 
@@ -89,6 +101,14 @@ class WalkingOverrides:
         foot_separation_m: lateral distance between the foot centres [m].
         max_step_length_m: largest forward step [m].
         control_period_s: motion frame [s].
+        speed_mps: the walk's default forward speed [m/s].
+        servo_stiffness_nm_per_rad: P gain of the leg servos at the joint [N·m/rad]
+            (:attr:`~zmpkit.robots.robot.WalkingDefaults.servo_stiffness_nm_per_rad`).
+        servo_damping_nm_s_per_rad: the leg servos' velocity damping [N·m·s/rad]
+            (:attr:`~zmpkit.robots.robot.WalkingDefaults.servo_damping_nm_s_per_rad`).
+        observer_com_noise_m: the ZMP/IP observer's σ_c [m]
+            (:attr:`~zmpkit.robots.robot.WalkingDefaults.observer_com_noise_m`).
+        observer_zmp_noise_m: the ZMP/IP observer's σ_p [m].
     """
 
     com_height_m: float | None = None
@@ -97,6 +117,11 @@ class WalkingOverrides:
     foot_separation_m: float | None = None
     max_step_length_m: float | None = None
     control_period_s: float | None = None
+    speed_mps: float | None = None
+    servo_stiffness_nm_per_rad: float | None = None
+    servo_damping_nm_s_per_rad: float | None = None
+    observer_com_noise_m: float | None = None
+    observer_zmp_noise_m: float | None = None
 
 
 @dataclass(frozen=True)
@@ -237,6 +262,10 @@ def _walking(path: Path, value: Any) -> WalkingOverrides:
     def number(key: str) -> float | None:
         return _number(path, f"walking.{key}", value.get(key), None)
 
+    if "servo_damping" in value and "servo_stiffness" not in value:
+        raise _fail(
+            path, "walking.servo_damping", "needs walking.servo_stiffness (the servos' P gain)"
+        )
     return WalkingOverrides(
         com_height_m=number("com_height"),
         crouch=number("crouch"),
@@ -244,6 +273,11 @@ def _walking(path: Path, value: Any) -> WalkingOverrides:
         foot_separation_m=number("foot_separation"),
         max_step_length_m=number("max_step_length"),
         control_period_s=number("control_period"),
+        speed_mps=number("speed"),
+        servo_stiffness_nm_per_rad=number("servo_stiffness"),
+        servo_damping_nm_s_per_rad=number("servo_damping"),
+        observer_com_noise_m=number("observer_com_noise"),
+        observer_zmp_noise_m=number("observer_zmp_noise"),
     )
 
 

@@ -13,6 +13,7 @@ its effects M, I, G, F are then applied to the MJCF the robot file builds
       supply_voltage: 12.0                # voltage clamp [V]
       inductance: 1.0e-4                  # L [H] (effect I)
       rotor_inertia: 3.6e-7               # J [kg·m²]; the link sees J N²
+      drive: voltage                      # optional: current (default) or voltage
     pid: {kp: 60.0, ki: 60.0, kd: 0.3, integral_limit_link: 0.05}  # joint side
     friction: {coulomb_link: 0.03}        # [N·m] at the joint
     ideal_servo: {kp: ..., ki: ..., kd: ...}  # optional: joints with the motor effect off
@@ -21,7 +22,11 @@ its effects M, I, G, F are then applied to the MJCF the robot file builds
     sensors: {...}                        # optional: SensorParams fields; default scaled
 
 The drive's PID gains are joint-side torque gains (:class:`~zmpkit.sim.effects.MotorParams`):
-at stall the joint torque saturates at :math:`N K V / R`.
+at stall the joint torque saturates at :math:`N K V / R`. ``drive`` says what the PID
+commands: ``current`` (a current loop that compensates the back-EMF) or ``voltage`` (a PWM
+drive: the PID's output is the winding voltage, so the back-EMF damps the joint by
+:math:`N^2 K^2 / R` and the speed-torque line bounds it at the clamp). A voltage drive's
+gains are those at standstill (volts per rad times :math:`N K / R`).
 """
 
 from __future__ import annotations
@@ -45,7 +50,13 @@ from zmpkit.sim.effects import (
 )
 from zmpkit.sim.truth_file import flex_joint, parse_truth_doc, read_truth_file, section
 
-__all__ = ["ServoTruth", "apply_servo_effects", "read_servo_truth", "servo_truth_from_doc"]
+__all__ = [
+    "DRIVES",
+    "ServoTruth",
+    "apply_servo_effects",
+    "read_servo_truth",
+    "servo_truth_from_doc",
+]
 
 
 @dataclass(frozen=True)
@@ -72,9 +83,18 @@ class ServoTruth:
     source: str = ""
 
 
+DRIVES = ("current", "voltage")
+"""What a drive's PID commands (module docstring)."""
+
+
 def _motor(doc: Mapping[str, Any], path: Path) -> MotorParams:
     spec, pid = section(doc, "motor", path), section(doc, "pid", path)
     friction = section(doc, "friction", path)
+    drive = spec.get("drive", "current")
+    if drive not in DRIVES:
+        raise InputFileError(
+            path, f"motor.drive: expected one of {', '.join(DRIVES)}, got {drive!r}", column="motor"
+        )
     return MotorParams(
         torque_constant=float(spec["torque_constant"]),
         resistance=float(spec["resistance"]),
@@ -88,6 +108,7 @@ def _motor(doc: Mapping[str, Any], path: Path) -> MotorParams:
         kd_link=float(pid["kd"]),
         integral_limit_link=float(pid["integral_limit_link"]),
         servo_rate_hz=float(section(doc, "servo_rate_hz", path)),
+        voltage_drive=drive == "voltage",
     )
 
 

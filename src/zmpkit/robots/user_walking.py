@@ -16,7 +16,10 @@ What the walk of :mod:`zmpkit.experiments.walk` needs of a robot, from the model
 - **sole**: the feet's footprint (or the file's ``sole``); **sole sites** ``{side}_sole``;
   **torso**: the file's ``torso`` (default: the root body);
 - **IK model**: the simulation's own MJCF (rigid, every effect off): it carries the F-T sites
-  ``{side}_ft`` and the IMU site ``imu`` under the names the simulation reads.
+  ``{side}_ft`` and the IMU site ``imu`` under the names the simulation reads;
+- **speed**, **servo stiffness and damping**, **observer σ_c and σ_p**: the file's
+  (``speed``, ``servo_stiffness``, ``servo_damping``, ``observer_com_noise``,
+  ``observer_zmp_noise``), else 0.2 m/s, none (servos that track), the observer's defaults.
 
 A leg without a knee (fewer than three pitch joints) cannot walk: the robot then has no
 walking defaults, and :func:`walking_problem` says why.
@@ -34,7 +37,7 @@ from numpy.typing import NDArray
 
 from zmpkit.errors import InputFileError
 from zmpkit.robots.ik_settings import IkSettings
-from zmpkit.robots.robot import WalkingDefaults
+from zmpkit.robots.robot import DEFAULT_WALK_SPEED_MPS, WalkingDefaults
 from zmpkit.robots.robot_file import SIDES, RobotFile
 from zmpkit.robots.user_model import UserModel, root_body
 
@@ -228,4 +231,9 @@ def user_walking(file: RobotFile, built: UserModel) -> WalkingDefaults | None:
         ),
         ik_mjcf=lambda: built.mjcf,
         series_joints=pitch_joints(model, data, file),
+        speed_mps=given.speed_mps or DEFAULT_WALK_SPEED_MPS,
+        servo_stiffness_nm_per_rad=given.servo_stiffness_nm_per_rad,
+        servo_damping_nm_s_per_rad=given.servo_damping_nm_s_per_rad or 0.0,
+        observer_com_noise_m=given.observer_com_noise_m,
+        observer_zmp_noise_m=given.observer_zmp_noise_m,
     )

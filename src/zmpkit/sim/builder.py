@@ -7,8 +7,9 @@ speed and stays usable with ``mujoco.rollout`` (and later MJX):
   gear ratio as the actuator ``gear``, rotor inertia as actuator ``armature`` (reflected as
   J N²), viscous friction as actuator ``damping`` (reflected as b N²), Coulomb friction as
   joint ``frictionloss``, and the drive's PID with its voltage clamp as the on-board
-  ``controller`` (input ``pos``). The controller runs every physics step, so the world's
-  timestep is the drive's servo period.
+  ``controller`` (input ``pos``; a voltage drive's back-EMF left uncompensated, see
+  :func:`add_motor`). The controller runs every physics step, so the world's timestep is
+  the drive's servo period.
 - **I** → the ``dcmotor`` ``inductance`` (one activation state for the current).
 - **G** → a second, passive hinge on the same axis in the same body (the body turns by the
   sum of both angles: motor side + gear deflection) and a fixed tendon on the deflection
@@ -84,7 +85,12 @@ def add_motor(
     """Drive ``joint`` with a DC motor, gear and PID drive (effects M and, optionally, I).
 
     The joint-side PID gains become motor-side gains ``k / N²`` (torque at the rotor per
-    rad at the rotor); the integral clamp becomes ``N * integral_limit_link``.
+    rad at the rotor); the integral clamp becomes ``N * integral_limit_link``. MuJoCo's
+    ``dcmotor`` controller is a current drive: its voltage is ``(R/K) tau + K omega`` (the
+    back-EMF compensated) with its derivative term on the measured rotor speed only. A
+    voltage drive (``motor.voltage_drive``) adds ``K²/R`` to that derivative gain, which
+    cancels the compensation exactly: the voltage is then ``(R/K)`` times the PID's torque
+    command, clamped, at every speed.
 
     Returns:
         The new ``<dcmotor>`` element, named after the joint.
@@ -92,10 +98,11 @@ def add_motor(
     jel = find_element(root, "joint", joint)
     jel.set("frictionloss", _fmt(motor.coulomb_friction_link))
     n2 = motor.gear_ratio**2
+    back_emf = motor.torque_constant**2 / motor.resistance  # [N·m·s/rad] at the rotor
     controller = (
         motor.kp_link / n2,
         motor.ki_link / n2,
-        motor.kd_link / n2,
+        motor.kd_link / n2 + (back_emf if motor.voltage_drive else 0.0),
         0.0,
         motor.integral_limit_link * motor.gear_ratio,
         motor.voltage_limit,

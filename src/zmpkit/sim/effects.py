@@ -41,6 +41,15 @@ class MotorParams:
     ``tau_motor = K (v - K omega_motor) / R``, so at stall the torque saturates at
     ``K voltage_limit / R``.
 
+    A *voltage drive* (``voltage_drive``: a PWM drive whose PID output is the winding voltage
+    itself, with no current loop and no back-EMF compensation, as hobby and smart servos)
+    gives ``v = (R/K) tau_motor`` instead: below the clamp the joint torque is
+    ``k e - N² K²/R omega_link`` (the back-EMF damps the joint), at the clamp
+    ``+-N K V/R - N² K²/R omega_link`` (the motor's speed-torque line), both exact. Modelling it
+    as a current drive plus a rotor damping ``K²/R`` is exact only below the clamp: at the
+    clamp it counts the back-EMF twice, and the joint stops producing torque at half its
+    no-load speed.
+
     Attributes:
         torque_constant: K_t = back-EMF constant K_e in SI [N·m/A] = [V·s/rad].
         resistance: winding resistance R [Ω].
@@ -54,6 +63,8 @@ class MotorParams:
         kd_link: derivative gain, joint side [N·m·s/rad].
         integral_limit_link: anti-windup clamp of the integrated joint error [rad·s]; 0 = none.
         servo_rate_hz: rate of the drive's control loop [Hz].
+        voltage_drive: the PID's output is the winding voltage (a PWM drive, no back-EMF
+            compensation; see above) instead of a current command.
     """
 
     torque_constant: float = 0.0533
@@ -68,6 +79,7 @@ class MotorParams:
     kd_link: float = 60.0
     integral_limit_link: float = 0.05
     servo_rate_hz: float = 1000.0
+    voltage_drive: bool = False
 
     def __post_init__(self) -> None:
         for name in ("torque_constant", "resistance", "voltage_limit", "gear_ratio"):
@@ -93,6 +105,11 @@ class MotorParams:
     def stall_torque_link(self) -> float:
         """Largest static joint torque the voltage limit allows, N K V / R [N·m]."""
         return self.gear_ratio * self.torque_constant * self.voltage_limit / self.resistance
+
+    @property
+    def back_emf_damping_link(self) -> float:
+        """Joint damping of the back-EMF at a fixed voltage, N² K² / R [N·m·s/rad]."""
+        return self.gear_ratio**2 * self.torque_constant**2 / self.resistance
 
     @property
     def no_load_speed_link(self) -> float:

@@ -30,6 +30,9 @@ a robot whose control loop runs at the motion-frame rate). Three are built in:
   default, :mod:`zmpkit.walking.foot_damping`) turns the stance ankles so that the feet's CoP
   tracks ``p^d``.
 
+Any of them may carry per-frame joint offsets (:class:`OffsetWalk`), such as the soft
+servos' feed-forward of :mod:`zmpkit.walking.servo_feedforward`.
+
 Both feedback walks also keep their heading: the IMU's yaw turns the feet still to land back
 to the plan (:mod:`zmpkit.walking.heading_feedback`).
 
@@ -63,6 +66,7 @@ __all__ = [
     "CONTROLLERS",
     "DcmParameters",
     "DcmWalk",
+    "OffsetWalk",
     "OpenLoopWalk",
     "ReferenceAdapter",
     "SensorLayout",
@@ -133,6 +137,28 @@ class OpenLoopWalk:
     def step(self, frame: int, measurement: WalkMeasurement) -> NDArray[np.float64]:
         """The planned joint angles of ``frame`` [rad]."""
         return self.trajectory.q_rad[frame]
+
+
+class OffsetWalk:
+    """A walking controller whose joint targets get a per-frame offset added.
+
+    Args:
+        inner: the controller.
+        offsets_rad: the offset of each frame [rad], shape (N, J) in trajectory order; the
+            last row holds beyond the end.
+    """
+
+    def __init__(self, inner: WalkController, offsets_rad: NDArray[np.float64]) -> None:
+        self.inner = inner
+        self.name = inner.name
+        self.reads_sensors = inner.reads_sensors
+        self.offsets_rad = np.asarray(offsets_rad, dtype=np.float64)
+        self._targets = np.zeros(self.offsets_rad.shape[1])
+
+    def step(self, frame: int, measurement: WalkMeasurement) -> NDArray[np.float64]:
+        """The inner controller's targets of ``frame`` plus its offset [rad]."""
+        row = self.offsets_rad[min(frame, self.offsets_rad.shape[0] - 1)]
+        return np.add(self.inner.step(frame, measurement), row, out=self._targets)
 
 
 YAW_FROM_FEET = True

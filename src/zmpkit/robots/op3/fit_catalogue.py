@@ -13,7 +13,7 @@ __all__ = ["FIT_CATALOGUE", "QUICK_FIT_PARAMETERS"]
 
 FIT_CATALOGUE: tuple[FitParameter, ...] = (
     _p("M", "pid_p_gain", "pid.kp", 18.9, (5.0, 75.0), "N·m/rad"),
-    _p("M", "back_emf_damping", "friction.viscous_motor", 6.813e-6, (1.7e-6, 2.7e-5), "N·m·s/rad"),
+    _p("M", "winding_resistance", "motor.resistance", 7.289, (3.6, 14.6), "Ω"),
     _p("M", "coulomb_friction", "friction.coulomb_link", 0.03, (0.003, 0.3), "N·m"),
     _p("I", "inductance", "motor.inductance", 1.0e-4, (2e-5, 1e-3), "H"),
     _p("G", "gear_stiffness", "gear.stiffness", 400.0, (100.0, 1600.0), "N·m/rad"),

@@ -79,7 +79,7 @@ def op3_robot() -> Robot:
         summary="ROBOTIS OP3, {mass_kg:.3g} kg kid-size humanoid, Dynamixel XM430 servos "
         "(Menagerie MJCF)",
         source="op3",
-        # the fit replays balance steps: with the motor effect on, its walks fall (its XM430
-        # servos' factory gains are P-only and soft, the legs lag the 2 Hz gait)
+        # the fit replays balance steps: its XM430 servos' factory gains are P-only and soft,
+        # and it walks only at its slower default speed (data/robot.yaml)
         fit=FitSpec(fit_catalogue.FIT_CATALOGUE, fit_catalogue.QUICK_FIT_PARAMETERS, "step"),
     )
