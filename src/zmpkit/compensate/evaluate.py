@@ -15,7 +15,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from zmpkit.errors import SimulationDivergedError
-from zmpkit.experiments.walk import make_controller, soft_servo_stiffness
+from zmpkit.experiments.walk import walk_controller
 from zmpkit.experiments.walk_config import WalkConfig
 from zmpkit.experiments.walk_summary import WalkSummary, summarise_walk
 from zmpkit.experiments.walk_trial import WalkRecord, simulate_walk
@@ -79,14 +79,7 @@ def simulate_with_offset(
     model, settings = robot.ik_model(), robot.ik_settings
     trajectory = solve_walking_ik(pattern, model, settings)
     sim = robot.make_simulation(config.effects, config.truth, seed=config.seed)
-    walking = robot.require_walking()
-    controller = make_controller(
-        config.controller, pattern, trajectory, model, settings, sim,
-        servo_stiffness_nm_per_rad=soft_servo_stiffness(walking, config.effects),
-        observer_com_noise_m=walking.observer_com_noise_m,
-        observer_zmp_noise_m=walking.observer_zmp_noise_m,
-        servo_damping_nm_s_per_rad=walking.servo_damping_nm_s_per_rad,
-    )  # fmt: skip
+    controller = walk_controller(config, robot, pattern, trajectory, model, sim)
     try:
         record = simulate_walk(sim, trajectory, controller=controller)
     except SimulationDivergedError:

@@ -23,7 +23,7 @@ from zmpkit.compensate.evaluate import oscillation_of, simulate_with_offset
 from zmpkit.compensate.evaluations import WalkSpec
 from zmpkit.compensate.offsets import OffsetParameters, offset_in_world
 from zmpkit.errors import SimulationDivergedError
-from zmpkit.experiments.walk import make_controller, soft_servo_stiffness
+from zmpkit.experiments.walk import walk_controller
 from zmpkit.experiments.walk_summary import summarise_walk
 from zmpkit.experiments.walk_trial import WalkRecord, simulate_walk
 from zmpkit.robots.registry import get_robot
@@ -125,15 +125,7 @@ def walk_with_algorithm2(walk: WalkSpec, parameters: Algorithm2Parameters) -> Co
         run = partial(simulate_walk, sim, trajectory, frame_hook=hook)
     else:
         learner = Algorithm2Offsets(pattern, parameters)
-        walking = robot.require_walking()
-        controller = make_controller(
-            config.controller, pattern, trajectory, model, settings, sim,
-            servo_stiffness_nm_per_rad=soft_servo_stiffness(walking, config.effects),
-            observer_com_noise_m=walking.observer_com_noise_m,
-            observer_zmp_noise_m=walking.observer_zmp_noise_m,
-            servo_damping_nm_s_per_rad=walking.servo_damping_nm_s_per_rad,
-            reference_adapter=learner,
-        )  # fmt: skip
+        controller = walk_controller(config, robot, pattern, trajectory, model, sim, learner)
         run = partial(simulate_walk, sim, trajectory, controller=controller)
     try:
         record = run()

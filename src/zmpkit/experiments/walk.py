@@ -19,7 +19,7 @@ from zmpkit.experiments.walk_config import WalkConfig
 from zmpkit.experiments.walk_summary import WalkSummary, summarise_walk
 from zmpkit.experiments.walk_trial import ProgressCallback, WalkRecord, simulate_walk
 from zmpkit.robots.registry import get_robot
-from zmpkit.robots.robot import WalkingDefaults
+from zmpkit.robots.robot import Robot, WalkingDefaults
 from zmpkit.sim.effect_set import EffectSet
 from zmpkit.sim.world import Simulation
 from zmpkit.walking import generate_pattern
@@ -44,6 +44,7 @@ __all__ = [
     "run_walk_trial",
     "sensor_layout",
     "soft_servo_stiffness",
+    "walk_controller",
 ]
 
 
@@ -156,6 +157,31 @@ def soft_servo_stiffness(walking: WalkingDefaults, effects: str) -> float | None
     return walking.servo_stiffness_nm_per_rad if EffectSet.parse(effects).motor else None
 
 
+def walk_controller(
+    config: WalkConfig,
+    robot: Robot,
+    pattern: WalkingPattern,
+    trajectory: JointTrajectory,
+    model: mujoco.MjModel,
+    sim: Simulation,
+    reference_adapter: ReferenceAdapter | None = None,
+) -> WalkController:
+    """:func:`make_controller` for ``config``'s walk with ``robot``'s own walking settings.
+
+    ``model`` is the robot's IK model the trajectory was solved on.
+
+    The controller, heading feedback and effects come from ``config``; the soft servos'
+    feed-forward and the observer's noise levels from the robot's walking defaults.
+    """
+    walking = robot.require_walking()
+    return make_controller(
+        config.controller, pattern, trajectory, model, robot.ik_settings, sim,
+        config.heading_feedback, soft_servo_stiffness(walking, config.effects),
+        walking.observer_com_noise_m, walking.servo_damping_nm_s_per_rad,
+        walking.observer_zmp_noise_m, reference_adapter,
+    )  # fmt: skip
+
+
 def run_walk_trial(config: WalkConfig, progress: ProgressCallback | None = None) -> WalkTrial:
     """Plan, solve the IK, simulate and summarise one walk.
 
@@ -168,12 +194,7 @@ def run_walk_trial(config: WalkConfig, progress: ProgressCallback | None = None)
     model, settings = robot.ik_model(), robot.ik_settings
     trajectory = solve_walking_ik(pattern, model, settings)
     sim = robot.make_simulation(config.effects, config.truth, seed=config.seed)
-    walking = robot.require_walking()
-    controller = make_controller(
-        config.controller, pattern, trajectory, model, settings, sim, config.heading_feedback,
-        soft_servo_stiffness(walking, config.effects), walking.observer_com_noise_m,
-        walking.servo_damping_nm_s_per_rad, walking.observer_zmp_noise_m,
-    )  # fmt: skip
+    controller = walk_controller(config, robot, pattern, trajectory, model, sim)
     record = simulate_walk(
         sim, trajectory, progress, controller=controller, pushes=config.pushes,
         faults=config.faults,
