@@ -23,6 +23,7 @@ from zmpkit.robots.robot import Robot, WalkingDefaults
 from zmpkit.sim.effect_set import EffectSet
 from zmpkit.sim.world import Simulation
 from zmpkit.walking import generate_pattern
+from zmpkit.walking.dcm_stabiliser import DcmParameters
 from zmpkit.walking.heading_feedback import HeadingFeedbackGains
 from zmpkit.walking.ik import IkSettings, JointTrajectory, solve_walking_ik
 from zmpkit.walking.pattern import WalkingPattern
@@ -108,8 +109,8 @@ def make_controller(
     the planned joint speeds) over it
     (:func:`~zmpkit.walking.servo_feedforward.servo_compliance_offsets`).
     ``observer_com_noise_m`` and ``observer_zmp_noise_m`` replace the ZMP/IP observer's
-    default σ_c and σ_p [m]. ``reference_adapter`` adapts ``zmpip``'s ZMP reference online
-    (paper B's Algorithm 2).
+    default σ_c and σ_p [m] (in ``dcm``'s DCM observer too). ``reference_adapter`` adapts
+    ``zmpip``'s ZMP reference online (paper B's Algorithm 2).
 
     Raises:
         ParameterError: a reference adapter for a controller that tracks no ZMP reference.
@@ -126,19 +127,18 @@ def make_controller(
         layout = sensor_layout(sim, settings.sole_sites)
         heading = None if heading_feedback else HeadingFeedbackGains(gain_per_step=0.0)
         joints = sim.joint_names
+        observer = ZmpObserverParameters()
+        observer = replace(
+            observer,
+            com_noise_m=observer_com_noise_m or observer.com_noise_m,
+            zmp_noise_m=observer_zmp_noise_m or observer.zmp_noise_m,
+        )
         if name == "zmpip":
-            observer: ZmpObserverParameters | None = None
-            if observer_com_noise_m is not None or observer_zmp_noise_m is not None:
-                default = ZmpObserverParameters()
-                observer = replace(
-                    default,
-                    com_noise_m=observer_com_noise_m or default.com_noise_m,
-                    zmp_noise_m=observer_zmp_noise_m or default.zmp_noise_m,
-                )
             controller = ZmpIpWalk(pattern, model, settings, layout, joints, observer, heading,
                                    reference_adapter=reference_adapter)  # fmt: skip
         else:
-            controller = DcmWalk(pattern, model, settings, layout, joints, heading_gains=heading)
+            dcm = DcmParameters(observer=observer)
+            controller = DcmWalk(pattern, model, settings, layout, joints, dcm, heading)
     if servo_stiffness_nm_per_rad is None:
         return controller
     offsets = servo_compliance_offsets(

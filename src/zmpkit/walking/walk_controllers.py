@@ -13,22 +13,12 @@ a robot whose control loop runs at the motion-frame rate). Three are built in:
   plan's next CoM with the planned feet.
 - :class:`DcmWalk` (``dcm``): the divergent-component-of-motion stabiliser of today's walking
   controllers (Englsberger et al. 2015; Caron et al., lipm_walking_controller, 2019), in the
-  form a position-controlled robot can use. With ``ω = √(g/z_c)``, the DCM ``ξ = c + ċ/ω``
-  estimated from the robot and ``ξ^{ref}`` of the plan, a correction ``Δc`` is added to the
-  planned CoM, driven by the DCM error ``e = ξ - ξ^{ref}``:
-
-  .. math:: Δ\ddot c = -(ω + K_ξ)\,Δ\dot c - ω K_ξ \Big(e + K_i \int e\,dt\Big)
-      + A_c (p - p^d).
-
-  If the robot tracks its CoM, ``e = Δc + Δ\dot c/ω`` plus what disturbed it, so the loop's
-  poles are ``-ω`` and ``-K_ξ``: the DCM error decays at ``K_ξ`` [1/s] and the correction
-  stays bounded whatever the estimate does. The ZMP this asks of the robot is
-  ``p^d = p^{ref} - Δ\ddot c/ω^2`` (the LIPM's ``p = c - \ddot c/ω^2``): a forward DCM error
-  moves the ZMP forward. ``Δ\ddot c`` is clamped so that ``|p^d - p^{ref}|`` stays within
-  ``max_zmp_shift_m``, ``Δc`` within ``max_com_shift_m``. The CoM admittance ``A_c`` (off by
-  default) moves the measured ZMP ``p`` towards ``p^d``; foot damping control (off by
-  default, :mod:`zmpkit.walking.foot_damping`) turns the stance ankles so that the feet's CoP
-  tracks ``p^d``.
+  form a position-controlled robot can use (:mod:`zmpkit.walking.dcm_stabiliser`): a CoM
+  correction ``Δc`` added to the planned CoM, driven by the error of the DCM ``ξ = c + ċ/ω``
+  that an observer of the command error estimates from the encoders, IMU and F-T sensors,
+  with a CoM admittance towards the ZMP it asks for. Foot damping control (off by default,
+  :mod:`zmpkit.walking.foot_damping`) turns the stance ankles so that the feet's CoP tracks
+  that ZMP ``p^d``.
 
 Any of them may carry per-frame joint offsets (:class:`OffsetWalk`), such as the soft
 servos' feed-forward of :mod:`zmpkit.walking.servo_feedforward`.
@@ -44,17 +34,16 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Protocol
 
 import mujoco
 import numpy as np
 from numpy.typing import NDArray
 
-from zmpkit import _validate
-from zmpkit.errors import ParameterError
 from zmpkit.models.pendulum import STANDARD_GRAVITY_MPS2
-from zmpkit.walking.foot_damping import FootDamping, FootDampingParameters, ankle_joints
+from zmpkit.walking.dcm_stabiliser import DcmParameters, DcmStabiliser
+from zmpkit.walking.foot_damping import FootDamping, ankle_joints
 from zmpkit.walking.heading_feedback import HeadingFeedback, HeadingFeedbackGains
 from zmpkit.walking.ik import IkSettings, JointTrajectory, WalkingIk
 from zmpkit.walking.measurement import WalkMeasurement
@@ -290,47 +279,6 @@ class ZmpIpWalk(_OnlineWalk):
         self.targets.com_position_in_world[frame, :2] = com
 
 
-@dataclass(frozen=True)
-class DcmParameters:
-    """Gains and limits of the DCM stabiliser (module docstring).
-
-    Attributes:
-        dcm_gain_per_s: K_ξ, the DCM error's decay rate [1/s].
-        dcm_integral_gain_per_s: K_i [1/s].
-        com_admittance_per_s2: A_c [1/s²]; 0 switches the admittance off.
-        max_zmp_shift_m: the asked ZMP stays within this of the plan [m].
-        max_com_shift_m: the CoM correction stays within this [m].
-        integral_limit_m_s: clamp of the DCM error's integral [m·s].
-        dcm_deadband_m: DCM errors within ±this are the walk's own sway, not a disturbance,
-            and get no feedback (beyond it, only the excess does) [m].
-        foot_damping: the stance ankles' CoP tracking of ``p^d``
-            (:mod:`zmpkit.walking.foot_damping`; admittance 0: off).
-    """
-
-    dcm_gain_per_s: float = 3.0
-    dcm_integral_gain_per_s: float = 0.0
-    com_admittance_per_s2: float = 0.0
-    max_zmp_shift_m: float = 0.03
-    max_com_shift_m: float = 0.03
-    integral_limit_m_s: float = 0.01
-    dcm_deadband_m: float = 0.03
-    foot_damping: FootDampingParameters = field(default_factory=FootDampingParameters)
-
-    def __post_init__(self) -> None:
-        for name in ("dcm_gain_per_s", "max_zmp_shift_m", "max_com_shift_m"):
-            _validate.positive(f"DcmParameters.{name}", getattr(self, name))
-        for name in (
-            "dcm_integral_gain_per_s", "com_admittance_per_s2", "integral_limit_m_s",
-            "dcm_deadband_m",
-        ):  # fmt: skip
-            _validate.non_negative(f"DcmParameters.{name}", getattr(self, name))
-        if self.dcm_gain_per_s > 50.0:
-            raise ParameterError(
-                f"DcmParameters.dcm_gain_per_s must be <= 50 1/s (the 10 ms loop's limit); "
-                f"got {self.dcm_gain_per_s}"
-            )
-
-
 class DcmWalk(_OnlineWalk):
     """The DCM stabiliser around the planned walk (``dcm``).
 
@@ -359,12 +307,12 @@ class DcmWalk(_OnlineWalk):
         super().__init__(pattern, model, ik_settings, sensors, joint_names, heading_gains)
         self.parameters = parameters or DcmParameters()
         com = pattern.com
-        self._dcm_ref = com.com_position_in_world + com.com_velocity_in_world / self.omega
-        self._reference = pattern.zmp_reference_in_world
-        self._shift = np.zeros(2)  # Δc [m]
-        self._shift_rate = np.zeros(2)  # Δċ [m/s]
-        self._integral = np.zeros(2)  # ∫ (ξ - ξ_ref) dt [m·s]
-        self.desired_zmp_in_world = np.full((pattern.time_s.size, 2), np.nan)
+        self.stabiliser = DcmStabiliser(
+            com.com_position_in_world, com.com_velocity_in_world,
+            com.com_acceleration_in_world, pattern.zmp_reference_in_world, com.com_height_m,
+            self.dt, STANDARD_GRAVITY_MPS2, self.parameters,
+        )  # fmt: skip
+        self.desired_zmp_in_world = self.stabiliser.desired_zmp_in_world
         """The ZMP p^d the stabiliser asked for at each frame [m], shape (N, 2)."""
         self.foot_damping: FootDamping | None = None
         """The ankles' CoP tracking of ``p^d``, or None (off)."""
@@ -386,34 +334,11 @@ class DcmWalk(_OnlineWalk):
 
     def _correct(self, frame: int) -> None:
         k = frame - 1
-        par, est, omega, dt = self.parameters, self.estimator, self.omega, self.dt
-        gain = par.dcm_gain_per_s
-        accel_limit = omega * omega * par.max_zmp_shift_m
+        est = self.estimator
         zmp = est.zmp_in_world
-        for axis in (0, 1):
-            dcm = est.com_in_world[axis] + est.com_velocity_in_world[axis] / omega
-            error = dcm - self._dcm_ref[k, axis]
-            excess = abs(error) - par.dcm_deadband_m
-            error = math.copysign(excess, error) if excess > 0.0 else 0.0
-            integral = self._integral[axis] + error * dt
-            self._integral[axis] = min(
-                max(integral, -par.integral_limit_m_s), par.integral_limit_m_s
-            )
-            drive = error + par.dcm_integral_gain_per_s * self._integral[axis]
-            accel = -(omega + gain) * self._shift_rate[axis] - omega * gain * drive
-            desired = self._reference[k, axis] - accel / (omega * omega)
-            if par.com_admittance_per_s2 > 0.0 and math.isfinite(float(zmp[axis])):
-                accel += par.com_admittance_per_s2 * (zmp[axis] - desired)
-            accel = min(max(accel, -accel_limit), accel_limit)
-            self.desired_zmp_in_world[k, axis] = self._reference[k, axis] - accel / (omega * omega)
-            self._shift_rate[axis] += accel * dt
-            value = self._shift[axis] + self._shift_rate[axis] * dt
-            if abs(value) > par.max_com_shift_m:
-                value = math.copysign(par.max_com_shift_m, value)
-                self._shift_rate[axis] = 0.0
-            self._shift[axis] = value
+        shift = self.stabiliser.update(k, est.com_in_world, zmp)
         com = self.pattern.com.com_position_in_world[frame]
-        self.targets.com_position_in_world[frame, :2] = com + self._shift
+        np.add(com, shift, out=self.targets.com_position_in_world[frame, :2])
         if self.foot_damping is not None:
             np.subtract(self.desired_zmp_in_world[k], zmp, out=self._zmp_error)
             for i, yaws in enumerate(self._sole_yaws):
