@@ -10,11 +10,14 @@ import csv
 import json
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from helpers.biped import BIPED_MJCF, BIPED_URDF, LEG_M
 from zmpkit.cli import main
 from zmpkit.errors import InputFileError, ParameterError
+from zmpkit.identify.params import BalanceParams
+from zmpkit.pipelines.identify_balance import run_identify_balance
 from zmpkit.robots.registry import get_robot
 
 
@@ -167,3 +170,57 @@ def test_the_robot_file_gives_the_walk_speed_and_its_soft_servos(robot_yaml: Pat
     bad.write_text(text + "walking: {servo_damping: 0.5}\n", encoding="utf-8")
     with pytest.raises(InputFileError, match=r"walking.servo_damping.*needs walking.servo_st"):
         get_robot(bad)
+
+
+def test_zmp_reads_a_log_with_a_users_robot_sensor_mounts(robot_yaml: Path) -> None:
+    """``zmpkit zmp LOG --robot robot.yaml``: the biped's sole-plate sensors, a point load on
+    each sole's centre line 3 cm ahead of the sensors gives a ZMP 3 cm ahead of them."""
+    from helpers.ft_data import wrench_in_sensor, write_log
+    from zmpkit.io import feet_from_mapping
+
+    feet = feet_from_mapping(get_robot(robot_yaml).feet_mounts())
+    row = [0.0]
+    for side in ("right", "left"):
+        m = feet[side]
+        point = np.array([m.position[0] + 0.03, m.position[1], m.ground_height])
+        row += list(wrench_in_sensor(point, np.array([0.0, 0.0, 40.0]), m.position, m.rotation))
+    log = write_log(robot_yaml.parent / "log.csv", [row])
+    out = robot_yaml.parent / "zmp"
+    assert main(["zmp", str(log), "--robot", str(robot_yaml), "--out", str(out)]) == 0
+    with (out / "zmp.csv").open(encoding="utf-8") as handle:
+        (zmp,) = list(csv.DictReader(handle))
+    assert float(zmp["zmp_x"]) == pytest.approx(feet["right"].position[0] + 0.03, abs=1e-12)
+    assert float(zmp["zmp_y"]) == pytest.approx(0.0, abs=1e-12)
+
+
+def test_identify_balance_finds_a_users_robot_from_any_folder(
+    robot_yaml: Path, tmp_path: Path, monkeypatch: pytest.MonkeyPatch,
+    capsys: pytest.CaptureFixture[str],
+) -> None:  # fmt: skip
+    """A dataset recorded with ``--robot robot.yaml`` (relative) records the file's absolute
+    path, so ``identify balance`` takes the robot's design mass from another folder; a robot
+    it cannot find is named with the two remedies; ``--robot`` names it instead."""
+    monkeypatch.chdir(robot_yaml.parent)
+    push = tmp_path / "push"
+    args = ["--robot", robot_yaml.name, "--targets", "0,0.01,0.02,0.04", "--hold", "8"]
+    assert main(["sim", "push", *args, "--out", str(push), "--workers", "1"]) == 0
+    meta = json.loads((push / "meta.json").read_text(encoding="utf-8"))
+    assert meta["robot"] == str(robot_yaml.resolve())
+    elsewhere = tmp_path / "elsewhere"
+    elsewhere.mkdir()
+    monkeypatch.chdir(elsewhere)
+    assert main(["identify", "balance", str(push), "--out", "fit"]) == 0
+    mass = get_robot(robot_yaml).require_balance().mass_kg
+    assert BalanceParams.from_yaml(elsewhere / "fit" / "params.yaml").mass == pytest.approx(mass)
+    (push / "meta.json").write_text(json.dumps({**meta, "robot": "gone.yaml"}), encoding="utf-8")
+    capsys.readouterr()
+    assert main(["identify", "balance", str(push), "--out", "fit2"]) == 2
+    assert (
+        "unknown robot 'gone.yaml': name it with --robot NAME|PATH/robot.yaml, or give the "
+        "pendulum mass with --mass KG"
+    ) in capsys.readouterr().err
+    named = ["identify", "balance", str(push), "--robot", str(robot_yaml), "--out", "fit3"]
+    assert main(named) == 0
+    assert BalanceParams.from_yaml(elsewhere / "fit3" / "params.yaml").mass == pytest.approx(mass)
+    with pytest.raises(ParameterError, match="--robot names a step dataset's robot"):
+        run_identify_balance(tmp_path / "steps.yaml", tmp_path / "o", robot=str(robot_yaml))

@@ -45,9 +45,20 @@ def identify_group() -> None:
     type=Bounded(0.0, MAX_LENGTH_M, "m", low_open=True),
     help="Pendulum length, ankle to CoM [m] (default: the dataset's lean length).",
 )
+@robot_option(
+    None,
+    needs="balance",
+    help_text="A step dataset's robot, whose design mass is the pendulum's (default: the one "
+    "its meta.json records)",
+)
 @report_option
 def identify_balance_command(
-    dataset: Path, out_dir: Path, mass: float | None, length: float | None, report_format: str
+    dataset: Path,
+    out_dir: Path,
+    mass: float | None,
+    length: float | None,
+    robot: str | None,
+    report_format: str,
 ) -> None:
     """Fit the steady-state ZMP error model (eq. 13) and transients of recorded steps.
 
@@ -55,7 +66,7 @@ def identify_balance_command(
     robot's logs (CSV, Parquet, ROS 2 bag, YARP dump) with each step's target and time.
     """
     result = run_identify_balance(
-        dataset, out_dir, mass_kg=mass, length_m=length, report_format=report_format
+        dataset, out_dir, mass_kg=mass, length_m=length, report_format=report_format, robot=robot
     )
     plane = next(iter(result.identification.planes.values()))
     click.echo(f"{plane.error_fit.model.equation}: {dict(plane.error_fit.model.as_dict())}")

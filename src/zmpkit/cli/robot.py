@@ -35,9 +35,23 @@ def robot_list_command() -> None:
 @click.option(
     "--out", type=click.Path(path_type=Path), required=True, help="The robot.yaml to write."
 )
-def robot_init_command(model: Path, out: Path) -> None:
+@click.option(
+    "--package",
+    "packages",
+    multiple=True,
+    metavar="NAME=DIR",
+    help="Folder of a ROS package the URDF's package:// URIs name (repeatable; default: the "
+    "nearest folder of that name above the model).",
+)
+def robot_init_command(model: Path, out: Path, packages: tuple[str, ...]) -> None:
     """Write a first robot.yaml for MODEL (MJCF or URDF): feet, legs, IMU guessed."""
-    path = write_robot_file(model, out)
+    folders = {}
+    for text in packages:
+        name, sep, folder = text.partition("=")
+        if not sep or not name or not folder:
+            raise click.BadParameter(f"expected NAME=DIR, got {text!r}", param_hint="'--package'")
+        folders[name] = Path(folder)
+    path = write_robot_file(model, out, folders)
     click.echo(f"wrote {path}; check the feet and legs, then: zmpkit robot check {path}")
 
 

@@ -157,7 +157,13 @@ def walk_group(
 )
 @robot_option(DEFAULT_WALK_ROBOT, needs="walking")
 @click.option("--quick", is_flag=True, help="Fewer tuning walks (under 5 min on 2 cores).")
-@click.option("--speed", type=float, default=0.2, show_default=True, help="Tuning speed [m/s].")
+@click.option(
+    "--speed",
+    type=float,
+    default=None,
+    show_default="the robot's walking speed, 0.2 unless it gives its own",
+    help="Tuning speed [m/s]; the other walks' speeds scale with the robot's walking speed.",
+)
 @click.option(
     "--step-duration", type=float, default=0.5, show_default=True, help="Tuning step [s]."
 )
@@ -181,7 +187,7 @@ def walk_compensate_command(
     method: str,
     robot: str,
     quick: bool,
-    speed: float,
+    speed: float | None,
     step_duration: float,
     controller: str,
     effects: str,

@@ -19,7 +19,7 @@ from pathlib import Path
 from zmpkit.compensate.evaluate import simulate_with_offset
 from zmpkit.compensate.offsets import OffsetParameters, offset_in_world
 from zmpkit.experiments.walk_config import WalkConfig
-from zmpkit.robots.registry import DEFAULT_WALK_ROBOT
+from zmpkit.robots.registry import DEFAULT_WALK_ROBOT, get_robot
 from zmpkit.walking import generate_pattern
 
 __all__ = ["DEFAULT_WORKERS", "Evaluation", "WalkSpec", "evaluate_all"]
@@ -33,7 +33,8 @@ class WalkSpec:
     """A walk used for tuning or validation.
 
     Attributes:
-        speed_mps: commanded speed [m/s].
+        speed_mps: commanded speed [m/s]; None: the robot's walking speed
+            (:attr:`~zmpkit.robots.robot.WalkingDefaults.speed_mps`, set on creation).
         seed: sensor-noise seed.
         duration_s: walking time [s].
         effects: effect letters of the simulated robot.
@@ -45,7 +46,7 @@ class WalkSpec:
         truth_label: what that truth changes, e.g. ``gear stiffness x1.3`` (for reports).
     """
 
-    speed_mps: float = 0.2
+    speed_mps: float | None = None
     seed: int = 0
     duration_s: float = 10.0
     effects: str = "all"
@@ -54,6 +55,17 @@ class WalkSpec:
     controller: str = "open"
     truth: str | None = None
     truth_label: str = ""
+
+    def __post_init__(self) -> None:
+        if self.speed_mps is None:
+            walking = get_robot(self.robot, needs="walking").require_walking()
+            object.__setattr__(self, "speed_mps", walking.speed_mps)
+
+    @property
+    def commanded_speed_mps(self) -> float:
+        """The commanded speed [m/s] (``speed_mps``, set on creation)."""
+        assert self.speed_mps is not None  # set in __post_init__
+        return self.speed_mps
 
     def walk_config(self) -> WalkConfig:
         """The walk as ``zmpkit walk`` runs it (no figures)."""

@@ -102,7 +102,7 @@ class ValidationWalkOutcome:
         """The outcome of one walk from its two versions."""
         w = base.walk
         return cls(
-            w.speed_mps, w.seed, w.duration_s, _peak(base), _peak(comp),
+            w.commanded_speed_mps, w.seed, w.duration_s, _peak(base), _peak(comp),
             _reduction(_peak(base), _peak(comp)), _std(base), _std(comp),
             _reduction(_std(base), _std(comp)), base.fell, comp.fell, w.step_duration_s,
             w.controller, w.truth_label,

@@ -17,7 +17,7 @@ from typing import Any
 from zmpkit._validate import finite, in_range, positive
 from zmpkit.errors import ParameterError
 from zmpkit.experiments.ft_faults import FtFaults
-from zmpkit.robots.registry import DEFAULT_BALANCE_ROBOT, get_robot
+from zmpkit.robots.registry import DEFAULT_BALANCE_ROBOT, get_robot, robot_reference
 from zmpkit.signals import PLANES
 from zmpkit.sim.effect_set import EffectSet
 
@@ -82,7 +82,8 @@ class StepExperimentConfig:
     """A sweep of ZMP-step (and push) trials.
 
     Attributes:
-        robot: the robot's registry name or ``robot.yaml`` path; it needs a balance model.
+        robot: the robot's registry name or ``robot.yaml`` path (made absolute, as the
+            dataset records it); it needs a balance model.
         targets_m: ZMP targets, one trial each, |target| < the lean length [m].
         plane: ``"sagittal"`` (ZMP x) or ``"frontal"`` (ZMP y).
         effects: ``"all"``, ``"none"`` or letters such as ``"M,G,S"`` (canonical form kept).
@@ -117,6 +118,7 @@ class StepExperimentConfig:
 
     def __post_init__(self) -> None:
         get_robot(self.robot, needs="balance")
+        object.__setattr__(self, "robot", robot_reference(self.robot))
         object.__setattr__(self, "faults", tuple(self.faults))
         if self.faults:
             FtFaults(self.faults)  # checks the kinds

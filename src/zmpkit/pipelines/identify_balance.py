@@ -15,11 +15,12 @@ from pathlib import Path
 
 import numpy as np
 
+from zmpkit._validate import shorten
 from zmpkit.analysis.balance_plots import plot_error_fit
 from zmpkit.analysis.provenance import capture
 from zmpkit.analysis.report_document import Check, Figure, ReportDocument, Section, Text
 from zmpkit.analysis.report_files import write_report
-from zmpkit.errors import InputFileError, ZmpkitError
+from zmpkit.errors import InputFileError, ParameterError, ZmpkitError
 from zmpkit.experiments import read_step_dataset
 from zmpkit.identify import BalanceIdentification, identify_balance
 from zmpkit.io.step_manifest import read_step_manifest
@@ -50,6 +51,7 @@ def run_identify_balance(
     mass_kg: float | None = None,
     length_m: float | None = None,
     report_format: str = "html",
+    robot: str | None = None,
 ) -> IdentifyBalanceResult:
     """Identify from ``dataset_dir`` and write the results into ``out_dir``.
 
@@ -62,9 +64,15 @@ def run_identify_balance(
         length_m: pendulum length, ankle to CoM [m]; default: the manifest's, or the
             dataset's design lean length.
         report_format: ``html`` (``report.html``), ``md`` (``report.md``) or ``both``.
+        robot: a step dataset's robot (registry name or ``robot.yaml``), whose design mass
+            is the default pendulum mass, instead of the one its ``meta.json`` records;
+            None: that one. A manifest gives its own ``mass_kg``.
+
+    Raises:
+        ParameterError: ``robot`` given with a manifest, or one without a balance model.
     """
     started_s = time.time()
-    trials, plane, mass, length = _recorded_steps(Path(dataset_dir), mass_kg, length_m)
+    trials, plane, mass, length = _recorded_steps(Path(dataset_dir), mass_kg, length_m, robot)
     identification = identify_balance(trials, mass=mass, com_height=length)
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
@@ -133,21 +141,32 @@ def identification_document(
 
 
 def _recorded_steps(
-    source: Path, mass_kg: float | None, length_m: float | None
+    source: Path, mass_kg: float | None, length_m: float | None, robot: str | None = None
 ) -> tuple[list[StepTrial], str, float, float]:
     """The trials, plane and pendulum (mass [kg], length [m]) of a dataset or a manifest."""
     mass: float | None
     length: float | None
     if source.suffix in (".yaml", ".yml"):
+        if robot is not None:
+            raise ParameterError(
+                "--robot names a step dataset's robot; a manifest gives its pendulum "
+                "(mass_kg, length_m; --mass and --length replace them)"
+            )
         manifest = read_step_manifest(source)
         mass = manifest.mass_kg if mass_kg is None else mass_kg
         length = manifest.length_m if length_m is None else length_m
         return list(manifest.trials), manifest.plane, mass, length
     dataset = read_step_dataset(source)
     meta_path = source / "meta.json"
-    mass = mass_kg if mass_kg is not None else _design_mass(dataset.meta.get("robot"))
+    recorded = dataset.meta.get("robot")
+    design = get_robot(robot, needs="balance").require_balance().mass_kg if robot else None
+    mass = mass_kg if mass_kg is not None else design or _design_mass(recorded)
     if mass is None:
-        raise InputFileError(meta_path, "unknown robot: give the pendulum mass with --mass KG")
+        raise InputFileError(
+            meta_path,
+            f"unknown robot {shorten(recorded)}: name it with --robot NAME|PATH/robot.yaml, "
+            "or give the pendulum mass with --mass KG",
+        )
     length = length_m if length_m is not None else dataset.meta.get("lean_length_m")
     if length is None:
         raise InputFileError(meta_path, "no 'lean_length_m': give the pendulum with --length M")

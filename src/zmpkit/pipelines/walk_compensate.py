@@ -16,6 +16,12 @@ trunk-pitch spectrum's amplitude at the step frequency; "std" the trunk pitch's 
 deviation over the steady walk; the summary's values are their means over the validation
 walks.
 
+The walks were designed for paper B's robot at its 0.2 m/s
+(:data:`~zmpkit.robots.robot.DEFAULT_WALK_SPEED_MPS`); on another robot every speed and speed
+change above is scaled by the robot's walking speed over 0.2 m/s
+(:attr:`CompensateConfig.speed_scale`: 0.5 for a robot that walks at 0.1 m/s; step durations
+are kept), and the tuning speed is the robot's walking speed unless one is given.
+
 Writes ``summary.json`` (exactly :data:`SUMMARY_KEYS`, plus ``iteration_rms_m`` for
 ``alg1``), ``compensation.json`` (tuned parameters and tuning history), ``report.html`` and
 the figures; tuning walks are cached under ``cache/`` (or ``cache_dir``) as they finish, so
@@ -52,6 +58,7 @@ from zmpkit.experiments.walk_config import (
     max_walk_speed_mps,
 )
 from zmpkit.robots.registry import DEFAULT_WALK_ROBOT, get_robot
+from zmpkit.robots.robot import DEFAULT_WALK_SPEED_MPS
 from zmpkit.robots.truth_variant import scaled_truth_file
 from zmpkit.sim.effect_set import EffectSet
 from zmpkit.walking import generate_pattern
@@ -74,13 +81,23 @@ FULL_DURATION_S = 10.0
 QUICK_EVALUATIONS, FULL_EVALUATIONS = 4, 16
 """Tuning candidates per shape after the prior, with and without ``--quick`` [-]."""
 VALIDATION_SPEEDS_MPS = (0.15, 0.25)
-"""Open loop: speeds of the validation walks besides the tuning speed [m/s]."""
+"""Open loop: speeds of the validation walks besides the tuning speed, for a robot walking at
+0.2 m/s (times :attr:`CompensateConfig.speed_scale`) [m/s]."""
+TUNING_SPEED_CHANGE_MPS = -0.05
+"""With feedback: the slower tuning walks' speed change, at a walking speed of 0.2 m/s
+(times :attr:`CompensateConfig.speed_scale`) [m/s]."""
+TUNING_STEP_CHANGE_S = -0.05
+"""With feedback: the shorter tuning walks' step-duration change [s]."""
+MIN_HELD_OUT_SPEED_MPS = 0.05
+"""With feedback: the slowest validation walk, at a walking speed of 0.2 m/s (times
+:attr:`CompensateConfig.speed_scale`) [m/s]."""
 HELD_OUT_WALKS: tuple[tuple[float, float, float], ...] = (
     (+0.05, +0.05, 1.3), (-0.08, -0.10, 0.7), (+0.02, -0.08, 0.85), (-0.03, +0.08, 1.15),
 )  # fmt: skip
-"""With feedback, the validation walks: (speed change [m/s], step-duration change [s], gear
-stiffness factor [-]) from the tuning walk; each differs from every tuning walk in speed,
-step duration and robot. ``--quick`` keeps the first two."""
+"""With feedback, the validation walks: (speed change at a walking speed of 0.2 m/s, times
+:attr:`CompensateConfig.speed_scale` [m/s], step-duration change [s], gear stiffness factor
+[-]) from the tuning walk; each differs from every tuning walk in speed, step duration and
+robot. ``--quick`` keeps the first two."""
 TRUTH_PARAMETER = "gear.stiffness"
 """The truth value the held-out robots vary."""
 
@@ -96,7 +113,8 @@ class CompensateConfig:
         method: one of :data:`METHODS`.
         robot: the walking robot's registry name or ``robot.yaml`` path.
         quick: short walks and a small tuning budget (< 5 min on 2 cores).
-        speed_mps: speed of the tuning walk [m/s].
+        speed_mps: speed of the tuning walk [m/s]; None: the robot's walking speed
+            (:attr:`~zmpkit.robots.robot.WalkingDefaults.speed_mps`).
         step_duration_s: step duration [s] (the offsets' period).
         effects: effects of the simulated robot (``"all"`` by default).
         seed: noise seed of the tuning walk; validation uses other seeds.
@@ -117,7 +135,7 @@ class CompensateConfig:
     method: str = "auto"
     robot: str = DEFAULT_WALK_ROBOT
     quick: bool = False
-    speed_mps: float = 0.2
+    speed_mps: float | None = None
     step_duration_s: float = 0.5
     effects: str = "all"
     seed: int = 0
@@ -134,12 +152,15 @@ class CompensateConfig:
         if self.method not in METHODS:
             raise ParameterError(f"method must be one of {', '.join(METHODS)}; got {self.method!r}")
         walking = get_robot(self.robot, needs="walking").require_walking()
+        if self.speed_mps is None:
+            object.__setattr__(self, "speed_mps", walking.speed_mps)
         _validate.in_range(
             "CompensateConfig.step_duration_s", self.step_duration_s, *STEP_DURATION_RANGE_S, "s"
         )
         fastest = max_walk_speed_mps(self.step_duration_s, walking.max_step_length_m)
         limit = round(CLAMPED_SPEED_FACTOR * fastest, 6)
-        if not 0.0 < _validate.finite("CompensateConfig.speed_mps", self.speed_mps) <= limit:
+        speed = _validate.finite("CompensateConfig.speed_mps", self.tuning_speed_mps)
+        if not 0.0 < speed <= limit:
             raise ParameterError(
                 f"CompensateConfig.speed_mps must lie in (0, {limit:g}] m/s, "
                 f"got {self.speed_mps:g} m/s"
@@ -164,11 +185,43 @@ class CompensateConfig:
                 f"method alg2 adapts the ZMP reference of a preview controller: run it with "
                 f"controller zmpip (paper B's) or open; got {self.controller!r}"
             )
-        if self.held_out and self.speed_mps - 0.08 < 0.05:
+        self._check_held_out_speed()
+        self._check_walks()
+
+    def _check_held_out_speed(self) -> None:
+        if not self.held_out:
+            return
+        change = -min(dv for dv, _, _ in self._held_out_cases()) * self.speed_scale
+        slowest = MIN_HELD_OUT_SPEED_MPS * self.speed_scale
+        if round(self.tuning_speed_mps - change, 6) < round(slowest, 6):
+            least = round(slowest + change, 6)
             raise ParameterError(
-                f"speed_mps must be >= 0.13 m/s with feedback (held-out walks go 0.08 m/s "
-                f"slower); got {self.speed_mps}"
+                f"speed_mps must be >= {least:g} m/s with feedback (held-out walks go "
+                f"{change:g} m/s slower); got {self.speed_mps}"
             )
+
+    def _check_walks(self) -> None:
+        for walk in (*self.tuning_walks(), *self.validation_walks()):
+            try:
+                walk.walk_config()
+            except ParameterError as error:
+                raise ParameterError(f"the walk {walk.label}: {error}") from None
+
+    @property
+    def tuning_speed_mps(self) -> float:
+        """Speed of the tuning walk [m/s]: ``speed_mps``, the robot's walking speed if None."""
+        assert self.speed_mps is not None  # set in __post_init__
+        return self.speed_mps
+
+    @property
+    def speed_scale(self) -> float:
+        """The robot's walking speed over paper B's 0.2 m/s [-].
+
+        It scales the speeds and speed changes of the tuning and validation walks (module
+        docstring): 1 for a robot that walks at 0.2 m/s.
+        """
+        walking = get_robot(self.robot, needs="walking").require_walking()
+        return walking.speed_mps / DEFAULT_WALK_SPEED_MPS
 
     @property
     def duration_s(self) -> float:
@@ -211,15 +264,20 @@ class CompensateConfig:
         """The walks the offsets are tuned on.
 
         Open loop: the one walk at ``speed_mps``. With feedback: ``speed_mps`` and 0.05 m/s
-        slower, ``step_duration_s`` and 0.05 s shorter (``--quick``: the two diagonal ones).
+        slower (times :attr:`speed_scale`), ``step_duration_s`` and 0.05 s shorter
+        (``--quick``: the two diagonal ones).
         """
-        v, t, s = self.speed_mps, self.step_duration_s, self.seed
+        v, t, s = self.tuning_speed_mps, self.step_duration_s, self.seed
         if not self.held_out:
             return (self._walk(v, t, s),)
-        pairs = [(v, t), (v - 0.05, t - 0.05)]
+        slower, shorter = v + TUNING_SPEED_CHANGE_MPS * self.speed_scale, t + TUNING_STEP_CHANGE_S
+        pairs = [(v, t), (slower, shorter)]
         if not self.quick:
-            pairs += [(v - 0.05, t), (v, t - 0.05)]
+            pairs += [(slower, t), (v, shorter)]
         return tuple(self._walk(round(v_, 6), round(t_, 6), s) for v_, t_ in pairs)
+
+    def _held_out_cases(self) -> tuple[tuple[float, float, float], ...]:
+        return HELD_OUT_WALKS[:2] if self.quick else HELD_OUT_WALKS
 
     def validation_walks(self, truth_folder: Path | None = None) -> tuple[WalkSpec, ...]:
         """Walks never used for tuning (class docstring).
@@ -231,13 +289,12 @@ class CompensateConfig:
         if self.held_out:
             robot = get_robot(self.robot, needs="walking")
             walks = []
-            cases = HELD_OUT_WALKS[:2] if self.quick else HELD_OUT_WALKS
-            for k, (dv, dt, factor) in enumerate(cases):
+            for k, (dv, dt, factor) in enumerate(self._held_out_cases()):
                 truth = None
                 if truth_folder is not None:
                     truth = str(scaled_truth_file(robot, TRUTH_PARAMETER, factor, truth_folder))
                 label = f"{TRUTH_PARAMETER} x{factor:g}"
-                speed = round(self.speed_mps + dv, 6)
+                speed = round(self.tuning_speed_mps + dv * self.speed_scale, 6)
                 step = round(self.step_duration_s + dt, 6)
                 walks.append(
                     self._walk(speed, step, self.seed + k + 1, truth=truth, truth_label=label)
@@ -245,11 +302,12 @@ class CompensateConfig:
             return tuple(walks)
         d, e, s, r = self.duration_s, self.effects, self.seed, self.robot
         t = self.step_duration_s
-        other = [WalkSpec(v, s + 1, d, e, r, t) for v in VALIDATION_SPEEDS_MPS]
+        speeds = [round(v * self.speed_scale, 6) for v in VALIDATION_SPEEDS_MPS]
+        other = [WalkSpec(v, s + 1, d, e, r, t) for v in speeds]
         if self.quick:
             return tuple(other)
-        return (WalkSpec(self.speed_mps, s + 1, d, e, r, t),
-                WalkSpec(self.speed_mps, s + 2, d, e, r, t), *other)  # fmt: skip
+        v = self.tuning_speed_mps
+        return (WalkSpec(v, s + 1, d, e, r, t), WalkSpec(v, s + 2, d, e, r, t), *other)
 
 
 @dataclass(frozen=True)

@@ -30,6 +30,7 @@ __all__ = [
     "get_robot",
     "missing_reason",
     "robot_names",
+    "robot_reference",
     "robots_that",
 ]
 
@@ -142,6 +143,17 @@ def get_robot(name_or_path: str | Path | Robot, needs: str | None = None) -> Rob
             f"robot must be one of {', '.join(valid)}; got {robot.name!r} ({_NEEDS[needs]})"
         )
     return robot
+
+
+def robot_reference(name_or_path: str | Path) -> str:
+    """How a dataset records a robot: a built-in robot's name, a robot file's absolute path.
+
+    A ``robot.yaml`` given relative to the working folder is found again from any folder.
+    """
+    text = str(name_or_path)
+    if text in _entries() or Path(text).suffix.lower() not in ROBOT_FILE_SUFFIXES:
+        return text
+    return str(Path(text).resolve())
 
 
 @cache

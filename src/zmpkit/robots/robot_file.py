@@ -4,6 +4,9 @@ Layout (lengths in m; every path relative to the YAML's folder)::
 
     name: mybiped                    # optional; default: the YAML's folder name
     model: mybiped.xml               # MJCF or URDF (a free joint is added at the root if none)
+    packages: {mybiped_description: ../mybiped_description}  # optional: folders of the
+                                     # URDF's package:// URIs (default: the nearest folder
+                                     # of that name above the model file)
     feet:                            # body names (or {site: NAME}) of the feet
       right: right_foot
       left: left_foot
@@ -44,7 +47,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
@@ -52,7 +55,7 @@ from zmpkit._validate import shorten
 from zmpkit.errors import InputFileError
 from zmpkit.io.yaml_file import read_yaml_mapping
 
-__all__ = ["SIDES", "WALKING_FIELDS", "RobotFile", "WalkingOverrides", "read_robot_file"]
+__all__ = ["FIELDS", "SIDES", "WALKING_FIELDS", "RobotFile", "WalkingOverrides", "read_robot_file"]
 
 SIDES: tuple[str, str] = ("right", "left")
 """The feet a robot file names."""
@@ -60,9 +63,10 @@ DEFAULT_SOLE_HEIGHT_M = 0.005
 """Thickness of the sole plate zmpkit adds = F-T sensor height above the sole [m]."""
 DEFAULT_TIMESTEP_S = 0.001
 """Physics step of a user's robot [s]."""
-_FIELDS = (
+FIELDS = (
     "name",
     "model",
+    "packages",
     "feet",
     "legs",
     "imu",
@@ -74,6 +78,7 @@ _FIELDS = (
     "truth",
     "walking",
 )
+"""The keys of a robot file."""
 WALKING_FIELDS = (
     "com_height",
     "crouch",
@@ -144,6 +149,8 @@ class RobotFile:
         timestep_s: physics step [s].
         walking: the ``walking:`` values given (others derived from the model).
         truth: the servo truth file for the effects, or None (the ideal servo only).
+        packages: package name → folder, for the model's ``package://`` URIs
+            (:mod:`zmpkit.robots.package_uris`).
     """
 
     path: Path
@@ -161,6 +168,7 @@ class RobotFile:
     timestep_s: float
     walking: WalkingOverrides = WalkingOverrides()
     truth: Path | None = None
+    packages: Mapping[str, Path] = field(default_factory=dict)
 
     @property
     def leg_joints(self) -> tuple[str, ...]:
@@ -238,6 +246,22 @@ def _truth_path(path: Path, value: Any) -> Path | None:
     return file
 
 
+def _packages(path: Path, value: Any) -> dict[str, Path]:
+    if value is None:
+        return {}
+    if not isinstance(value, Mapping):
+        raise _fail(path, "packages", f"expected package: folder pairs, got {shorten(value)}")
+    folders = {}
+    for name, folder in value.items():
+        if not isinstance(folder, str):
+            raise _fail(path, f"packages.{name}", f"expected a folder, got {shorten(folder)}")
+        resolved = (path.parent / folder).resolve()
+        if not resolved.is_dir():
+            raise _fail(path, f"packages.{name}", f"no such folder {resolved}")
+        folders[str(name)] = resolved
+    return folders
+
+
 def _posture(path: Path, value: Any) -> Mapping[str, float] | None:
     if value is None:
         return None
@@ -294,9 +318,9 @@ def read_robot_file(path: str | Path, model: Path | None = None) -> RobotFile:
     """
     file = Path(path).resolve()
     doc = read_yaml_mapping(file)
-    unknown = sorted(set(doc) - set(_FIELDS))
+    unknown = sorted(set(doc) - set(FIELDS))
     if unknown:
-        raise _fail(file, unknown[0], f"unknown field; valid: {', '.join(_FIELDS)}")
+        raise _fail(file, unknown[0], f"unknown field; valid: {', '.join(FIELDS)}")
     sole = doc.get("sole") or {}
     servo = doc.get("servo") or {}
     if not isinstance(sole, Mapping) or not isinstance(servo, Mapping):
@@ -323,4 +347,5 @@ def read_robot_file(path: str | Path, model: Path | None = None) -> RobotFile:
         or DEFAULT_TIMESTEP_S,
         walking=_walking(file, doc.get("walking")),
         truth=_truth_path(file, doc.get("truth")),
+        packages=_packages(file, doc.get("packages")),
     )

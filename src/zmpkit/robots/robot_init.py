@@ -14,6 +14,7 @@ The user checks and edits the result (``zmpkit robot check``).
 from __future__ import annotations
 
 import os
+from collections.abc import Mapping
 from pathlib import Path
 
 import mujoco
@@ -59,8 +60,13 @@ def _hinges(model: mujoco.MjModel, bodies: list[int]) -> list[str]:
     ]
 
 
-def guess_robot_file(model_path: str | Path, out: str | Path) -> dict:
+def guess_robot_file(
+    model_path: str | Path, out: str | Path, packages: Mapping[str, Path] | None = None
+) -> dict:
     """A ``robot.yaml`` document for the model at ``model_path``, to be written at ``out``.
+
+    ``packages`` (package name → folder) resolve the model's ``package://`` URIs and are
+    written to the document, relative to ``out``'s folder.
 
     Raises:
         InputFileError: if MuJoCo cannot load the model or no two feet are found.
@@ -68,7 +74,8 @@ def guess_robot_file(model_path: str | Path, out: str | Path) -> dict:
     model_file = Path(model_path).resolve()
     if not model_file.is_file():
         raise InputFileError(model_file, "no such model file (expected an MJCF .xml or a .urdf)")
-    model = load_spec(model_file).compile()
+    given = {name: Path(folder).resolve() for name, folder in (packages or {}).items()}
+    model = load_spec(model_file, given).compile()
     data = mujoco.MjData(model)
     mujoco.mj_forward(model, data)
     low = _lowest_z(model, data)
@@ -87,10 +94,12 @@ def guess_robot_file(model_path: str | Path, out: str | Path) -> dict:
         side: _hinges(model, _path_to_root(model, body))
         for side, body in (("right", right), ("left", left))
     }
-    relative = os.path.relpath(model_file, Path(out).resolve().parent)
+    folder = Path(out).resolve().parent
+    doc: dict = {"name": model_file.stem, "model": os.path.relpath(model_file, folder)}
+    if given:
+        doc["packages"] = {name: os.path.relpath(p, folder) for name, p in given.items()}
     return {
-        "name": model_file.stem,
-        "model": str(relative),
+        **doc,
         "feet": {"right": model.body(right).name, "left": model.body(left).name},
         "legs": legs,
         "imu": model.body(root).name,
@@ -98,9 +107,11 @@ def guess_robot_file(model_path: str | Path, out: str | Path) -> dict:
     }
 
 
-def write_robot_file(model_path: str | Path, out: str | Path) -> Path:
+def write_robot_file(
+    model_path: str | Path, out: str | Path, packages: Mapping[str, Path] | None = None
+) -> Path:
     """Write :func:`guess_robot_file`'s document to ``out`` with a header comment."""
-    doc = guess_robot_file(model_path, out)
+    doc = guess_robot_file(model_path, out, packages)
     path = Path(out)
     path.parent.mkdir(parents=True, exist_ok=True)
     header = (

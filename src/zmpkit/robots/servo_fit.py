@@ -12,6 +12,13 @@ kid-size robot's hand-set bounds for its P gain, gear and flex stiffness are the
 (an unused integral gain, no backlash) stays out: the fit cannot tell a log-scaled factor of
 nothing. Flexible links whose first stiffness is the same share one parameter; otherwise each
 link has its own.
+
+A voltage drive (``motor.drive: voltage``, a PWM servo) also fits its winding resistance
+``R``: its PID drives the winding voltage, so ``R`` sets both the back-EMF damping
+:math:`N^2 K^2 / R` and the stall torque :math:`N K V / R` (a current drive's ``R`` only
+bounds its voltage, and its back-EMF damping is ``friction.viscous_motor``). The simulated
+robot of every candidate keeps the truth's drive: the fit changes numbers of the truth file
+and loads it as the truth is loaded.
 """
 
 from __future__ import annotations
@@ -30,6 +37,7 @@ _ENTRIES: tuple[tuple[str, str, str, str], ...] = (
     ("M", "pid_p_gain", "pid.kp", "N·m/rad"),
     ("M", "pid_i_gain", "pid.ki", "N·m/(rad·s)"),
     ("M", "pid_d_gain", "pid.kd", "N·m·s/rad"),
+    ("M", "winding_resistance", "motor.resistance", "Ω"),
     ("M", "back_emf_damping", "friction.viscous_motor", "N·m·s/rad"),
     ("M", "coulomb_friction", "friction.coulomb_link", "N·m"),
     ("I", "inductance", "motor.inductance", "H"),
@@ -38,6 +46,8 @@ _ENTRIES: tuple[tuple[str, str, str, str], ...] = (
     ("G", "gear_backlash", "gear.backlash", "rad"),
 )
 """(effect, name, path in the truth YAML, unit) of every candidate but the flex links."""
+VOLTAGE_DRIVE_ONLY = ("motor.resistance",)
+"""Candidates of a voltage drive only (module docstring)."""
 
 SERVO_QUICK_PARAMETERS: tuple[str, ...] = ("pid_p_gain", "gear_stiffness")
 """A quick fit's parameters, where the truth has them: the servo's gain and the gear in
@@ -93,8 +103,12 @@ def servo_fit_catalogue(doc: Mapping[str, Any]) -> tuple[FitParameter, ...]:
     Returns:
         One :class:`FitParameter` per positive candidate value, effects M, I, G, F in order.
     """
+    motor = doc.get("motor")
+    voltage = isinstance(motor, Mapping) and motor.get("drive") == "voltage"
     catalogue = []
     for effect, name, path, unit in _ENTRIES:
+        if path in VOLTAGE_DRIVE_ONLY and not voltage:
+            continue
         value = _value(doc, path)
         if value is not None and value > 0.0:
             catalogue.append(_entry(effect, name, path, value, unit))

@@ -26,6 +26,7 @@ names, not numbers.
 from __future__ import annotations
 
 import xml.etree.ElementTree as ET
+from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -35,6 +36,7 @@ from numpy.typing import NDArray
 
 from zmpkit._validate import list_some, shorten
 from zmpkit.errors import InputFileError
+from zmpkit.robots.package_uris import resolve_package_uris
 from zmpkit.robots.robot_file import SIDES, RobotFile
 from zmpkit.sim.builder import add_ideal_servo
 from zmpkit.sim.effects import IdealServoParams
@@ -113,11 +115,17 @@ class UserModel:
     servo: IdealServoParams
 
 
-def load_spec(model_file: Path) -> mujoco.MjSpec:
+def load_spec(model_file: Path, packages: Mapping[str, Path] | None = None) -> mujoco.MjSpec:
     """The model (MJCF or URDF) as MuJoCo loads it, with a free joint at the root.
 
+    Args:
+        model_file: the MJCF or URDF file.
+        packages: package name → folder, for ``package://`` mesh files
+            (:mod:`zmpkit.robots.package_uris`).
+
     Raises:
-        InputFileError: naming the model file if MuJoCo cannot load it.
+        InputFileError: naming the model file if MuJoCo cannot load it, or a mesh's package
+            that is not found.
     """
     try:
         spec = mujoco.MjSpec.from_file(str(model_file))
@@ -127,6 +135,8 @@ def load_spec(model_file: Path) -> mujoco.MjSpec:
     spec.compiler.fusestatic = False  # keep every named body (a URDF's fixed links too)
     spec.meshdir = str((base / spec.meshdir).resolve())
     spec.texturedir = str((base / spec.texturedir).resolve())
+    if resolve_package_uris(spec, model_file, packages or {}):
+        spec.strippath = False  # the resolved files' folders matter
     drop_missing_meshes(spec)
     root = spec.worldbody.first_body()
     if root is None:
@@ -303,7 +313,7 @@ def user_model(robot: RobotFile) -> UserModel:
     Raises:
         InputFileError: naming the robot file or the model on any problem.
     """
-    spec = load_spec(robot.model)
+    spec = load_spec(robot.model, robot.packages)
     model, data = _compile(robot, spec)
     check_names(robot, model)
     feet = {side: footprint(robot, model, data, side) for side in SIDES}
