@@ -240,6 +240,12 @@ class DcmStabiliser:
         self._p_ref = np.asarray(zmp_reference_in_world, dtype=np.float64)[:, :2]
         self._dcm_ref = self._c_ref + self._v_ref / self.omega
         self._n = self._c_ref.shape[0]
+        self._ref_by_axis = [  # per axis: c, ċ, c̈, p, ξ of the plan, as floats (fast to index)
+            tuple(x[:, axis].tolist() for x in (
+                self._c_ref, self._v_ref, self._a_ref, self._p_ref, self._dcm_ref
+            ))
+            for axis in (0, 1)
+        ]  # fmt: skip
         a_z, _, c_z = observer_matrices(period_s, com_height_m, gravity_mps2)
         gain = observer_gain(par.observer, period_s, com_height_m, gravity_mps2)
         self._a = a_z.tolist()
@@ -288,15 +294,26 @@ class DcmStabiliser:
         accel_limit = omega2 * par.max_zmp_shift_m
         clip = par.observer.max_zmp_innovation_m
         offset_limit = par.observer.max_offset_m
-        admittance_clip = par.max_admittance_zmp_error_m
+        admittance, admittance_clip = par.com_admittance_per_s2, par.max_admittance_zmp_error_m
+        gain, integral_gain = par.dcm_gain_per_s, par.dcm_integral_gain_per_s
+        integral_limit, deadband, shift_limit = (
+            par.integral_limit_m_s,
+            par.dcm_deadband_m,
+            par.max_com_shift_m,
+        )
         (l00, l01), (l10, l11), (l20, l21), (l30, l31) = self._l
-        a = self._a
+        (a00, a01, a02, _), (_, a11, a12, _), (_, _, a22, _), _ = self._a
         zc_g = self._zc_over_g
+        shifts, rates = self.shift_in_world, self.shift_rate_in_world
+        accels, integrals = self.shift_acceleration_in_world, self._integral
         for axis in (0, 1):
-            e_c, e_v, e_a, d = self.error_state[axis].tolist()
-            c_cmd = float(self._c_ref[k, axis]) + float(self.shift_in_world[axis])
-            v_cmd = float(self._v_ref[k, axis]) + float(self.shift_rate_in_world[axis])
-            a_cmd = float(self._a_ref[k, axis]) + float(self.shift_acceleration_in_world[axis])
+            c_ref, v_ref, a_ref, p_ref, dcm_ref = self._ref_by_axis[axis]
+            z = self.error_state[axis]
+            e_c, e_v, e_a, d = z.tolist()
+            shift, rate = float(shifts[axis]), float(rates[axis])
+            c_cmd = c_ref[k] + shift
+            v_cmd = v_ref[k] + rate
+            a_cmd = a_ref[k] + float(accels[axis])
             zmp = float(zmp_in_world[axis])
             has_zmp = math.isfinite(zmp)
             if has_zmp:
@@ -308,33 +325,30 @@ class DcmStabiliser:
                 e_a += l20 * r_c + l21 * r_p
                 d += l30 * r_c + l31 * r_p
                 d = min(max(d, -offset_limit), offset_limit)
-            error = c_cmd + e_c + (v_cmd + e_v) / omega - float(self._dcm_ref[k, axis])
+            error = c_cmd + e_c + (v_cmd + e_v) / omega - dcm_ref[k]
             self.dcm_error_in_world[k, axis] = error
-            excess = abs(error) - par.dcm_deadband_m
+            excess = abs(error) - deadband
             error = math.copysign(excess, error) if excess > 0.0 else 0.0
-            integral = float(self._integral[axis]) + error * dt
-            integral = min(max(integral, -par.integral_limit_m_s), par.integral_limit_m_s)
-            self._integral[axis] = integral
-            drive = error + par.dcm_integral_gain_per_s * integral
-            rate = float(self.shift_rate_in_world[axis])
-            accel = -omega * rate - omega * par.dcm_gain_per_s * drive
-            if par.com_admittance_per_s2 > 0.0 and has_zmp:
-                zmp_error = zmp - (float(self._p_ref[k, axis]) - accel / omega2)
+            integral = float(integrals[axis]) + error * dt
+            integral = min(max(integral, -integral_limit), integral_limit)
+            integrals[axis] = integral
+            accel = -omega * rate - omega * gain * (error + integral_gain * integral)
+            if admittance > 0.0 and has_zmp:
+                zmp_error = zmp - (p_ref[k] - accel / omega2)
                 zmp_error = min(max(zmp_error, -admittance_clip), admittance_clip)
-                accel += par.com_admittance_per_s2 * zmp_error
+                accel += admittance * zmp_error
             accel = min(max(accel, -accel_limit), accel_limit)
-            self.desired_zmp_in_world[k, axis] = float(self._p_ref[k, axis]) - accel / omega2
-            self.shift_acceleration_in_world[axis] = accel
+            self.desired_zmp_in_world[k, axis] = p_ref[k] - accel / omega2
+            accels[axis] = accel
             rate += accel * dt
-            value = float(self.shift_in_world[axis]) + rate * dt
-            if abs(value) > par.max_com_shift_m:
-                value = math.copysign(par.max_com_shift_m, value)
+            shift += rate * dt
+            if abs(shift) > shift_limit:
+                shift = math.copysign(shift_limit, shift)
                 rate = 0.0
-            self.shift_in_world[axis] = value
-            self.shift_rate_in_world[axis] = rate
-            z = self.error_state[axis]
-            z[0] = a[0][0] * e_c + a[0][1] * e_v + a[0][2] * e_a
-            z[1] = a[1][1] * e_v + a[1][2] * e_a
-            z[2] = a[2][2] * e_a
+            shifts[axis] = shift
+            rates[axis] = rate
+            z[0] = a00 * e_c + a01 * e_v + a02 * e_a
+            z[1] = a11 * e_v + a12 * e_a
+            z[2] = a22 * e_a
             z[3] = d
         return self.shift_in_world
