@@ -27,7 +27,8 @@ def _roll(w: float, x: float, y: float, z: float) -> float:
 
 def quaternion_pitch_roll(quat_wxyz: NDArray[np.float64]) -> tuple[float, float]:
     """Pitch and roll [rad] of an orientation (ZYX Euler angles; pitch about y)."""
-    w, x, y, z = (float(v) for v in quat_wxyz)
+    q = np.asarray(quat_wxyz)  # the array itself when given one: nothing allocated
+    w, x, y, z = q.item(0), q.item(1), q.item(2), q.item(3)
     return _pitch(w, x, y, z), _roll(w, x, y, z)
 
 
@@ -36,7 +37,8 @@ def quaternion_yaw(quat_wxyz: NDArray[np.float64]) -> float:
 
     ψ = atan2(2(w z + x y), 1 − 2(y² + z²)).
     """
-    w, x, y, z = (float(v) for v in quat_wxyz)
+    q = np.asarray(quat_wxyz)  # the array itself when given one: nothing allocated
+    w, x, y, z = q.item(0), q.item(1), q.item(2), q.item(3)
     return math.atan2(2.0 * (w * z + x * y), 1.0 - 2.0 * (y * y + z * z))
 
 

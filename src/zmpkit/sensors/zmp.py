@@ -402,10 +402,16 @@ def zmp_in_world_now(
         The ZMP (x, y) [m], or None when no foot is in contact.
     """
     total = num_x = num_y = 0.0
-    for (fx, fy, fz), (tx, ty, _), (ox, oy, oz) in zip(
-        force_in_world.tolist(), moment_in_world.tolist(), sensor_in_world.tolist(), strict=True
-    ):
+    for i in range(force_in_world.shape[0]):  # element by element: no temporaries
+        fz = force_in_world.item(i, 2)
         if fz >= contact_threshold_n:
+            fx, fy = force_in_world.item(i, 0), force_in_world.item(i, 1)
+            tx, ty = moment_in_world.item(i, 0), moment_in_world.item(i, 1)
+            ox, oy, oz = (
+                sensor_in_world.item(i, 0),
+                sensor_in_world.item(i, 1),
+                sensor_in_world.item(i, 2),
+            )
             total += fz
             num_x += ox * fz - (ty + oz * fx)
             num_y += oy * fz + (tx - oz * fy)

@@ -309,15 +309,15 @@ class DcmStabiliser:
         for axis in (0, 1):
             c_ref, v_ref, a_ref, p_ref, dcm_ref = self._ref_by_axis[axis]
             z = self.error_state[axis]
-            e_c, e_v, e_a, d = z.tolist()
-            shift, rate = float(shifts[axis]), float(rates[axis])
+            e_c, e_v, e_a, d = z.item(0), z.item(1), z.item(2), z.item(3)
+            shift, rate = shifts.item(axis), rates.item(axis)
             c_cmd = c_ref[k] + shift
             v_cmd = v_ref[k] + rate
-            a_cmd = a_ref[k] + float(accels[axis])
-            zmp = float(zmp_in_world[axis])
+            a_cmd = a_ref[k] + accels.item(axis)
+            zmp = zmp_in_world.item(axis)
             has_zmp = math.isfinite(zmp)
             if has_zmp:
-                r_c = float(com_in_world[axis]) - c_cmd - e_c
+                r_c = com_in_world.item(axis) - c_cmd - e_c
                 r_p = zmp - (c_cmd - zc_g * a_cmd) - (e_c - zc_g * e_a + d)
                 r_p = min(max(r_p, -clip), clip)
                 e_c += l00 * r_c + l01 * r_p
@@ -329,7 +329,7 @@ class DcmStabiliser:
             self.dcm_error_in_world[k, axis] = error
             excess = abs(error) - deadband
             error = math.copysign(excess, error) if excess > 0.0 else 0.0
-            integral = float(integrals[axis]) + error * dt
+            integral = integrals.item(axis) + error * dt
             integral = min(max(integral, -integral_limit), integral_limit)
             integrals[axis] = integral
             accel = -omega * rate - omega * gain * (error + integral_gain * integral)

@@ -74,6 +74,9 @@ class HeadingFeedbackGains:
         )  # fmt: skip
 
 
+_SIDES = ("left", "right")
+
+
 class HeadingFeedback:
     """Turns the feet still to land so that the IMU's heading follows the plan.
 
@@ -110,6 +113,13 @@ class HeadingFeedback:
         self._error_sum = 0.0  # Σ e since the last lift-off [rad]
         self._error_frames = 0
         self._last_step_mean: float | None = None  # mean e over the step before [rad]
+        self._ramp_shapes: dict[int, NDArray[np.float64]] = {}  # per swing length [frames]
+        for lifts in self._lift_offs.values():
+            for lift, land in lifts.items():
+                swing = max(land - lift, 1)  # 0.5 - 0.5 cos(π j / n), j = 1..n
+                shape = 0.5 - 0.5 * np.cos(np.pi * np.arange(1, swing + 1) / swing)
+                self._ramp_shapes.setdefault(swing, shape)
+        self._mean = np.zeros(n)
 
     def _imu_heading(self, quat_wxyz: NDArray[np.float64]) -> float:
         """The IMU's yaw since the first reading, unwrapped [rad]."""
@@ -127,11 +137,11 @@ class HeadingFeedback:
             return
         heading = self._imu_heading(imu_quaternion)
         plan = self._plan.torso_yaw_in_world
-        now = heading - (plan[min(frame, plan.size - 1)] - plan[0])
+        now = heading - (plan.item(min(frame, plan.size - 1)) - plan.item(0))
         self._error_sum += now
         self._error_frames += 1
-        for side, lifts in self._lift_offs.items():
-            land = lifts.get(frame)
+        for side in _SIDES:
+            land = self._lift_offs[side].get(frame)
             if land is None:
                 continue
             step_mean = self._error_sum / self._error_frames
@@ -150,14 +160,23 @@ class HeadingFeedback:
             self._ramp(side, frame, land)
 
     def _ramp(self, side: str, lift: int, land: int) -> None:
-        """This foot's offset: a cosine ramp to c over the swing, then c until the end."""
+        """This foot's offset: a cosine ramp to c over the swing, then c until the end.
+
+        Written in place (the ramps' shapes are made with the plan).
+        """
         offset = self._offset[side]
-        start, goal = float(offset[lift]), self.correction_rad
+        start, goal = offset.item(lift), self.correction_rad
         n = max(land - lift, 1)
-        s = 0.5 - 0.5 * np.cos(np.pi * np.arange(1, n + 1) / n)
-        offset[lift : lift + n] = start + (goal - start) * s[: offset.size - lift]
-        offset[lift + n :] = goal
+        shape = self._ramp_shapes[n]
+        m = min(n, offset.size - lift)
+        ramp = offset[lift : lift + m]
+        np.multiply(shape[:m], goal - start, out=ramp)
+        ramp += start
+        offset[lift + m :] = goal
         plan, target = getattr(self._plan, side), getattr(self.targets, side)
-        target.yaw_in_world[lift:] = plan.yaw_in_world[lift:] + offset[lift:]
-        mean = 0.5 * (self._offset["left"][lift:] + self._offset["right"][lift:])
-        self.targets.torso_yaw_in_world[lift:] = self._plan.torso_yaw_in_world[lift:] + mean
+        np.add(plan.yaw_in_world[lift:], offset[lift:], out=target.yaw_in_world[lift:])
+        mean = self._mean[lift:]  # the torso turns by the feet's mean offset
+        np.add(self._offset["left"][lift:], self._offset["right"][lift:], out=mean)
+        mean *= 0.5
+        torso = self.targets.torso_yaw_in_world[lift:]
+        np.add(self._plan.torso_yaw_in_world[lift:], mean, out=torso)

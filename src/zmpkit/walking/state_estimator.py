@@ -38,6 +38,10 @@ seeds, and only the heading feedback, which reads the IMU's yaw on purpose, stil
 bias (bounded by its 0.08 rad clamp).
 
 The IMU is assumed on the floating base (the root body), as on the built-in robots.
+
+A tick is real-time code: :meth:`KinematicStateEstimator.update` writes into arrays and views
+made at construction (``np.dot(..., out=)`` for the rotations, element access for the rest),
+so it makes no numpy temporaries and keeps nothing (``tests/walking/test_tick_allocations.py``).
 """
 
 from __future__ import annotations
@@ -106,6 +110,10 @@ class KinematicStateEstimator:
             raise ModelError(f"the IMU site {imu_site!r} must be on the root body")
         self._imu_in_base = np.empty(4)
         mujoco.mju_negQuat(self._imu_in_base, model.site_quat[imu])  # conjugate
+        a, b, c, d = self._imu_in_base.tolist()
+        self._times_imu_in_base = np.array(  # q ⊗ p = M(p) q, the Hamilton product
+            [[a, -b, -c, -d], [b, a, d, -c], [c, -d, a, b], [d, c, -b, a]]
+        )
         f = len(self.feet)
         self._force = np.zeros((f, 3))
         self._moment = np.zeros((f, 3))
@@ -124,21 +132,37 @@ class KinematicStateEstimator:
         self._started = False
         self.yaw_correction_rad = 0.0
         """The turn last applied to the IMU's yaw from the feet [rad]."""
+        # Views made once, so that a tick creates no array (module docstring of update).
+        data = self.data
+        self._qpos = data.qpos
+        self._base_position = data.qpos[:3]
+        self._base_quaternion = data.qpos[3:7]
+        start = int(self._qadr[0]) if self._qadr.size else 0
+        contiguous = np.array_equal(self._qadr, np.arange(start, start + self._qadr.size))
+        self._joint_block = data.qpos[start : start + self._qadr.size] if contiguous else None
+        self._joint_addresses = self._qadr.tolist()
+        self._force_in_sensor = np.zeros((f, 3))
+        self._moment_in_sensor = np.zeros((f, 3))
+        self._rows = [
+            (
+                data.site_xmat[sensor].reshape(3, 3), data.site_xmat[sole],
+                data.site_xpos[sole], data.site_xpos[sensor],
+                self._force[i], self._moment[i], self._origin[i],
+                self._force_in_sensor[i], self._moment_in_sensor[i],
+            )
+            for i, (sole, sensor) in enumerate(zip(self._sole, self._sensor, strict=True))
+        ]  # fmt: skip
+        self._turned = [data.site_xpos[r] for r in (*self._sole, *self._sensor)]
+        self._turned += [data.subtree_com[1], *self._force, *self._moment]
+        self._root_com = data.subtree_com[1]
 
     def _turn(self, yaw: float) -> None:
         """Turn the whole posed robot by ``yaw`` [rad] about the vertical through its base."""
         c, s = math.cos(yaw), math.sin(yaw)
-        data = self.data
-        rows = (*self._sole, *self._sensor)
-        for vectors, index in (
-            *((data.site_xpos, r) for r in rows),
-            (data.subtree_com, 1),
-            *((self._force, i) for i in range(len(self.feet))),
-            *((self._moment, i) for i in range(len(self.feet))),
-        ):
-            x, y = float(vectors[index, 0]), float(vectors[index, 1])
-            vectors[index, 0] = c * x - s * y
-            vectors[index, 1] = s * x + c * y
+        for vector in self._turned:  # sole and sensor sites, the CoM, the wrenches
+            x, y = vector.item(0), vector.item(1)
+            vector[0] = c * x - s * y
+            vector[1] = s * x + c * y
         self.yaw_correction_rad = yaw
 
     def _qpos_address(self, name: str) -> int:
@@ -179,52 +203,62 @@ class KinematicStateEstimator:
             planned_yaw: each sole's planned heading now [rad], shape (F,); given, the
                 base's yaw comes from the feet in contact instead of the IMU (module doc).
         """
-        data, model = self.data, self.model
-        data.qpos[:3] = 0.0
-        mujoco.mju_mulQuat(data.qpos[3:7], measurement.imu_quaternion, self._imu_in_base)
-        data.qpos[self._qadr] = measurement.q_meas_rad
+        data, model, qpos = self.data, self.model, self._qpos
+        self._base_position.fill(0.0)
+        np.dot(self._times_imu_in_base, measurement.imu_quaternion, out=self._base_quaternion)
+        if self._joint_block is not None:
+            np.copyto(self._joint_block, measurement.q_meas_rad)
+        else:
+            q_meas = measurement.q_meas_rad
+            for j, address in enumerate(self._joint_addresses):
+                qpos[address] = q_meas.item(j)
         for follower, leader, c0, c1 in self._coupled:
-            data.qpos[follower] = c0 + c1 * data.qpos[leader]
+            qpos[follower] = c0 + c1 * qpos.item(leader)
         mujoco.mj_kinematics(model, data)
         mujoco.mj_comPos(model, data)
-        total = 0.0
-        force, moment = self._force, self._moment
-        turn = 0.0
-        for i, (sole, sensor) in enumerate(zip(self._sole, self._sensor, strict=True)):
-            rotation = data.site_xmat[sensor].reshape(3, 3)
-            mujoco.mju_mulMatVec(force[i], rotation, measurement.force_in_sensor[i])
-            mujoco.mju_mulMatVec(moment[i], rotation, measurement.moment_in_sensor[i])
-            fz = float(force[i, 2])
-            self.force_z_n[i] = fz
-            if fz >= self.threshold_n:
+        np.copyto(self._force_in_sensor, measurement.force_in_sensor)
+        np.copyto(self._moment_in_sensor, measurement.moment_in_sensor)
+        threshold, force_z = self.threshold_n, self.force_z_n
+        total = turn = 0.0
+        for i, row in enumerate(self._rows):
+            rotation, sole_xmat, _, _, force, moment, _, f_sensor, m_sensor = row
+            np.dot(rotation, f_sensor, out=force)  # R_i f_i, no temporaries
+            np.dot(rotation, m_sensor, out=moment)
+            fz = force.item(2)
+            force_z[i] = fz
+            if fz >= threshold:
                 total += fz
                 if planned_yaw is not None:
-                    xmat = data.site_xmat[sole]
-                    yaw = math.atan2(float(xmat[3]), float(xmat[0]))
-                    turn += fz * ((float(planned_yaw[i]) - yaw + math.pi) % _TWO_PI - math.pi)
+                    yaw = math.atan2(sole_xmat.item(3), sole_xmat.item(0))
+                    turn += fz * ((planned_yaw.item(i) - yaw + math.pi) % _TWO_PI - math.pi)
         if turn != 0.0 and total > 0.0:
             self._turn(turn / total)
-        anchor = self._anchor
-        anchor[:] = 0.0
+        offset = self._offset  # kept from the last tick without a foot in contact
         if total > 0.0:
-            for i, sole in enumerate(self._sole):
-                fz = float(self.force_z_n[i])
-                if fz >= self.threshold_n:
-                    anchor += fz * (planned_soles[i] - data.site_xpos[sole])
-        if total > 0.0:
-            np.multiply(anchor, 1.0 / total, out=self._offset)
-        np.add(data.site_xpos[self._sensor], self._offset, out=self._origin)
+            anchor = self._anchor  # Σ F_z,i (ŝ_i - s_i)
+            anchor.fill(0.0)
+            for i, row in enumerate(self._rows):
+                fz = force_z.item(i)
+                if fz >= threshold:
+                    sole_xpos = row[2]
+                    for axis in range(3):
+                        shift = planned_soles.item(i, axis) - sole_xpos.item(axis)
+                        anchor[axis] = anchor.item(axis) + fz * shift
+            np.multiply(anchor, 1.0 / total, out=offset)
+        for row in self._rows:
+            np.add(row[3], offset, out=row[6])  # sensor origin, anchored
         com = self._com
-        np.add(data.subtree_com[1], self._offset, out=com)
+        np.add(self._root_com, offset, out=com)
+        estimate, velocity = self.com_in_world, self.com_velocity_in_world
         if self._started:
-            blend, velocity = self._blend, self.com_velocity_in_world
+            blend, period = self._blend, self.period_s
             for axis in range(3):
-                rate = (com[axis] - self.com_in_world[axis]) / self.period_s
-                velocity[axis] += blend * (rate - velocity[axis])
+                rate = (com.item(axis) - estimate.item(axis)) / period
+                velocity[axis] += blend * (rate - velocity.item(axis))
         self._started = True
-        self.com_in_world[:] = com
-        zmp = zmp_in_world_now(force, moment, self._origin, self.threshold_n)
+        np.copyto(estimate, com)
+        zmp = zmp_in_world_now(self._force, self._moment, self._origin, threshold)
         if zmp is None:
-            self.zmp_in_world[:] = np.nan
+            self.zmp_in_world.fill(np.nan)
         else:
             self.zmp_in_world[0], self.zmp_in_world[1] = zmp

@@ -172,6 +172,7 @@ class ObservedPreviewControl:
         self.state[:, :3] = initial_state_in_world
         self._error_sum = np.zeros(2)
         self._y = np.zeros(2)
+        self._dot = np.zeros(())  # the preview sum, written in place
         self.jerk_in_world = np.zeros(2)
         """The jerk of the last period, (x, y) [m/s³]."""
 
@@ -207,12 +208,13 @@ class ObservedPreviewControl:
         size, l_gain, g_x, zc_g = self._gp.size, self._l, self._g_x, self._zc_over_g
         (a00, a01, a02), (_, a11, a12), (_, _, a22) = self._a3
         b0, b1, b2 = self._b3
+        dot = self._dot
         for axis in (0, 1):
             z = self.state[axis]
-            c, v, a, d = z.tolist()
-            zmp = float(zmp_in_world[axis])
+            c, v, a, d = z.item(0), z.item(1), z.item(2), z.item(3)
+            zmp = zmp_in_world.item(axis)
             if math.isfinite(zmp):
-                e_c = float(com_in_world[axis]) - c
+                e_c = com_in_world.item(axis) - c
                 e_p = zmp - (c - zc_g * a + d)
                 e_p = min(max(e_p, -clip), clip)
                 c += l_gain[0][0] * e_c + l_gain[0][1] * e_p
@@ -220,12 +222,14 @@ class ObservedPreviewControl:
                 a += l_gain[2][0] * e_c + l_gain[2][1] * e_p
                 d += l_gain[3][0] * e_c + l_gain[3][1] * e_p
                 d = min(max(d, -limit), limit)
-            window = self._reference[axis][k : k + size]
-            self._error_sum[axis] += c - zc_g * a + d - float(window[0])
+            reference = self._reference[axis]
+            np.dot(self._gp, reference[k : k + size], out=dot)  # Σ G_p(j) p^ref_{k+j}
+            error_sum = self._error_sum.item(axis) + (c - zc_g * a + d - reference.item(k))
+            self._error_sum[axis] = error_sum
             jerk = (
-                -self._g_i * float(self._error_sum[axis])
+                -self._g_i * error_sum
                 - (g_x[0] * c + g_x[1] * v + g_x[2] * a)
-                - (float(self._gp @ window) - d * self._gp_sum)
+                - (dot.item() - d * self._gp_sum)
             )
             z[0] = a00 * c + a01 * v + a02 * a + b0 * jerk
             z[1] = a11 * v + a12 * a + b1 * jerk
