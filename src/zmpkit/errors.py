@@ -7,12 +7,9 @@ them as one line and exit with code 2 instead of a traceback.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
-
 __all__ = [
     "FigureWarning",
     "InputFileError",
-    "InputFileProblemsError",
     "ModelError",
     "NonFiniteResultError",
     "ParameterError",
@@ -20,7 +17,6 @@ __all__ = [
     "VideoWarning",
     "ZmpkitError",
     "ZmpkitWarning",
-    "raise_problems",
 ]
 
 
@@ -104,35 +100,6 @@ def _input_file_error(
     path: str, message: str, row: int | None, column: str | None
 ) -> InputFileError:
     return InputFileError(path, message, row=row, column=column)
-
-
-class InputFileProblemsError(InputFileError):
-    """Several independent problems found in one file, one line each.
-
-    Args:
-        problems: each problem (two or more), in the order they were found.
-    """
-
-    def __init__(self, problems: Sequence[InputFileError]) -> None:
-        self.problems = tuple(problems)
-        first = self.problems[0]
-        super().__init__(first.path, first.detail, row=first.row, column=first.column)
-        self.args = ("\n".join(str(p) for p in self.problems),)
-
-    def __str__(self) -> str:
-        return "\n".join(str(p) for p in self.problems)
-
-    def __reduce__(self) -> tuple[object, ...]:
-        """Pickle support: rebuild from the problems."""
-        return (InputFileProblemsError, (self.problems,))
-
-
-def raise_problems(problems: Sequence[InputFileError]) -> None:
-    """Raise the one problem, or all of them together; nothing when there are none."""
-    if len(problems) == 1:
-        raise problems[0]
-    if problems:
-        raise InputFileProblemsError(problems)
 
 
 class SimulationDivergedError(ZmpkitError, RuntimeError):

@@ -31,7 +31,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from zmpkit.cli import main
-from zmpkit.errors import InputFileProblemsError, ZmpkitError
+from zmpkit.errors import ZmpkitError
 
 MAX_MESSAGE_CHARS = 200
 CENSUS_MODE = os.environ.get("ZMPKIT_FUZZ_CENSUS", "") == "1"
@@ -164,23 +164,19 @@ def reader_problems(read: Callable[[], object], tmp_root: Path) -> list[str]:
     """Ways a reader call ends badly.
 
     Any exception but a :class:`ZmpkitError`, or a message of several lines or longer than
-    :data:`MAX_MESSAGE_CHARS` (``tmp_root`` shortened to ``<tmp>``); several problems found
-    together (:class:`InputFileProblemsError`) are held to that one by one.
+    :data:`MAX_MESSAGE_CHARS` (``tmp_root`` shortened to ``<tmp>``).
     """
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         try:
             read()
         except ZmpkitError as exc:
-            several = isinstance(exc, InputFileProblemsError)
-            found = []
-            for problem in exc.problems if several else (exc,):  # one line each
-                message = str(problem).strip().replace(str(tmp_root), "<tmp>")
-                if "\n" in message:
-                    found.append(f"multi-line message: {message[:120]}")
-                elif len(message) > MAX_MESSAGE_CHARS:
-                    found.append(f"message of {len(message)} characters: {message[:80]}...")
-            return found
+            message = str(exc).strip().replace(str(tmp_root), "<tmp>")
+            if "\n" in message:
+                return [f"multi-line message: {message[:120]}"]
+            if len(message) > MAX_MESSAGE_CHARS:
+                return [f"message of {len(message)} characters: {message[:80]}..."]
+            return []
         except Exception as exc:
             return [f"exception {type(exc).__name__}: {exc}"[:300]]
     return []

@@ -9,10 +9,8 @@ import yaml
 
 from helpers.biped import BIPED_MASS_KG, BIPED_MJCF
 from zmpkit.cli import main
-from zmpkit.errors import InputFileProblemsError
 from zmpkit.robots.registry import get_robot
 from zmpkit.robots.robot_check import check_robot
-from zmpkit.robots.robot_file import read_robot_file
 
 
 @pytest.fixture
@@ -120,46 +118,6 @@ def test_bad_robot_files_get_one_line_naming_the_valid_names(
     err = capsys.readouterr().err
     assert message in err
     assert len(err.strip().splitlines()) == 1
-
-
-def test_each_problem_of_a_robot_file_gets_its_own_line(
-    biped: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]
-) -> None:
-    """Three independent problems in the file, then three in its names: three lines each."""
-    doc = {
-        "model": "model/biped.xml",
-        "feet": {"right": "r_foot", "left": "l_foot"},
-        "legs": {"right": ["r_knee"], "left": ["l_knee"]},
-        "colour": "red",
-        "sole": {"length": -0.1},
-        "walking": {"speed": "fast"},
-    }
-    path = tmp_path / "bad.yaml"
-    path.write_text(yaml.safe_dump(doc), encoding="utf-8")
-    with pytest.raises(InputFileProblemsError) as caught:
-        read_robot_file(path)
-    assert [p.column for p in caught.value.problems] == ["colour", "sole.length", "walking.speed"]
-    assert main(["robot", "check", str(path)]) == 2
-    lines = capsys.readouterr().err.strip().splitlines()
-    assert len(lines) == 3
-    assert all(line.startswith("zmpkit: error: ") for line in lines)
-    assert "colour: unknown field; valid: name, model" in lines[0]
-    assert "sole.length: expected a number > 0, got -0.1" in lines[1]
-    assert "walking.speed: expected a number > 0, got 'fast'" in lines[2]
-
-    names = {
-        "model": "model/biped.xml",
-        "feet": {"right": "r_fot", "left": "l_foot"},
-        "legs": {"right": ["r_knee"], "left": ["l_kne"]},
-        "imu": "pelvsi",
-    }
-    path.write_text(yaml.safe_dump(names), encoding="utf-8")
-    assert main(["robot", "check", str(path)]) == 2
-    lines = capsys.readouterr().err.strip().splitlines()
-    assert len(lines) == 3
-    assert "feet.right: unknown body 'r_fot'; bodies:" in lines[0]
-    assert "legs.left: unknown joint 'l_kne'; hinge joints:" in lines[1]
-    assert "imu: unknown body 'pelvsi'; bodies:" in lines[2]
 
 
 def test_robot_list_names_the_built_in_robots(capsys: pytest.CaptureFixture[str]) -> None:

@@ -151,7 +151,6 @@ def _run(args: list[str]) -> int:
         click.echo("zmpkit: aborted", err=True)
         return 130
     except ZmpkitError as exc:
-        for line in str(exc).splitlines() or [""]:  # one line per problem
-            click.echo(f"zmpkit: error: {line}", err=True)
+        click.echo(f"zmpkit: error: {exc}", err=True)
         return EXIT_USAGE
     return result if isinstance(result, int) else 0

@@ -46,13 +46,13 @@ top measures (site ``{side}_ft``; ``{side}_sole`` marks the sole centre). Every 
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, TypeVar
+from typing import Any
 
 from zmpkit._validate import shorten
-from zmpkit.errors import InputFileError, InputFileProblemsError, raise_problems
+from zmpkit.errors import InputFileError
 from zmpkit.io.yaml_file import read_yaml_mapping
 
 __all__ = ["FIELDS", "SIDES", "WALKING_FIELDS", "RobotFile", "WalkingOverrides", "read_robot_file"]
@@ -180,20 +180,6 @@ SERVO_KEYS = ("kp", "ki", "kd")
 """The ideal servo's gains a robot file may give."""
 
 
-T = TypeVar("T")
-
-
-def _collect(problems: list[InputFileError], read: Callable[..., T], *args: Any) -> T | None:
-    """``read(*args)``, or None with its problem added to ``problems``."""
-    try:
-        return read(*args)
-    except InputFileProblemsError as several:
-        problems.extend(several.problems)
-    except InputFileError as problem:
-        problems.append(problem)
-    return None
-
-
 def _fail(path: Path, field: str, message: str) -> InputFileError:
     return InputFileError(path, f"{field}: {message}", column=field)
 
@@ -291,25 +277,23 @@ def _walking(path: Path, value: Any) -> WalkingOverrides:
         return WalkingOverrides()
     if not isinstance(value, Mapping):
         raise _fail(path, "walking", f"expected a mapping, got {value!r}")
-    problems = [
-        _fail(path, f"walking.{key}", f"unknown key; valid: {', '.join(WALKING_FIELDS)}")
-        for key in sorted(set(value) - set(WALKING_FIELDS), key=str)
-    ]
+    unknown = sorted(set(value) - set(WALKING_FIELDS))
+    if unknown:
+        raise _fail(
+            path, f"walking.{unknown[0]}", f"unknown key; valid: {', '.join(WALKING_FIELDS)}"
+        )
 
     def number(key: str) -> float | None:
-        try:
-            return _number(path, f"walking.{key}", value.get(key), None)
-        except InputFileError as problem:
-            problems.append(problem)
-            return None
+        return _number(path, f"walking.{key}", value.get(key), None)
 
     if "servo_damping" in value and "servo_stiffness" not in value:
-        needs = "needs walking.servo_stiffness (the servos' P gain)"
-        problems.append(_fail(path, "walking.servo_damping", needs))
-    overrides = WalkingOverrides(
+        raise _fail(
+            path, "walking.servo_damping", "needs walking.servo_stiffness (the servos' P gain)"
+        )
+    return WalkingOverrides(
         com_height_m=number("com_height"),
         crouch=number("crouch"),
-        posture_rad=_collect(problems, _posture, path, value.get("posture")),
+        posture_rad=_posture(path, value.get("posture")),
         foot_separation_m=number("foot_separation"),
         max_step_length_m=number("max_step_length"),
         control_period_s=number("control_period"),
@@ -319,8 +303,6 @@ def _walking(path: Path, value: Any) -> WalkingOverrides:
         observer_com_noise_m=number("observer_com_noise"),
         observer_zmp_noise_m=number("observer_zmp_noise"),
     )
-    raise_problems(problems)
-    return overrides
 
 
 def read_robot_file(path: str | Path, model: Path | None = None) -> RobotFile:
@@ -332,58 +314,38 @@ def read_robot_file(path: str | Path, model: Path | None = None) -> RobotFile:
             robot's model found in another package).
 
     Raises:
-        InputFileError: naming the file and the field; with several independent problems,
-            :class:`~zmpkit.errors.InputFileProblemsError`, one line each.
+        InputFileError: naming the file and the field, one problem per error.
     """
     file = Path(path).resolve()
     doc = read_yaml_mapping(file)
-    problems = [
-        _fail(file, str(key), f"unknown field; valid: {', '.join(FIELDS)}")
-        for key in sorted(set(doc) - set(FIELDS), key=str)
-    ]
+    unknown = sorted(set(doc) - set(FIELDS))
+    if unknown:
+        raise _fail(file, unknown[0], f"unknown field; valid: {', '.join(FIELDS)}")
     sole = doc.get("sole") or {}
     servo = doc.get("servo") or {}
-    for key, value in (("sole", sole), ("servo", servo)):
-        if not isinstance(value, Mapping):
-            problems.append(_fail(file, key, "expected a mapping"))
-    sole = sole if isinstance(sole, Mapping) else {}
-    servo = servo if isinstance(servo, Mapping) else {}
-
-    def take(read: Callable[..., T], *args: Any) -> T | None:
-        return _collect(problems, read, file, *args)
-
-    model_file = model.resolve() if model is not None else take(_model_path, doc)
-    feet_doc, legs_doc = take(_sides, "feet", doc) or {}, take(_sides, "legs", doc) or {}
-    feet = {s: take(_foot, s, v) for s, v in feet_doc.items()}
-    legs = {s: take(_names, f"legs.{s}", v) for s, v in legs_doc.items()}
-    sole_length = take(_number, "sole.length", sole.get("length"), None)
-    sole_width = take(_number, "sole.width", sole.get("width"), None)
-    sole_height = take(_number, "sole.height", sole.get("height"), DEFAULT_SOLE_HEIGHT_M)
-    gains = {str(k): take(_servo_gain, str(k), v) for k, v in servo.items()}
-    threshold = take(_number, "contact_threshold_n", doc.get("contact_threshold_n"), None)
-    timestep = take(_number, "timestep", doc.get("timestep"), DEFAULT_TIMESTEP_S)
-    walking = take(_walking, doc.get("walking"))
-    truth = take(_truth_path, doc.get("truth"))
-    packages = take(_packages, doc.get("packages"))
-    raise_problems(problems)
-    assert model_file is not None  # else a problem was raised
-    assert walking is not None
-    assert packages is not None
+    if not isinstance(sole, Mapping) or not isinstance(servo, Mapping):
+        raise _fail(
+            file, "sole" if not isinstance(sole, Mapping) else "servo", "expected a mapping"
+        )
     return RobotFile(
         path=file,
         name=str(doc.get("name") or file.parent.name),
-        model=model_file,
-        feet={s: v for s, v in feet.items() if v is not None},
-        legs={s: v for s, v in legs.items() if v is not None},
+        model=model.resolve() if model is not None else _model_path(file, doc),
+        feet={s: _foot(file, s, v) for s, v in _sides(file, "feet", doc).items()},
+        legs={s: _names(file, f"legs.{s}", v) for s, v in _sides(file, "legs", doc).items()},
         imu=None if doc.get("imu") is None else str(doc["imu"]),
         torso=None if doc.get("torso") is None else str(doc["torso"]),
-        sole_length_m=sole_length,
-        sole_width_m=sole_width,
-        sole_height_m=sole_height or DEFAULT_SOLE_HEIGHT_M,
-        servo={k: v for k, v in gains.items() if v is not None},
-        contact_threshold_n=threshold,
-        timestep_s=timestep or DEFAULT_TIMESTEP_S,
-        walking=walking,
-        truth=truth,
-        packages=packages,
+        sole_length_m=_number(file, "sole.length", sole.get("length"), None),
+        sole_width_m=_number(file, "sole.width", sole.get("width"), None),
+        sole_height_m=_number(file, "sole.height", sole.get("height"), DEFAULT_SOLE_HEIGHT_M)
+        or DEFAULT_SOLE_HEIGHT_M,
+        servo={str(k): _servo_gain(file, str(k), v) for k, v in servo.items()},
+        contact_threshold_n=_number(
+            file, "contact_threshold_n", doc.get("contact_threshold_n"), None
+        ),
+        timestep_s=_number(file, "timestep", doc.get("timestep"), DEFAULT_TIMESTEP_S)
+        or DEFAULT_TIMESTEP_S,
+        walking=_walking(file, doc.get("walking")),
+        truth=_truth_path(file, doc.get("truth")),
+        packages=_packages(file, doc.get("packages")),
     )

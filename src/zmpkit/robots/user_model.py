@@ -35,7 +35,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from zmpkit._validate import list_some, shorten
-from zmpkit.errors import InputFileError, raise_problems
+from zmpkit.errors import InputFileError
 from zmpkit.robots.package_uris import resolve_package_uris
 from zmpkit.robots.robot_file import SIDES, RobotFile
 from zmpkit.sim.builder import add_ideal_servo
@@ -245,44 +245,35 @@ def foot_body(robot: RobotFile, model: mujoco.MjModel, side: str) -> str:
 
 
 def check_names(robot: RobotFile, model: mujoco.MjModel) -> None:
-    """Every joint and body the robot file names exists, else one line each naming the valid ones.
+    """Every joint and body the robot file names exists, else one line naming the valid ones.
 
     Raises:
-        InputFileError: the unknown name; several: :class:`~zmpkit.errors.InputFileProblemsError`.
+        InputFileError: on the first unknown name.
     """
     hinges = [
         model.joint(j).name
         for j in range(model.njnt)
         if model.jnt_type[j] == mujoco.mjtJoint.mjJNT_HINGE  # an unnamed free joint is skipped
     ]
-    problems: list[InputFileError] = []
     for side in SIDES:
-        try:
-            foot_body(robot, model, side)
-        except InputFileError as problem:
-            problems.append(problem)
+        foot_body(robot, model, side)
         for name in robot.legs[side]:
             if name not in hinges:
-                problems.append(
-                    InputFileError(
-                        robot.path,
-                        f"legs.{side}: unknown joint {shorten(name)}; "
-                        f"hinge joints: {list_some(hinges)}",
-                        column="legs",
-                    )
+                raise InputFileError(
+                    robot.path,
+                    f"legs.{side}: unknown joint {shorten(name)}; "
+                    f"hinge joints: {list_some(hinges)}",
+                    column="legs",
                 )
     bodies = [model.body(b).name for b in range(1, model.nbody)]
     for field in ("imu", "torso"):
         name = getattr(robot, field)
         if name is not None and name not in bodies:
-            problems.append(
-                InputFileError(
-                    robot.path,
-                    f"{field}: unknown body {shorten(name)}; bodies: {list_some(bodies)}",
-                    column=field,
-                )
+            raise InputFileError(
+                robot.path,
+                f"{field}: unknown body {shorten(name)}; bodies: {list_some(bodies)}",
+                column=field,
             )
-    raise_problems(problems)
 
 
 def root_body(model: mujoco.MjModel) -> str:
