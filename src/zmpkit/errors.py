@@ -2,7 +2,8 @@
 
 Every error a user can cause derives from :class:`ZmpkitError`. Messages say what was
 expected, what came, and (where there is a closed set) what is valid, so the CLI can print
-them as one line and exit with code 2 instead of a traceback.
+them as one line and exit with code 2 instead of a traceback. A check that finds several
+problems in a file raises them together (:class:`InputFileProblemsError`): one line each.
 """
 
 from __future__ import annotations

@@ -37,7 +37,13 @@ class Problems:
     @property
     def found(self) -> tuple[InputFileError, ...]:
         """The problems found, in the order found (groups flattened)."""
-        return InputFileProblemsError(self._found).problems if self._found else ()
+        return tuple(
+            single
+            for problem in self._found
+            for single in (
+                problem.problems if isinstance(problem, InputFileProblemsError) else (problem,)
+            )
+        )
 
     def add(self, problem: InputFileError) -> None:
         """Record ``problem`` (a one-line error, or a group of them)."""

@@ -246,7 +246,7 @@ def foot_body(robot: RobotFile, model: mujoco.MjModel, side: str) -> str:
         if name not in sites:
             raise InputFileError(
                 robot.path,
-                f"unknown site {shorten(name)}; sites: {list_some(sites)}",
+                f"unknown site {shorten(name)}; sites: {list_some(sites) or 'none'}",
                 key=f"feet.{side}",
             )
         return str(model.body(int(model.site_bodyid[model.site(name).id])).name)
@@ -289,7 +289,9 @@ def name_problems(robot: RobotFile, model: mujoco.MjModel) -> tuple[InputFileErr
     for side, joints in robot.legs.items():
         for name in joints:
             if name not in hinges:
-                message = f"unknown joint {shorten(name)}; hinge joints: {list_some(hinges)}"
+                message = (
+                    f"unknown joint {shorten(name)}; hinge joints: {list_some(hinges) or 'none'}"
+                )
                 problems.add(InputFileError(robot.path, message, key=f"legs.{side}"))
     bodies = body_names(model)
     for field in ("imu", "torso"):
@@ -300,7 +302,7 @@ def name_problems(robot: RobotFile, model: mujoco.MjModel) -> tuple[InputFileErr
     legs = [joint for joints in robot.legs.values() for joint in joints]
     for name in robot.walking.posture_rad or {}:
         if name not in legs:
-            message = f"unknown leg joint {shorten(name)}; leg joints: {list_some(legs)}"
+            message = f"unknown leg joint {shorten(name)}; leg joints: {list_some(legs) or 'none'}"
             problems.add(InputFileError(robot.path, message, key="walking.posture"))
     return problems.found
 
