@@ -4,6 +4,7 @@ from importlib.metadata import PackageNotFoundError, version
 
 from zmpkit.errors import (
     InputFileError,
+    InputFileProblemsError,
     ModelError,
     ParameterError,
     SimulationDivergedError,
@@ -17,6 +18,7 @@ except PackageNotFoundError:  # running from a source tree that was never instal
 
 __all__ = [
     "InputFileError",
+    "InputFileProblemsError",
     "ModelError",
     "ParameterError",
     "SimulationDivergedError",

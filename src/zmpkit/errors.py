@@ -2,14 +2,18 @@
 
 Every error a user can cause derives from :class:`ZmpkitError`. Messages say what was
 expected, what came, and (where there is a closed set) what is valid, so the CLI can print
-them as one line and exit with code 2 instead of a traceback.
+them as one line and exit with code 2 instead of a traceback. A check that finds several
+problems in a file raises them together (:class:`InputFileProblemsError`): one line each.
 """
 
 from __future__ import annotations
 
+from collections.abc import Iterable
+
 __all__ = [
     "FigureWarning",
     "InputFileError",
+    "InputFileProblemsError",
     "ModelError",
     "NonFiniteResultError",
     "ParameterError",
@@ -17,6 +21,7 @@ __all__ = [
     "VideoWarning",
     "ZmpkitError",
     "ZmpkitWarning",
+    "problem_lines",
 ]
 
 
@@ -75,31 +80,82 @@ class InputFileError(ZmpkitError, ValueError):
         message: what was wrong and what was expected.
         row: 1-based line number in the file, when the problem is on one line.
         column: the column or field name, when the problem is in one column.
+        key: the key of a YAML file the problem is at, dotted (``feet.right``); the message
+            reads ``PATH: KEY: MESSAGE``.
     """
 
     def __init__(
-        self, path: object, message: str, *, row: int | None = None, column: str | None = None
+        self,
+        path: object,
+        message: str,
+        *,
+        row: int | None = None,
+        column: str | None = None,
+        key: str | None = None,
     ) -> None:
         self.path = str(path)
         self.row = row
         self.column = column
+        self.key = key
         self.detail = message
         where = self.path
         if row is not None:
             where += f", line {row}"
         if column is not None:
             where += f", column '{column}'"
+        if key is not None:
+            where += f": {key}"
         super().__init__(f"{where}: {message}")
 
     def __reduce__(self) -> tuple[object, ...]:
         """Pickle support (errors cross process pools): rebuild from the constructor args."""
-        return (_input_file_error, (self.path, self.detail, self.row, self.column))
+        return (_input_file_error, (self.path, self.detail, self.row, self.column, self.key))
 
 
 def _input_file_error(
-    path: str, message: str, row: int | None, column: str | None
+    path: str, message: str, row: int | None, column: str | None, key: str | None = None
 ) -> InputFileError:
-    return InputFileError(path, message, row=row, column=column)
+    return InputFileError(path, message, row=row, column=column, key=key)
+
+
+class InputFileProblemsError(InputFileError):
+    """Every problem found in checking an input file (a robot file and the files it names).
+
+    Each problem is an :class:`InputFileError` of one line; the message is their lines, one
+    per problem, and the CLI prints each as its own ``zmpkit: error:`` line. ``path``,
+    ``row``, ``column``, ``key`` and ``detail`` are the first problem's.
+
+    Args:
+        problems: the problems, at least one; groups among them are flattened.
+    """
+
+    def __init__(self, problems: Iterable[InputFileError]) -> None:
+        self.problems: tuple[InputFileError, ...] = tuple(_flatten(problems))
+        if not self.problems:
+            raise ValueError("InputFileProblemsError needs at least one problem")
+        first = self.problems[0]
+        self.path, self.row, self.column = first.path, first.row, first.column
+        self.key, self.detail = first.key, first.detail
+        Exception.__init__(self, "\n".join(str(p) for p in self.problems))
+
+    def __reduce__(self) -> tuple[object, ...]:
+        """Pickle support (errors cross process pools): rebuild from the problems."""
+        return (InputFileProblemsError, (self.problems,))
+
+
+def _flatten(problems: Iterable[InputFileError]) -> Iterable[InputFileError]:
+    for problem in problems:
+        if isinstance(problem, InputFileProblemsError):
+            yield from problem.problems
+        else:
+            yield problem
+
+
+def problem_lines(error: ZmpkitError) -> tuple[str, ...]:
+    """The lines a user reads for ``error``: one per problem of a group, else its message."""
+    if isinstance(error, InputFileProblemsError):
+        return tuple(str(p) for p in error.problems)
+    return (str(error),)
 
 
 class SimulationDivergedError(ZmpkitError, RuntimeError):

@@ -3,12 +3,13 @@
 A run of ``main(argv)`` ends well when
 
 - it returns 0 and every CSV and JSON file it wrote holds only finite numbers, or
-- it returns 2 (a user mistake) with exactly one line on stderr of at most
+- it returns 2 (a user mistake) with one line on stderr per problem (one, or several
+  ``zmpkit: error:`` lines for a file with several problems), each of at most
   :data:`MAX_MESSAGE_CHARS` characters (temporary paths shortened), no traceback text, and
   no output folder left behind.
 
-Anything else (another exit code, an exception escaping ``main``, a traceback, a second
-line, a non-finite number written) ends badly; :func:`problems` names how.
+Anything else (another exit code, an exception escaping ``main``, a traceback, a line that
+continues another, a non-finite number written) ends badly; :func:`problems` names how.
 
 :class:`Census` counts the cases of one fuzz test and the bad endings by cause. With the
 environment variable ``ZMPKIT_FUZZ_CENSUS=1`` a fuzz test records every bad ending and goes
@@ -31,9 +32,11 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from zmpkit.cli import main
-from zmpkit.errors import ZmpkitError
+from zmpkit.errors import ZmpkitError, problem_lines
 
 MAX_MESSAGE_CHARS = 200
+ERROR_PREFIX = "zmpkit: error: "
+"""How each of several lines of a failing command starts (one per problem)."""
 CENSUS_MODE = os.environ.get("ZMPKIT_FUZZ_CENSUS", "") == "1"
 CENSUSES: list[Census] = []
 """Every census of this session, printed in the terminal summary (tests/conftest.py)."""
@@ -113,11 +116,13 @@ def problems(outcome: Outcome, out_dir: Path | None, tmp_root: Path) -> list[str
         found.append(f"exit code {outcome.code}")
     if outcome.code == 2:
         lines = [line for line in outcome.stderr.splitlines() if line.strip()]
-        if len(lines) != 1:
+        several = len(lines) > 1 and all(line.startswith(ERROR_PREFIX) for line in lines)
+        if len(lines) != 1 and not several:
             found.append(f"{len(lines)} lines on stderr")
-        message = outcome.stderr.strip().replace(str(tmp_root), "<tmp>")
-        if len(message) > MAX_MESSAGE_CHARS:
-            found.append(f"message of {len(message)} characters: {message[:80]}...")
+        for line in lines:
+            message = line.strip().replace(str(tmp_root), "<tmp>")
+            if len(message) > MAX_MESSAGE_CHARS:
+                found.append(f"message of {len(message)} characters: {message[:80]}...")
         if out_dir is not None and out_dir.exists():
             found.append("output folder created by a failing command")
     if outcome.code == 0 and out_dir is not None and out_dir.exists():
@@ -163,20 +168,23 @@ class Census:
 def reader_problems(read: Callable[[], object], tmp_root: Path) -> list[str]:
     """Ways a reader call ends badly.
 
-    Any exception but a :class:`ZmpkitError`, or a message of several lines or longer than
-    :data:`MAX_MESSAGE_CHARS` (``tmp_root`` shortened to ``<tmp>``).
+    Any exception but a :class:`ZmpkitError`, or a problem of several lines or longer than
+    :data:`MAX_MESSAGE_CHARS` (``tmp_root`` shortened to ``<tmp>``): a message, or each of
+    the problems an :class:`~zmpkit.errors.InputFileProblemsError` carries.
     """
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         try:
             read()
         except ZmpkitError as exc:
-            message = str(exc).strip().replace(str(tmp_root), "<tmp>")
-            if "\n" in message:
-                return [f"multi-line message: {message[:120]}"]
-            if len(message) > MAX_MESSAGE_CHARS:
-                return [f"message of {len(message)} characters: {message[:80]}..."]
-            return []
+            found = []
+            for line in problem_lines(exc):
+                message = line.strip().replace(str(tmp_root), "<tmp>")
+                if "\n" in message:
+                    found.append(f"multi-line message: {message[:120]}")
+                elif len(message) > MAX_MESSAGE_CHARS:
+                    found.append(f"message of {len(message)} characters: {message[:80]}...")
+            return found
         except Exception as exc:
             return [f"exception {type(exc).__name__}: {exc}"[:300]]
     return []

@@ -2,8 +2,8 @@
 
 Each case replaces one to three values of the file ``zmpkit robot init`` writes (a body or
 joint name, the model's path, a number) by odd text, drops a line, or adds an optional section
-with odd numbers (sole, servo, walking). Loading must end with one short ``ZmpkitError`` line,
-never another exception.
+with odd numbers (sole, servo, walking). Loading must end with a ``ZmpkitError`` of one short
+line per problem (several for several broken values), never another exception.
 """
 
 from __future__ import annotations

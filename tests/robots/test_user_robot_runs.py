@@ -1,7 +1,8 @@
 """A user's own biped, MJCF and URDF: robot init, robot check, a balance sweep and a walk.
 
 The models are built here, in a temporary folder: a 8.4 kg biped with hip roll and pitch,
-knee, ankle pitch and roll on each leg, written once as MJCF and once as URDF.
+knee, ankle pitch and roll on each leg, written once as MJCF and once as URDF (the fixture
+``robot_yaml`` of ``tests/robots/conftest.py``).
 """
 
 from __future__ import annotations
@@ -13,22 +14,12 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from helpers.biped import BIPED_MJCF, BIPED_URDF, LEG_M
+from helpers.biped import BIPED_MJCF, LEG_M
 from zmpkit.cli import main
 from zmpkit.errors import InputFileError, ParameterError
 from zmpkit.identify.params import BalanceParams
 from zmpkit.pipelines.identify_balance import run_identify_balance
 from zmpkit.robots.registry import get_robot
-
-
-@pytest.fixture(params=["mjcf", "urdf"])
-def robot_yaml(request: pytest.FixtureRequest, tmp_path: Path) -> Path:
-    """``robot init`` on the biped's model; the written robot.yaml."""
-    model = tmp_path / ("biped.xml" if request.param == "mjcf" else "biped.urdf")
-    model.write_text(BIPED_MJCF if request.param == "mjcf" else BIPED_URDF, encoding="utf-8")
-    out = tmp_path / "robot.yaml"
-    assert main(["robot", "init", str(model), "--out", str(out)]) == 0
-    return out
 
 
 def test_the_walking_defaults_and_balance_model_come_from_the_model(robot_yaml: Path) -> None:

@@ -2,7 +2,7 @@
 
 Thin by design: each command parses its options, builds a configuration, calls one library
 function and prints where the results are. Every user mistake (bad file, bad option) ends with
-one line on stderr and exit code 2.
+one line on stderr per problem (a robot file with three problems: three lines) and exit code 2.
 """
 
 from __future__ import annotations
@@ -16,7 +16,7 @@ from typing import TextIO
 import click
 
 from zmpkit import __version__
-from zmpkit.errors import ZmpkitError, ZmpkitWarning
+from zmpkit.errors import ZmpkitError, ZmpkitWarning, problem_lines
 
 __all__ = ["COMMANDS", "EXIT_USAGE", "LazyGroup", "cli", "format_or_undefined", "main"]
 
@@ -151,6 +151,7 @@ def _run(args: list[str]) -> int:
         click.echo("zmpkit: aborted", err=True)
         return 130
     except ZmpkitError as exc:
-        click.echo(f"zmpkit: error: {exc}", err=True)
+        for line in problem_lines(exc):
+            click.echo(f"zmpkit: error: {line}", err=True)
         return EXIT_USAGE
     return result if isinstance(result, int) else 0

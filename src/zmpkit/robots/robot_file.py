@@ -40,22 +40,36 @@ Layout (lengths in m; every path relative to the YAML's folder)::
 zmpkit adds a 6-axis F-T sensor under each foot: a thin sole plate ``sole.height`` thick,
 the only part of the foot that touches the floor, whose wrench on the foot the sensor at its
 top measures (site ``{side}_ft``; ``{side}_sole`` marks the sole centre). Every problem is one
-:class:`~zmpkit.errors.InputFileError` line naming the file, the field and the valid names.
+:class:`~zmpkit.errors.InputFileError` line naming the file, the field and the valid names;
+every field is checked, and several problems are raised together as one
+:class:`~zmpkit.errors.InputFileProblemsError` (:mod:`zmpkit.robots.problems`).
 """
 
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import Any, TypeVar
 
-from zmpkit._validate import shorten
+from zmpkit._validate import MAX_ECHO_CHARS, shorten
 from zmpkit.errors import InputFileError
 from zmpkit.io.yaml_file import read_yaml_mapping
+from zmpkit.robots.problems import Problems
 
-__all__ = ["FIELDS", "SIDES", "WALKING_FIELDS", "RobotFile", "WalkingOverrides", "read_robot_file"]
+__all__ = [
+    "FIELDS",
+    "SIDES",
+    "WALKING_FIELDS",
+    "RobotFile",
+    "RobotFileDraft",
+    "WalkingOverrides",
+    "draft_robot_file",
+    "read_robot_file",
+]
+
+T = TypeVar("T")
 
 SIDES: tuple[str, str] = ("right", "left")
 """The feet a robot file names."""
@@ -178,10 +192,34 @@ class RobotFile:
 
 SERVO_KEYS = ("kp", "ki", "kd")
 """The ideal servo's gains a robot file may give."""
+SOLE_KEYS = ("length", "width", "height")
+"""The keys of ``sole:`` in a robot file."""
+
+
+@dataclass(frozen=True)
+class RobotFileDraft:
+    """A robot file read as far as it goes: what it gives, and every problem of its layout.
+
+    Attributes:
+        file: the robot file's valid values (a wrong foot or leg left out of ``feet`` or
+            ``legs``, a wrong optional value at its default), enough to check the names
+            against the model; None when the model cannot be loaded (its path, or a package
+            folder, is wrong).
+        problems: the layout's problems, one line each, in the file's field order.
+    """
+
+    file: RobotFile | None
+    problems: tuple[InputFileError, ...]
 
 
 def _fail(path: Path, field: str, message: str) -> InputFileError:
-    return InputFileError(path, f"{field}: {message}", column=field)
+    return InputFileError(path, message, key=field)
+
+
+def _key(key: object) -> str:
+    """A key of the user's file as a message shows it (cut if long)."""
+    text = str(key)
+    return text if len(text) <= MAX_ECHO_CHARS else shorten(text)
 
 
 def _number(path: Path, field: str, value: Any, default: float | None) -> float | None:
@@ -193,40 +231,103 @@ def _number(path: Path, field: str, value: Any, default: float | None) -> float 
 
 
 def _servo_gain(path: Path, key: str, value: Any) -> float:
-    if key not in SERVO_KEYS:
-        raise _fail(path, f"servo.{key}", f"unknown gain; valid: {', '.join(SERVO_KEYS)}")
     number = _number(path, f"servo.{key}", value, None)
     if number is None or not math.isfinite(number):
         raise _fail(path, f"servo.{key}", f"expected a finite number > 0, got {shorten(value)}")
     return number
 
 
+def _section(
+    path: Path, field: str, value: Any, keys: Sequence[str], problems: Problems, noun: str = "key"
+) -> Mapping[str, Any]:
+    """A mapping section (``sole``, ``servo``, ``walking``); its unknown keys are problems."""
+    if value is None:
+        return {}
+    if not isinstance(value, Mapping):
+        problems.add(_fail(path, field, f"expected a mapping, got {shorten(value)}"))
+        return {}
+    for key in value:
+        if key not in keys:
+            message = f"unknown {noun}; valid: {', '.join(keys)}"
+            problems.add(_fail(path, f"{field}.{_key(key)}", message))
+    return {k: v for k, v in value.items() if k in keys}
+
+
+def _sole(path: Path, value: Any, problems: Problems) -> tuple[float | None, float | None, float]:
+    """``sole:``'s length, width (None: the foot's footprint) and height [m]."""
+    sole = _section(path, "sole", value, SOLE_KEYS, problems)
+    length, width, height = (
+        problems.attempt(_number, path, f"sole.{key}", sole.get(key), None) for key in SOLE_KEYS
+    )
+    return length, width, height or DEFAULT_SOLE_HEIGHT_M
+
+
+def _servo(path: Path, value: Any, problems: Problems) -> dict[str, float]:
+    """``servo:``'s gains that are valid."""
+    servo = _section(path, "servo", value, SERVO_KEYS, problems, noun="gain")
+    gains = {key: problems.attempt(_servo_gain, path, key, servo[key]) for key in servo}
+    return {key: gain for key, gain in gains.items() if gain is not None}
+
+
 def _names(path: Path, field: str, value: Any) -> tuple[str, ...]:
     if not isinstance(value, Sequence) or isinstance(value, str) or not value:
-        raise _fail(path, field, f"expected a list of joint names, got {value!r}")
+        raise _fail(path, field, f"expected a list of joint names, got {shorten(value)}")
     return tuple(str(v) for v in value)
 
 
-def _sides(path: Path, field: str, doc: Mapping[str, Any]) -> Mapping[str, Any]:
-    value = doc.get(field)
-    if not isinstance(value, Mapping) or set(value) != set(SIDES):
-        raise _fail(path, field, f"expected a mapping with keys right and left, got {value!r}")
-    return value
-
-
-def _foot(path: Path, side: str, value: Any) -> tuple[str, str]:
+def _foot(path: Path, field: str, value: Any) -> tuple[str, str]:
     if isinstance(value, str):
         return ("body", value)
     if isinstance(value, Mapping) and len(value) == 1 and next(iter(value)) in ("body", "site"):
         kind, name = next(iter(value.items()))
         return (str(kind), str(name))
-    raise _fail(path, f"feet.{side}", f"expected a body name or {{site: NAME}}, got {value!r}")
+    raise _fail(path, field, f"expected a body name or {{site: NAME}}, got {shorten(value)}")
+
+
+def _sides(
+    path: Path,
+    field: str,
+    value: Any,
+    parse: Callable[[Path, str, Any], T],
+    problems: Problems,
+) -> dict[str, T]:
+    """``field``'s right and left entries that parse; every other entry is a problem."""
+    expected = "expected a mapping with keys right and left"
+    if value is None:
+        problems.add(_fail(path, field, f"missing; {expected}"))
+        return {}
+    if not isinstance(value, Mapping):
+        problems.add(_fail(path, field, f"{expected}, got {shorten(value)}"))
+        return {}
+    for key in value:
+        if key not in SIDES:
+            problems.add(_fail(path, f"{field}.{_key(key)}", "unknown side; valid: right, left"))
+    parsed = {}
+    for side in SIDES:
+        if side not in value:
+            problems.add(_fail(path, f"{field}.{side}", f"missing; {expected}"))
+            continue
+        entry = problems.attempt(parse, path, f"{field}.{side}", value[side])
+        if entry is not None:
+            parsed[side] = entry
+    return parsed
+
+
+def _text(path: Path, field: str, value: Any, what: str = "a body name") -> str | None:
+    """A name the file gives (a number is read as its text), or None if not given."""
+    if value is None:
+        return None
+    if isinstance(value, Mapping | list | bool):
+        raise _fail(path, field, f"expected {what}, got {shorten(value)}")
+    return str(value)
 
 
 def _model_path(path: Path, doc: Mapping[str, Any]) -> Path:
-    model = doc.get("model")
+    if "model" not in doc:
+        raise _fail(path, "model", "missing; expected the MJCF or URDF file's path")
+    model = doc["model"]
     if not isinstance(model, str):
-        raise _fail(path, "model", f"expected the MJCF or URDF file's path, got {model!r}")
+        raise _fail(path, "model", f"expected the MJCF or URDF file's path, got {shorten(model)}")
     file = (path.parent / model).resolve()
     if not file.is_file():
         raise _fail(path, "model", f"no such file {file}")
@@ -239,27 +340,33 @@ def _truth_path(path: Path, value: Any) -> Path | None:
     if value is None:
         return None
     if not isinstance(value, str):
-        raise _fail(path, "truth", f"expected the truth YAML's path, got {shorten(repr(value))}")
+        raise _fail(path, "truth", f"expected the truth YAML's path, got {shorten(value)}")
     file = (path.parent / value).resolve()
     if not file.is_file():
         raise _fail(path, "truth", f"no such file {file}")
     return file
 
 
-def _packages(path: Path, value: Any) -> dict[str, Path]:
+def _package(path: Path, name: str, folder: Any) -> Path:
+    if not isinstance(folder, str):
+        raise _fail(path, f"packages.{name}", f"expected a folder, got {shorten(folder)}")
+    resolved = (path.parent / folder).resolve()
+    if not resolved.is_dir():
+        raise _fail(path, f"packages.{name}", f"no such folder {resolved}")
+    return resolved
+
+
+def _packages(path: Path, value: Any, problems: Problems) -> dict[str, Path] | None:
+    """The package folders; None if any is wrong (the model's meshes cannot be found)."""
     if value is None:
         return {}
     if not isinstance(value, Mapping):
-        raise _fail(path, "packages", f"expected package: folder pairs, got {shorten(value)}")
-    folders = {}
-    for name, folder in value.items():
-        if not isinstance(folder, str):
-            raise _fail(path, f"packages.{name}", f"expected a folder, got {shorten(folder)}")
-        resolved = (path.parent / folder).resolve()
-        if not resolved.is_dir():
-            raise _fail(path, f"packages.{name}", f"no such folder {resolved}")
-        folders[str(name)] = resolved
-    return folders
+        problems.add(
+            _fail(path, "packages", f"expected package: folder pairs, got {shorten(value)}")
+        )
+        return None
+    folders = {_key(k): problems.attempt(_package, path, _key(k), value[k]) for k in value}
+    return None if None in folders.values() else {k: v for k, v in folders.items() if v}
 
 
 def _posture(path: Path, value: Any) -> Mapping[str, float] | None:
@@ -268,32 +375,28 @@ def _posture(path: Path, value: Any) -> Mapping[str, float] | None:
     if not isinstance(value, Mapping) or not all(
         isinstance(v, int | float) and not isinstance(v, bool) for v in value.values()
     ):
-        raise _fail(path, "walking.posture", f"expected joint: angle [rad] pairs, got {value!r}")
+        raise _fail(
+            path, "walking.posture", f"expected joint: angle [rad] pairs, got {shorten(value)}"
+        )
     return {str(k): float(v) for k, v in value.items()}
 
 
-def _walking(path: Path, value: Any) -> WalkingOverrides:
-    if value is None:
-        return WalkingOverrides()
-    if not isinstance(value, Mapping):
-        raise _fail(path, "walking", f"expected a mapping, got {value!r}")
-    unknown = sorted(set(value) - set(WALKING_FIELDS))
-    if unknown:
-        raise _fail(
-            path, f"walking.{unknown[0]}", f"unknown key; valid: {', '.join(WALKING_FIELDS)}"
-        )
+def _walking(path: Path, value: Any, problems: Problems) -> WalkingOverrides:
+    given = _section(path, "walking", value, WALKING_FIELDS, problems)
 
     def number(key: str) -> float | None:
-        return _number(path, f"walking.{key}", value.get(key), None)
+        return problems.attempt(_number, path, f"walking.{key}", given.get(key), None)
 
-    if "servo_damping" in value and "servo_stiffness" not in value:
-        raise _fail(
-            path, "walking.servo_damping", "needs walking.servo_stiffness (the servos' P gain)"
+    if "servo_damping" in given and "servo_stiffness" not in given:
+        problems.add(
+            _fail(
+                path, "walking.servo_damping", "needs walking.servo_stiffness (the servos' P gain)"
+            )
         )
     return WalkingOverrides(
         com_height_m=number("com_height"),
         crouch=number("crouch"),
-        posture_rad=_posture(path, value.get("posture")),
+        posture_rad=problems.attempt(_posture, path, given.get("posture")),
         foot_separation_m=number("foot_separation"),
         max_step_length_m=number("max_step_length"),
         control_period_s=number("control_period"),
@@ -305,6 +408,59 @@ def _walking(path: Path, value: Any) -> WalkingOverrides:
     )
 
 
+def draft_robot_file(path: str | Path, model: Path | None = None) -> RobotFileDraft:
+    """Read a ``robot.yaml`` and check its layout, every field, every problem collected.
+
+    Args:
+        path: the ``robot.yaml``.
+        model: the MJCF or URDF file, replacing the file's ``model`` field (a built-in
+            robot's model found in another package).
+
+    Raises:
+        InputFileError: the file is missing, is not YAML or not a mapping (nothing else can
+            be checked).
+    """
+    file = Path(path).resolve()
+    doc = read_yaml_mapping(file)
+    problems = Problems()
+    for key in doc:
+        if key not in FIELDS:
+            problems.add(_fail(file, _key(key), f"unknown field; valid: {', '.join(FIELDS)}"))
+    name = problems.attempt(_text, file, "name", doc.get("name"), "a name")
+    model_file = model.resolve() if model is not None else problems.attempt(_model_path, file, doc)
+    packages = _packages(file, doc.get("packages"), problems)
+    feet = _sides(file, "feet", doc.get("feet"), _foot, problems)
+    legs = _sides(file, "legs", doc.get("legs"), _names, problems)
+    imu = problems.attempt(_text, file, "imu", doc.get("imu"))
+    torso = problems.attempt(_text, file, "torso", doc.get("torso"))
+    length, width, height = _sole(file, doc.get("sole"), problems)
+    servo = _servo(file, doc.get("servo"), problems)
+    threshold = problems.attempt(
+        _number, file, "contact_threshold_n", doc.get("contact_threshold_n"), None
+    )
+    timestep = problems.attempt(_number, file, "timestep", doc.get("timestep"), None)
+    robot = RobotFile(
+        path=file,
+        name=name or file.parent.name,
+        model=model_file or file,
+        feet=feet,
+        legs=legs,
+        imu=imu,
+        torso=torso,
+        sole_length_m=length,
+        sole_width_m=width,
+        sole_height_m=height,
+        servo=servo,
+        contact_threshold_n=threshold,
+        timestep_s=timestep or DEFAULT_TIMESTEP_S,
+        walking=_walking(file, doc.get("walking"), problems),
+        truth=problems.attempt(_truth_path, file, doc.get("truth")),
+        packages=packages or {},
+    )
+    usable = model_file is not None and packages is not None
+    return RobotFileDraft(robot if usable else None, problems.found)
+
+
 def read_robot_file(path: str | Path, model: Path | None = None) -> RobotFile:
     """Read and check the layout of a ``robot.yaml`` (module docstring).
 
@@ -314,38 +470,10 @@ def read_robot_file(path: str | Path, model: Path | None = None) -> RobotFile:
             robot's model found in another package).
 
     Raises:
-        InputFileError: naming the file and the field, one problem per error.
+        InputFileError: naming the file and the field; with several problems, an
+            :class:`~zmpkit.errors.InputFileProblemsError` carrying them all, one line each.
     """
-    file = Path(path).resolve()
-    doc = read_yaml_mapping(file)
-    unknown = sorted(set(doc) - set(FIELDS))
-    if unknown:
-        raise _fail(file, unknown[0], f"unknown field; valid: {', '.join(FIELDS)}")
-    sole = doc.get("sole") or {}
-    servo = doc.get("servo") or {}
-    if not isinstance(sole, Mapping) or not isinstance(servo, Mapping):
-        raise _fail(
-            file, "sole" if not isinstance(sole, Mapping) else "servo", "expected a mapping"
-        )
-    return RobotFile(
-        path=file,
-        name=str(doc.get("name") or file.parent.name),
-        model=model.resolve() if model is not None else _model_path(file, doc),
-        feet={s: _foot(file, s, v) for s, v in _sides(file, "feet", doc).items()},
-        legs={s: _names(file, f"legs.{s}", v) for s, v in _sides(file, "legs", doc).items()},
-        imu=None if doc.get("imu") is None else str(doc["imu"]),
-        torso=None if doc.get("torso") is None else str(doc["torso"]),
-        sole_length_m=_number(file, "sole.length", sole.get("length"), None),
-        sole_width_m=_number(file, "sole.width", sole.get("width"), None),
-        sole_height_m=_number(file, "sole.height", sole.get("height"), DEFAULT_SOLE_HEIGHT_M)
-        or DEFAULT_SOLE_HEIGHT_M,
-        servo={str(k): _servo_gain(file, str(k), v) for k, v in servo.items()},
-        contact_threshold_n=_number(
-            file, "contact_threshold_n", doc.get("contact_threshold_n"), None
-        ),
-        timestep_s=_number(file, "timestep", doc.get("timestep"), DEFAULT_TIMESTEP_S)
-        or DEFAULT_TIMESTEP_S,
-        walking=_walking(file, doc.get("walking")),
-        truth=_truth_path(file, doc.get("truth")),
-        packages=_packages(file, doc.get("packages")),
-    )
+    draft = draft_robot_file(path, model)
+    Problems(draft.problems).raise_any()
+    assert draft.file is not None  # a file without problems is usable
+    return draft.file

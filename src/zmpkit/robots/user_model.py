@@ -37,6 +37,7 @@ from numpy.typing import NDArray
 from zmpkit._validate import list_some, shorten
 from zmpkit.errors import InputFileError
 from zmpkit.robots.package_uris import resolve_package_uris
+from zmpkit.robots.problems import Problems
 from zmpkit.robots.robot_file import SIDES, RobotFile
 from zmpkit.sim.builder import add_ideal_servo
 from zmpkit.sim.effects import IdealServoParams
@@ -46,9 +47,16 @@ __all__ = [
     "ACTUATOR_TAGS",
     "FootPrint",
     "UserModel",
+    "body_names",
+    "check_names",
+    "compile_model",
     "drop_missing_meshes",
+    "foot_body",
+    "footprint",
     "geom_corners",
     "load_spec",
+    "name_problems",
+    "root_body",
     "user_model",
 ]
 
@@ -201,21 +209,28 @@ def footprint(robot: RobotFile, model: mujoco.MjModel, data: mujoco.MjData, side
     """The sole of ``side``'s foot from its collision geoms at the initial pose.
 
     Raises:
-        InputFileError: on an unknown foot body, listing the model's bodies.
+        InputFileError: on an unknown foot body (listing the model's bodies), or a foot
+            without a collision geom.
     """
-    body = foot_body(robot, model, side)
-    bodies = _subtree(model, model.body(body).id)
-    geoms = [
-        g for g in range(model.ngeom) if model.geom_bodyid[g] in bodies and _collides(model, g)
-    ]
-    if not geoms:
-        raise InputFileError(robot.path, f"feet.{side}: body {body!r} has no collision geom")
+    body, geoms = _foot_geoms(robot, model, side)
     corners = np.vstack([geom_corners(model, data, g) for g in geoms])
     low, high = corners.min(axis=0), corners.max(axis=0)
     length = robot.sole_length_m or float(high[0] - low[0])
     width = robot.sole_width_m or float(high[1] - low[1])
     centre = (float(0.5 * (low[0] + high[0])), float(0.5 * (low[1] + high[1])))
     return FootPrint(body, centre, float(low[2]), length, width)
+
+
+def _foot_geoms(robot: RobotFile, model: mujoco.MjModel, side: str) -> tuple[str, list[int]]:
+    """``side``'s foot body and the collision geoms of its subtree (at least one)."""
+    body = foot_body(robot, model, side)
+    bodies = _subtree(model, model.body(body).id)
+    geoms = [
+        g for g in range(model.ngeom) if model.geom_bodyid[g] in bodies and _collides(model, g)
+    ]
+    if not geoms:
+        raise InputFileError(robot.path, f"body {body!r} has no collision geom", key=f"feet.{side}")
+    return body, geoms
 
 
 def foot_body(robot: RobotFile, model: mujoco.MjModel, side: str) -> str:
@@ -225,55 +240,90 @@ def foot_body(robot: RobotFile, model: mujoco.MjModel, side: str) -> str:
         InputFileError: naming the field and listing the valid names.
     """
     kind, name = robot.feet[side]
-    names = [model.body(b).name for b in range(1, model.nbody)]
+    names = body_names(model)
     if kind == "site":
         sites = [model.site(s).name for s in range(model.nsite)]
         if name not in sites:
             raise InputFileError(
                 robot.path,
-                f"feet.{side}: unknown site {shorten(name)}; sites: {list_some(sites)}",
-                column="feet",
+                f"unknown site {shorten(name)}; sites: {list_some(sites) or 'none'}",
+                key=f"feet.{side}",
             )
         return str(model.body(int(model.site_bodyid[model.site(name).id])).name)
     if name not in names:
         raise InputFileError(
             robot.path,
-            f"feet.{side}: unknown body {shorten(name)}; bodies: {list_some(names)}",
-            column="feet",
+            f"unknown body {shorten(name)}; bodies: {list_some(names)}",
+            key=f"feet.{side}",
         )
     return name
 
 
-def check_names(robot: RobotFile, model: mujoco.MjModel) -> None:
-    """Every joint and body the robot file names exists, else one line naming the valid ones.
+def body_names(model: mujoco.MjModel) -> list[str]:
+    """The model's bodies but the world, in tree order."""
+    return [model.body(b).name for b in range(1, model.nbody)]
 
-    Raises:
-        InputFileError: on the first unknown name.
-    """
-    hinges = [
+
+def _hinges(model: mujoco.MjModel) -> list[str]:
+    return [
         model.joint(j).name
         for j in range(model.njnt)
         if model.jnt_type[j] == mujoco.mjtJoint.mjJNT_HINGE  # an unnamed free joint is skipped
     ]
-    for side in SIDES:
-        foot_body(robot, model, side)
-        for name in robot.legs[side]:
+
+
+def name_problems(robot: RobotFile, model: mujoco.MjModel) -> tuple[InputFileError, ...]:
+    """Every body, site and joint the robot file names that the model lacks, one problem each.
+
+    Checks the feet (and that each has a collision geom), the legs' joints (hinges), the IMU
+    and torso bodies and the ``walking.posture`` joints (leg joints). A side whose foot or
+    leg did not read (:func:`~zmpkit.robots.robot_file.draft_robot_file`) is skipped.
+
+    Returns:
+        The problems, each naming the field and listing the valid names (shortened).
+    """
+    problems = Problems()
+    for side in robot.feet:
+        problems.attempt(_foot_geoms, robot, model, side)
+    hinges = _hinges(model)
+    for side, joints in robot.legs.items():
+        for name in joints:
             if name not in hinges:
-                raise InputFileError(
-                    robot.path,
-                    f"legs.{side}: unknown joint {shorten(name)}; "
-                    f"hinge joints: {list_some(hinges)}",
-                    column="legs",
+                message = (
+                    f"unknown joint {shorten(name)}; hinge joints: {list_some(hinges) or 'none'}"
                 )
-    bodies = [model.body(b).name for b in range(1, model.nbody)]
+                problems.add(InputFileError(robot.path, message, key=f"legs.{side}"))
+    bodies = body_names(model)
     for field in ("imu", "torso"):
         name = getattr(robot, field)
         if name is not None and name not in bodies:
-            raise InputFileError(
-                robot.path,
-                f"{field}: unknown body {shorten(name)}; bodies: {list_some(bodies)}",
-                column=field,
-            )
+            message = f"unknown body {shorten(name)}; bodies: {list_some(bodies)}"
+            problems.add(InputFileError(robot.path, message, key=field))
+    legs = [joint for joints in robot.legs.values() for joint in joints]
+    for name in robot.walking.posture_rad or {}:
+        if name not in legs:
+            message = f"unknown leg joint {shorten(name)}; leg joints: {list_some(legs) or 'none'}"
+            problems.add(InputFileError(robot.path, message, key="walking.posture"))
+    return problems.found
+
+
+def check_names(robot: RobotFile, model: mujoco.MjModel) -> None:
+    """Every joint and body the robot file names exists (:func:`name_problems`).
+
+    Raises:
+        InputFileProblemsError: carrying every unknown name.
+    """
+    Problems(name_problems(robot, model)).raise_any()
+
+
+def compile_model(robot: RobotFile) -> mujoco.MjModel:
+    """The robot file's model as MuJoCo compiles it (before zmpkit adds anything).
+
+    Raises:
+        InputFileError: naming the model file if MuJoCo cannot load or compile it, or the
+            packages of its ``package://`` URIs not found.
+    """
+    return _compile(robot, load_spec(robot.model, robot.packages))[0]
 
 
 def root_body(model: mujoco.MjModel) -> str:

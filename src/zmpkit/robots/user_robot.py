@@ -21,8 +21,10 @@ from typing import TYPE_CHECKING, Any
 import mujoco
 
 from zmpkit.errors import ParameterError
+from zmpkit.robots.problems import Problems
 from zmpkit.robots.robot import FitSpec, Robot, TruthSpec
-from zmpkit.robots.robot_file import SIDES, RobotFile, read_robot_file
+from zmpkit.robots.robot_file import SIDES, RobotFile, draft_robot_file
+from zmpkit.robots.robot_file_problems import robot_file_problems
 from zmpkit.robots.servo_fit import SERVO_QUICK_PARAMETERS, servo_fit_catalogue
 from zmpkit.robots.servo_truth import (
     ServoTruth,
@@ -166,11 +168,18 @@ def _servo_truth_spec(path: Path) -> TruthSpec:
 def load_robot_file(path: str | Path) -> Robot:
     """The robot a ``robot.yaml`` describes (see :mod:`zmpkit.robots.robot_file`).
 
+    Every problem of the file is found before one is raised
+    (:func:`~zmpkit.robots.robot_file_problems.robot_file_problems`).
+
     Raises:
-        InputFileError: one line naming the file, the field and the valid names.
+        InputFileError: a file that cannot be read as YAML; else an
+            :class:`~zmpkit.errors.InputFileProblemsError` carrying every problem, each a
+            line naming the file, the field, what was wrong and the valid names.
     """
-    file = read_robot_file(path)
-    return build_user_robot(file, truth_path=file.truth)
+    draft = draft_robot_file(path)
+    Problems(robot_file_problems(draft)).raise_any()
+    assert draft.file is not None  # a file without problems is usable
+    return build_user_robot(draft.file, truth_path=draft.file.truth)
 
 
 def build_user_robot(

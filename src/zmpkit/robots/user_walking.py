@@ -35,7 +35,6 @@ import mujoco
 import numpy as np
 from numpy.typing import NDArray
 
-from zmpkit.errors import InputFileError
 from zmpkit.robots.ik_settings import IkSettings
 from zmpkit.robots.robot import DEFAULT_WALK_SPEED_MPS, WalkingDefaults
 from zmpkit.robots.robot_file import SIDES, RobotFile
@@ -192,19 +191,12 @@ def crouch(model: mujoco.MjModel, file: RobotFile, depth_m: float) -> Crouch:
 def user_walking(file: RobotFile, built: UserModel) -> WalkingDefaults | None:
     """The walking defaults of a user's robot (module docstring), or None if it cannot walk.
 
-    Raises:
-        InputFileError: on a ``walking.posture`` joint that is not a leg joint.
+    ``walking.posture``'s joints are leg joints (checked with the model's names:
+    :func:`~zmpkit.robots.user_model.name_problems`).
     """
     if walking_problem(file, built) is not None:
         return None
     given = file.walking
-    unknown = sorted(set(given.posture_rad or {}) - set(file.leg_joints))
-    if unknown:
-        raise InputFileError(
-            file.path,
-            f"walking.posture: unknown leg joint {unknown[0]!r}; legs: {list(file.leg_joints)}",
-            column="walking",
-        )
     model = mujoco.MjModel.from_xml_string(built.mjcf)
     data = mujoco.MjData(model)
     mujoco.mj_forward(model, data)
