@@ -390,7 +390,7 @@ def zmp_in_world_now(
     """:func:`zmp_in_world` of one sample, in Python floats, for a control loop [m].
 
     The same equations over the feet in contact, without numpy temporaries (a few
-    microseconds instead of a few hundred for two feet).
+    microseconds instead of a few hundred for two feet); it allocates nothing but its result.
 
     Args:
         force_in_world: force of each foot [N], shape (F, 3).
@@ -402,7 +402,8 @@ def zmp_in_world_now(
         The ZMP (x, y) [m], or None when no foot is in contact.
     """
     total = num_x = num_y = 0.0
-    for i in range(force_in_world.shape[0]):  # element by element: no temporaries
+    i, feet = 0, len(force_in_world)
+    while i < feet:  # element by element: no temporaries, no iterator objects
         fz = force_in_world.item(i, 2)
         if fz >= contact_threshold_n:
             fx, fy = force_in_world.item(i, 0), force_in_world.item(i, 1)
@@ -415,6 +416,7 @@ def zmp_in_world_now(
             total += fz
             num_x += ox * fz - (ty + oz * fx)
             num_y += oy * fz + (tx - oz * fy)
+        i += 1
     if total <= 0.0:
         return None
     return num_x / total, num_y / total

@@ -37,6 +37,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, replace
+from typing import NamedTuple
 
 import numpy as np
 from numpy.typing import NDArray
@@ -77,6 +78,27 @@ class HeadingFeedbackGains:
 _SIDES = ("left", "right")
 
 
+def _clamp(value: float, limit: float) -> float:
+    """``value`` clamped to ±``limit`` (a function call: ``min``/``max`` make objects)."""
+    return -limit if value < -limit else (limit if value > limit else value)
+
+
+class _RampViews(NamedTuple):
+    """What one lift-off writes: views into the offsets, the plan and the targets [rad]."""
+
+    shape: NDArray[np.float64]  # the cosine ramp over the swing, 0 -> 1 [-]
+    ramp: NDArray[np.float64]  # the foot's offset over the swing
+    landed: NDArray[np.float64]  # the foot's offset after landing
+    offset: NDArray[np.float64]  # the foot's offset from lift-off on
+    plan_yaw: NDArray[np.float64]
+    target_yaw: NDArray[np.float64]
+    left: NDArray[np.float64]
+    right: NDArray[np.float64]
+    mean: NDArray[np.float64]  # the feet's mean offset
+    plan_torso: NDArray[np.float64]
+    target_torso: NDArray[np.float64]
+
+
 class HeadingFeedback:
     """Turns the feet still to land so that the IMU's heading follows the plan.
 
@@ -113,13 +135,33 @@ class HeadingFeedback:
         self._error_sum = 0.0  # Σ e since the last lift-off [rad]
         self._error_frames = 0
         self._last_step_mean: float | None = None  # mean e over the step before [rad]
-        self._ramp_shapes: dict[int, NDArray[np.float64]] = {}  # per swing length [frames]
-        for lifts in self._lift_offs.values():
-            for lift, land in lifts.items():
-                swing = max(land - lift, 1)  # 0.5 - 0.5 cos(π j / n), j = 1..n
-                shape = 0.5 - 0.5 * np.cos(np.pi * np.arange(1, swing + 1) / swing)
-                self._ramp_shapes.setdefault(swing, shape)
         self._mean = np.zeros(n)
+        self._last_frame = n - 1
+        self._scalar = np.zeros(())  # a ramp's start or height [rad], written in place
+        self._half = np.full((), 0.5)
+        shapes: dict[int, NDArray[np.float64]] = {}  # per swing length [frames]
+        self._ramps = {side: {lift: self._ramp_views(side, lift, land, shapes)
+                              for lift, land in lifts.items()}
+                       for side, lifts in self._lift_offs.items()}  # fmt: skip
+
+    def _ramp_views(
+        self, side: str, lift: int, land: int, shapes: dict[int, NDArray[np.float64]]
+    ) -> _RampViews:
+        """The views one lift-off writes, made with the plan (a lift-off makes none)."""
+        swing = max(land - lift, 1)  # 0.5 - 0.5 cos(π j / n), j = 1..n
+        if swing not in shapes:
+            shapes[swing] = 0.5 - 0.5 * np.cos(np.pi * np.arange(1, swing + 1) / swing)
+        offset = self._offset[side]
+        m = min(swing, offset.size - lift)
+        plan, target = getattr(self._plan, side), getattr(self.targets, side)
+        return _RampViews(
+            shape=shapes[swing][:m], ramp=offset[lift : lift + m], landed=offset[lift + m :],
+            offset=offset[lift:], plan_yaw=plan.yaw_in_world[lift:],
+            target_yaw=target.yaw_in_world[lift:], left=self._offset["left"][lift:],
+            right=self._offset["right"][lift:], mean=self._mean[lift:],
+            plan_torso=self._plan.torso_yaw_in_world[lift:],
+            target_torso=self.targets.torso_yaw_in_world[lift:],
+        )  # fmt: skip
 
     def _imu_heading(self, quat_wxyz: NDArray[np.float64]) -> float:
         """The IMU's yaw since the first reading, unwrapped [rad]."""
@@ -137,12 +179,12 @@ class HeadingFeedback:
             return
         heading = self._imu_heading(imu_quaternion)
         plan = self._plan.torso_yaw_in_world
-        now = heading - (plan.item(min(frame, plan.size - 1)) - plan.item(0))
+        now = heading - (plan.item(min(frame, self._last_frame)) - plan.item(0))
         self._error_sum += now
         self._error_frames += 1
         for side in _SIDES:
-            land = self._lift_offs[side].get(frame)
-            if land is None:
+            ramp = self._ramps[side].get(frame)
+            if ramp is None:
                 continue
             step_mean = self._error_sum / self._error_frames
             error = (
@@ -153,30 +195,23 @@ class HeadingFeedback:
             self._last_step_mean, self._error_sum, self._error_frames = step_mean, 0.0, 0
             self.heading_error_rad[frame] = error
             g = self.gains
-            change = min(max(-g.gain_per_step * error, -g.max_change_per_step_rad),
-                         g.max_change_per_step_rad)  # fmt: skip
-            c = self.correction_rad + change
-            self.correction_rad = min(max(c, -g.max_correction_rad), g.max_correction_rad)
-            self._ramp(side, frame, land)
+            change = _clamp(-g.gain_per_step * error, g.max_change_per_step_rad)
+            self.correction_rad = _clamp(self.correction_rad + change, g.max_correction_rad)
+            self._ramp(ramp, side, frame)
 
-    def _ramp(self, side: str, lift: int, land: int) -> None:
+    def _ramp(self, views: _RampViews, side: str, lift: int) -> None:
         """This foot's offset: a cosine ramp to c over the swing, then c until the end.
 
-        Written in place (the ramps' shapes are made with the plan).
+        Written in place through views made with the plan, with the ramp's scalars in a 0-d
+        array (a Python float in a ufunc would become a numpy temporary).
         """
-        offset = self._offset[side]
-        start, goal = offset.item(lift), self.correction_rad
-        n = max(land - lift, 1)
-        shape = self._ramp_shapes[n]
-        m = min(n, offset.size - lift)
-        ramp = offset[lift : lift + m]
-        np.multiply(shape[:m], goal - start, out=ramp)
-        ramp += start
-        offset[lift + m :] = goal
-        plan, target = getattr(self._plan, side), getattr(self.targets, side)
-        np.add(plan.yaw_in_world[lift:], offset[lift:], out=target.yaw_in_world[lift:])
-        mean = self._mean[lift:]  # the torso turns by the feet's mean offset
-        np.add(self._offset["left"][lift:], self._offset["right"][lift:], out=mean)
-        mean *= 0.5
-        torso = self.targets.torso_yaw_in_world[lift:]
-        np.add(self._plan.torso_yaw_in_world[lift:], mean, out=torso)
+        start, goal, scalar = self._offset[side].item(lift), self.correction_rad, self._scalar
+        scalar[()] = goal - start
+        np.multiply(views.shape, scalar, out=views.ramp)
+        scalar[()] = start
+        np.add(views.ramp, scalar, out=views.ramp)
+        views.landed.fill(goal)
+        np.add(views.plan_yaw, views.offset, out=views.target_yaw)
+        np.add(views.left, views.right, out=views.mean)  # the torso turns by the feet's mean
+        np.multiply(views.mean, self._half, out=views.mean)
+        np.add(views.plan_torso, views.mean, out=views.target_torso)

@@ -40,8 +40,9 @@ bias (bounded by its 0.08 rad clamp).
 The IMU is assumed on the floating base (the root body), as on the built-in robots.
 
 A tick is real-time code: :meth:`KinematicStateEstimator.update` writes into arrays and views
-made at construction (``np.dot(..., out=)`` for the rotations, element access for the rest),
-so it makes no numpy temporaries and keeps nothing (``tests/walking/test_tick_allocations.py``).
+made at construction (``np.dot(..., out=)`` for the rotations, ``ndarray.put`` for the
+encoders, Python floats read and written element by element for the rest), so it creates no
+numpy array, view or scalar and keeps nothing (``tests/walking/test_tick_allocations.py``).
 """
 
 from __future__ import annotations
@@ -60,6 +61,7 @@ from zmpkit.walking.measurement import WalkMeasurement
 __all__ = ["KinematicStateEstimator"]
 
 _TWO_PI = 2.0 * math.pi
+_AXES = (0, 1, 2)
 
 
 def _site(model: mujoco.MjModel, name: str) -> int:
@@ -101,7 +103,7 @@ class KinematicStateEstimator:
         tau = _validate.non_negative("velocity_time_constant_s", velocity_time_constant_s, "s")
         self._blend = self.period_s / (tau + self.period_s)
         self.threshold_n = _validate.positive("contact_threshold_n", contact_threshold_n, "N")
-        self._qadr = np.array([self._qpos_address(name) for name in joint_names])
+        self._qadr = np.array([self._qpos_address(name) for name in joint_names], dtype=np.intp)
         self._coupled = self._coupled_joints(set(self._qadr.tolist()))
         self._sole = [_site(model, sole_sites[f]) for f in self.feet]
         self._sensor = [_site(model, sensor_sites[f]) for f in self.feet]
@@ -119,7 +121,6 @@ class KinematicStateEstimator:
         self._moment = np.zeros((f, 3))
         self._origin = np.zeros((f, 3))
         self._offset = np.zeros(3)
-        self._anchor = np.zeros(3)
         self._com = np.zeros(3)
         self.com_in_world = np.zeros(3)
         """Estimated CoM [m], shape (3,)."""
@@ -137,15 +138,11 @@ class KinematicStateEstimator:
         self._qpos = data.qpos
         self._base_position = data.qpos[:3]
         self._base_quaternion = data.qpos[3:7]
-        start = int(self._qadr[0]) if self._qadr.size else 0
-        contiguous = np.array_equal(self._qadr, np.arange(start, start + self._qadr.size))
-        self._joint_block = data.qpos[start : start + self._qadr.size] if contiguous else None
-        self._joint_addresses = self._qadr.tolist()
         self._force_in_sensor = np.zeros((f, 3))
         self._moment_in_sensor = np.zeros((f, 3))
-        self._rows = [
+        self._rows = [  # per foot: its index and the views a tick reads and writes
             (
-                data.site_xmat[sensor].reshape(3, 3), data.site_xmat[sole],
+                i, data.site_xmat[sensor].reshape(3, 3), data.site_xmat[sole],
                 data.site_xpos[sole], data.site_xpos[sensor],
                 self._force[i], self._moment[i], self._origin[i],
                 self._force_in_sensor[i], self._moment_in_sensor[i],
@@ -188,6 +185,23 @@ class KinematicStateEstimator:
                 coupled.append((follower, leader, c0, c1))
         return coupled
 
+    def _anchor_offset(self, planned_soles: NDArray[np.float64], total: float) -> None:
+        """Write the anchor offset Δ [m] of the feet in contact (module docstring).
+
+        ``total`` is their Σ F_z [N] (> 0). Summed in Python floats: no array per tick.
+        """
+        threshold, force_z = self.threshold_n, self.force_z_n
+        x = y = z = 0.0  # Σ F_z,i (ŝ_i - s_i)
+        for row in self._rows:
+            i, sole = row[0], row[3]
+            fz = force_z.item(i)
+            if fz >= threshold:
+                x += fz * (planned_soles.item(i, 0) - sole.item(0))
+                y += fz * (planned_soles.item(i, 1) - sole.item(1))
+                z += fz * (planned_soles.item(i, 2) - sole.item(2))
+        scale, offset = 1.0 / total, self._offset
+        offset[0], offset[1], offset[2] = x * scale, y * scale, z * scale
+
     def update(
         self,
         measurement: WalkMeasurement,
@@ -206,12 +220,7 @@ class KinematicStateEstimator:
         data, model, qpos = self.data, self.model, self._qpos
         self._base_position.fill(0.0)
         np.dot(self._times_imu_in_base, measurement.imu_quaternion, out=self._base_quaternion)
-        if self._joint_block is not None:
-            np.copyto(self._joint_block, measurement.q_meas_rad)
-        else:
-            q_meas = measurement.q_meas_rad
-            for j, address in enumerate(self._joint_addresses):
-                qpos[address] = q_meas.item(j)
+        qpos.put(self._qadr, measurement.q_meas_rad)  # the encoders' joints
         for follower, leader, c0, c1 in self._coupled:
             qpos[follower] = c0 + c1 * qpos.item(leader)
         mujoco.mj_kinematics(model, data)
@@ -220,8 +229,8 @@ class KinematicStateEstimator:
         np.copyto(self._moment_in_sensor, measurement.moment_in_sensor)
         threshold, force_z = self.threshold_n, self.force_z_n
         total = turn = 0.0
-        for i, row in enumerate(self._rows):
-            rotation, sole_xmat, _, _, force, moment, _, f_sensor, m_sensor = row
+        for row in self._rows:
+            i, rotation, sole_xmat, _, _, force, moment, _, f_sensor, m_sensor = row
             np.dot(rotation, f_sensor, out=force)  # R_i f_i, no temporaries
             np.dot(rotation, m_sensor, out=moment)
             fz = force.item(2)
@@ -233,28 +242,20 @@ class KinematicStateEstimator:
                     turn += fz * ((planned_yaw.item(i) - yaw + math.pi) % _TWO_PI - math.pi)
         if turn != 0.0 and total > 0.0:
             self._turn(turn / total)
-        offset = self._offset  # kept from the last tick without a foot in contact
-        if total > 0.0:
-            anchor = self._anchor  # Σ F_z,i (ŝ_i - s_i)
-            anchor.fill(0.0)
-            for i, row in enumerate(self._rows):
-                fz = force_z.item(i)
-                if fz >= threshold:
-                    sole_xpos = row[2]
-                    for axis in range(3):
-                        shift = planned_soles.item(i, axis) - sole_xpos.item(axis)
-                        anchor[axis] = anchor.item(axis) + fz * shift
-            np.multiply(anchor, 1.0 / total, out=offset)
+        if total > 0.0:  # else the offset is kept from the last tick with a foot in contact
+            self._anchor_offset(planned_soles, total)
+        offset = self._offset
         for row in self._rows:
-            np.add(row[3], offset, out=row[6])  # sensor origin, anchored
+            np.add(row[4], offset, out=row[7])  # sensor origin, anchored
         com = self._com
         np.add(self._root_com, offset, out=com)
         estimate, velocity = self.com_in_world, self.com_velocity_in_world
         if self._started:
             blend, period = self._blend, self.period_s
-            for axis in range(3):
+            for axis in _AXES:
                 rate = (com.item(axis) - estimate.item(axis)) / period
-                velocity[axis] += blend * (rate - velocity.item(axis))
+                v = velocity.item(axis)  # a float: ``velocity[axis]`` would be a numpy scalar
+                velocity[axis] = v + blend * (rate - v)
         self._started = True
         np.copyto(estimate, com)
         zmp = zmp_in_world_now(self._force, self._moment, self._origin, threshold)

@@ -45,6 +45,13 @@ from zmpkit.walking.cart_table import PreviewGains, cart_table_matrices
 
 __all__ = ["ObservedPreviewControl", "ZmpObserverParameters", "observer_gain", "observer_matrices"]
 
+_AXES = (0, 1)
+
+
+def _clamp(value: float, limit: float) -> float:
+    """``value`` clamped to ±``limit`` (a function call: ``min``/``max`` make objects)."""
+    return -limit if value < -limit else (limit if value > limit else value)
+
 
 @dataclass(frozen=True)
 class ZmpObserverParameters:
@@ -158,11 +165,8 @@ class ObservedPreviewControl:
         self._g_i = float(gains.integral_gain)
         self._g_x = [float(g) for g in gains.state_gain]
         reference = np.asarray(zmp_reference_in_world, dtype=np.float64)
-        self._n = reference.shape[0]
-        padding = np.repeat(reference[-1:], self._gp.size, axis=0)
-        self._reference = [  # per axis, contiguous, padded with the last value
-            np.ascontiguousarray(np.concatenate([reference, padding])[:, axis]) for axis in (0, 1)
-        ]
+        self._n, size = reference.shape[0], self._gp.size
+        self._last = self._n - 1  # the last period with a reference [-]
         self._l = self.gain.tolist()
         self._a3 = self._a[:3, :3].tolist()
         self._b3 = self._b[:3].tolist()
@@ -171,10 +175,29 @@ class ObservedPreviewControl:
         """Prior of the next period, rows x, y: c [m], ċ [m/s], c̈ [m/s²], d [m]."""
         self.state[:, :3] = initial_state_in_world
         self._error_sum = np.zeros(2)
-        self._y = np.zeros(2)
-        self._dot = np.zeros(())  # the preview sum, written in place
         self.jerk_in_world = np.zeros(2)
         """The jerk of the last period, (x, y) [m/s³]."""
+        self._init_buffers(reference, size)
+
+    def _init_buffers(self, reference: NDArray[np.float64], size: int) -> None:
+        """The arrays and views a period writes and reads, made once (a period makes none)."""
+        padded = self._n + size  # padded with the last value
+        self._reference_xy = np.empty((2, padded))
+        self._reference_xy[:, : self._n] = reference.T
+        self._reference_xy[:, self._n :] = reference[-1:].T
+        self._reference = [self._reference_xy[0], self._reference_xy[1]]
+        self._reference_flat = self._reference_xy.reshape(-1)
+        self._window_first = np.zeros((), dtype=np.intp)  # k
+        rows = np.array([[0], [padded]], dtype=np.intp)  # where x and y start in the flat array
+        self._window_offsets = rows + np.arange(size, dtype=np.intp)
+        self._window_index = np.empty((2, size), dtype=np.intp)
+        self._window = np.empty((2, size))  # p^ref_{k..k+size-1}, rows x, y
+        self._preview = np.zeros(2)  # Σ G_p(j) p^ref_{k+j}, x and y
+        self._window_rows = [self._window[0:1], self._window[1:2]]
+        self._preview_rows = [self._preview[0:1], self._preview[1:2]]
+        self._state_rows = [self.state[0], self.state[1]]
+        self._next_com = self.state[:, 0]
+        self._offset = self.state[:, 3]
 
     @property
     def reference_by_axis(self) -> list[NDArray[np.float64]]:
@@ -187,13 +210,17 @@ class ObservedPreviewControl:
 
     @property
     def offset_in_world(self) -> NDArray[np.float64]:
-        """The estimated ZMP offset d̂ (x, y) [m], a view."""
-        return self.state[:, 3]
+        """The estimated ZMP offset d̂ (x, y) [m], a view (the same one every time)."""
+        return self._offset
 
     def update(
         self, k: int, com_in_world: NDArray[np.float64], zmp_in_world: NDArray[np.float64]
     ) -> NDArray[np.float64]:
         """One period: correct with the measurements of period ``k`` and predict ``k + 1``.
+
+        Real-time code: it creates no numpy array, view or scalar (the preview window of both
+        axes is gathered into a buffer, every view is made at construction) and keeps nothing
+        (``tests/walking/test_tick_allocations.py``).
 
         Args:
             k: the period the measurements belong to [-].
@@ -203,37 +230,45 @@ class ObservedPreviewControl:
         Returns:
             The CoM (x, y) of period ``k + 1`` [m], a view of the prediction.
         """
-        limit, k = self.parameters.max_offset_m, min(k, self._n - 1)
+        limit, k = self.parameters.max_offset_m, min(k, self._last)
         clip = self.parameters.max_zmp_innovation_m
-        size, l_gain, g_x, zc_g = self._gp.size, self._l, self._g_x, self._zc_over_g
+        l_gain, g_x, zc_g = self._l, self._g_x, self._zc_over_g
         (a00, a01, a02), (_, a11, a12), (_, _, a22) = self._a3
         b0, b1, b2 = self._b3
-        dot = self._dot
-        for axis in (0, 1):
-            z = self.state[axis]
+        self._read_window(k)
+        for axis in _AXES:
+            z = self._state_rows[axis]
             c, v, a, d = z.item(0), z.item(1), z.item(2), z.item(3)
             zmp = zmp_in_world.item(axis)
             if math.isfinite(zmp):
                 e_c = com_in_world.item(axis) - c
                 e_p = zmp - (c - zc_g * a + d)
-                e_p = min(max(e_p, -clip), clip)
+                e_p = _clamp(e_p, clip)
                 c += l_gain[0][0] * e_c + l_gain[0][1] * e_p
                 v += l_gain[1][0] * e_c + l_gain[1][1] * e_p
                 a += l_gain[2][0] * e_c + l_gain[2][1] * e_p
                 d += l_gain[3][0] * e_c + l_gain[3][1] * e_p
-                d = min(max(d, -limit), limit)
-            reference = self._reference[axis]
-            np.dot(self._gp, reference[k : k + size], out=dot)  # Σ G_p(j) p^ref_{k+j}
-            error_sum = self._error_sum.item(axis) + (c - zc_g * a + d - reference.item(k))
+                d = _clamp(d, limit)
+            # Σ G_p(j) p^ref_{k+j}: a (1, n)·(n,) product is numpy's dot of two vectors
+            np.dot(self._window_rows[axis], self._gp, out=self._preview_rows[axis])
+            reference_k = self._reference_xy.item(axis, k)
+            error_sum = self._error_sum.item(axis) + (c - zc_g * a + d - reference_k)
             self._error_sum[axis] = error_sum
             jerk = (
                 -self._g_i * error_sum
                 - (g_x[0] * c + g_x[1] * v + g_x[2] * a)
-                - (dot.item() - d * self._gp_sum)
+                - (self._preview.item(axis) - d * self._gp_sum)
             )
             z[0] = a00 * c + a01 * v + a02 * a + b0 * jerk
             z[1] = a11 * v + a12 * a + b1 * jerk
             z[2] = a22 * a + b2 * jerk
             z[3] = d
             self.jerk_in_world[axis] = jerk
-        return self.state[:, 0]
+        return self._next_com
+
+    def _read_window(self, k: int) -> None:
+        """Copy p^ref of periods ``k .. k + size - 1`` of both axes into the window buffer."""
+        self._window_first[()] = k
+        np.add(self._window_offsets, self._window_first, out=self._window_index)
+        # k <= N - 1 keeps every index in range; mode 'raise' would copy the window first
+        self._reference_flat.take(self._window_index, out=self._window, mode="clip")
