@@ -193,6 +193,11 @@ def follower_spectral_radius(
     return float(np.max(np.abs(np.linalg.eigvals(transition))))
 
 
+def _clamp(value: float, limit: float) -> float:
+    """``value`` clamped to ±``limit`` (``min``/``max`` would make objects in the tick)."""
+    return -limit if value < -limit else (limit if value > limit else value)
+
+
 class DcmStabiliser:
     """The CoM correction ``Δc`` of the module docstring, one control period at a time.
 
@@ -260,6 +265,9 @@ class DcmStabiliser:
         self.error_state = np.zeros((2, 4))
         """Prior of the command error ε, rows x, y: ε_c [m], ε_v [m/s], ε_a [m/s²], d [m]."""
         self._integral = np.zeros(2)  # ∫ e dt [m·s]
+        self._axes = tuple(  # per axis: its index, its error state's row, the plan's floats
+            (axis, self.error_state[axis], self._ref_by_axis[axis]) for axis in (0, 1)
+        )
         self.dcm_error_in_world = np.full((self._n, 2), np.nan)
         """The DCM error ``e = ξ̂ - ξ^{ref}`` of each period [m], shape (N, 2)."""
         self.desired_zmp_in_world = np.full((self._n, 2), np.nan)
@@ -289,7 +297,8 @@ class DcmStabiliser:
         Returns:
             Δc (x, y) for period ``k + 1`` [m], a view.
         """
-        par, omega, dt, k = self.parameters, self.omega, self.period_s, min(k, self._n - 1)
+        k = k if k < self._n else self._n - 1  # (min makes an object)
+        par, omega, dt = self.parameters, self.omega, self.period_s
         omega2 = omega * omega
         accel_limit = omega2 * par.max_zmp_shift_m
         clip = par.observer.max_zmp_innovation_m
@@ -306,9 +315,7 @@ class DcmStabiliser:
         zc_g = self._zc_over_g
         shifts, rates = self.shift_in_world, self.shift_rate_in_world
         accels, integrals = self.shift_acceleration_in_world, self._integral
-        for axis in (0, 1):
-            c_ref, v_ref, a_ref, p_ref, dcm_ref = self._ref_by_axis[axis]
-            z = self.error_state[axis]
+        for axis, z, (c_ref, v_ref, a_ref, p_ref, dcm_ref) in self._axes:
             e_c, e_v, e_a, d = z.item(0), z.item(1), z.item(2), z.item(3)
             shift, rate = shifts.item(axis), rates.item(axis)
             c_cmd = c_ref[k] + shift
@@ -319,25 +326,25 @@ class DcmStabiliser:
             if has_zmp:
                 r_c = com_in_world.item(axis) - c_cmd - e_c
                 r_p = zmp - (c_cmd - zc_g * a_cmd) - (e_c - zc_g * e_a + d)
-                r_p = min(max(r_p, -clip), clip)
+                r_p = _clamp(r_p, clip)
                 e_c += l00 * r_c + l01 * r_p
                 e_v += l10 * r_c + l11 * r_p
                 e_a += l20 * r_c + l21 * r_p
                 d += l30 * r_c + l31 * r_p
-                d = min(max(d, -offset_limit), offset_limit)
+                d = _clamp(d, offset_limit)
             error = c_cmd + e_c + (v_cmd + e_v) / omega - dcm_ref[k]
             self.dcm_error_in_world[k, axis] = error
             excess = abs(error) - deadband
             error = math.copysign(excess, error) if excess > 0.0 else 0.0
             integral = integrals.item(axis) + error * dt
-            integral = min(max(integral, -integral_limit), integral_limit)
+            integral = _clamp(integral, integral_limit)
             integrals[axis] = integral
             accel = -omega * rate - omega * gain * (error + integral_gain * integral)
             if admittance > 0.0 and has_zmp:
                 zmp_error = zmp - (p_ref[k] - accel / omega2)
-                zmp_error = min(max(zmp_error, -admittance_clip), admittance_clip)
+                zmp_error = _clamp(zmp_error, admittance_clip)
                 accel += admittance * zmp_error
-            accel = min(max(accel, -accel_limit), accel_limit)
+            accel = _clamp(accel, accel_limit)
             self.desired_zmp_in_world[k, axis] = p_ref[k] - accel / omega2
             accels[axis] = accel
             rate += accel * dt
