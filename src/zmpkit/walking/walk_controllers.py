@@ -201,6 +201,16 @@ class _OnlineWalk:
         """The CoM each frame was commanded to [m], shape (N, 2)."""
         self.com_estimate_in_world = np.full((pattern.time_s.size, 2), np.nan)
         """The estimated CoM of each frame [m], shape (N, 2)."""
+        # What a tick reads and writes, made once (a tick makes no numpy object but the IK's).
+        self._frames = self._soles.shape[0]
+        end = self._frames - 1  # frame -> the frame before and the frame itself, clamped to
+        self._before = [min(f - 1, end) for f in range(self._frames + 1)]  # the plan's end:
+        self._clamped = [min(f, end) for f in range(self._frames + 1)]  # ints made once
+        self._sole_rows = list(self._soles)  # each frame's (F, 3) planned soles, a view
+        self._yaw_sources = tuple(enumerate(self._sole_yaws))
+        self._q_sources = tuple(enumerate(self.ik.qadr))  # (target index, qpos address)
+        self._q_targets = np.zeros(len(self.ik.qadr))
+        self._ik_qpos = self.ik.configuration.data.qpos  # the IK's own (mink's ``q`` copies)
 
     def _correct(self, frame: int) -> None:
         """Write the CoM target of ``frame`` into ``self.targets`` (estimates are current)."""
@@ -208,20 +218,27 @@ class _OnlineWalk:
 
     def step(self, frame: int, measurement: WalkMeasurement) -> NDArray[np.float64]:
         """Joint targets of ``frame`` [rad] from the readings of ``frame - 1``."""
-        last = min(frame - 1, self._soles.shape[0] - 1)
+        before, clamped = self._before, self._clamped
+        last = before[frame] if frame < len(before) else self._frames - 1
+        now = clamped[frame] if frame < len(clamped) else self._frames - 1
         yaw = None
         if YAW_FROM_FEET:
             yaw = self._yaw_now
-            for i, planned in enumerate(self._sole_yaws):
-                yaw[i] = planned[last]
-        self.estimator.update(measurement, self._soles[last], yaw)
-        self.com_estimate_in_world[last] = self.estimator.com_in_world[:2]
-        self.heading.update(min(frame, self._soles.shape[0] - 1), measurement.imu_quaternion)
+            for i, planned in self._yaw_sources:
+                yaw[i] = planned.item(last)
+        self.estimator.update(measurement, self._sole_rows[last], yaw)
+        com, estimates = self.estimator.com_in_world, self.com_estimate_in_world
+        estimates[last, 0], estimates[last, 1] = com.item(0), com.item(1)
+        self.heading.update(now, measurement.imu_quaternion)
         self._correct(frame)
-        self.com_target_in_world[frame] = self.targets.com_position_in_world[frame, :2]
+        targets, commanded = self.targets.com_position_in_world, self.com_target_in_world
+        commanded[frame, 0], commanded[frame, 1] = targets.item(frame, 0), targets.item(frame, 1)
         self.ik.set_targets(self.targets, frame)
         self.ik.solve(self.ik.settings.max_iterations, self.dt)
-        return self.ik.configuration.q[self.ik.qadr]
+        q, q_targets = self._ik_qpos, self._q_targets
+        for j, address in self._q_sources:  # element by element: take() makes temporaries
+            q_targets[j] = q.item(address)
+        return q_targets
 
 
 class ZmpIpWalk(_OnlineWalk):
@@ -274,9 +291,12 @@ class ZmpIpWalk(_OnlineWalk):
         adapter = self.reference_adapter
         if adapter is not None:
             adapter.adapt(frame - 1, est.zmp_in_world, self.control.reference_by_axis)
-        com = self.control.update(frame - 1, est.com_in_world, est.zmp_in_world)
-        self.offset_in_world[frame - 1] = self.control.offset_in_world
-        self.targets.com_position_in_world[frame, :2] = com
+        k = self._before[frame]  # frame - 1 (the walk's frames are the plan's)
+        com = self.control.update(k, est.com_in_world, est.zmp_in_world)
+        offset, offsets = self.control.offset_in_world, self.offset_in_world
+        offsets[k, 0], offsets[k, 1] = offset.item(0), offset.item(1)
+        targets = self.targets.com_position_in_world
+        targets[frame, 0], targets[frame, 1] = com.item(0), com.item(1)
 
 
 class DcmWalk(_OnlineWalk):
@@ -327,18 +347,19 @@ class DcmWalk(_OnlineWalk):
 
     def step(self, frame: int, measurement: WalkMeasurement) -> NDArray[np.float64]:
         """Joint targets of ``frame`` [rad]: the IK's, with the ankles' CoP tracking added."""
-        q = super().step(frame, measurement)
+        q = _OnlineWalk.step(self, frame, measurement)  # (super() would make an object)
         if self.foot_damping is not None:
             self.foot_damping.apply(q)
         return q
 
     def _correct(self, frame: int) -> None:
-        k = frame - 1
+        k = self._before[frame]  # frame - 1 (the walk's frames are the plan's)
         est = self.estimator
         zmp = est.zmp_in_world
         shift = self.stabiliser.update(k, est.com_in_world, zmp)
-        com = self.pattern.com.com_position_in_world[frame]
-        np.add(com, shift, out=self.targets.com_position_in_world[frame, :2])
+        plan, targets = self.pattern.com.com_position_in_world, self.targets.com_position_in_world
+        targets[frame, 0] = plan.item(frame, 0) + shift.item(0)
+        targets[frame, 1] = plan.item(frame, 1) + shift.item(1)
         if self.foot_damping is not None:
             np.subtract(self.desired_zmp_in_world[k], zmp, out=self._zmp_error)
             for i, yaws in enumerate(self._sole_yaws):
