@@ -469,7 +469,7 @@ def test_device_square_error_is_the_host_sum_of_the_same_rows(nao) -> None:
     se = QposSquareError(columns, steps, targets, quantum)
     group = [0, 1, 1]
     out = rollout_warp(
-        pair(model) + [model],
+        [*pair(model), model],
         state,
         sequences,
         device="cpu",

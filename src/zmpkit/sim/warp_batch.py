@@ -373,8 +373,10 @@ def _kernels() -> dict[str, Any]:
             q = wp.float64(qpos[world, columns[j]])
             if quantum[j] > wp.float64(0.0):
                 q = wp.round(q / quantum[j]) * quantum[j]
-            d = q - target[g, row, j]
-            s = s + d * d
+            y = target[g, row, j]
+            if wp.isfinite(y):
+                d = q - y
+                s = s + d * d
         total[world] = total[world] + s
 
     @wp.kernel(enable_backward=False)

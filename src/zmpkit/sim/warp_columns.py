@@ -86,14 +86,16 @@ class QposSquareError:
 
     .. math:: S = \sum_k \sum_j \bigl(Q_j(q_{c_j}(s_{g,k})) - y_{g,k,j}\bigr)^2
 
-    where :math:`Q_j` rounds to a multiple of ``quantum[j]`` (an encoder; 0 leaves it exact).
-    The float32 ``qpos`` is widened to float64 before it is quantised; the sum is float64.
+    where :math:`Q_j` rounds to a multiple of ``quantum[j]`` (an encoder; 0 leaves it exact)
+    and a NaN target leaves its term out (a column a group does not compare). The float32
+    ``qpos`` is widened to float64 before it is quantised; the sum is float64.
 
     Attributes:
         columns: ``(J,)`` the qpos columns compared [-].
         steps: per control group, ``(R_g,)`` the steps (1 is after the first) of its target
             rows, increasing.
-        targets: per control group, ``(R_g, J)`` the targets [qpos units, rad for hinges].
+        targets: per control group, ``(R_g, J)`` the targets [qpos units, rad for hinges];
+            NaN where not compared.
         quantum: ``(J,)`` each column's quantisation step [qpos units]; 0 = exact.
     """
 
