@@ -36,6 +36,7 @@ from numpy.typing import NDArray
 
 from zmpkit.errors import ParameterError
 from zmpkit.sim.sensing import sample_series
+from zmpkit.sim.solver_settings import SolverSettings
 from zmpkit.sim.world import DIVERGED_SPEED_RAD_S, Simulation
 from zmpkit.simfit.batch_rows import BatchRows
 from zmpkit.simfit.cost import CostTerms, experiment_cost, experiment_cost_of_parts
@@ -117,6 +118,7 @@ def simulate_batches_warp(
     truths: Sequence[RobotTruth],
     effects: str,
     device: str,
+    solver: SolverSettings | None = None,
 ) -> list[list[RecordedSignals]]:
     """Every candidate in every experiment, all in one MuJoCo Warp batch (per model layout).
 
@@ -130,6 +132,8 @@ def simulate_batches_warp(
         effects: effect letters switched on, e.g. ``"M,G,S"``.
         device: the Warp device (``"cuda:0"``; ``"cpu"`` for testing; ``""`` for Warp's
             default).
+        solver: constraint-solver settings for the batch (after the pose); None keeps the
+            models' own.
 
     Returns:
         Per experiment, per candidate, the float32 approximation of what
@@ -142,7 +146,7 @@ def simulate_batches_warp(
             return simulate_experiment(experiment, truths[c], effects)
         return part.rows.signals(i)
 
-    return _warp_batches(experiments, truths, effects, device, signals, on_device=False)
+    return _warp_batches(experiments, truths, effects, device, signals, False, solver)
 
 
 def costs_batches_warp(
@@ -151,6 +155,7 @@ def costs_batches_warp(
     effects: str,
     device: str,
     keep_zmp_mean: bool = False,
+    solver: SolverSettings | None = None,
 ) -> list[list[CostTerms]]:
     """The cost terms of every candidate in every experiment, from one MuJoCo Warp batch.
 
@@ -167,6 +172,8 @@ def costs_batches_warp(
         device: the Warp device (``"cuda:0"``; ``"cpu"`` for testing; ``""`` for Warp's
             default).
         keep_zmp_mean: charge the mean ZMP difference too (:mod:`~zmpkit.simfit.cost`).
+        solver: constraint-solver settings for the batch (after the pose); None keeps the
+            models' own.
 
     Returns:
         Per experiment, per candidate, the cost terms.
@@ -183,7 +190,7 @@ def costs_batches_warp(
             experiment.signals, len(tilt), square, zmp, tilt, keep_zmp_mean
         )
 
-    return _warp_batches(experiments, truths, effects, device, cost, on_device=True)
+    return _warp_batches(experiments, truths, effects, device, cost, True, solver)
 
 
 _Out = TypeVar("_Out")
@@ -196,16 +203,22 @@ def _warp_batches(
     device: str,
     result: Callable[[_WarpPart, int, int], _Out],
     on_device: bool,
+    solver: SolverSettings | None,
 ) -> list[list[_Out]]:
     """Every (experiment, candidate) in one batch per model layout; ``result`` of each.
 
-    ``result(part, i, c)``: the output of the part's ``i``-th world, candidate ``c``.
+    ``result(part, i, c)``: the output of the part's ``i``-th world, candidate ``c``;
+    ``on_device``: record only the cost's columns and sum the joint term on the device;
+    ``solver``: set on every posed model.
     """
     if not truths or not experiments:
         return [[] for _ in experiments]
     parts = []
     for experiment in experiments:
         sims = [posed_simulation(experiment, truth, effects) for truth in truths]
+        if solver is not None:
+            for sim in sims:
+                solver.apply(sim.model)
         parts.append((experiment, sims, open_loop_schedule(experiment, sims[0])))
     worlds = [(e, c) for e in range(len(parts)) for c in range(len(truths))]
     out: list[list[_Out | None]] = [[None] * len(truths) for _ in parts]
