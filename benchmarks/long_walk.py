@@ -1,9 +1,9 @@
 """A full-length recorded walk and candidates around its hidden truth, for the Warp benchmarks.
 
-One 10 s walk at 0.2 m/s of the virtual NAO (the fit's tests' robot), recorded with every effect (M, I, G, F and S) from the hidden
-truth of the fit's tests (PID gain scale, gear stiffness moved by ``SEED``); candidates
-are that truth scaled by a few factors (near-optimal: within 3 %; farther: 10 %, 20 %)
-and the nominal values.
+One 10 s walk at 0.2 m/s of the virtual NAO (the fit's tests' robot), recorded with every
+effect (M, I, G, F and S) from the hidden truth of the fit's tests (PID gain scale, gear
+stiffness, moved by ``SEED``); the candidates are that truth scaled by a few factors
+(near-optimal: within 3 %; farther: 10 %, 20 %) and the nominal values.
 """
 
 from __future__ import annotations
