@@ -430,3 +430,59 @@ def test_all_experiments_and_candidates_in_one_batch(tmp_path) -> None:
             assert len(a.time_s) > 0
             for f in dataclasses.fields(a):
                 np.testing.assert_array_equal(getattr(a, f.name), getattr(b, f.name), f.name)
+
+
+@pytest.mark.needs_warp
+def test_chosen_columns_are_those_of_the_full_records(nao) -> None:
+    model, state, control = nao
+    records = ("qpos", "sensordata", "site_xpos", "site_xmat")
+    full = rollout_warp(pair(model), state, control[:20], 4, "cpu", record=records)
+    columns = {"qpos": [2], "sensordata": [5, 0, 1], "site_xpos": [1], "site_xmat": [1, 0]}
+    some = rollout_warp(pair(model), state, control[:20], 4, "cpu", record=records, columns=columns)
+    np.testing.assert_array_equal(some.records["qpos"], full.records["qpos"][:, :, [2]])
+    np.testing.assert_array_equal(some.sensordata, full.sensordata[:, :, [5, 0, 1]])
+    np.testing.assert_array_equal(some.records["site_xpos"], full.records["site_xpos"][:, :, 3:6])
+    xmat = full.records["site_xmat"]
+    np.testing.assert_array_equal(
+        some.records["site_xmat"], np.concatenate([xmat[:, :, 9:18], xmat[:, :, 0:9]], axis=2)
+    )
+    assert some.square_error is None
+
+
+@pytest.mark.needs_warp
+def test_device_square_error_is_the_host_sum_of_the_same_rows(nao) -> None:
+    """Two control groups, quantised and exact columns: the per-world sum accumulated on the
+    device equals numpy's over the recorded qpos of the same rollout.
+
+    Both widen the same float32 qpos to float64 and sum in float64; only the order of the
+    additions differs, so they agree to float64 rounding (1e-12 relative; measured 0 on
+    Warp's CPU device), far inside float32's 6e-8.
+    """
+    from zmpkit.sim.warp_batch import QposSquareError
+
+    model, state, control = nao
+    sequences = np.stack([control[:40], -control[:40]])
+    columns, quantum = (7, 8, 12), (2e-5, 0.0, 2e-5)
+    steps = (np.array([3, 10, 25, 40]), np.array([1, 2, 39]))
+    rng = np.random.default_rng(0)
+    targets = tuple(rng.normal(0.0, 0.02, (len(s), 3)) for s in steps)
+    se = QposSquareError(columns, steps, targets, quantum)
+    group = [0, 1, 1]
+    out = rollout_warp(
+        [*pair(model), model],
+        state,
+        sequences,
+        device="cpu",
+        record=("qpos",),
+        control_group=group,
+        square_error=se,
+    )
+    assert out.square_error is not None
+    q = out.records["qpos"][:, :, list(columns)]
+    step = np.array(quantum)
+    q = np.where(step > 0, np.round(q / np.where(step > 0, step, 1.0)) * step, q)
+    for world, g in enumerate(group):
+        rows = steps[g] - 1
+        host = np.sum((q[world, rows] - targets[g]) ** 2)
+        assert host > 0.0
+        np.testing.assert_allclose(out.square_error[world], host, rtol=1e-12, atol=0)

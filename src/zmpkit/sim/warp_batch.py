@@ -5,8 +5,11 @@ controls shared by every batch item, with only the rows and the arrays asked for
 row ``k`` of the outputs is taken after step ``steps[k]`` (every ``record_every``-th step,
 or the explicit ``record_steps``), and holds the arrays named in ``record`` (the full
 ``mjSTATE_FULLPHYSICS`` state, ``qpos``, ``qvel``, ``act``, ``sensordata``, and the site
-kinematics ``site_xpos``/``site_xmat``, which lag one step as after ``mj_step``). The
-rows are written on the device inside the step loop; nothing else leaves it.
+kinematics ``site_xpos``/``site_xmat``, which lag one step as after ``mj_step``), each
+limited to the ``columns`` asked for. The rows are written on the device inside the step
+loop; nothing else leaves it. A sum of squared qpos errors against targets at given steps
+(:class:`QposSquareError`, a fit's joint term) can be accumulated per world on the device
+instead, so that one number per world comes back.
 The models are one MJCF with different parameters (a CMA-ES generation's candidates);
 the fields in which they differ become per-world ("batched") MuJoCo Warp model arrays.
 Runs on a CUDA device (the point) or on Warp's CPU device (tests); ``pip install
@@ -51,6 +54,12 @@ from numpy.typing import NDArray
 
 from zmpkit.errors import ModelError, ParameterError
 from zmpkit.sim.warp_cache import configure_kernel_cache
+from zmpkit.sim.warp_columns import (
+    PER_COLUMN,
+    QposSquareError,
+    check_square_error,
+    record_columns,
+)
 from zmpkit.sim.warp_model import (
     assign_per_world,
     batched_fields,
@@ -64,6 +73,7 @@ from zmpkit.sim.world import DIVERGED_SPEED_RAD_S
 __all__ = [
     "DEFAULT_STEPS_PER_LAUNCH",
     "RECORDABLE",
+    "QposSquareError",
     "WarpRollout",
     "clear_warp_cache",
     "rollout_warp",
@@ -104,6 +114,8 @@ class WarpRollout:
             iteration limit at least once (as CPU MuJoCo's unconverged solver: tolerated).
         batched_fields: model fields given per world (``opt.`` prefix for options).
         device: the Warp device that ran it, e.g. ``"cuda:0"`` or ``"cpu"``.
+        square_error: ``(nbatch,)`` the sum of the ``square_error`` asked for, per world
+            (float64, accumulated on the device; NaN or garbage past a divergence), or None.
     """
 
     records: Mapping[str, NDArray[np.float64]]
@@ -113,6 +125,7 @@ class WarpRollout:
     solver_capped: NDArray[np.bool_]
     batched_fields: tuple[str, ...]
     device: str
+    square_error: NDArray[np.float64] | None = None
 
     @property
     def state(self) -> NDArray[np.float64]:
@@ -298,6 +311,7 @@ def _kernels() -> dict[str, Any]:
     @wp.kernel(enable_backward=False)
     def record(
         source: wp.array2d(dtype=float),  # type: ignore[valid-type]  # Warp's kernel DSL
+        columns: wp.array(dtype=wp.int32),  # type: ignore[valid-type]  # Warp's kernel DSL
         counter: wp.array(dtype=wp.int32),  # type: ignore[valid-type]  # Warp's kernel DSL
         row_of_step: wp.array(dtype=wp.int32),  # type: ignore[valid-type]  # Warp's kernel DSL
         out: wp.array3d(dtype=float),  # type: ignore[valid-type]  # Warp's kernel DSL
@@ -305,11 +319,12 @@ def _kernels() -> dict[str, Any]:
         world, i = wp.tid()
         row = row_of_step[counter[0]]
         if row >= 0:
-            out[row, world, i] = source[world, i]
+            out[row, world, i] = source[world, columns[i]]
 
     @wp.kernel(enable_backward=False)
     def record_vec3(
         source: wp.array2d(dtype=wp.vec3),  # type: ignore[valid-type]  # Warp's kernel DSL
+        columns: wp.array(dtype=wp.int32),  # type: ignore[valid-type]  # Warp's kernel DSL
         counter: wp.array(dtype=wp.int32),  # type: ignore[valid-type]  # Warp's kernel DSL
         row_of_step: wp.array(dtype=wp.int32),  # type: ignore[valid-type]  # Warp's kernel DSL
         out: wp.array3d(dtype=float),  # type: ignore[valid-type]  # Warp's kernel DSL
@@ -317,13 +332,14 @@ def _kernels() -> dict[str, Any]:
         world, i = wp.tid()
         row = row_of_step[counter[0]]
         if row >= 0:
-            v = source[world, i]
+            v = source[world, columns[i]]
             for k in range(3):
                 out[row, world, 3 * i + k] = v[k]
 
     @wp.kernel(enable_backward=False)
     def record_mat33(
         source: wp.array2d(dtype=wp.mat33),  # type: ignore[valid-type]  # Warp's kernel DSL
+        columns: wp.array(dtype=wp.int32),  # type: ignore[valid-type]  # Warp's kernel DSL
         counter: wp.array(dtype=wp.int32),  # type: ignore[valid-type]  # Warp's kernel DSL
         row_of_step: wp.array(dtype=wp.int32),  # type: ignore[valid-type]  # Warp's kernel DSL
         out: wp.array3d(dtype=float),  # type: ignore[valid-type]  # Warp's kernel DSL
@@ -331,10 +347,37 @@ def _kernels() -> dict[str, Any]:
         world, i = wp.tid()
         row = row_of_step[counter[0]]
         if row >= 0:
-            m = source[world, i]
+            m = source[world, columns[i]]
             for r in range(3):
                 for c in range(3):
                     out[row, world, 9 * i + 3 * r + c] = m[r, c]
+
+    @wp.kernel(enable_backward=False)
+    def square_error(
+        qpos: wp.array2d(dtype=float),  # type: ignore[valid-type]  # Warp's kernel DSL
+        columns: wp.array(dtype=wp.int32),  # type: ignore[valid-type]  # Warp's kernel DSL
+        quantum: wp.array(dtype=wp.float64),  # type: ignore[valid-type]  # Warp's kernel DSL
+        group: wp.array(dtype=wp.int32),  # type: ignore[valid-type]  # Warp's kernel DSL
+        counter: wp.array(dtype=wp.int32),  # type: ignore[valid-type]  # Warp's kernel DSL
+        row_of_step: wp.array2d(dtype=wp.int32),  # type: ignore[valid-type]  # Warp's kernel DSL
+        target: wp.array3d(dtype=wp.float64),  # type: ignore[valid-type]  # Warp's kernel DSL
+        total: wp.array(dtype=wp.float64),  # type: ignore[valid-type]  # Warp's kernel DSL
+    ):
+        world = wp.tid()
+        g = group[world]
+        row = row_of_step[g, counter[0]]
+        if row < 0:
+            return
+        s = wp.float64(0.0)
+        for j in range(columns.shape[0]):
+            q = wp.float64(qpos[world, columns[j]])
+            if quantum[j] > wp.float64(0.0):
+                q = wp.round(q / quantum[j]) * quantum[j]
+            y = target[g, row, j]
+            if wp.isfinite(y):
+                d = q - y
+                s = s + d * d
+        total[world] = total[world] + s
 
     @wp.kernel(enable_backward=False)
     def advance(counter: wp.array(dtype=wp.int32)):  # type: ignore[valid-type]  # Warp's kernel DSL
@@ -346,22 +389,9 @@ def _kernels() -> dict[str, Any]:
         "record": record,
         "record_vec3": record_vec3,
         "record_mat33": record_mat33,
+        "square_error": square_error,
         "advance": advance,
     }
-
-
-def _width(model: mujoco.MjModel, name: str) -> int:
-    """Columns of the recorded array ``name`` (:data:`RECORDABLE`)."""
-    widths = {
-        "state": mujoco.mj_stateSize(model, _FULL),
-        "qpos": model.nq,
-        "qvel": model.nv,
-        "act": model.na,
-        "sensordata": model.nsensordata,
-        "site_xpos": 3 * model.nsite,
-        "site_xmat": 9 * model.nsite,
-    }
-    return widths[name]
 
 
 @dataclass(frozen=True)
@@ -377,9 +407,22 @@ class _Plan:
     counter: Any
     first_bad: Any
     outputs: dict[str, Any]
+    columns: dict[str, Any]
     scratch: Any
     every_world: Any
+    square: "_SquarePlan | None"
     graphs: dict[int, Any] = field(default_factory=dict)
+
+
+@dataclass(frozen=True)
+class _SquarePlan:
+    """Device buffers of a :class:`QposSquareError`."""
+
+    columns: Any
+    quantum: Any
+    row_of_step: Any
+    target: Any
+    total: Any
 
 
 @dataclass(frozen=True)
@@ -432,16 +475,35 @@ def _session(
 
 
 def _plan(
-    wp: Any, session: _Session, ngroup: int, nstep: int, nrec: int, records: tuple[str, ...]
+    wp: Any,
+    session: _Session,
+    ngroup: int,
+    nstep: int,
+    nrec: int,
+    columns: dict[str, tuple[int, ...]],
+    square_shape: tuple[int, int] | None,
 ) -> _Plan:
-    """The cached buffers for ``ngroup`` control sequences of ``nstep`` steps, ``nrec`` rows."""
+    """The cached buffers for ``ngroup`` control sequences of ``nstep`` steps, ``nrec`` rows.
+
+    ``square_shape``: (target rows, columns) of a :class:`QposSquareError`, or None.
+    """
     template, nworld = session.template, session.d.nworld
-    key = (ngroup, nstep, nrec, records)
+    key = (ngroup, nstep, nrec, tuple(columns.items()), square_shape)
     plan = session.plans.get(key)
     if plan is not None:
         session.plans.move_to_end(key)
         return plan
     nstate = mujoco.mj_stateSize(template, _FULL)
+    square = None
+    if square_shape is not None:
+        rows, j = square_shape
+        square = _SquarePlan(
+            columns=wp.zeros(j, dtype=wp.int32),
+            quantum=wp.zeros(j, dtype=wp.float64),
+            row_of_step=wp.zeros((ngroup, nstep), dtype=wp.int32),
+            target=wp.zeros((ngroup, rows, j), dtype=wp.float64),
+            total=wp.zeros(nworld, dtype=wp.float64),
+        )
     plan = _Plan(
         control=wp.zeros((ngroup, nstep, max(template.nu, 1)), dtype=float),
         group=wp.zeros(nworld, dtype=wp.int32),
@@ -449,10 +511,16 @@ def _plan(
         counter=wp.zeros(1, dtype=wp.int32),
         first_bad=wp.zeros(nworld, dtype=wp.int32),
         outputs={
-            name: wp.zeros((nrec, nworld, _width(template, name)), dtype=float) for name in records
+            name: wp.zeros((nrec, nworld, len(cols) * PER_COLUMN.get(name, 1)), dtype=float)
+            for name, cols in columns.items()
         },
-        scratch=wp.zeros((nworld, nstate), dtype=float) if "state" in records else None,
+        columns={
+            name: wp.array(np.asarray(cols, dtype=np.int32), dtype=wp.int32)
+            for name, cols in columns.items()
+        },
+        scratch=wp.zeros((nworld, nstate), dtype=float) if "state" in columns else None,
         every_world=wp.ones(nworld, dtype=bool),  # get_state would allocate it per call
+        square=square,
     )
     session.plans[key] = plan
     while len(session.plans) > _MAX_PLANS:
@@ -472,16 +540,17 @@ def _one_step(wp: Any, mjw: Any, session: _Session, plan: _Plan) -> Callable[[],
         "sensordata": d.sensordata,
         "state": plan.scratch,
     }
-    nsite = session.template.nsite
-    launches = []  # (kernel, source, output, columns launched)
+    launches = []  # (kernel, source, columns, output, columns launched)
     for name, out in plan.outputs.items():
+        cols = plan.columns[name]
         if name == "site_xpos":
-            launches.append((k["record_vec3"], d.site_xpos, out, nsite))
+            launches.append((k["record_vec3"], d.site_xpos, cols, out, cols.shape[0]))
         elif name == "site_xmat":
-            launches.append((k["record_mat33"], d.site_xmat, out, nsite))
+            launches.append((k["record_mat33"], d.site_xmat, cols, out, cols.shape[0]))
         else:
-            launches.append((k["record"], sources[name], out, out.shape[2]))
+            launches.append((k["record"], sources[name], cols, out, cols.shape[0]))
     limit, never = wp.float64(DIVERGED_SPEED_RAD_S), wp.int32(_NEVER)
+    sq = plan.square
 
     def step() -> None:
         if nu:
@@ -500,14 +569,29 @@ def _one_step(wp: Any, mjw: Any, session: _Session, plan: _Plan) -> Callable[[],
         )
         if plan.scratch is not None:
             mjw.get_state(m, d, plan.scratch, _FULL, plan.every_world)
-        for kernel, source, out, columns in launches:
-            if not columns:
+        for kernel, source, cols, out, ncols in launches:
+            if not ncols:
                 continue
             wp.launch(
                 kernel,
-                dim=(nworld, columns),
-                inputs=[source, plan.counter, plan.row_of_step],
+                dim=(nworld, ncols),
+                inputs=[source, cols, plan.counter, plan.row_of_step],
                 outputs=[out],
+            )
+        if sq is not None:
+            wp.launch(
+                k["square_error"],
+                dim=nworld,
+                inputs=[
+                    d.qpos,
+                    sq.columns,
+                    sq.quantum,
+                    plan.group,
+                    plan.counter,
+                    sq.row_of_step,
+                    sq.target,
+                ],
+                outputs=[sq.total],
             )
         wp.launch(k["advance"], dim=1, inputs=[plan.counter])
 
@@ -567,6 +651,8 @@ def rollout_warp(
     control_group: NDArray[Any] | Sequence[int] | None = None,
     nconmax: int | None = None,
     njmax: int | None = None,
+    columns: Mapping[str, Sequence[int]] | None = None,
+    square_error: QposSquareError | None = None,
 ) -> WarpRollout:
     """Roll out every model from its state under open-loop control sequences, batched.
 
@@ -592,6 +678,13 @@ def rollout_warp(
             (``None``: item ``i`` runs sequence ``i``).
         nconmax: contacts per world to allocate (MuJoCo Warp's default if ``None``).
         njmax: constraint rows per world to allocate (MuJoCo Warp's default if ``None``).
+        columns: per recorded name, the columns each row keeps, in this order (entries of
+            ``qpos``, ``qvel``, ``act``, ``sensordata``; sites of ``site_xpos`` and
+            ``site_xmat``, 3 and 9 values each); a name left out keeps every column
+            (``state`` always does).
+        square_error: a sum of squared qpos errors to accumulate per world on the device,
+            every step (:class:`QposSquareError`); returned as
+            :attr:`WarpRollout.square_error`.
 
     Returns:
         The recorded rows: row ``k`` is after step ``steps[k]``.
@@ -611,16 +704,22 @@ def rollout_warp(
     )
     steps = _record_steps(ctrl.shape[1], record_every, record_steps)
     records = _check_records(record, steps_per_launch)
+    kept = record_columns(template, records, columns)
     state0 = np.broadcast_to(state0, (len(models), state0.shape[-1]))
     check_supported(mjw, template)
     fields = batched_fields(mjw, models)
     nstep = int(steps[-1])
     row_of_step = np.full(nstep, -1, dtype=np.int32)
     row_of_step[steps - 1] = np.arange(len(steps), dtype=np.int32)
+    check_square_error(square_error, template, len(ctrl), nstep)
+    square_shape = None
+    if square_error is not None:
+        square_targets = square_error.padded_targets()
+        square_shape = (square_targets.shape[1], square_targets.shape[2])
     with wp.ScopedDevice(_device(wp, device)):
         name = str(wp.get_device())
         session = _session(wp, mjw, models, fields, name, nconmax, njmax)
-        plan = _plan(wp, session, len(ctrl), nstep, len(steps), records)
+        plan = _plan(wp, session, len(ctrl), nstep, len(steps), kept, square_shape)
         m, d = session.m, session.d
         mjw.reset_data(m, d)
         mjw.set_state(m, d, wp.array(np.ascontiguousarray(state0), dtype=float), _FULL)
@@ -630,11 +729,19 @@ def rollout_warp(
         plan.row_of_step.assign(row_of_step)
         plan.counter.zero_()
         plan.first_bad.fill_(_NEVER)
+        if square_error is not None and plan.square is not None:
+            sq = plan.square
+            sq.columns.assign(np.asarray(square_error.columns, dtype=np.int32))
+            sq.quantum.assign(np.asarray(square_error.quantum, dtype=np.float64))
+            sq.row_of_step.assign(square_error.row_of_step(nstep))
+            sq.target.assign(square_targets)
+            sq.total.zero_()
         _run_steps(wp, _one_step(wp, mjw, session, plan), plan, nstep, int(steps_per_launch))
         wp.synchronize_device()
         out = {k: v.numpy() for k, v in plan.outputs.items()}
         first_bad = plan.first_bad.numpy()
         overflow = d.overflow.numpy()
+        total = None if plan.square is None else plan.square.total.numpy()
     recorded = {
         k: np.ascontiguousarray(v.transpose(1, 0, 2), dtype=np.float64) for k, v in out.items()
     }
@@ -644,4 +751,4 @@ def rollout_warp(
         recorded["state"][:, :, 0] = time
     valid = _valid_rows(first_bad, steps)
     capped = _overflow_check(mjw, overflow, valid == len(steps))
-    return WarpRollout(recorded, steps, time, valid, capped, fields, name)
+    return WarpRollout(recorded, steps, time, valid, capped, fields, name, total)

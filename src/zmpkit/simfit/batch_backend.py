@@ -7,9 +7,10 @@ physics step. The costs are those of the serial backend, bit for bit (tested).
 
 With ``warp_device`` the batch runs on MuJoCo Warp instead (``pip install 'zmpkit[gpu]'``;
 backend ``"warp"``): all experiments x candidates of a generation stepped together in one
-batch on a GPU (:func:`~zmpkit.simfit.batched.simulate_batches_warp`), many steps per graph
-launch, only the rows the signals read recorded on the device, the Warp model kept between
-generations (:mod:`zmpkit.sim.warp_batch`); float32 physics, so the costs approximate the
+batch on a GPU (:func:`~zmpkit.simfit.batched.costs_batches_warp`), many steps per graph
+launch, only the rows and columns the cost reads recorded on the device and the joint term
+summed there, the Warp model kept between generations (:mod:`zmpkit.sim.warp_batch`);
+float32 physics, so the costs approximate the
 serial backend's (on the test walk within 0.1 % for candidates that walk, and the same fall
 frame for one that falls).
 """
@@ -21,7 +22,7 @@ from collections.abc import Sequence
 import numpy as np
 
 from zmpkit.errors import ParameterError
-from zmpkit.simfit.batched import simulate_batch, simulate_batches_warp
+from zmpkit.simfit.batched import costs_batches_warp, simulate_batch
 from zmpkit.simfit.cost import CostTerms, experiment_cost
 from zmpkit.simfit.parameters import ParameterValues
 from zmpkit.simfit.problem import FitProblem
@@ -53,18 +54,22 @@ class BatchEvaluator:
         problem = self.problem
         truths = [problem.truth(np.asarray(c, dtype=float).tolist()) for c in candidates]
         if self.warp_device is not None:  # every experiment x candidate in one batch
-            per_experiment = simulate_batches_warp(
-                problem.experiments, truths, problem.sim_effects, self.warp_device
+            per_experiment = costs_batches_warp(
+                problem.experiments,
+                truths,
+                problem.sim_effects,
+                self.warp_device,
+                problem.keeps_zmp_mean,
             )
-        else:
-            per_experiment = [
-                simulate_batch(experiment, truths, problem.sim_effects, self.threads)
-                for experiment in problem.experiments
-            ]
+            return [[terms[c] for terms in per_experiment] for c in range(len(candidates))]
+        simulated = [
+            simulate_batch(experiment, truths, problem.sim_effects, self.threads)
+            for experiment in problem.experiments
+        ]
         return [
             [
-                experiment_cost(experiment.signals, simulated[c], problem.keeps_zmp_mean)
-                for experiment, simulated in zip(problem.experiments, per_experiment, strict=True)
+                experiment_cost(experiment.signals, signals[c], problem.keeps_zmp_mean)
+                for experiment, signals in zip(problem.experiments, simulated, strict=True)
             ]
             for c in range(len(candidates))
         ]

@@ -25,8 +25,9 @@ not in the serial path) is re-run on the serial path.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
-from dataclasses import dataclass
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+from typing import TypeVar
 
 import mujoco
 import mujoco.batch
@@ -35,8 +36,11 @@ from numpy.typing import NDArray
 
 from zmpkit.errors import ParameterError
 from zmpkit.sim.sensing import sample_series
+from zmpkit.sim.solver_settings import SolverSettings
 from zmpkit.sim.world import DIVERGED_SPEED_RAD_S, Simulation
 from zmpkit.simfit.batch_rows import BatchRows
+from zmpkit.simfit.cost import CostTerms, experiment_cost, experiment_cost_of_parts
+from zmpkit.simfit.cost_columns import CostColumns, cost_columns, joint_square_error
 from zmpkit.simfit.experiments import Experiment
 from zmpkit.simfit.open_loop import (
     OpenLoopSchedule,
@@ -47,7 +51,13 @@ from zmpkit.simfit.recorded import RecordedSignals
 from zmpkit.simfit.rollout import simulate_experiment
 from zmpkit.simfit.truth_doc import RobotTruth
 
-__all__ = ["CHUNK_S", "WARP_RECORDS", "simulate_batch", "simulate_batches_warp"]
+__all__ = [
+    "CHUNK_S",
+    "WARP_RECORDS",
+    "costs_batches_warp",
+    "simulate_batch",
+    "simulate_batches_warp",
+]
 
 CHUNK_S = 1.0
 """Simulated time per batch call [s]: fallen and diverged candidates drop out between calls."""
@@ -108,6 +118,7 @@ def simulate_batches_warp(
     truths: Sequence[RobotTruth],
     effects: str,
     device: str,
+    solver: SolverSettings | None = None,
 ) -> list[list[RecordedSignals]]:
     """Every candidate in every experiment, all in one MuJoCo Warp batch (per model layout).
 
@@ -121,35 +132,109 @@ def simulate_batches_warp(
         effects: effect letters switched on, e.g. ``"M,G,S"``.
         device: the Warp device (``"cuda:0"``; ``"cpu"`` for testing; ``""`` for Warp's
             default).
+        solver: constraint-solver settings for the batch (after the pose); None keeps the
+            models' own.
 
     Returns:
         Per experiment, per candidate, the float32 approximation of what
         :func:`~zmpkit.simfit.rollout.simulate_experiment` returns.
+    """
+
+    def signals(part: _WarpPart, i: int, c: int) -> RecordedSignals:
+        experiment = experiments[part.experiment]
+        if part.rows.rerun[i]:
+            return simulate_experiment(experiment, truths[c], effects)
+        return part.rows.signals(i)
+
+    return _warp_batches(experiments, truths, effects, device, signals, False, solver)
+
+
+def costs_batches_warp(
+    experiments: Sequence[Experiment],
+    truths: Sequence[RobotTruth],
+    effects: str,
+    device: str,
+    keep_zmp_mean: bool = False,
+    solver: SolverSettings | None = None,
+) -> list[list[CostTerms]]:
+    """The cost terms of every candidate in every experiment, from one MuJoCo Warp batch.
+
+    The batch of :func:`simulate_batches_warp`, recording only what the cost reads
+    (:mod:`~zmpkit.simfit.cost_columns`): the joint term is summed per world on the
+    device, the ZMP and spectrum terms computed here from the few columns recorded. The
+    terms are those of :func:`~zmpkit.simfit.cost.experiment_cost` on
+    :func:`simulate_batches_warp`'s signals, to float64 rounding (tested).
+
+    Args:
+        experiments: the recorded experiments to replay (of one robot).
+        truths: one truth object per candidate.
+        effects: effect letters switched on, e.g. ``"M,G,S"``.
+        device: the Warp device (``"cuda:0"``; ``"cpu"`` for testing; ``""`` for Warp's
+            default).
+        keep_zmp_mean: charge the mean ZMP difference too (:mod:`~zmpkit.simfit.cost`).
+        solver: constraint-solver settings for the batch (after the pose); None keeps the
+            models' own.
+
+    Returns:
+        Per experiment, per candidate, the cost terms.
+    """
+
+    def cost(part: _WarpPart, i: int, c: int) -> CostTerms:
+        experiment = experiments[part.experiment]
+        if part.rows.rerun[i]:
+            simulated = simulate_experiment(experiment, truths[c], effects)
+            return experiment_cost(experiment.signals, simulated, keep_zmp_mean)
+        zmp, tilt = part.rows.zmp_and_tilt(i)
+        square = part.rows.posed_square[i] + part.square[i]
+        return experiment_cost_of_parts(
+            experiment.signals, len(tilt), square, zmp, tilt, keep_zmp_mean
+        )
+
+    return _warp_batches(experiments, truths, effects, device, cost, True, solver)
+
+
+_Out = TypeVar("_Out")
+
+
+def _warp_batches(
+    experiments: Sequence[Experiment],
+    truths: Sequence[RobotTruth],
+    effects: str,
+    device: str,
+    result: Callable[[_WarpPart, int, int], _Out],
+    on_device: bool,
+    solver: SolverSettings | None,
+) -> list[list[_Out]]:
+    """Every (experiment, candidate) in one batch per model layout; ``result`` of each.
+
+    ``result(part, i, c)``: the output of the part's ``i``-th world, candidate ``c``;
+    ``on_device``: record only the cost's columns and sum the joint term on the device;
+    ``solver``: set on every posed model.
     """
     if not truths or not experiments:
         return [[] for _ in experiments]
     parts = []
     for experiment in experiments:
         sims = [posed_simulation(experiment, truth, effects) for truth in truths]
+        if solver is not None:
+            for sim in sims:
+                solver.apply(sim.model)
         parts.append((experiment, sims, open_loop_schedule(experiment, sims[0])))
     worlds = [(e, c) for e in range(len(parts)) for c in range(len(truths))]
-    out: list[list[RecordedSignals | None]] = [[None] * len(truths) for _ in parts]
+    out: list[list[_Out | None]] = [[None] * len(truths) for _ in parts]
     for group in _layout_groups([parts[e][1][c] for e, c in worlds]):
         chosen = [worlds[w] for w in group]
+        columns = cost_columns(parts[chosen[0][0]][1][chosen[0][1]]) if on_device else None
         runs = []
         for e, (experiment, sims, schedule) in enumerate(parts):
             mine = [c for f, c in chosen if f == e]
             if mine:
-                rows = BatchRows(experiment, [sims[c] for c in mine], schedule)
+                rows = BatchRows(experiment, [sims[c] for c in mine], schedule, columns)
                 runs.append(_WarpPart(rows, [sims[c] for c in mine], schedule, e, mine))
-        _run_warp(runs, device)
+        _run_warp(runs, device, columns)
         for run in runs:
             for i, c in enumerate(run.candidates):
-                experiment = parts[run.experiment][0]
-                if run.rows.rerun[i]:
-                    out[run.experiment][c] = simulate_experiment(experiment, truths[c], effects)
-                else:
-                    out[run.experiment][c] = run.rows.signals(i)
+                out[run.experiment][c] = result(run, i, c)
     return [[s for s in per if s is not None] for per in out]
 
 
@@ -261,29 +346,41 @@ class _WarpPart:
     schedule: OpenLoopSchedule
     experiment: int
     candidates: list[int]
+    square: list[float] = field(default_factory=list)
+    """Per world, the joint term's sum over the rollout's rows, from the device [rad²]."""
 
-    def kept_steps(self) -> NDArray[np.int64]:
+    def kept_steps(self, ft_samples: bool = True) -> NDArray[np.int64]:
         """The rollout steps the signals read (1 is the first).
 
-        The recorded frames, the F-T sample steps and the last step (a divergence up to
-        the end still counts, as when every step was kept).
+        The recorded frames, the F-T sample steps (``ft_samples``: needed only when the
+        sensor effect samples them) and the last step (a divergence up to the end still
+        counts, as when every step was kept).
         """
         start = self.schedule.start_step
         nstep = len(self.schedule.setpoints_rad)
         steps = start + np.arange(1, nstep + 1)
-        keep = (steps % self.sims[0].ft_sample_every == 0) | np.isin(
-            steps, self.schedule.record_steps
-        )
+        keep = np.isin(steps, self.schedule.record_steps)
+        if ft_samples:
+            keep |= steps % self.sims[0].ft_sample_every == 0
         keep[-1] = True
         return np.flatnonzero(keep) + 1
 
+    def target_rows(self) -> tuple[NDArray[np.int64], NDArray[np.float64]]:
+        """The rollout steps of the recorded rows after the posed one, and their encoders."""
+        record = self.schedule.record_steps
+        after = record > self.schedule.start_step
+        return record[after] - self.schedule.start_step, self.rows.experiment.signals.q_meas_rad[
+            after
+        ]
 
-def _run_warp(parts: Sequence[_WarpPart], device: str) -> None:
+
+def _run_warp(parts: Sequence[_WarpPart], device: str, columns: CostColumns | None) -> None:
     """Roll every part's candidates out on MuJoCo Warp in one batch, filling their rows.
 
     Only the rows the signals read are recorded, on the device, with ``qpos``,
-    ``sensordata`` and the site kinematics (which lag one step, as after ``mj_step``);
-    MuJoCo Warp checks every step for divergence.
+    ``sensordata`` and the site kinematics (which lag one step, as after ``mj_step``), or,
+    with ``columns``, only those columns, the joint term summed on the device into each
+    part's ``square``; MuJoCo Warp checks every step for divergence.
     """
     from zmpkit.sim.warp_batch import rollout_warp
 
@@ -307,21 +404,36 @@ def _run_warp(parts: Sequence[_WarpPart], device: str) -> None:
     initial = np.empty((len(sims), mujoco.mj_stateSize(sims[0].model, full)))
     for i, sim in enumerate(sims):
         mujoco.mj_getState(sim.model, sim.data, initial[i], full)
-    kept = [part.kept_steps() for part in parts]
+    ft_samples = columns is None or any(any(part.rows.sensors) for part in parts)
+    kept = [part.kept_steps(ft_samples) for part in parts]
+    record_steps = np.unique(np.concatenate(kept))
+    square = None
+    if columns is not None:
+        targets = [part.target_rows() for part in parts]
+        square = joint_square_error(
+            [part.sims[0] for part in parts],
+            [part.rows.experiment.signals.joint_names for part in parts],
+            [steps for steps, _ in targets],
+            [rows for _, rows in targets],
+        )
     result = rollout_warp(
         [s.model for s in sims],
         initial,
         table,
         device=device or None,
-        record_steps=np.unique(np.concatenate(kept)),
+        record_steps=record_steps,
         record=WARP_RECORDS,
         control_group=group,
+        columns=None if columns is None else columns.as_mapping(),
+        square_error=square,
     )
-    nsite = sims[0].model.nsite
+    nsite = sims[0].model.nsite if columns is None else len(columns.sites)
     first = 0
     for part, steps_kept in zip(parts, kept, strict=True):
         worlds = slice(first, first + len(part.sims))
         first = worlds.stop
+        if result.square_error is not None:
+            part.square.extend(result.square_error[worlds].tolist())
         rows_of_part = np.flatnonzero(np.isin(result.steps, steps_kept))
         n, nrec = len(part.sims), len(rows_of_part)
 
@@ -356,12 +468,7 @@ def _ft_samples(
         alive: the candidates (indices into ``sims``) simulated in this chunk.
         sensordata: MuJoCo's sensor rows at those steps, (alive, samples, nsensordata).
     """
-    wrenches = np.stack(
-        [
-            np.stack([sims[i].ft_true_of(f, sensordata[a]) for f in rows.feet], axis=1)
-            for a, i in enumerate(alive)
-        ]
-    )
+    wrenches = rows.ft_true(sensordata)
     noisy = [a for a, i in enumerate(alive) if rows.sensors[i]]
     if not noisy:
         return wrenches

@@ -46,6 +46,7 @@ __all__ = [
     "CostTerms",
     "CostWeights",
     "experiment_cost",
+    "experiment_cost_of_parts",
     "spectrum_in_band",
 ]
 
@@ -116,15 +117,21 @@ def spectrum_in_band(signal: NDArray[np.float64], dt_s: float) -> tuple[NDArray,
     return spectrum.frequency_hz[band], spectrum.amplitude[band]
 
 
-def _zmp_error(rec: RecordedSignals, sim: RecordedSignals, keep_mean: bool) -> float:
-    both = np.all(np.isfinite(rec.zmp_m), axis=1) & np.all(np.isfinite(sim.zmp_m), axis=1)
+def _zmp_error(rec: RecordedSignals, zmp_m: NDArray[np.float64], keep_mean: bool) -> float:
+    both = np.all(np.isfinite(rec.zmp_m), axis=1) & np.all(np.isfinite(zmp_m), axis=1)
     if np.count_nonzero(both) < 3:
         return 0.0
     t, p = rec.time_s[both], rec.zmp_m[both]
     scale = np.hypot(_rms(_detrended(t, p[:, 0])), _rms(_detrended(t, p[:, 1])))
-    d = sim.zmp_m[both] - p
+    d = zmp_m[both] - p
     miss = np.linalg.norm(d if keep_mean else d - d.mean(axis=0), axis=1)
     return _rms(miss) / max(scale, _MIN_SCALE)
+
+
+def _spectrum_error(rec: RecordedSignals, trunk_tilt_rad: NDArray[np.float64]) -> float:
+    _, a_rec = spectrum_in_band(rec.trunk_tilt_rad, rec.dt_s)
+    _, a_sim = spectrum_in_band(trunk_tilt_rad, rec.dt_s)
+    return float(np.linalg.norm(a_sim - a_rec) / max(float(np.linalg.norm(a_rec)), _MIN_SCALE))
 
 
 def experiment_cost(
@@ -138,14 +145,40 @@ def experiment_cost(
         keep_zmp_mean: charge the mean ZMP difference too (module docstring).
     """
     n = recorded.time_s.size
-    completed = min(simulated.time_s.size, n) / n
+    if simulated.time_s.size < n:
+        return CostTerms(np.inf, np.inf, np.inf, simulated.time_s.size / n, np.inf)
+    square = float(np.sum(np.square(simulated.q_meas_rad - recorded.q_meas_rad)))
+    return experiment_cost_of_parts(
+        recorded, n, square, simulated.zmp_m, simulated.trunk_tilt_rad, keep_zmp_mean
+    )
+
+
+def experiment_cost_of_parts(
+    recorded: RecordedSignals,
+    rows: int,
+    joint_square_sum: float,
+    zmp_m: NDArray[np.float64],
+    trunk_tilt_rad: NDArray[np.float64],
+    keep_zmp_mean: bool = False,
+) -> CostTerms:
+    r"""The normalised errors of a simulation given its joint term as a sum (a device's).
+
+    Args:
+        recorded: the recorded experiment's signals.
+        rows: rows the simulation reproduced (fewer than recorded: a fall or divergence).
+        joint_square_sum: :math:`\sum (q_{sim} - q_{rec})^2` over every row and joint
+            [rad²] (unused unless every row was reproduced).
+        zmp_m: the simulation's ZMP, world x and y, ``(rows, 2)`` [m]; NaN without contact.
+        trunk_tilt_rad: the simulation's trunk tilt, ``(rows,)`` [rad].
+        keep_zmp_mean: charge the mean ZMP difference too (module docstring).
+    """
+    n = recorded.time_s.size
+    completed = min(rows, n) / n
     if completed < 1.0:
         return CostTerms(np.inf, np.inf, np.inf, completed, np.inf)
-    q_err = _rms(simulated.q_meas_rad - recorded.q_meas_rad)
+    count = recorded.q_meas_rad.size
+    q_err = float(np.sqrt(joint_square_sum / count)) if count else 0.0
     q_scale = max(_rms(recorded.q_meas_rad - recorded.q_cmd_rad), _MIN_SCALE)
-    dt = recorded.dt_s
-    _, a_rec = spectrum_in_band(recorded.trunk_tilt_rad, dt)
-    _, a_sim = spectrum_in_band(simulated.trunk_tilt_rad, dt)
-    spectrum = float(np.linalg.norm(a_sim - a_rec) / max(float(np.linalg.norm(a_rec)), _MIN_SCALE))
-    zmp = _zmp_error(recorded, simulated, keep_zmp_mean)
+    spectrum = _spectrum_error(recorded, trunk_tilt_rad)
+    zmp = _zmp_error(recorded, zmp_m, keep_zmp_mean)
     return CostTerms(q_err / q_scale, zmp, spectrum, 1.0, q_err)

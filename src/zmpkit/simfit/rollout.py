@@ -26,7 +26,13 @@ from zmpkit.simfit.recorded import RecordedSignals
 from zmpkit.simfit.truth_doc import RobotTruth
 from zmpkit.simfit.walk_plan import walk_trajectory
 
-__all__ = ["empty_signals", "setpoint_table", "simulate_experiment", "step_signals"]
+__all__ = [
+    "empty_signals",
+    "setpoint_table",
+    "simulate_experiment",
+    "step_signals",
+    "step_zmp_and_tilt",
+]
 
 
 def simulate_experiment(experiment: Experiment, truth: RobotTruth, effects: str) -> RecordedSignals:
@@ -124,15 +130,33 @@ def step_signals(experiment: StepExperiment, data: NDArray[np.float64], n: int) 
     signals = experiment.signals
     if n < 2:
         return empty_signals(signals)
-    time = signals.time_s[:n]
     j = len(signals.joint_names)
-    mounts = experiment.mounts
-    zmp = zmp_series(time, data[:, :6], data[:, 6:12], mounts["right"], mounts["left"]).zmp
+    zmp, tilt = step_zmp_and_tilt(experiment, data[:, :6], data[:, 6:12], data[:, 12 + j :])
     return RecordedSignals(
-        time,
+        signals.time_s[:n],
         signals.joint_names,
         signals.q_cmd_rad[:n],
         data[:, 12 : 12 + j],
         zmp,
-        tilt_from_quaternions(data[:, 12 + j :], experiment.plane),
+        tilt,
     )
+
+
+def step_zmp_and_tilt(
+    experiment: StepExperiment,
+    ft_right: NDArray[np.float64],
+    ft_left: NDArray[np.float64],
+    quats: NDArray[np.float64],
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """A step trial's ZMP [m] and trunk tilt [rad] from its first rows (at least two).
+
+    Args:
+        experiment: the step trial (its sample times, mounts and plane).
+        ft_right: the right F-T readings, ``(n, 6)`` [N, N·m].
+        ft_left: the left F-T readings, ``(n, 6)`` [N, N·m].
+        quats: the IMU quaternions (w, x, y, z), ``(n, 4)``.
+    """
+    time = experiment.signals.time_s[: len(quats)]
+    mounts = experiment.mounts
+    zmp = zmp_series(time, ft_right, ft_left, mounts["right"], mounts["left"]).zmp
+    return zmp, tilt_from_quaternions(quats, experiment.plane)
