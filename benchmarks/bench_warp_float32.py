@@ -28,6 +28,7 @@ from __future__ import annotations
 
 import importlib.util
 import tempfile
+import warnings
 from pathlib import Path
 from typing import Any
 
@@ -50,8 +51,8 @@ def _window_stats(t: np.ndarray, x: np.ndarray, window_s: float) -> np.ndarray:
     out = []
     for w in range(index.max() + 1):
         rows = x[index == w]
-        with np.errstate(invalid="ignore"), np.testing.suppress_warnings() as sup:
-            sup.filter(RuntimeWarning)
+        with np.errstate(invalid="ignore"), warnings.catch_warnings():
+            warnings.simplefilter("ignore", RuntimeWarning)  # a window without contact
             out.append(np.concatenate([np.nanmean(rows, axis=0), np.nanstd(rows, axis=0)]))
     return np.array(out)
 
