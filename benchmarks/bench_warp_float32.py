@@ -26,7 +26,6 @@ Reported, never asserted. Without ``mujoco_warp`` it says so and exits 0.
 
 from __future__ import annotations
 
-import importlib.util
 import tempfile
 import warnings
 from pathlib import Path
@@ -35,7 +34,7 @@ from typing import Any
 import numpy as np
 
 from harness import base_parser, print_table, write_run
-from long_walk import long_walk
+from long_walk import long_walk, long_walk_arguments
 
 __all__ = ["aggregate_cost", "main"]
 
@@ -139,12 +138,8 @@ def measure(device: str, duration_s: float, threads: int) -> dict[str, Any]:
 
 def main(argv: list[str] | None = None) -> int:
     """Run the benchmark, print the tables, write JSON if asked; returns the exit status."""
-    parser = base_parser(__doc__.splitlines()[0])
-    parser.add_argument("--device", default="cpu", help="Warp device (default: cpu)")
-    parser.add_argument("--duration", type=float, default=10.0, help="walk duration [s]")
-    args = parser.parse_args(argv)
-    if importlib.util.find_spec("mujoco_warp") is None:
-        print("mujoco_warp is not installed: nothing to measure (pip install 'zmpkit[gpu]')")
+    args = long_walk_arguments(base_parser(__doc__.splitlines()[0]), argv)
+    if args is None:
         return 0
     result = measure(args.device, args.duration, args.threads or 2)
     cells = []

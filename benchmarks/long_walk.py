@@ -8,6 +8,8 @@ stiffness, moved by ``SEED``); the candidates are that truth scaled by a few fac
 
 from __future__ import annotations
 
+import argparse
+import importlib.util
 import sys
 from dataclasses import dataclass
 from pathlib import Path
@@ -59,3 +61,16 @@ def long_walk(out: Path, duration_s: float = 10.0, speed_mps: float = 0.2) -> Lo
     values = [tuple(float(v) for v in np.asarray(truth) * f) for f in FACTORS]
     values.append(tuple(float(p.nominal) for p in params))
     return LongWalk(problem, tuple(labels), tuple(values))
+
+
+def long_walk_arguments(
+    parser: argparse.ArgumentParser, argv: list[str] | None
+) -> argparse.Namespace | None:
+    """Add ``--device`` and ``--duration`` and parse; None (said why) without MuJoCo Warp."""
+    parser.add_argument("--device", default="cpu", help="Warp device (default: cpu)")
+    parser.add_argument("--duration", type=float, default=10.0, help="walk duration [s]")
+    args = parser.parse_args(argv)
+    if importlib.util.find_spec("mujoco_warp") is None:
+        print("mujoco_warp is not installed: nothing to measure (pip install 'zmpkit[gpu]')")
+        return None
+    return args
