@@ -12,8 +12,9 @@ from hypothesis import strategies as st
 
 from helpers.simfit_data import record_walk, small_case
 from zmpkit.sim.sensing import sample_series
-from zmpkit.simfit.batched import simulate_batch
+from zmpkit.simfit.batched import simulate_batch, simulate_batches
 from zmpkit.simfit.experiments import StepExperiment, WalkExperiment, read_experiments
+from zmpkit.simfit.open_loop import posed_simulation, posed_simulations
 from zmpkit.simfit.parameters import default_parameters
 from zmpkit.simfit.recorded import RecordedSignals
 from zmpkit.simfit.rollout import simulate_experiment
@@ -84,6 +85,32 @@ def test_step_trials_equal_the_serial_path(step: StepExperiment) -> None:
 
 def test_no_candidates_give_no_signals(walk: WalkExperiment) -> None:
     assert simulate_batch(walk, [], "M,G,S") == []
+    assert simulate_batches([walk, walk], [], "M,G,S") == [[], []]
+
+
+def test_experiments_sharing_a_compiled_model_equal_the_serial_path(walk: WalkExperiment) -> None:
+    """A candidate's second experiment starts from a copy of its first one's model."""
+    params, doc, truth = small_case()
+    values = [list(truth), [0.36, 310.0]]  # one that walks, one that falls
+    truths = [load_robot_truth("nao", truth_doc_with(doc, params, v)) for v in values]
+    batched = simulate_batches([walk, walk], truths, "M,G,S", nthread=2)
+    serial = [simulate_experiment(walk, t, "M,G,S") for t in truths]
+    for per_experiment in batched:
+        for b, s in zip(per_experiment, serial, strict=True):
+            _assert_same(b, s)
+
+
+def test_posed_simulations_own_their_models(walk: WalkExperiment) -> None:
+    params, doc, truth = small_case()
+    truths = [load_robot_truth("nao", truth_doc_with(doc, params, list(truth)))]
+    (first,), (second,) = posed_simulations([walk, walk], truths, "M,G,S")
+    alone = posed_simulation(walk, truths[0], "M,G,S")
+    assert first.model is not second.model
+    for sim in (first, second):  # each as posed_simulation builds it, state and model
+        np.testing.assert_array_equal(sim.data.qpos, alone.data.qpos)
+        np.testing.assert_array_equal(sim.model.actuator_gainprm, alone.model.actuator_gainprm)
+    first.model.actuator_gainprm[:] *= 2.0  # a change to one candidate's model stays there
+    np.testing.assert_array_equal(second.model.actuator_gainprm, alone.model.actuator_gainprm)
 
 
 @settings(max_examples=25, deadline=None)

@@ -158,7 +158,19 @@ def _import_warp() -> tuple[Any, Any]:
             f"install it with: {_INSTALL_HINT}"
         ) from exc
     configure_kernel_cache(warp)  # before warp.init(): zmpkit's persistent kernel cache
+    _quiet_warp(warp)
     return warp, mujoco_warp
+
+
+def _quiet_warp(wp: Any) -> None:
+    """Warp's log level raised from its default (info) to warnings.
+
+    At info Warp prints its start-up banner and a line per kernel module it loads (about 60
+    per fit), which would bury a command's own output; warnings (a missing CUDA driver, a
+    kernel that failed to compile) still show. A level other than the default is kept.
+    """
+    if wp.config.log_level == wp.LOG_INFO:
+        wp.config.log_level = wp.LOG_WARNING
 
 
 def _check_inputs(

@@ -42,11 +42,16 @@ class Simulation:
     Args:
         robot: the robot description (MJCF with effects applied and sensor names).
         seed: seed of every noise stream; the same seed gives identical readings.
+        model: ``robot.mjcf`` already compiled, used as it is (the simulation owns it from
+            then on: pass a copy to share one compilation among simulations, as a fit
+            does for one candidate's experiments); None compiles it.
     """
 
-    def __init__(self, robot: RobotDescription, seed: int = 0) -> None:
+    def __init__(
+        self, robot: RobotDescription, seed: int = 0, model: mujoco.MjModel | None = None
+    ) -> None:
         self.robot = robot
-        self.model = mujoco.MjModel.from_xml_string(robot.mjcf)
+        self.model = mujoco.MjModel.from_xml_string(robot.mjcf) if model is None else model
         self.data = mujoco.MjData(self.model)
         self.dt = float(self.model.opt.timestep)
         self._act = [self.model.actuator(j).id for j in robot.driven_joints]

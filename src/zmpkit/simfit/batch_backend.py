@@ -22,7 +22,7 @@ from collections.abc import Sequence
 import numpy as np
 
 from zmpkit.errors import ParameterError
-from zmpkit.simfit.batched import costs_batches_warp, simulate_batch
+from zmpkit.simfit.batched import costs_batches_warp, simulate_batches
 from zmpkit.simfit.cost import CostTerms, experiment_cost
 from zmpkit.simfit.parameters import ParameterValues
 from zmpkit.simfit.problem import FitProblem
@@ -62,10 +62,7 @@ class BatchEvaluator:
                 problem.keeps_zmp_mean,
             )
             return [[terms[c] for terms in per_experiment] for c in range(len(candidates))]
-        simulated = [
-            simulate_batch(experiment, truths, problem.sim_effects, self.threads)
-            for experiment in problem.experiments
-        ]
+        simulated = simulate_batches(problem.experiments, truths, problem.sim_effects, self.threads)
         return [
             [
                 experiment_cost(experiment.signals, signals[c], problem.keeps_zmp_mean)

@@ -42,11 +42,7 @@ from zmpkit.simfit.batch_rows import BatchRows
 from zmpkit.simfit.cost import CostTerms, experiment_cost, experiment_cost_of_parts
 from zmpkit.simfit.cost_columns import CostColumns, cost_columns, joint_square_error
 from zmpkit.simfit.experiments import Experiment
-from zmpkit.simfit.open_loop import (
-    OpenLoopSchedule,
-    open_loop_schedule,
-    posed_simulation,
-)
+from zmpkit.simfit.open_loop import OpenLoopSchedule, open_loop_schedule, posed_simulations
 from zmpkit.simfit.recorded import RecordedSignals
 from zmpkit.simfit.rollout import simulate_experiment
 from zmpkit.simfit.truth_doc import RobotTruth
@@ -56,6 +52,7 @@ __all__ = [
     "WARP_RECORDS",
     "costs_batches_warp",
     "simulate_batch",
+    "simulate_batches",
     "simulate_batches_warp",
 ]
 
@@ -99,7 +96,39 @@ def simulate_batch(
         return []
     if warp_device is not None:
         return simulate_batches_warp([experiment], truths, effects, warp_device)[0]
-    sims = [posed_simulation(experiment, truth, effects) for truth in truths]
+    return _simulate_posed(
+        experiment, truths, posed_simulations([experiment], truths, effects)[0], effects, nthread
+    )
+
+
+def simulate_batches(
+    experiments: Sequence[Experiment],
+    truths: Sequence[RobotTruth],
+    effects: str,
+    nthread: int = 2,
+) -> list[list[RecordedSignals]]:
+    """Per experiment, :func:`simulate_batch` of it: each candidate's model compiled once.
+
+    The same signals, bit for bit; a candidate's experiments start from copies of one
+    compiled model (:func:`~zmpkit.simfit.open_loop.posed_simulations`).
+    """
+    if not truths:
+        return [[] for _ in experiments]
+    posed = posed_simulations(experiments, truths, effects)
+    return [
+        _simulate_posed(experiment, truths, sims, effects, nthread)
+        for experiment, sims in zip(experiments, posed, strict=True)
+    ]
+
+
+def _simulate_posed(
+    experiment: Experiment,
+    truths: Sequence[RobotTruth],
+    sims: Sequence[Simulation],
+    effects: str,
+    nthread: int,
+) -> list[RecordedSignals]:
+    """:func:`simulate_batch` from the candidates' posed simulations."""
     schedule = open_loop_schedule(experiment, sims[0])
     out: list[RecordedSignals | None] = [None] * len(sims)
     for group in _layout_groups(sims):
@@ -214,8 +243,9 @@ def _warp_batches(
     if not truths or not experiments:
         return [[] for _ in experiments]
     parts = []
-    for experiment in experiments:
-        sims = [posed_simulation(experiment, truth, effects) for truth in truths]
+    for experiment, sims in zip(
+        experiments, posed_simulations(experiments, truths, effects), strict=True
+    ):
         if solver is not None:
             for sim in sims:
                 solver.apply(sim.model)
