@@ -15,7 +15,12 @@ from zmpkit.pipelines.identify_sim_document import write_identify_sim_report
 from zmpkit.robots.registry import DEFAULT_FIT_ROBOT
 from zmpkit.simfit.optimizer import MAX_POPSIZE, MAX_RESTARTS, FitInterruptedError
 
-__all__ = ["identify_balance_command", "identify_group", "identify_sim_command"]
+__all__ = [
+    "identify_balance_command",
+    "identify_compare_command",
+    "identify_group",
+    "identify_sim_command",
+]
 
 MAX_MASS_KG = 1000.0
 """Heaviest pendulum mass ``--mass`` takes [kg]: a tonne, beyond any humanoid."""
@@ -184,3 +189,34 @@ def identify_sim_command(
         click.echo(f"recovery: {result.files['recovery']}")
     click.echo(f"fitted truth: {Path(out_dir) / 'fitted_truth.yaml'} (best cost {result.cost:.4g})")
     click.echo(f"report: {write_identify_sim_report(result, out_dir, report_format)}")
+
+
+@identify_group.command("compare")
+@click.argument("fit_a", type=click.Path(path_type=Path))
+@click.argument("fit_b", type=click.Path(path_type=Path))
+def identify_compare_command(fit_a: Path, fit_b: Path) -> None:
+    """Do two simulator fits agree? Each parameter against the fits' resolutions.
+
+    FIT_A and FIT_B are folders written by ``zmpkit identify sim`` (or their
+    fitted_parameters.yaml) of the same robot and effects: another backend (Warp on a GPU
+    against the CPU), seed or data set. A parameter agrees when the fits differ by no more
+    than the larger of their resolutions (the step at which the cost rises visibly); one
+    that either fit finds not identifiable is shown, not judged. Exit status 0 when every
+    judged parameter agrees, 1 when one does not (as diff), 2 on bad input.
+    """
+    from zmpkit.simfit.fit_agreement import compare_fits
+
+    result = compare_fits(fit_a, fit_b)
+    click.echo(f"{'parameter':24s} {'A':>12s} {'B':>12s} {'B-A':>9s} {'within':>8s}  verdict")
+    for p in result.parameters:
+        verdict = "not judged" if p.agree is None else ("agree" if p.agree else "DIFFER")
+        within = "inf" if p.tolerance == float("inf") else f"{100 * p.tolerance:.2f}%"
+        click.echo(
+            f"{p.name:24s} {p.value_a:12.6g} {p.value_b:12.6g} {100 * p.difference:+8.2f}% "
+            f"{within:>8s}  {verdict}{'' if p.judged else ' (not identifiable)'}"
+        )
+    differ = [p.name for p in result.parameters if p.agree is False]
+    if differ:
+        click.echo(f"the fits differ in {', '.join(differ)}")
+        raise click.exceptions.Exit(1)
+    click.echo("the fits agree in every identifiable parameter")
