@@ -303,29 +303,29 @@ def test_site_kinematics_lag_one_step_as_after_mj_step(nao) -> None:
 
 @pytest.mark.needs_warp
 def test_a_second_call_reuses_the_warp_model_and_gives_the_same_result(nao) -> None:
-    from zmpkit.sim import warp_batch
+    from zmpkit.sim import warp_batch, warp_session
 
     model, state, control = nao
     short = control[:30]
     warp_batch.clear_warp_cache()
     first = rollout_warp(pair(model), state, short, 2, "cpu", record=ALL)
-    (session,) = warp_batch._SESSIONS.values()
+    (session,) = warp_session._SESSIONS.values()
     again = rollout_warp(pair(model), state, short, 2, "cpu", record=ALL)
-    assert list(warp_batch._SESSIONS.values()) == [session]  # the same Warp model and data
+    assert list(warp_session._SESSIONS.values()) == [session]  # the same Warp model and data
     assert len(session.plans) == 1  # and the same buffers
     assert_same_rollout(first, again)
     # Other candidates of the same layout reuse it too, with their own per-world values...
     others = [variant(model, tendon_stiffness=2.0, actuator_gainprm=0.8), pair(model)[1]]
     reused = rollout_warp(others, state, short, 2, "cpu", record=ALL)
-    assert list(warp_batch._SESSIONS.values()) == [session]
+    assert list(warp_session._SESSIONS.values()) == [session]
     warp_batch.clear_warp_cache()
     fresh = rollout_warp(others, state, short, 2, "cpu", record=ALL)
     assert_same_rollout(reused, fresh)  # ...and nothing of the earlier calls stays in it
     # A shared field that changes (not per world in the cached model) builds a new one.
-    (cached,) = warp_batch._SESSIONS.values()
+    (cached,) = warp_session._SESSIONS.values()
     heavier = [variant(m, body_mass=1.1) for m in others]
     rebuilt = rollout_warp(heavier, state, short, 2, "cpu", record=ALL)
-    (session,) = warp_batch._SESSIONS.values()  # in the place of the stale one
+    (session,) = warp_session._SESSIONS.values()  # in the place of the stale one
     assert session is not cached
     assert not np.array_equal(rebuilt.records["qpos"], fresh.records["qpos"])
 

@@ -16,10 +16,12 @@ Runs on a CUDA device (the point) or on Warp's CPU device (tests); ``pip install
 'zmpkit[gpu]'``.
 
 Launches: each physics step is a few kernel launches (controls, ``mujoco_warp.step``, the
-divergence check, the records). On CUDA ``steps_per_launch`` steps are captured as one
-graph and replayed; on the CPU the same steps run as a loop of launches. The Warp model,
-data, buffers and graphs are kept between calls of the same shapes (a small cache keyed by
-the model layout, the per-world fields, the number of worlds and the buffers' sizes): a
+divergence check, the records: :mod:`~zmpkit.sim.warp_kernels`). On CUDA
+``steps_per_launch`` steps are captured as one graph and replayed; on the CPU the same
+steps run as a loop of launches. The Warp model,
+data, buffers and graphs are kept between calls of the same shapes
+(:mod:`~zmpkit.sim.warp_session`, keyed by the model layout, the per-world fields, the
+number of worlds and the buffers' sizes): a
 fit's next generation only copies its candidates' per-world fields, initial states and
 controls in, resets the data and replays. :func:`clear_warp_cache` releases them.
 
@@ -41,11 +43,8 @@ This module does not import ``from __future__ import annotations``: Warp reads t
 annotations of the kernels defined below at run time.
 """
 
-import copy
-import functools
-from collections import OrderedDict
 from collections.abc import Callable, Mapping, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Any
 
 import mujoco
@@ -54,20 +53,10 @@ from numpy.typing import NDArray
 
 from zmpkit.errors import ModelError, ParameterError
 from zmpkit.sim.warp_cache import configure_kernel_cache
-from zmpkit.sim.warp_columns import (
-    PER_COLUMN,
-    QposSquareError,
-    check_square_error,
-    record_columns,
-)
-from zmpkit.sim.warp_model import (
-    assign_per_world,
-    batched_fields,
-    check_supported,
-    model_differences,
-    put_models,
-    size_key,
-)
+from zmpkit.sim.warp_columns import QposSquareError, check_square_error, record_columns
+from zmpkit.sim.warp_kernels import step_kernels
+from zmpkit.sim.warp_model import batched_fields, check_supported
+from zmpkit.sim.warp_session import Plan, Session, clear_warp_cache, plan_for, session_for
 from zmpkit.sim.world import DIVERGED_SPEED_RAD_S
 
 __all__ = [
@@ -90,10 +79,6 @@ RECORDABLE = ("state", "qpos", "qvel", "act", "sensordata", "site_xpos", "site_x
 named ``mjData`` arrays (``site_xpos`` as ``(nsite * 3)``, ``site_xmat`` as ``(nsite * 9)``)."""
 _NEVER = np.iinfo(np.int32).max
 """The first failing step of a world that never failed."""
-_MAX_SESSIONS = 4
-"""Warp models and data kept between calls (device memory: one batch each)."""
-_MAX_PLANS = 4
-"""Buffer and graph sets kept per model and data (one per rollout length and records)."""
 
 
 @dataclass(frozen=True)
@@ -277,272 +262,9 @@ def _device(wp: Any, device: str | None) -> Any:
         raise ParameterError(f"unknown Warp device {device!r}; available: {valid}") from exc
 
 
-@functools.cache
-def _kernels() -> dict[str, Any]:
-    """The Warp kernels of the step loop, built once per process."""
-    import warp as wp
-
-    # Warp's kernel DSL reads these annotations at run time: its array types are calls, which
-    # no static checker accepts as types, hence the ignores on each kernel parameter.
-    @wp.kernel(enable_backward=False)
-    def set_ctrl(
-        control: wp.array3d(dtype=float),  # type: ignore[valid-type]  # Warp's kernel DSL
-        group: wp.array(dtype=wp.int32),  # type: ignore[valid-type]  # Warp's kernel DSL
-        counter: wp.array(dtype=wp.int32),  # type: ignore[valid-type]  # Warp's kernel DSL
-        ctrl: wp.array2d(dtype=float),  # type: ignore[valid-type]  # Warp's kernel DSL
-    ):
-        world, j = wp.tid()
-        ctrl[world, j] = control[group[world], counter[0], j]
-
-    @wp.kernel(enable_backward=False)
-    def check(
-        qpos: wp.array2d(dtype=float),  # type: ignore[valid-type]  # Warp's kernel DSL
-        qvel: wp.array2d(dtype=float),  # type: ignore[valid-type]  # Warp's kernel DSL
-        act: wp.array2d(dtype=float),  # type: ignore[valid-type]  # Warp's kernel DSL
-        counter: wp.array(dtype=wp.int32),  # type: ignore[valid-type]  # Warp's kernel DSL
-        limit: wp.float64,
-        never: wp.int32,
-        first_bad: wp.array(dtype=wp.int32),  # type: ignore[valid-type]  # Warp's kernel DSL
-    ):
-        world = wp.tid()
-        if first_bad[world] != never:
-            return
-        bad = wp.int32(0)  # a dynamic variable (a constant cannot change in a loop)
-        for i in range(qpos.shape[1]):
-            if not wp.isfinite(qpos[world, i]):
-                bad = 1
-        for i in range(qvel.shape[1]):
-            if not (wp.isfinite(qvel[world, i]) and wp.float64(wp.abs(qvel[world, i])) <= limit):
-                bad = 1
-        for i in range(act.shape[1]):
-            if not wp.isfinite(act[world, i]):
-                bad = 1
-        if bad != 0:
-            first_bad[world] = counter[0] + 1
-
-    @wp.kernel(enable_backward=False)
-    def record(
-        source: wp.array2d(dtype=float),  # type: ignore[valid-type]  # Warp's kernel DSL
-        columns: wp.array(dtype=wp.int32),  # type: ignore[valid-type]  # Warp's kernel DSL
-        counter: wp.array(dtype=wp.int32),  # type: ignore[valid-type]  # Warp's kernel DSL
-        row_of_step: wp.array(dtype=wp.int32),  # type: ignore[valid-type]  # Warp's kernel DSL
-        out: wp.array3d(dtype=float),  # type: ignore[valid-type]  # Warp's kernel DSL
-    ):
-        world, i = wp.tid()
-        row = row_of_step[counter[0]]
-        if row >= 0:
-            out[row, world, i] = source[world, columns[i]]
-
-    @wp.kernel(enable_backward=False)
-    def record_vec3(
-        source: wp.array2d(dtype=wp.vec3),  # type: ignore[valid-type]  # Warp's kernel DSL
-        columns: wp.array(dtype=wp.int32),  # type: ignore[valid-type]  # Warp's kernel DSL
-        counter: wp.array(dtype=wp.int32),  # type: ignore[valid-type]  # Warp's kernel DSL
-        row_of_step: wp.array(dtype=wp.int32),  # type: ignore[valid-type]  # Warp's kernel DSL
-        out: wp.array3d(dtype=float),  # type: ignore[valid-type]  # Warp's kernel DSL
-    ):
-        world, i = wp.tid()
-        row = row_of_step[counter[0]]
-        if row >= 0:
-            v = source[world, columns[i]]
-            for k in range(3):
-                out[row, world, 3 * i + k] = v[k]
-
-    @wp.kernel(enable_backward=False)
-    def record_mat33(
-        source: wp.array2d(dtype=wp.mat33),  # type: ignore[valid-type]  # Warp's kernel DSL
-        columns: wp.array(dtype=wp.int32),  # type: ignore[valid-type]  # Warp's kernel DSL
-        counter: wp.array(dtype=wp.int32),  # type: ignore[valid-type]  # Warp's kernel DSL
-        row_of_step: wp.array(dtype=wp.int32),  # type: ignore[valid-type]  # Warp's kernel DSL
-        out: wp.array3d(dtype=float),  # type: ignore[valid-type]  # Warp's kernel DSL
-    ):
-        world, i = wp.tid()
-        row = row_of_step[counter[0]]
-        if row >= 0:
-            m = source[world, columns[i]]
-            for r in range(3):
-                for c in range(3):
-                    out[row, world, 9 * i + 3 * r + c] = m[r, c]
-
-    @wp.kernel(enable_backward=False)
-    def square_error(
-        qpos: wp.array2d(dtype=float),  # type: ignore[valid-type]  # Warp's kernel DSL
-        columns: wp.array(dtype=wp.int32),  # type: ignore[valid-type]  # Warp's kernel DSL
-        quantum: wp.array(dtype=wp.float64),  # type: ignore[valid-type]  # Warp's kernel DSL
-        group: wp.array(dtype=wp.int32),  # type: ignore[valid-type]  # Warp's kernel DSL
-        counter: wp.array(dtype=wp.int32),  # type: ignore[valid-type]  # Warp's kernel DSL
-        row_of_step: wp.array2d(dtype=wp.int32),  # type: ignore[valid-type]  # Warp's kernel DSL
-        target: wp.array3d(dtype=wp.float64),  # type: ignore[valid-type]  # Warp's kernel DSL
-        total: wp.array(dtype=wp.float64),  # type: ignore[valid-type]  # Warp's kernel DSL
-    ):
-        world = wp.tid()
-        g = group[world]
-        row = row_of_step[g, counter[0]]
-        if row < 0:
-            return
-        s = wp.float64(0.0)
-        for j in range(columns.shape[0]):
-            q = wp.float64(qpos[world, columns[j]])
-            if quantum[j] > wp.float64(0.0):
-                q = wp.round(q / quantum[j]) * quantum[j]
-            y = target[g, row, j]
-            if wp.isfinite(y):
-                d = q - y
-                s = s + d * d
-        total[world] = total[world] + s
-
-    @wp.kernel(enable_backward=False)
-    def advance(counter: wp.array(dtype=wp.int32)):  # type: ignore[valid-type]  # Warp's kernel DSL
-        counter[0] = counter[0] + 1
-
-    return {
-        "set_ctrl": set_ctrl,
-        "check": check,
-        "record": record,
-        "record_vec3": record_vec3,
-        "record_mat33": record_mat33,
-        "square_error": square_error,
-        "advance": advance,
-    }
-
-
-@dataclass(frozen=True)
-class _Plan:
-    """Device buffers (and, on CUDA, graphs) of one rollout length and set of records.
-
-    ``graphs`` (steps per launch -> captured graph) fills on first use.
-    """
-
-    control: Any
-    group: Any
-    row_of_step: Any
-    counter: Any
-    first_bad: Any
-    outputs: dict[str, Any]
-    columns: dict[str, Any]
-    scratch: Any
-    every_world: Any
-    square: "_SquarePlan | None"
-    graphs: dict[int, Any] = field(default_factory=dict)
-
-
-@dataclass(frozen=True)
-class _SquarePlan:
-    """Device buffers of a :class:`QposSquareError`."""
-
-    columns: Any
-    quantum: Any
-    row_of_step: Any
-    target: Any
-    total: Any
-
-
-@dataclass(frozen=True)
-class _Session:
-    """A Warp model and data of one batch layout, kept between calls, with its plans."""
-
-    template: mujoco.MjModel
-    fields: tuple[str, ...]
-    m: Any
-    d: Any
-    plans: "OrderedDict[tuple[Any, ...], _Plan]" = field(default_factory=OrderedDict)
-
-
-_SESSIONS: "OrderedDict[tuple[Any, ...], _Session]" = OrderedDict()
-"""This process's Warp models and data, least recently used first."""
-
-
-def clear_warp_cache() -> None:
-    """Release the Warp models, data, buffers and graphs kept between calls."""
-    _SESSIONS.clear()
-
-
-def _session(
-    wp: Any,
-    mjw: Any,
-    models: Sequence[mujoco.MjModel],
-    fields: tuple[str, ...],
-    device: str,
-    nconmax: int | None,
-    njmax: int | None,
-) -> _Session:
-    """The cached Warp model and data for ``models`` (built on a miss), per-world fields set."""
-    template = models[0]
-    key = (device, size_key(template), fields, len(models), nconmax, njmax)
-    session = _SESSIONS.get(key)
-    if session is not None and not model_differences(session.template, template, fields):
-        _SESSIONS.move_to_end(key)
-        assign_per_world(wp, session.m, models, fields)
-        return session
-    m = put_models(wp, mjw, models, fields)
-    d = mjw.put_data(
-        template, mujoco.MjData(template), nworld=len(models), nconmax=nconmax, njmax=njmax
-    )
-    session = _Session(copy.deepcopy(template), fields, m, d)
-    _SESSIONS[key] = session
-    _SESSIONS.move_to_end(key)
-    while len(_SESSIONS) > _MAX_SESSIONS:
-        _SESSIONS.popitem(last=False)
-    return session
-
-
-def _plan(
-    wp: Any,
-    session: _Session,
-    ngroup: int,
-    nstep: int,
-    nrec: int,
-    columns: dict[str, tuple[int, ...]],
-    square_shape: tuple[int, int] | None,
-) -> _Plan:
-    """The cached buffers for ``ngroup`` control sequences of ``nstep`` steps, ``nrec`` rows.
-
-    ``square_shape``: (target rows, columns) of a :class:`QposSquareError`, or None.
-    """
-    template, nworld = session.template, session.d.nworld
-    key = (ngroup, nstep, nrec, tuple(columns.items()), square_shape)
-    plan = session.plans.get(key)
-    if plan is not None:
-        session.plans.move_to_end(key)
-        return plan
-    nstate = mujoco.mj_stateSize(template, _FULL)
-    square = None
-    if square_shape is not None:
-        rows, j = square_shape
-        square = _SquarePlan(
-            columns=wp.zeros(j, dtype=wp.int32),
-            quantum=wp.zeros(j, dtype=wp.float64),
-            row_of_step=wp.zeros((ngroup, nstep), dtype=wp.int32),
-            target=wp.zeros((ngroup, rows, j), dtype=wp.float64),
-            total=wp.zeros(nworld, dtype=wp.float64),
-        )
-    plan = _Plan(
-        control=wp.zeros((ngroup, nstep, max(template.nu, 1)), dtype=float),
-        group=wp.zeros(nworld, dtype=wp.int32),
-        row_of_step=wp.zeros(nstep, dtype=wp.int32),
-        counter=wp.zeros(1, dtype=wp.int32),
-        first_bad=wp.zeros(nworld, dtype=wp.int32),
-        outputs={
-            name: wp.zeros((nrec, nworld, len(cols) * PER_COLUMN.get(name, 1)), dtype=float)
-            for name, cols in columns.items()
-        },
-        columns={
-            name: wp.array(np.asarray(cols, dtype=np.int32), dtype=wp.int32)
-            for name, cols in columns.items()
-        },
-        scratch=wp.zeros((nworld, nstate), dtype=float) if "state" in columns else None,
-        every_world=wp.ones(nworld, dtype=bool),  # get_state would allocate it per call
-        square=square,
-    )
-    session.plans[key] = plan
-    while len(session.plans) > _MAX_PLANS:
-        session.plans.popitem(last=False)
-    return plan
-
-
-def _one_step(wp: Any, mjw: Any, session: _Session, plan: _Plan) -> Callable[[], None]:
+def _one_step(wp: Any, mjw: Any, session: Session, plan: Plan) -> Callable[[], None]:
     """One physics step of every world: controls, step, divergence check, records."""
-    k = _kernels()
+    k = step_kernels()
     m, d = session.m, session.d
     nworld, nu = d.nworld, session.template.nu
     sources = {
@@ -610,7 +332,7 @@ def _one_step(wp: Any, mjw: Any, session: _Session, plan: _Plan) -> Callable[[],
     return step
 
 
-def _run_steps(wp: Any, step: Callable[[], None], plan: _Plan, nstep: int, per_launch: int) -> None:
+def _run_steps(wp: Any, step: Callable[[], None], plan: Plan, nstep: int, per_launch: int) -> None:
     """``nstep`` steps: on CUDA as replays of captured graphs of ``per_launch`` steps."""
     if not wp.get_device().is_cuda:
         for _ in range(nstep):
@@ -730,8 +452,8 @@ def rollout_warp(
         square_shape = (square_targets.shape[1], square_targets.shape[2])
     with wp.ScopedDevice(_device(wp, device)):
         name = str(wp.get_device())
-        session = _session(wp, mjw, models, fields, name, nconmax, njmax)
-        plan = _plan(wp, session, len(ctrl), nstep, len(steps), kept, square_shape)
+        session = session_for(wp, mjw, models, fields, name, nconmax, njmax)
+        plan = plan_for(wp, session, len(ctrl), nstep, len(steps), kept, square_shape)
         m, d = session.m, session.d
         mjw.reset_data(m, d)
         mjw.set_state(m, d, wp.array(np.ascontiguousarray(state0), dtype=float), _FULL)
