@@ -81,11 +81,17 @@ def _gpu_line() -> str | None:
 
 
 def _relative(warp: list[float], cpu: list[float]) -> dict[str, Any]:
-    """Median and largest relative cost difference; candidates falling on one side only."""
-    walks = [i for i, (w, c) in enumerate(zip(warp, cpu, strict=True)) if max(w, c) < 1000.0]
-    one_side = [
-        i for i, (w, c) in enumerate(zip(warp, cpu, strict=True)) if (w < 1000) != (c < 1000)
-    ]
+    """Median and largest relative cost difference; candidates falling on one side only.
+
+    A candidate falls (or diverges) when its cost is the failure cost (at least
+    :data:`~zmpkit.simfit.cost.FAILED_COST`).
+    """
+    from zmpkit.simfit.cost import FAILED_COST
+
+    fell_warp = [w >= FAILED_COST for w in warp]
+    fell_cpu = [c >= FAILED_COST for c in cpu]
+    walks = [i for i, (a, b) in enumerate(zip(fell_warp, fell_cpu, strict=True)) if not (a or b)]
+    one_side = [i for i, (a, b) in enumerate(zip(fell_warp, fell_cpu, strict=True)) if a != b]
     rel = [abs(warp[i] - cpu[i]) / cpu[i] for i in walks]
     return {
         "walking": len(walks),
