@@ -73,13 +73,13 @@ def posed_simulations(
     for truth in truths:
         built: dict[str, tuple[RobotDescription, mujoco.MjModel]] = {}
         for e, experiment in enumerate(experiments):
-            if experiment.robot in built:
+            if experiment.robot in built:  # the first one's model, untouched by posing
                 description, model = built[experiment.robot]
                 sim = Simulation(description, seed=0, model=copy.copy(model))
             else:
                 description = get_robot(experiment.robot).description(effects, truth)
                 sim = Simulation(description, seed=0)
-                built[experiment.robot] = (description, copy.copy(sim.model))
+                built[experiment.robot] = (description, sim.model)
             _pose(experiment, sim)
             out[e].append(sim)
     return out
