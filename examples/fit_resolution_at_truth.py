@@ -7,17 +7,21 @@ Usage::
 
 Records the self-test's experiments (:func:`~zmpkit.simfit.self_test.self_test_plan`) from
 a robot whose hidden truth is the self-test's (every fitted parameter moved 8-25 % by the
-seed), then profiles the fit's cost at that truth — where a perfect fit ends — each
-parameter moved by ±10 % with the others held (:mod:`zmpkit.simfit.identifiability`):
-2n + 1 candidates, one batch. Each parameter's *resolution* is the relative change that
-raises the cost visibly; a parameter with a resolution within 10 % is identifiable from
-these experiments, and a fit that converges can be asked to recover it to about that.
+seed), then measures the fit's cost at that truth — where a perfect fit ends — with each
+parameter moved by ±10 % and each pair moved together (:mod:`zmpkit.simfit.identifiability`,
+:mod:`zmpkit.simfit.cost_hessian`): 2n + n(n-1) + 1 candidates, one batch. Each parameter's
+*resolution* is the relative change that raises the cost visibly: *conditional* with the
+others held (the 1-D profile), *marginal* with the others free to compensate (from the
+cost's Hessian). A parameter with a marginal resolution within 10 % is identifiable from
+these experiments, and a fit that converges can be asked to recover it to about that; the
+loose directions name the combinations the data cannot separate.
 A full-effect fit (M, G, F, S and C: 12 parameters on the NAO) needs a population of
 hundreds to converge, a GPU's job; this says beforehand which of its parameters the data
 can pin down, and how finely, on a CPU in minutes.
 
 Writes ``OUT/resolution_at_truth.csv`` (parameter, truth, cost at -10 %, at the truth, at
-+10 %, resolution [%], identifiable from the profile) and prints it. The truth is read
++10 %, conditional and marginal resolution [%], identifiable from the marginal),
+``OUT/sloppy_directions.csv`` and ``OUT/hessian.csv`` and prints them. The truth is read
 only to place the profile (it is this example's question, not a fit).
 """
 
@@ -35,6 +39,7 @@ from zmpkit.pipelines.identify_sim import IdentifySimConfig
 from zmpkit.simfit.batch_backend import BatchEvaluator
 from zmpkit.simfit.experiments import read_experiments
 from zmpkit.simfit.identifiability import IDENTIFIABLE_WITHIN, identifiability
+from zmpkit.simfit.outputs import write_sloppy_directions_csv
 from zmpkit.simfit.problem import FitProblem
 from zmpkit.simfit.self_test import (
     SelfTestPlan,
@@ -71,28 +76,49 @@ def main() -> None:
     evaluator = BatchEvaluator(problem, threads=args.workers)
     at_truth = evaluator.costs([truth])[0]
     cost0 = float(np.mean([t.total(problem.weights) for t in at_truth]))
-    rows = identifiability(problem, evaluator, truth, cost0, np.zeros(len(params)))
+    judged = identifiability(problem, evaluator, truth, cost0, np.zeros(len(params)))
+    rows = judged.parameters
     seconds = time.perf_counter() - start
     path = args.out / "resolution_at_truth.csv"
     with path.open("w", newline="", encoding="utf-8") as f:
         writer = csv.writer(f)
         writer.writerow(
             ("parameter", "truth", "cost_minus", "cost_truth", "cost_plus", "resolution_pct",
-             "identifiable")
+             "marginal_resolution_pct", "identifiable")
         )  # fmt: skip
         for p, r, v in zip(params, rows, truth, strict=True):
-            resolution = 100 * r.resolution if math.isfinite(r.resolution) else math.inf
             writer.writerow(
                 (p.name, f"{v:.6g}", f"{r.cost_minus:.6g}", f"{r.cost_opt:.6g}",
-                 f"{r.cost_plus:.6g}", f"{resolution:.3g}",
-                 str(r.resolution <= IDENTIFIABLE_WITHIN).lower())
+                 f"{r.cost_plus:.6g}", _pct(r.resolution), _pct(r.marginal_resolution),
+                 str(r.marginal_resolution <= IDENTIFIABLE_WITHIN).lower())
             )  # fmt: skip
-            print(f"{p.name:22s} truth {v:<10.5g} resolution {resolution:7.3g} %")
-    n = sum(r.resolution <= IDENTIFIABLE_WITHIN for r in rows)
+            print(
+                f"{p.name:22s} truth {v:<10.5g} resolution {_pct(r.resolution):>7s} %"
+                f"  marginal {_pct(r.marginal_resolution):>7s} %"
+            )
+    names = [p.name for p in params]
+    with (args.out / "hessian.csv").open("w", newline="", encoding="utf-8") as f:
+        writer = csv.writer(f)
+        writer.writerow(("parameter", *names))
+        for name, row in zip(names, judged.hessian, strict=True):
+            writer.writerow((name, *(f"{x:.6g}" for x in row)))
+    write_sloppy_directions_csv(args.out / "sloppy_directions.csv", judged.sloppy)
+    for k, d in enumerate(judged.sloppy):
+        parts = ", ".join(f"{name} {value:+.2f}" for name, value in d.components)
+        print(f"loose direction {k + 1}: ±{_pct(d.resolution)} %: {parts}")
+    held = sum(r.resolution <= IDENTIFIABLE_WITHIN for r in rows)
+    free = sum(r.marginal_resolution <= IDENTIFIABLE_WITHIN for r in rows)
     print(
-        f"{n} of {len(params)} parameters within {100 * IDENTIFIABLE_WITHIN:g} %; "
-        f"cost at the truth {cost0:.3g}; {len(experiments)} experiments, {seconds:.0f} s; {path}"
+        f"within {100 * IDENTIFIABLE_WITHIN:g} %: {held} of {len(params)} parameters with the "
+        f"others held, {free} with them free; cost at the truth {cost0:.3g}, level around it "
+        f"{judged.level:.3g}, roughness {judged.roughness:.3g}, visible rise {judged.rise:.3g}; "
+        f"{len(experiments)} experiments, {len(params) * (len(params) + 1) + 1} candidates, "
+        f"{seconds:.0f} s; {path}"
     )
+
+
+def _pct(fraction: float) -> str:
+    return f"{100 * fraction:.3g}" if math.isfinite(fraction) else "inf"
 
 
 if __name__ == "__main__":

@@ -26,6 +26,7 @@ from zmpkit.pipelines.identify_sim_report import reproduction_checks, write_fit_
 from zmpkit.robots.registry import DEFAULT_FIT_ROBOT, get_robot
 from zmpkit.simfit.backends import BACKENDS, DEFAULT_WORKERS, make_evaluator
 from zmpkit.simfit.cost import CostWeights
+from zmpkit.simfit.cost_hessian import CostDirection
 from zmpkit.simfit.experiments import Experiment, read_experiments
 from zmpkit.simfit.identifiability import ParameterIdentifiability, identifiability
 from zmpkit.simfit.optimizer import (
@@ -217,6 +218,8 @@ class IdentifySimResult:
         recovery: self-test only: truth vs fit per parameter.
         files: every file written, by role.
         started_s: when the run started [s since the epoch].
+        sloppy_directions: combinations of parameters the data leave loose (coarser than
+            :data:`~zmpkit.simfit.identifiability.IDENTIFIABLE_WITHIN`), loosest first.
     """
 
     config: IdentifySimConfig
@@ -230,6 +233,7 @@ class IdentifySimResult:
     recovery: tuple[RecoveryRow, ...] = ()
     files: dict[str, Path] = field(default_factory=dict)
     started_s: float = field(default_factory=time.time)
+    sloppy_directions: tuple[CostDirection, ...] = ()
 
 
 def _experiments(
@@ -292,7 +296,7 @@ def run_identify_sim(
     try:
         resume = Path(config.resume) if config.resume is not None else None
         cma_result = run_cma(problem, evaluator, options, out, resume, progress)
-        ident = identifiability(
+        judged = identifiability(
             problem, evaluator, cma_result.best_values, cma_result.best_cost, cma_result.unit_std
         )
     finally:
@@ -302,8 +306,9 @@ def run_identify_sim(
     held_checks, held_files = reproduction_checks(
         problem, held_exps, cma_result.best_values, figures
     )
+    ident = judged.parameters
     files = write_fit_files(
-        problem, cma_result, ident, (fit_checks, held_checks), out, config.figures
+        problem, cma_result, judged, (fit_checks, held_checks), out, config.figures
     )
     files |= fit_files | held_files
     recovery: tuple[RecoveryRow, ...] = ()
@@ -325,4 +330,5 @@ def run_identify_sim(
         recovery,
         files,
         started_s,
+        judged.sloppy,
     )

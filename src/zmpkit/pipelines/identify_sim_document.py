@@ -52,8 +52,9 @@ def identify_sim_document(result: IdentifySimResult) -> ReportDocument:
         Check(
             f"`{i.name}` pinned down by the data",
             "met" if i.identifiable else "missed",
-            f"cost rises visibly at ±{100 * i.resolution:.1f} %, CMA-ES spread "
-            f"{100 * i.cma_relative_std:.1f} %",
+            f"cost rises visibly at ±{_pct(i.marginal_resolution)} with the other "
+            f"parameters free (±{_pct(i.resolution)} with them held), CMA-ES spread "
+            f"{_pct(i.cma_relative_std)}",
         )
         for i in result.identifiability
     ]
@@ -73,6 +74,8 @@ def identify_sim_document(result: IdentifySimResult) -> ReportDocument:
         f"The fitted parameters (best cost {result.cost:.4g}).",
     )
     blocks: list = [parameters]
+    if result.sloppy_directions:
+        blocks.append(_sloppy_table(result))
     if result.recovery:
         blocks.append(
             Table(
@@ -114,7 +117,8 @@ def identify_sim_document(result: IdentifySimResult) -> ReportDocument:
                 (
                     Text(
                         "`fitted_truth.yaml` (usable as `--truth`), `fitted_parameters.yaml`, "
-                        "`cost_history.csv`, `identifiability.csv`, `reproduction.csv`"
+                        "`cost_history.csv`, `identifiability.csv`, `sloppy_directions.csv`, "
+                        "`reproduction.csv`"
                         + (", `recovery.csv`" if result.recovery else "")
                         + "; the checkpoint resumes an interrupted fit (`--resume`)."
                     ),
@@ -129,6 +133,28 @@ def identify_sim_document(result: IdentifySimResult) -> ReportDocument:
             seed=c.seed,
             extra=(("backend", c.backend), ("generations", str(len(result.cma.history)))),
         ),
+    )
+
+
+def _pct(fraction: float) -> str:
+    return f"{100 * fraction:.1f} %" if math.isfinite(fraction) else "> 100 %"
+
+
+def _sloppy_table(result: IdentifySimResult) -> Table:
+    """The combinations of parameters the data leave loose (relative moves)."""
+    return Table(
+        ("direction", "cost rises visibly at", "components (relative moves)"),
+        tuple(
+            (
+                str(k + 1),
+                f"±{_pct(d.resolution)}",
+                ", ".join(f"{name} {value:+.2f}" for name, value in d.components),
+            )
+            for k, d in enumerate(result.sloppy_directions)
+        ),
+        "Combinations of the parameters' relative changes along which the fit's cost hardly "
+        "rises (the cost's Hessian at the fit, loosest first): the data pin these down "
+        "more coarsely than 10 %.",
     )
 
 

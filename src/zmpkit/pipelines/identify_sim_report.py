@@ -15,7 +15,7 @@ import numpy as np
 from zmpkit.analysis.simfit_plots import plot_cost_history, plot_signal_fit
 from zmpkit.simfit import outputs
 from zmpkit.simfit.experiments import Experiment
-from zmpkit.simfit.identifiability import ParameterIdentifiability
+from zmpkit.simfit.identifiability import Identifiability
 from zmpkit.simfit.optimizer import CmaResult
 from zmpkit.simfit.problem import FitProblem, simulate
 from zmpkit.simfit.validation import ReproductionCheck, reproduction_check
@@ -50,15 +50,15 @@ def reproduction_checks(
 def write_fit_files(
     problem: FitProblem,
     cma_result: CmaResult,
-    ident: tuple[ParameterIdentifiability, ...],
+    judged: Identifiability,
     checks: tuple,
     out: Path,
     figures: bool = True,
 ) -> dict[str, Path]:
     """Write the fit's files into ``out`` and return them by role.
 
-    The files are the fitted truth, parameters, history, identifiability and reproduction
-    tables and the cost-history figure.
+    The files are the fitted truth, parameters, history, identifiability, loose directions
+    and reproduction tables and the cost-history figure.
     """
     params, best = problem.parameters, cma_result.best_values
     source = ", ".join(e.name for e in problem.experiments)
@@ -72,11 +72,14 @@ def write_fit_files(
             problem.sim_effects,
             cma_result.best_cost,
             params,
-            ident,
+            judged.parameters,
         ),
         "history": outputs.write_history_csv(out / outputs.HISTORY_CSV, cma_result.history, params),
         "identifiability": outputs.write_identifiability_csv(
-            out / outputs.IDENTIFIABILITY_FILE, ident
+            out / outputs.IDENTIFIABILITY_FILE, judged.parameters
+        ),
+        "sloppy_directions": outputs.write_sloppy_directions_csv(
+            out / outputs.SLOPPY_DIRECTIONS_FILE, judged.sloppy
         ),
         "reproduction": outputs.write_reproduction_csv(out / outputs.REPRODUCTION_FILE, *checks),
         "checkpoint": cma_result.checkpoint,

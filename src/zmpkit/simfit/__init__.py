@@ -14,7 +14,8 @@ physical robot." One concept per module:
 - :mod:`~zmpkit.simfit.backends`: serial, local process pool, Ray;
 - :mod:`~zmpkit.simfit.checkpoint`: CMA-ES state and history on disk;
 - :mod:`~zmpkit.simfit.optimizer`: the CMA-ES loop with resume;
-- :mod:`~zmpkit.simfit.identifiability`: profile and CMA-ES spread;
+- :mod:`~zmpkit.simfit.cost_hessian`: the cost's Hessian, marginal resolutions, loose directions;
+- :mod:`~zmpkit.simfit.identifiability`: profile, marginal resolution and CMA-ES spread;
 - :mod:`~zmpkit.simfit.validation`: trunk oscillation and joint error checks;
 - :mod:`~zmpkit.simfit.self_test`: hidden perturbed truth, recording, recovery;
 - :mod:`~zmpkit.simfit.outputs`: the files of a fit.
@@ -27,7 +28,11 @@ from __future__ import annotations
 from zmpkit.simfit.backends import BACKENDS, DEFAULT_WORKERS, make_evaluator
 from zmpkit.simfit.cost import CostTerms, CostWeights, experiment_cost
 from zmpkit.simfit.experiments import StepExperiment, WalkExperiment, read_experiments
-from zmpkit.simfit.identifiability import ParameterIdentifiability, identifiability
+from zmpkit.simfit.identifiability import (
+    Identifiability,
+    ParameterIdentifiability,
+    identifiability,
+)
 from zmpkit.simfit.optimizer import (
     CmaOptions,
     CmaResult,
@@ -54,6 +59,7 @@ __all__ = [
     "FitParameter",
     "FitProblem",
     "FitProgress",
+    "Identifiability",
     "ParameterIdentifiability",
     "RecordedSignals",
     "RecoveryRow",

@@ -3,9 +3,10 @@ r"""Do two simulator fits agree? Each parameter's difference against the fits' r
 Two fits of the same robot and parameters (another backend, e.g. MuJoCo Warp's float32 on
 a GPU against the CPU's float64; another seed, another day's data) agree on a parameter
 when their values differ by no more than the larger of their *resolutions*: the relative
-step from the optimum at which the fit's cost rises visibly
-(:mod:`~zmpkit.simfit.identifiability`), the width within which the data cannot tell
-values apart:
+step from the optimum at which the fit's cost rises visibly with every other parameter
+free to compensate (the *marginal* resolution, :mod:`~zmpkit.simfit.identifiability`; the
+profile's, the others held, for a fit written before it was recorded), the width within
+which the data cannot tell values apart:
 
 .. math:: \delta = \frac{\theta_B - \theta_A}{|\theta_A|}, \qquad
           \text{agree} \iff |\delta| \le \max(r_A, r_B).
@@ -123,12 +124,13 @@ def _fitted_value(path: Path, name: str, entry: Any) -> FittedValue:
     if not isinstance(entry, dict):
         raise InputFileError(path, "expected value, unit, identifiable, resolution_pct", key=key)
     value: Any = entry.get("value")
-    resolution: Any = entry.get("resolution_pct")
+    key_used = "marginal_resolution_pct" if "marginal_resolution_pct" in entry else "resolution_pct"
+    resolution: Any = entry.get(key_used)
     if not _is_finite(value):
         raise InputFileError(path, f"value: expected a finite number, got {value!r}", key=key)
     if resolution is not None and not (_is_finite(resolution) and resolution >= 0):
         raise InputFileError(
-            path, f"resolution_pct: expected a number >= 0 or null, got {resolution!r}", key=key
+            path, f"{key_used}: expected a number >= 0 or null, got {resolution!r}", key=key
         )
     identifiable = entry.get("identifiable")
     if not isinstance(identifiable, bool):

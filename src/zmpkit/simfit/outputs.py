@@ -6,7 +6,10 @@
   truth file and identifiability;
 - :data:`HISTORY_CSV`: one row per generation (costs, step size, its IPOP restart and
   population, best-so-far values);
-- :data:`IDENTIFIABILITY_FILE`: the cost profile and CMA-ES spread per parameter;
+- :data:`IDENTIFIABILITY_FILE`: the cost profile, the marginal resolution and the CMA-ES
+  spread per parameter;
+- :data:`SLOPPY_DIRECTIONS_FILE`: the combinations of parameters the data leave loose
+  (:mod:`~zmpkit.simfit.cost_hessian`), one row each, loosest first (header only if none);
 - :data:`REPRODUCTION_FILE`: per fitted and held-out experiment, trunk-oscillation frequency
   and amplitude recorded vs simulated and the joint-angle RMS error.
 """
@@ -20,6 +23,7 @@ import numpy as np
 import yaml
 
 from zmpkit.simfit.checkpoint import GenerationRecord
+from zmpkit.simfit.cost_hessian import CostDirection
 from zmpkit.simfit.identifiability import ParameterIdentifiability
 from zmpkit.simfit.parameters import FitParameter, ParameterValues
 from zmpkit.simfit.truth_doc import truth_doc_with, write_truth_doc
@@ -31,11 +35,13 @@ __all__ = [
     "HISTORY_CSV",
     "IDENTIFIABILITY_FILE",
     "REPRODUCTION_FILE",
+    "SLOPPY_DIRECTIONS_FILE",
     "write_fitted_parameters",
     "write_fitted_truth",
     "write_history_csv",
     "write_identifiability_csv",
     "write_reproduction_csv",
+    "write_sloppy_directions_csv",
 ]
 
 FITTED_TRUTH_FILE = "fitted_truth.yaml"
@@ -43,6 +49,7 @@ FITTED_PARAMETERS_FILE = "fitted_parameters.yaml"
 HISTORY_CSV = "cost_history.csv"
 IDENTIFIABILITY_FILE = "identifiability.csv"
 REPRODUCTION_FILE = "reproduction.csv"
+SLOPPY_DIRECTIONS_FILE = "sloppy_directions.csv"
 
 
 def _csv(path: Path, header: Sequence[str], rows: Sequence[Sequence[object]]) -> Path:
@@ -72,6 +79,10 @@ def write_fitted_truth(
     return write_truth_doc(truth_doc_with(base_doc, parameters, values), path, header)
 
 
+def _pct_or_none(fraction: float) -> float | None:
+    return None if not np.isfinite(fraction) else 100 * float(fraction)
+
+
 def write_fitted_parameters(
     path: Path,
     robot: str,
@@ -91,6 +102,7 @@ def write_fitted_parameters(
             "effect": p.effect,
             "identifiable": bool(i.identifiable),
             "resolution_pct": None if not np.isfinite(i.resolution) else 100 * i.resolution,
+            "marginal_resolution_pct": _pct_or_none(i.marginal_resolution),
             "cma_relative_std": float(i.cma_relative_std),
         }
         for p, i in zip(parameters, ident, strict=True)
@@ -135,7 +147,10 @@ def write_history_csv(
 
 
 def write_identifiability_csv(path: Path, ident: Sequence[ParameterIdentifiability]) -> Path:
-    """The profile costs, resolution [%], CMA-ES spread [%] and verdict per parameter."""
+    """Per parameter: profile costs, resolution, CMA-ES spread, verdict, marginal resolution.
+
+    Resolutions and spread in %; an empty cell: no visible rise within ±100 %.
+    """
     header = [
         "parameter",
         "value",
@@ -145,6 +160,7 @@ def write_identifiability_csv(path: Path, ident: Sequence[ParameterIdentifiabili
         "resolution_pct",
         "cma_relative_std_pct",
         "identifiable",
+        "marginal_resolution_pct",
     ]
     rows = [
         [
@@ -156,8 +172,27 @@ def write_identifiability_csv(path: Path, ident: Sequence[ParameterIdentifiabili
             100 * i.resolution,
             100 * i.cma_relative_std,
             str(bool(i.identifiable)).lower(),  # as in recovery.csv
+            100 * i.marginal_resolution,
         ]
         for i in ident
+    ]
+    return _csv(path, header, rows)
+
+
+def write_sloppy_directions_csv(path: Path, directions: Sequence[CostDirection]) -> Path:
+    """One row per loose direction: resolution [%], curvature [-], main components.
+
+    An empty resolution: no visible rise within ±100 %; components as ``name:+0.710 …``.
+    """
+    header = ["direction", "resolution_pct", "curvature", "components"]
+    rows = [
+        [
+            k + 1,
+            100 * d.resolution,
+            d.curvature,
+            " ".join(f"{name}:{value:+.3f}" for name, value in d.components),
+        ]
+        for k, d in enumerate(directions)
     ]
     return _csv(path, header, rows)
 
