@@ -154,3 +154,18 @@ def test_the_command_exits_0_when_the_fits_agree_and_1_when_not(
     out = capsys.readouterr().out
     assert "+10.00%" in out
     assert "the fits differ in gear_stiffness" in out
+
+
+def test_the_marginal_resolution_is_the_tolerance_when_a_fit_has_it(tmp_path: Path) -> None:
+    """A fit written with the marginal resolution (the others free) is judged on it, not on
+    the profile's narrower one; a null marginal means the cost never rose visibly."""
+    a = _fit(tmp_path / "a", {"k": (100.0, 1.0, True), "g": (2.0, 1.0, True)})
+    b = _fit(tmp_path / "b", {"k": (104.0, 1.0, True), "g": (2.0, 1.0, True)})
+    doc = yaml.safe_load((a / "fitted_parameters.yaml").read_text())
+    doc["parameters"]["k"]["marginal_resolution_pct"] = 5.0
+    doc["parameters"]["g"]["marginal_resolution_pct"] = None
+    (a / "fitted_parameters.yaml").write_text(yaml.safe_dump(doc, sort_keys=False))
+    k, g = compare_fits(a, b).parameters
+    assert k.tolerance == pytest.approx(0.05)  # the profile's 1 % would have failed +4 %
+    assert k.agree
+    assert g.tolerance == math.inf
