@@ -36,7 +36,12 @@ and a few more that measure the cost's roughness:
   once CMA-ES has converged, so after a short fit it is an upper bound.
 
 A parameter is *identifiable* when its marginal resolution and its CMA-ES spread are both
-within :data:`IDENTIFIABLE_WITHIN`. A local measure alone is fooled by a rugged cost: a
+within :data:`IDENTIFIABLE_WITHIN`. The marginal assumes the cost is quadratic over ±h; a
+cost that rises like a cone (as :math:`|\delta|`, not :math:`\delta^2`: a walk with every
+effect on, around its truth) costs less for two parameters moved together than the sum of
+each, which reads as negative curvature along combined moves; those count as loose, so the
+marginal is then pessimistic as the profile is optimistic, and the two bracket the truth.
+A local measure alone is fooled by a rugged cost: a
 walk is sensitive enough that a parameter moved 10 % from a local minimum raises the cost
 steeply even where the search never settled (the walking robot's torso CoM x in a quick
 self-test: a sharp profile, a 54 % CMA-ES spread, 76 % off).
