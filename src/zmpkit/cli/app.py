@@ -18,7 +18,15 @@ import click
 from zmpkit import __version__
 from zmpkit.errors import ZmpkitError, ZmpkitWarning, problem_lines
 
-__all__ = ["COMMANDS", "EXIT_USAGE", "LazyGroup", "cli", "format_or_undefined", "main"]
+__all__ = [
+    "COMMANDS",
+    "EXIT_USAGE",
+    "SIMULATING",
+    "LazyGroup",
+    "cli",
+    "format_or_undefined",
+    "main",
+]
 
 EXIT_USAGE = 2
 _PYTHON_SHOWWARNING = warnings.showwarning
@@ -60,6 +68,10 @@ COMMANDS: dict[str, tuple[str, str]] = {
 }
 """Subcommand -> ("module:attribute", one-line help). The module is imported only when the
 subcommand runs (or shows its own help), so ``zmpkit --help`` needs no physics engine."""
+SIMULATING = frozenset({"balance", "demo", "identify", "sim", "walk", "warp"})
+"""Subcommands that run MuJoCo: their MuJoCo warnings go to logging
+(:func:`~zmpkit.sim.mujoco_messages.route_mujoco_warnings`), not to the terminal and
+``MUJOCO_LOG.TXT``; a diverging candidate is counted from the warning counters."""
 
 
 class LazyGroup(click.Group):
@@ -78,6 +90,10 @@ class LazyGroup(click.Group):
         if cmd_name not in self.lazy:
             return super().get_command(ctx, cmd_name)
         module, attribute = self.lazy[cmd_name][0].split(":")
+        if cmd_name in SIMULATING:
+            from zmpkit.sim.mujoco_messages import route_mujoco_warnings
+
+            route_mujoco_warnings()
         command = getattr(importlib.import_module(module), attribute)
         if not isinstance(command, click.Command):
             raise TypeError(f"{module}:{attribute} is not a click command")
