@@ -4,6 +4,7 @@ Usage::
 
     python examples/fit_resolution_at_truth.py OUT [--robot nao] [--effects M,G,F,S,C]
                                                [--quick] [--workers N] [--seed S]
+                                               [--weights JOINT,ZMP,SPECTRUM]
 
 Records the self-test's experiments (:func:`~zmpkit.simfit.self_test.self_test_plan`) from
 a robot whose hidden truth is the self-test's (every fitted parameter moved 8-25 % by the
@@ -37,6 +38,7 @@ import numpy as np
 
 from zmpkit.pipelines.identify_sim import IdentifySimConfig
 from zmpkit.simfit.batch_backend import BatchEvaluator
+from zmpkit.simfit.cost import CostWeights
 from zmpkit.simfit.experiments import read_experiments
 from zmpkit.simfit.identifiability import IDENTIFIABLE_WITHIN, identifiability
 from zmpkit.simfit.outputs import write_sloppy_directions_csv
@@ -59,6 +61,14 @@ def main() -> None:
     parser.add_argument("--quick", action="store_true", help="the quick self-test's walks")
     parser.add_argument("--workers", type=int, default=2)
     parser.add_argument("--seed", type=int, default=1)
+    parser.add_argument(
+        "--expected-readings",
+        action="store_true",
+        help="the fit's simulated sensors without noise and quantisation (offsets kept)",
+    )
+    parser.add_argument(
+        "--weights", default="1,1,1", help="the cost terms' weights: joint,zmp,spectrum"
+    )
     args = parser.parse_args()
     config = IdentifySimConfig(
         robot=args.robot, effects=args.effects, self_test=True, seed=args.seed
@@ -72,7 +82,11 @@ def main() -> None:
         args.robot, plan, doc, params, truth, config.physics_effects, args.seed, args.out
     )
     experiments = tuple(read_experiments(fit_dirs, args.robot))
-    problem = FitProblem(args.robot, config.sim_effects, params, doc, experiments)
+    weights = CostWeights(*(float(x) for x in args.weights.split(",")))
+    readings = "expected" if args.expected_readings else "sampled"
+    problem = FitProblem(
+        args.robot, config.sim_effects, params, doc, experiments, weights, readings
+    )
     evaluator = BatchEvaluator(problem, threads=args.workers)
     at_truth = evaluator.costs([truth])[0]
     cost0 = float(np.mean([t.total(problem.weights) for t in at_truth]))

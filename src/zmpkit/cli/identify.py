@@ -136,6 +136,14 @@ def identify_balance_command(
     help="Record experiments from a seed-perturbed robot, fit them, write recovery.csv.",
 )
 @click.option(
+    "--sensor-readings",
+    type=click.Choice(("sampled", "expected")),
+    default="sampled",
+    show_default=True,
+    help="The simulated sensors: their whole chain with noise and quantisation (sampled), "
+    "or their expected readings (no noise, no quantisation: a smoother cost).",
+)
+@click.option(
     "--held-out",
     multiple=True,
     type=click.Path(path_type=Path),
@@ -157,6 +165,7 @@ def identify_sim_command(
     seed: int,
     quick: bool,
     self_test: bool,
+    sensor_readings: str,
     held_out: tuple[Path, ...],
     report_format: str,
 ) -> None:
@@ -176,6 +185,7 @@ def identify_sim_command(
         seed=seed,
         quick=quick,
         self_test=self_test,
+        sensor_readings=sensor_readings,
     )
     try:
         with GenerationProgress() as progress:

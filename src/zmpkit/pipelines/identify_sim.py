@@ -42,7 +42,7 @@ from zmpkit.simfit.parameters import (
     default_parameters,
     parse_fit_effects,
 )
-from zmpkit.simfit.problem import FitProblem
+from zmpkit.simfit.problem import SENSOR_READINGS, FitProblem
 from zmpkit.simfit.self_test import (
     RecoveryRow,
     perturbed_values,
@@ -100,6 +100,9 @@ class IdentifySimConfig:
         sensor_model: simulate the sensors as the base truth describes them (S: F-T filter,
             rate, quantisation, noise with a fixed seed; encoder resolution), so the
             simulated signals pass through the same sensor chain as the recorded ones.
+        sensor_readings: with the sensor model, ``"sampled"`` (the whole chain, noise with a
+            fixed seed and quantisation) or ``"expected"`` (no noise, no quantisation: a
+            smooth cost; :func:`~zmpkit.simfit.truth_doc.expected_readings`).
         figures: draw the figures.
     """
 
@@ -123,6 +126,7 @@ class IdentifySimConfig:
     weights: CostWeights = field(default_factory=CostWeights)
     sensor_model: bool = True
     figures: bool = True
+    sensor_readings: str = "sampled"
 
     def __post_init__(self) -> None:
         get_robot(self.robot, needs="fit")
@@ -148,6 +152,11 @@ class IdentifySimConfig:
             raise ParameterError(f"seed must be an integer >= 0; got {self.seed!r}")
         if not 0.0 < self.sigma0 <= 0.5:
             raise ParameterError(f"sigma0 must be in (0, 0.5]; got {self.sigma0!r}")
+        if self.sensor_readings not in SENSOR_READINGS:
+            raise ParameterError(
+                f"sensor readings must be one of {', '.join(SENSOR_READINGS)}; "
+                f"got {self.sensor_readings!r}"
+            )
         self.fit_parameters()  # validates the parameter names against the effects
 
     @property
@@ -287,7 +296,13 @@ def run_identify_sim(
     out.mkdir(parents=True, exist_ok=True)
     fit_exps, held_exps, truth = recorded or _experiments(config, base_doc, params, out)
     problem = FitProblem(
-        config.robot, config.sim_effects, params, base_doc, tuple(fit_exps), config.weights
+        config.robot,
+        config.sim_effects,
+        params,
+        base_doc,
+        tuple(fit_exps),
+        config.weights,
+        config.sensor_readings,
     )
     options = CmaOptions(
         config.n_generations, config.popsize, config.sigma0, config.seed, config.restarts

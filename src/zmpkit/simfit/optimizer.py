@@ -149,7 +149,7 @@ class CmaResult:
 
 def fingerprint(problem: FitProblem, options: CmaOptions) -> dict[str, Any]:
     """What identifies a fit, for refusing to resume another one."""
-    return {
+    out: dict[str, Any] = {
         "robot": problem.robot,
         "sim_effects": problem.sim_effects,
         "parameters": [(p.name, p.path, p.nominal, p.lower, p.upper) for p in problem.parameters],
@@ -158,6 +158,9 @@ def fingerprint(problem: FitProblem, options: CmaOptions) -> dict[str, Any]:
         "sigma0": options.sigma0,
         "seed": options.seed,
     }
+    if problem.sensor_readings != "sampled":  # a checkpoint from before the option resumes
+        out["sensor_readings"] = problem.sensor_readings
+    return out
 
 
 def _start(problem: FitProblem, options: CmaOptions) -> Checkpoint:

@@ -11,14 +11,23 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from zmpkit.errors import ParameterError
 from zmpkit.simfit.cost import CostTerms, CostWeights, experiment_cost
 from zmpkit.simfit.experiments import Experiment
 from zmpkit.simfit.parameters import FitParameter, ParameterValues
 from zmpkit.simfit.recorded import RecordedSignals
 from zmpkit.simfit.rollout import simulate_experiment
-from zmpkit.simfit.truth_doc import RobotTruth, load_robot_truth, truth_doc_with
+from zmpkit.simfit.truth_doc import (
+    RobotTruth,
+    expected_readings,
+    load_robot_truth,
+    truth_doc_with,
+)
 
-__all__ = ["FitProblem", "evaluate", "simulate"]
+__all__ = ["SENSOR_READINGS", "FitProblem", "evaluate", "simulate"]
+
+SENSOR_READINGS = ("sampled", "expected")
+"""How the fit's simulated sensors read (:attr:`FitProblem.sensor_readings`)."""
 
 
 @dataclass(frozen=True, eq=False)
@@ -32,6 +41,10 @@ class FitProblem:
         base_doc: the base truth document (every unfitted value).
         experiments: the recorded experiments, fitted jointly.
         weights: weights of the cost terms.
+        sensor_readings: ``"sampled"``: the simulated sensors run the base truth's whole
+            chain (noise with a fixed seed, quantisation); ``"expected"``: their expected
+            readings, without noise and quantisation
+            (:func:`~zmpkit.simfit.truth_doc.expected_readings`).
     """
 
     robot: str
@@ -40,6 +53,14 @@ class FitProblem:
     base_doc: dict
     experiments: tuple[Experiment, ...]
     weights: CostWeights = field(default_factory=CostWeights)
+    sensor_readings: str = "sampled"
+
+    def __post_init__(self) -> None:
+        if self.sensor_readings not in SENSOR_READINGS:
+            raise ParameterError(
+                f"sensor readings must be one of {', '.join(SENSOR_READINGS)}; "
+                f"got {self.sensor_readings!r}"
+            )
 
     @property
     def keeps_zmp_mean(self) -> bool:
@@ -52,7 +73,10 @@ class FitProblem:
 
     def truth(self, values: ParameterValues) -> RobotTruth:
         """The robot's truth object with the parameters at ``values`` [units]."""
-        return load_robot_truth(self.robot, truth_doc_with(self.base_doc, self.parameters, values))
+        doc = truth_doc_with(self.base_doc, self.parameters, values)
+        if self.sensor_readings == "expected":
+            doc = expected_readings(doc)
+        return load_robot_truth(self.robot, doc)
 
 
 def simulate(problem: FitProblem, values: ParameterValues, index: int) -> RecordedSignals:

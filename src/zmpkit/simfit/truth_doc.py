@@ -27,8 +27,10 @@ from zmpkit.robots.registry import get_robot
 from zmpkit.simfit.parameters import FitParameter, ParameterValues
 
 __all__ = [
+    "EXPECTED_READINGS_ZEROED",
     "RobotTruth",
     "base_truth_path",
+    "expected_readings",
     "get_path",
     "load_robot_truth",
     "load_truth_doc",
@@ -143,6 +145,37 @@ def truth_doc_with(
     for parameter, value in zip(parameters, values, strict=True):
         set_path(doc, parameter.path, value)
     return doc
+
+
+EXPECTED_READINGS_ZEROED: dict[str, Any] = {
+    "ft_noise_std": [0.0] * 6,
+    "ft_quantisation": [0.0] * 6,
+    "ft_offset_drift_std": [0.0] * 6,
+    "encoder_resolution": 0.0,
+    "gyro_noise_std": 0.0,
+    "accel_noise_std": 0.0,
+}
+"""The ``sensors`` values :func:`expected_readings` sets: the chain's random and quantising
+parts, zero."""
+
+
+def expected_readings(doc: Mapping[str, Any]) -> dict[str, Any]:
+    r"""A copy of ``doc`` whose sensors read their expected value: no noise, no quantisation.
+
+    The sensor chain's deterministic parts stay (F-T offsets, gain error, low-pass filter,
+    sample rate): a simulated reading is then the mean of what the real sensor would read.
+    Fitting to it is least squares under the sensors' noise, and the cost is smooth in the
+    parameters: quantised simulated encoders compared with quantised recorded ones change
+    by whole quanta where the angles cross a quantum's edge, so the squared joint error
+    grows like :math:`|\delta|`, not :math:`\delta^2`, and jumps on small scales.
+    """
+    out = copy.deepcopy(dict(doc))
+    sensors = out.get("sensors")
+    out["sensors"] = {
+        **(sensors if isinstance(sensors, dict) else {}),
+        **copy.deepcopy(EXPECTED_READINGS_ZEROED),
+    }  # a truth without a sensors section reads the defaults, which have noise
+    return out
 
 
 def write_truth_doc(doc: Mapping[str, Any], path: str | Path, header: str = "") -> Path:
