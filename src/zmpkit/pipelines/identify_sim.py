@@ -42,7 +42,7 @@ from zmpkit.simfit.parameters import (
     default_parameters,
     parse_fit_effects,
 )
-from zmpkit.simfit.problem import SENSOR_READINGS, FitProblem
+from zmpkit.simfit.problem import FitProblem, check_sensor_readings
 from zmpkit.simfit.self_test import (
     RecoveryRow,
     perturbed_values,
@@ -152,11 +152,7 @@ class IdentifySimConfig:
             raise ParameterError(f"seed must be an integer >= 0; got {self.seed!r}")
         if not 0.0 < self.sigma0 <= 0.5:
             raise ParameterError(f"sigma0 must be in (0, 0.5]; got {self.sigma0!r}")
-        if self.sensor_readings not in SENSOR_READINGS:
-            raise ParameterError(
-                f"sensor readings must be one of {', '.join(SENSOR_READINGS)}; "
-                f"got {self.sensor_readings!r}"
-            )
+        check_sensor_readings(self.sensor_readings)
         self.fit_parameters()  # validates the parameter names against the effects
 
     @property

@@ -8,6 +8,7 @@ worker (process pool) or put once in the object store (Ray).
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from functools import cached_property
 
 import numpy as np
 
@@ -24,10 +25,18 @@ from zmpkit.simfit.truth_doc import (
     truth_doc_with,
 )
 
-__all__ = ["SENSOR_READINGS", "FitProblem", "evaluate", "simulate"]
+__all__ = ["SENSOR_READINGS", "FitProblem", "check_sensor_readings", "evaluate", "simulate"]
 
 SENSOR_READINGS = ("sampled", "expected")
 """How the fit's simulated sensors read (:attr:`FitProblem.sensor_readings`)."""
+
+
+def check_sensor_readings(value: str) -> None:
+    """Raise :class:`~zmpkit.errors.ParameterError`, naming the valid ones, on a bad value."""
+    if value not in SENSOR_READINGS:
+        raise ParameterError(
+            f"sensor readings must be one of {', '.join(SENSOR_READINGS)}; got {value!r}"
+        )
 
 
 @dataclass(frozen=True, eq=False)
@@ -56,11 +65,18 @@ class FitProblem:
     sensor_readings: str = "sampled"
 
     def __post_init__(self) -> None:
-        if self.sensor_readings not in SENSOR_READINGS:
-            raise ParameterError(
-                f"sensor readings must be one of {', '.join(SENSOR_READINGS)}; "
-                f"got {self.sensor_readings!r}"
-            )
+        check_sensor_readings(self.sensor_readings)
+
+    @cached_property
+    def simulated_base_doc(self) -> dict:
+        """The base document the simulator runs from, made once.
+
+        ``base_doc`` with its sensors as :attr:`sensor_readings` asks; ``base_doc`` itself
+        stays the user's (the fitted truth is written from it).
+        """
+        if self.sensor_readings == "expected":
+            return expected_readings(self.base_doc)
+        return self.base_doc
 
     @property
     def keeps_zmp_mean(self) -> bool:
@@ -73,9 +89,7 @@ class FitProblem:
 
     def truth(self, values: ParameterValues) -> RobotTruth:
         """The robot's truth object with the parameters at ``values`` [units]."""
-        doc = truth_doc_with(self.base_doc, self.parameters, values)
-        if self.sensor_readings == "expected":
-            doc = expected_readings(doc)
+        doc = truth_doc_with(self.simulated_base_doc, self.parameters, values)
         return load_robot_truth(self.robot, doc)
 
 
