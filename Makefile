@@ -4,10 +4,14 @@ PYTHON ?= python3
 VENV   := .venv
 BIN    := $(VENV)/bin
 OUT    ?= out/demo
-# Locally `make test` skips the slow simulation tests (~10 min budget); CI (CI=true) runs
-# them too, as they fit its time, and then the fast tests again on the lowest dependency
-# versions pyproject.toml allows (.ci/lowest).
+# Locally `make test` skips the slow simulation tests (its budget: 4 min on a fresh 2-core
+# machine, install included); CI (CI=true) runs them too, as they fit its time, and then the
+# fast tests again on the lowest dependency versions pyproject.toml allows (.ci/lowest).
 PYTEST_MARK := $(if $(CI),,-m "not slow")
+# One pytest worker a core (pytest-xdist); a test file stays on one worker, so its
+# module-scoped fixtures (a balance run, a recorded walk) are made once. The slowest
+# tests are listed at the end of each run.
+PYTEST_ARGS := -n auto --dist loadfile --durations=15
 
 .PHONY: demo test test-slow test-lowest bench lint format clean
 
@@ -35,11 +39,11 @@ test: $(VENV)/.installed-test
 	$(BIN)/ruff format --check .
 	$(BIN)/lint-imports
 	$(BIN)/mypy
-	$(BIN)/python -m pytest $(PYTEST_MARK) -q
+	$(BIN)/python -m pytest $(PYTEST_MARK) $(PYTEST_ARGS) -q
 	$(if $(CI),.ci/lowest,@echo "dependency lower bounds: checked in CI (make test-lowest)")
 
 test-slow: $(VENV)/.installed-test
-	$(BIN)/python -m pytest -m slow -q
+	$(BIN)/python -m pytest -m slow $(PYTEST_ARGS) -q
 
 # The dependency lower bounds are true: the lowest allowed versions pass the fast tests.
 test-lowest:

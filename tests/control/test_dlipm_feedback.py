@@ -9,6 +9,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from helpers.allocations import alone
 from zmpkit.control import (
     DlipmController,
     DlipmFeedbackController,
@@ -219,15 +220,20 @@ def test_step_does_not_allocate() -> None:
     fb.set_target(0.07)
     for _ in range(100):
         fb.step(0.01)
-    tracemalloc.start()
-    try:
-        baseline, _ = tracemalloc.get_traced_memory()
-        tracemalloc.reset_peak()
-        for k in range(1000):
-            fb.step(None if k % 7 == 0 else 0.06)
-        current, peak = tracemalloc.get_traced_memory()
-    finally:
-        tracemalloc.stop()
+
+    def measure() -> tuple[int, int, int]:
+        tracemalloc.start()
+        try:
+            baseline, _ = tracemalloc.get_traced_memory()
+            tracemalloc.reset_peak()
+            for k in range(1000):
+                fb.step(None if k % 7 == 0 else 0.06)
+            current, peak = tracemalloc.get_traced_memory()
+        finally:
+            tracemalloc.stop()
+        return baseline, current, peak
+
+    baseline, current, peak = alone(measure)
     assert current - baseline < 256  # [bytes] no growth over 1000 ticks
     assert peak - baseline < 1024
 

@@ -8,6 +8,7 @@ import control
 import numpy as np
 import pytest
 
+from helpers.allocations import alone
 from zmpkit.errors import ParameterError
 from zmpkit.walking import (
     PreviewController,
@@ -161,15 +162,20 @@ def test_step_allocates_no_arrays() -> None:
     window = np.linspace(0.1, 0.2, controller.window_length)
     for _ in range(5):
         controller.step(window, window)
-    tracemalloc.start()
-    try:
-        before, _ = tracemalloc.get_traced_memory()
-        tracemalloc.reset_peak()
-        for _ in range(500):
-            controller.step(window, window)
-        after, peak = tracemalloc.get_traced_memory()
-    finally:
-        tracemalloc.stop()
+
+    def measure() -> tuple[int, int, int]:
+        tracemalloc.start()
+        try:
+            before, _ = tracemalloc.get_traced_memory()
+            tracemalloc.reset_peak()
+            for _ in range(500):
+                controller.step(window, window)
+            after, peak = tracemalloc.get_traced_memory()
+        finally:
+            tracemalloc.stop()
+        return before, after, peak
+
+    before, after, peak = alone(measure)
     assert after - before < 256  # no growth
     assert peak - before < 1024  # never as much as one (N_L + 1)-array (1288 bytes)
 

@@ -41,6 +41,7 @@ import numpy as np
 import pytest
 from numpy.typing import NDArray
 
+from helpers.allocations import alone
 from zmpkit.experiments.walk import sensor_layout
 from zmpkit.experiments.walk_trial import read_measurement, start_pose
 from zmpkit.robots.registry import DEFAULT_WALK_ROBOT, get_robot
@@ -123,7 +124,15 @@ def _no_op(*args: object) -> None:
 
 
 def _run(tick: Tick) -> tuple[NDArray[np.int64], int, int]:
-    """Each tick's peak above its start, the bytes and the numpy bytes kept [B]."""
+    """Each tick's peak above its start, the bytes and the numpy bytes kept [B].
+
+    Measured in a forked child (:func:`helpers.allocations.alone`): no other thread's
+    allocations are counted.
+    """
+    return alone(lambda: _measure(tick))
+
+
+def _measure(tick: Tick) -> tuple[NDArray[np.int64], int, int]:
     for k in range(1, WARM_UP):
         tick(k)
     frames = list(range(WARM_UP, WARM_UP + TICKS))  # the frames' ints exist before
