@@ -157,6 +157,27 @@ class Census:
         if not CENSUS_MODE:
             raise AssertionError(f"{self.name}: {'; '.join(found)}\ncase: {case!r}")
 
+    def as_plain(self) -> dict[str, object]:
+        """The census as plain values (what pytest-xdist sends from a worker)."""
+        return {
+            "name": self.name,
+            "cases": self.cases,
+            "bad": self.bad,
+            "causes": dict(self.causes),
+            "examples": dict(self.examples),
+        }
+
+    @classmethod
+    def from_plain(cls, plain: dict) -> Census:
+        """A census counted elsewhere (a pytest-xdist worker), registered here."""
+        return cls(
+            str(plain["name"]),
+            int(plain["cases"]),
+            int(plain["bad"]),
+            Counter(plain["causes"]),
+            dict(plain["examples"]),
+        )
+
     def summary(self) -> str:
         """One line: cases, bad endings and their distinct causes."""
         causes = ", ".join(f"{c} ×{n}" for c, n in self.causes.most_common())
