@@ -136,8 +136,11 @@ def walk_group(
             err=True,
         )
     fall = f"{s.fell} ({s.fall_kind} at {s.fall_time_s:.2f} s)" if s.fell else "False"
+    path_text = ""
+    if s.commanded_turn_rate_rps or s.commanded_lateral_speed_mps:  # the chord differs
+        path_text = f", along the path {format_or_undefined(s.path_speed_mps, '.4f')} m/s"
     click.echo(
-        f"{s.controller}: fell: {fall}; speed {speed_text} m/s "
+        f"{s.controller}: fell: {fall}; speed {speed_text} m/s{path_text} "
         f"(commanded {s.commanded_speed_mps:.4f}); trunk pitch peak {peak_hz} Hz, {peak_rad} rad"
     )
     click.echo(f"summary: {Path(out_dir) / 'summary.json'}")

@@ -22,7 +22,12 @@ import numpy as np
 from numpy.typing import NDArray
 
 from zmpkit.experiments.walk_trial import WalkRecord
-from zmpkit.signals.contact_phases import double_support_distance, fitted_speed, foot_slip
+from zmpkit.signals.contact_phases import (
+    double_support_distance,
+    fitted_speed,
+    foot_slip,
+    path_speed,
+)
 from zmpkit.signals.spectra import amplitude_spectrum
 from zmpkit.walking.ik import JointTrajectory
 from zmpkit.walking.pattern import WalkingPattern
@@ -57,7 +62,8 @@ class WalkSummary:
 
     Attributes:
         fell: whether the robot fell.
-        mean_speed_mps: fitted torso speed over the steady walk [m/s].
+        mean_speed_mps: fitted torso speed along x over the steady walk [m/s] (a turning
+            walk's is its chord's: see ``path_speed_mps``).
         commanded_speed_mps: commanded speed [m/s].
         trunk_pitch_peak_hz: largest peak of the trunk-pitch spectrum above 0.5 Hz [Hz].
         trunk_pitch_peak_amplitude_rad: its amplitude [rad].
@@ -87,6 +93,11 @@ class WalkSummary:
             taken from their start values [rad]; None after a fall or without an IMU yaw.
         heading_error_end_rad: the same at the end of the walk (signed, counter-clockwise
             positive) [rad].
+        path_speed_mps: the torso's speed along its path over the steady walk, its sway
+            averaged over a gait cycle (:func:`~zmpkit.signals.contact_phases.path_speed`)
+            [m/s]; equals ``mean_speed_mps`` on a straight walk along x, and is the speed a
+            turning or sideways walk actually makes; None after a fall or on a window shorter
+            than two gait cycles.
     """
 
     fell: bool
@@ -116,6 +127,7 @@ class WalkSummary:
     pushes: tuple[str, ...] = ()
     heading_error_max_rad: float | None = None
     heading_error_end_rad: float | None = None
+    path_speed_mps: float | None = None
 
 
 def heading_error(pattern: WalkingPattern, record: WalkRecord) -> NDArray[np.float64] | None:
@@ -266,11 +278,15 @@ def summarise_walk(
          "trunk_pitch_peak_amplitude_rad", "trunk_pitch_std_rad",
          "trunk_pitch_step_frequency_amplitude_rad", "mean_double_support_foot_distance_m",
          "planned_double_support_foot_distance_m", "foot_slip_m", "foot_slip_x_m",
-         "heading_error_max_rad", "heading_error_end_rad"),
+         "heading_error_max_rad", "heading_error_end_rad", "path_speed_mps"),
     )  # fmt: skip
     if not fell and window[1] - window[0] >= MIN_WINDOW_S:
         planned_mask = (pattern.time_s >= window[0]) & (pattern.time_s <= window[1])
         metrics["mean_speed_mps"] = fitted_speed(time, record.torso_in_world[:, 0], mask)
+        cycle_s = 2.0 / step_hz  # two steps: the sway's period
+        if window[1] - window[0] >= 2.0 * cycle_s:
+            xy = record.torso_in_world[:, :2]
+            metrics["path_speed_mps"] = path_speed(time, xy, mask, cycle_s)
         com_x = pattern.com_position_in_world[:, 0]
         metrics["planned_speed_mps"] = fitted_speed(pattern.time_s, com_x, planned_mask)
         metrics.update(_trunk(record, mask, step_hz))

@@ -8,6 +8,7 @@ so). A fallen walk's metrics are undefined, and the verdict says why.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping
 from pathlib import Path
 
@@ -102,6 +103,19 @@ def walk_checks(summary: WalkSummary, prefix: str = "") -> tuple[Check, ...]:
             f"({_pct(speed, summary.commanded_speed_mps)})",
         )
     )
+    path = summary.path_speed_mps
+    commanded_path = math.hypot(summary.commanded_speed_mps, summary.commanded_lateral_speed_mps)
+    checks.append(
+        Check(
+            f"{lead}speed along the path (no bar)",
+            "undefined" if path is None else "info",
+            (why if speed is None else "the steady window is shorter than two gait cycles")
+            if path is None
+            else f"{path:.3f} m/s against {commanded_path:.3f} m/s commanded "
+            f"({_pct(path, commanded_path)}); what a turning or sideways walk makes, where the "
+            "forward speed is the advance along x",
+        )
+    )
     amplitude = summary.trunk_pitch_peak_amplitude_rad
     checks.append(
         Check(
@@ -145,6 +159,7 @@ def walk_metrics_table(summaries: Mapping[str, WalkSummary], caption: str) -> Ta
     row("fell", [f"yes, {x.fall_kind} at {x.fall_time_s:.2f} s" if x.fell and x.fall_time_s
                  is not None else "no" for x in s])  # fmt: skip
     row("speed, measured [m/s]", [fmt(x.mean_speed_mps, ".4f") for x in s])
+    row("speed along the path [m/s]", [fmt(x.path_speed_mps, ".4f") for x in s])
     row("speed, planned CoM [m/s]", [fmt(x.planned_speed_mps, ".4f") for x in s])
     row("speed, commanded [m/s]", [f"{x.commanded_speed_mps:.4f}" for x in s])
     row("trunk-pitch peak [Hz]", [fmt(x.trunk_pitch_peak_hz, ".2f") for x in s])

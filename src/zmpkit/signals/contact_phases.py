@@ -3,7 +3,7 @@
 All functions take plain arrays (world frame x forward, y left, z up; one row per sample):
 which samples a foot stands (from its F-T sensor's vertical force and a contact threshold),
 the distance between the feet in double support (the step length), how far a standing foot
-slides, and the speed fitted to a trajectory.
+slides, and the speed fitted to a trajectory or measured along its path.
 """
 
 from __future__ import annotations
@@ -23,6 +23,7 @@ __all__ = [
     "fitted_speed",
     "foot_slip",
     "in_contact",
+    "path_speed",
 ]
 
 MIN_CONTACT_SAMPLES = 5
@@ -109,3 +110,57 @@ def fitted_speed(
     if np.count_nonzero(mask) < 2:
         raise ParameterError("need at least two samples to fit a speed")
     return float(np.polyfit(time_s[mask], x_m[mask], 1)[0])
+
+
+def path_speed(
+    time_s: NDArray[np.float64],
+    xy_m: NDArray[np.float64],
+    mask: NDArray[np.bool_],
+    period_s: float,
+) -> float:
+    """Speed along the path of a horizontal trajectory, its periodic sway averaged out [m/s].
+
+    :func:`fitted_speed` of x measures the advance along x only: a turning walk's is its
+    chord's projection. Here ``xy(t)`` is first averaged over one ``period_s`` (a gait cycle:
+    two steps), which removes a sway of that period exactly (a moving average over a whole
+    period of a sinusoid is zero), then the path length of the averaged curve is divided by
+    its duration: v̄ = Σ‖Δx̄y‖ / (t_end − t_start) over the samples of ``mask`` whose whole
+    averaging window lies inside it. Averaging a circle walked at v and turn rate ω over T
+    draws it at radius R·sinc(ωT/2) (sinc x = sin x / x), so v̄ = v·sinc(ωT/2); the net turn
+    of the averaged path gives ω̂ = |Δψ| / (t_end − t_start) and the result is
+    v̄ / sinc(ω̂T/2): v on a circle, the fitted speed on a straight walk. A sway of amplitude
+    a across the path leaves a residue of about a·ω²T/(2π) [m/s] on a turning walk.
+
+    Args:
+        time_s: sample times, increasing, uniformly spaced [s], shape (N,).
+        xy_m: horizontal position [m] (world frame), shape (N, 2).
+        mask: the samples to measure over (one contiguous window), shape (N,).
+        period_s: the sway's period [s] (> 0).
+
+    Raises:
+        ParameterError: on a non-positive period, or a window shorter than two periods.
+    """
+    if not period_s > 0.0:
+        raise ParameterError(f"period_s must be > 0 s, got {period_s!r}")
+    t = np.asarray(time_s, dtype=float)[mask]
+    xy = np.asarray(xy_m, dtype=float)[mask]
+    if t.size < 3 or t[-1] - t[0] < 2.0 * period_s:
+        raise ParameterError(
+            f"need a window of at least two periods ({2.0 * period_s:g} s) to measure a path "
+            f"speed; got {t[-1] - t[0] if t.size else 0.0:g} s"
+        )
+    dt_s = (t[-1] - t[0]) / (t.size - 1)
+    width = max(1, round(period_s / dt_s))
+    kernel = np.full(width, 1.0 / width)
+    averaged = np.column_stack([np.convolve(xy[:, k], kernel, mode="valid") for k in (0, 1)])
+    centres = np.convolve(t, kernel, mode="valid")
+    steps = np.diff(averaged, axis=0)
+    duration_s = float(centres[-1] - centres[0])
+    length_m = float(np.sum(np.linalg.norm(steps, axis=1)))
+    moving = np.linalg.norm(steps, axis=1) > 0.0
+    if np.count_nonzero(moving) < 2:
+        return length_m / duration_s  # standing still: no direction, no turn
+    direction = np.unwrap(np.arctan2(steps[moving, 1], steps[moving, 0]))
+    turn_rad_s = abs(float(direction[-1] - direction[0])) / duration_s
+    half_angle = 0.5 * turn_rad_s * period_s
+    return length_m / duration_s / float(np.sinc(half_angle / np.pi))  # np.sinc(x) = sin(πx)/(πx)

@@ -104,9 +104,9 @@ def _read_summary(folder: Path) -> dict:
         if key not in summary:
             raise InputFileError(path, f"missing field '{key}' of a zmpkit walk summary")
     if summary["fell"]:
-        raise InputFileError(
-            path, f"the walk fell at {summary.get('fall_time_s')} s; fit to complete walks only"
-        )
+        fall_s = summary.get("fall_time_s")
+        when = f" at {fall_s:.2f} s" if isinstance(fall_s, int | float) else ""
+        raise InputFileError(path, f"the walk fell{when}; fit to complete walks only")
     return summary
 
 
