@@ -27,6 +27,7 @@ def test_demo_writes_report_and_matches_second_order_theory(tmp_path: Path) -> N
     assert "<h1>zmpkit demo: the LIPM and the robot that really moves</h1>" in html
     assert "to come" not in html  # the simulator fit is there, with its command
     assert "zmpkit identify sim --self-test" in html
+    assert "Where the time went" in html  # each part's wall time, measured
     assert all(p.stat().st_size > 1000 for p in result.figures)
     zeta = 0.8
     overshoot = 100 * math.exp(-zeta * math.pi / math.sqrt(1 - zeta**2))  # 1.5165 %
@@ -57,6 +58,8 @@ def test_demo_command(demo_run: tuple[Path, str]) -> None:
     """The whole demo, including the quick balance pipeline on the virtual TEO."""
     out, printed = demo_run
     assert f"report: {out / 'report.html'}" in printed.splitlines()[-1]
+    timing = next(line for line in printed.splitlines() if line.startswith("time by part: "))
+    assert all(f"{part} " in timing for part in ("balance", "walks", "compensation"))
     assert 'href="balance/report.html"' in (out / "report.html").read_text()
     assert (out / "balance" / "table1.csv").exists()
     assert (out / "walk_all" / "summary.json").exists()

@@ -125,13 +125,20 @@ def run_demo(
         if m.is_stable
     }
     echo(f"DLIPM step responses for a {config.zmp_step_m:g} m ZMP step")
+    clock = _PartClock()
     figures = _figures(out, t, theta, lipm_static, config)
     _write_metrics_csv(out / "step_metrics.csv", models, metrics)
     _write_params_yaml(out / "dlipm.yaml", models)
+    clock.lap("models")
     balance = _run_balance(config, out, echo, displays) if config.balance else None
-    walks, walk_videos = _run_walks(config, out, echo, displays) if config.walking else ({}, ())
+    clock.lap("balance")
+    walks, walk_videos = (
+        _run_walks(config, out, echo, displays, clock) if config.walking else ({}, ())
+    )
     comparison = _walk_comparison(walks, out)
+    clock.lap("walk figures")
     compensation = _run_compensation(config, out, echo, displays) if config.compensation else None
+    clock.lap("compensation")
     balance_videos = balance[0].videos if balance is not None else ()
     parts = DemoParts(
         models,
@@ -144,9 +151,25 @@ def run_demo(
         balance_videos=step_trial_videos(balance[1], balance_videos) if balance else (),
         extra_figures=comparison,
         started_s=started_s,
+        part_times_s=clock.times_s,
     )
     report = write_report(demo_document(out, config, parts), out, config.report_format)
+    echo("time by part: " + ", ".join(f"{k} {v:.0f} s" for k, v in clock.times_s.items() if v))
     return DemoResult(out, report, figures, metrics, walk_videos + balance_videos)
+
+
+class _PartClock:
+    """Wall time of each part of the demo [s], in the order they ran."""
+
+    def __init__(self) -> None:
+        self.times_s: dict[str, float] = {}
+        self._last_s = time.perf_counter()
+
+    def lap(self, part: str) -> None:
+        """Charge the time since the last lap to ``part``."""
+        now_s = time.perf_counter()
+        self.times_s[part] = self.times_s.get(part, 0.0) + now_s - self._last_s
+        self._last_s = now_s
 
 
 def _balance_model() -> BalanceModel:
@@ -169,7 +192,11 @@ def _run_compensation(
 
 
 def _run_walks(
-    config: DemoConfig, out: Path, echo: Callable[[str], None], displays: Displays
+    config: DemoConfig,
+    out: Path,
+    echo: Callable[[str], None],
+    displays: Displays,
+    clock: _PartClock,
 ) -> tuple[dict[str, WalkResult], tuple[Path, ...]]:
     """The walks by effect set, and their side-by-side video if asked for."""
     walks, records = {}, []
@@ -182,10 +209,12 @@ def _run_walks(
         report = write_walk_report(result, out / f"walk_{effects}", config.report_format)
         walks[effects] = replace(result, files={**result.files, "report": report})
         records.append((result.config, result.record))
+    clock.lap("walks")
     if not config.video:
         return walks, ()
     echo(f"video: the rigid and the all-effects walk side by side ({SIDE_BY_SIDE_FILE})")
     video = write_walks_side_by_side(records, out / SIDE_BY_SIDE_FILE)
+    clock.lap("walk video")
     return walks, () if video.path is None else (video.path,)
 
 

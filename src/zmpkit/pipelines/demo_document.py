@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
@@ -73,6 +73,7 @@ class DemoParts:
         balance_videos: videos of the balance robot, each with its caption.
         extra_figures: further figures with their captions (e.g. rigid vs all effects).
         started_s: when the demo started [s since the epoch].
+        part_times_s: wall time of each part, in the order they ran [s].
     """
 
     models: Mapping[str, Dlipm]
@@ -85,6 +86,7 @@ class DemoParts:
     balance_videos: tuple[Video, ...] = ()
     extra_figures: tuple[Figure, ...] = ()
     started_s: float = 0.0
+    part_times_s: Mapping[str, float] = field(default_factory=dict)
 
 
 def walk_side_by_side_videos(paths: tuple[Path, ...]) -> tuple[Video, ...]:
@@ -140,6 +142,8 @@ def demo_document(out: Path, config: Any, parts: DemoParts) -> ReportDocument:
         if "report" in comp.files:
             links.append(("compensation", comp.files["report"]))
     sections += [_simfit_section(), _data_section()]
+    if parts.part_times_s:
+        sections.append(_time_section(parts.part_times_s))
     return ReportDocument(
         title="zmpkit demo: the LIPM and the robot that really moves",
         summary=_summary(config),
@@ -337,3 +341,20 @@ def _data_section() -> Section:
             ),
         ),
     )
+
+
+def _time_section(times_s: Mapping[str, float]) -> Section:
+    """Where the demo's wall time went, part by part."""
+    total_s = sum(times_s.values())
+    rows = tuple(
+        (part, f"{t_s:.1f}", f"{100.0 * t_s / total_s:.0f}" if total_s > 0 else "")
+        for part, t_s in times_s.items()
+    )
+    table = Table(
+        ("part", "wall time [s]", "share [%]"),
+        (*rows, ("total", f"{total_s:.1f}", "100")),
+        "Wall time of each part of this demo run, measured on this machine (the balance "
+        "part includes its step-trial video). The balance and compensation parts run their "
+        "simulations on two worker processes.",
+    )
+    return Section("Where the time went", (table,))
