@@ -15,9 +15,18 @@ _LOWER = re.compile(r"^\s*([A-Za-z0-9_.\-]+)\s*(?:\[[^\]]*\])?\s*>=\s*([0-9][^,;
 
 
 def main() -> int:
-    """Write the constraints to stdout; fail on a dependency without a ``>=`` bound."""
-    pyproject = Path(__file__).resolve().parents[1] / "pyproject.toml"
-    dependencies = tomllib.loads(pyproject.read_text())["project"]["dependencies"]
+    """Write the constraints to stdout; fail on a dependency without a ``>=`` bound.
+
+    ``--build``: the build system's requirements instead (``[build-system] requires``), the
+    ones with a ``>=`` bound at it, the others as they are.
+    """
+    pyproject = tomllib.loads((Path(__file__).resolve().parents[1] / "pyproject.toml").read_text())
+    if sys.argv[1:] == ["--build"]:
+        for requirement in pyproject["build-system"]["requires"]:
+            match = _LOWER.match(requirement)
+            print(requirement if match is None else f"{match.group(1)}=={match.group(2)}")
+        return 0
+    dependencies = pyproject["project"]["dependencies"]
     for requirement in dependencies:
         match = _LOWER.match(requirement)
         if match is None:
