@@ -18,6 +18,7 @@ from zmpkit.robots.nao import (
     nao_ik_model,
 )
 from zmpkit.robots.nao.geometry import ANKLE_TO_SOLE_M, SOLE_CENTRE_AHEAD_OF_ANKLE_M
+from zmpkit.sim.names import sole_site
 
 EFFECT_SETS = ("none", "all", "M", "M,I", "G", "F", "S", "M,G,F")
 
@@ -47,7 +48,7 @@ def test_crouch_com_height_matches_the_parameters_file() -> None:
             data.qpos[model.joint(side + joint).qposadr[0]] = angle
     mujoco.mj_kinematics(model, data)
     mujoco.mj_comPos(model, data)
-    sole_z = data.site("left_sole").xpos[2]
+    sole_z = data.site(sole_site("left")).xpos[2]
     com_height = data.subtree_com[1][2] - sole_z
     assert com_height == pytest.approx(0.2607, abs=0.005)
 
@@ -57,7 +58,7 @@ def test_sole_site_lies_ahead_of_and_below_the_ankle() -> None:
     data = mujoco.MjData(model)
     mujoco.mj_kinematics(model, data)
     ankle = data.body("LFoot").xpos
-    sole = data.site("left_sole").xpos
+    sole = data.site(sole_site("left")).xpos
     assert sole - ankle == pytest.approx(
         [SOLE_CENTRE_AHEAD_OF_ANKLE_M, 0.0, -ANKLE_TO_SOLE_M], abs=1e-9
     )

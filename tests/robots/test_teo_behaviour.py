@@ -40,6 +40,7 @@ from zmpkit.robots.teo import (
     teo_mjcf,
 )
 from zmpkit.sensors.fast import DoubleSupportZmp
+from zmpkit.sim.names import ft_site
 from zmpkit.sim.world import Simulation
 
 G = 9.81
@@ -73,7 +74,7 @@ def lean_lever(plane: str) -> float:
             data.qpos[model.jnt_qposadr[model.joint(joint).id]] = q
         mujoco.mj_kinematics(model, data)
         com = weights @ data.xipos / weights.sum()
-        site = data.site("right_ft")
+        site = data.site(ft_site("right"))
         return float((site.xmat.reshape(3, 3).T @ (com - site.xpos))[axis])
 
     step = 1e-4
@@ -235,7 +236,7 @@ def test_frontal_lean_keeps_both_feet_flat_where_they_stand() -> None:
         for joint, q in joints.items():
             data.qpos[model.jnt_qposadr[model.joint(joint).id]] = q
         mujoco.mj_kinematics(model, data)
-        right, left = data.site("right_ft"), data.site("left_ft")
+        right, left = data.site(ft_site("right")), data.site(ft_site("left"))
         rot = right.xmat.reshape(3, 3).T
         return np.concatenate(
             [rot @ (left.xpos - right.xpos), (rot @ left.xmat.reshape(3, 3)).ravel()]

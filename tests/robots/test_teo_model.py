@@ -18,6 +18,7 @@ from zmpkit.robots.teo import (
     teo_mjcf,
 )
 from zmpkit.robots.teo.model import SOLE_PLATE_MASS_KG
+from zmpkit.sim.names import ft_site
 
 G = 9.81
 SCENES = ["none", "M", "M,I", "G", "F", "S", "all"]
@@ -112,7 +113,7 @@ def test_feet_mounts_match_the_model() -> None:
     mounts = teo_feet_mounts()
     sim = make_teo("none")
     for side, mount in mounts.items():
-        np.testing.assert_allclose(sim.data.site(f"{side}_ft").xpos, mount["position"], atol=1e-3)
+        np.testing.assert_allclose(sim.data.site(ft_site(side)).xpos, mount["position"], atol=1e-3)
         assert mount["rpy"] == [0.0, 0.0, 0.0]
         assert mount["sole_height"] == pytest.approx(0.010, abs=1e-3)
 

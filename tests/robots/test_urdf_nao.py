@@ -25,6 +25,7 @@ import numpy as np
 import pytest
 
 from zmpkit.robots.registry import get_robot
+from zmpkit.sim.names import ft_plate_body, sole_site
 
 SPEC = find_spec("qibullet")  # finds the package without importing it (it imports pybullet)
 pytestmark = pytest.mark.skipif(SPEC is None, reason="qibullet is not installed")
@@ -80,7 +81,7 @@ def _builtin_design() -> tuple[mujoco.MjModel, mujoco.MjData]:
 
 
 def _plates(model: mujoco.MjModel) -> list[int]:
-    return [model.body(f"{side}_ft_plate").id for side in SIDES]
+    return [model.body(ft_plate_body(side)).id for side in SIDES]
 
 
 def test_the_urdf_nao_weighs_what_the_built_in_nao_weighs(urdf_robot_yaml: Path) -> None:
@@ -110,8 +111,8 @@ def test_the_urdf_nao_stands_with_the_built_in_nao_com_height(urdf_robot_yaml: P
     assert com_z - ankle == pytest.approx(builtin_above_ankle, abs=1e-4)  # 0.2311 m
     with_plates = float(data.subtree_com[0][2]) - ankle
     assert with_plates == pytest.approx(builtin_above_ankle, abs=2e-3)
-    sole = float(data.site("left_sole").xpos[2])
-    builtin_sole = float(bdata.site("left_sole").xpos[2])
+    sole = float(data.site(sole_site("left")).xpos[2])
+    builtin_sole = float(bdata.site(sole_site("left")).xpos[2])
     assert ankle - sole == pytest.approx(
         float(bdata.body("LAnkle").xpos[2]) - builtin_sole + 0.005 + 0.001, abs=1e-6
     )

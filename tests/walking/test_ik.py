@@ -9,6 +9,7 @@ import pytest
 from zmpkit.errors import ModelError
 from zmpkit.robots.nao import nao_ik_model
 from zmpkit.robots.registry import get_robot
+from zmpkit.sim.names import sole_site
 from zmpkit.walking import PatternConfig, generate_pattern
 from zmpkit.walking.ik import IkSettings, solve_walking_ik
 
@@ -40,7 +41,7 @@ def test_forward_kinematics_of_the_solution_puts_soles_on_the_plan(solved) -> No
         mujoco.mj_kinematics(model, data)
         mujoco.mj_comPos(model, data)
         for side, foot in (("left", pattern.feet.left), ("right", pattern.feet.right)):
-            site = data.site(f"{side}_sole").xpos
+            site = data.site(sole_site(side)).xpos
             assert site == pytest.approx(foot.position_in_world[k], abs=TOLERANCE_M)
         assert data.subtree_com[1] == pytest.approx(pattern.com_position_in_world[k], abs=1e-4)
 

@@ -8,6 +8,7 @@ import pytest
 
 from zmpkit.robots.nao import NAO_DRIVEN_JOINTS, nao_ik_model
 from zmpkit.sensors.zmp import zmp_in_world
+from zmpkit.sim.names import IMU_SITE, ft_site, sole_site
 from zmpkit.walking.measurement import WalkMeasurement
 from zmpkit.walking.state_estimator import KinematicStateEstimator
 
@@ -30,16 +31,16 @@ def _posed(base_xyz, base_rpy, joints: dict[str, float]):
 def _estimator(model, threshold_n=5.0):
     return KinematicStateEstimator(
         model, NAO_DRIVEN_JOINTS,
-        {f: f"{f}_sole" for f in FEET}, {f: f"{f}_ft" for f in FEET}, "imu", threshold_n, 0.01,
+        {f: sole_site(f) for f in FEET}, {f: ft_site(f) for f in FEET}, IMU_SITE, threshold_n, 0.01,
     )  # fmt: skip
 
 
 def _measurement(model, data, joints, force_world, moment_world) -> WalkMeasurement:
     m = WalkMeasurement.empty(NAO_DRIVEN_JOINTS, FEET)
     m.q_meas_rad[:] = [joints.get(j, 0.0) for j in NAO_DRIVEN_JOINTS]
-    mujoco.mju_mat2Quat(m.imu_quaternion, data.site("imu").xmat)
+    mujoco.mju_mat2Quat(m.imu_quaternion, data.site(IMU_SITE).xmat)
     for i, foot in enumerate(FEET):
-        rotation = data.site(f"{foot}_ft").xmat.reshape(3, 3)
+        rotation = data.site(ft_site(foot)).xmat.reshape(3, 3)
         m.force_in_sensor[i] = rotation.T @ force_world[i]
         m.moment_in_sensor[i] = rotation.T @ moment_world[i]
     return m
@@ -57,11 +58,11 @@ def test_com_and_zmp_equal_the_model_when_the_feet_are_where_planned(base_xyz, b
     force = np.array([[1.0, -2.0, 18.0], [-0.5, 1.5, 30.0]])
     moment = np.array([[0.3, -0.2, 0.01], [-0.1, 0.4, 0.0]])
     m = _measurement(model, data, joints, force, moment)
-    soles = np.array([data.site(f"{f}_sole").xpos for f in FEET])
+    soles = np.array([data.site(sole_site(f)).xpos for f in FEET])
     estimator = _estimator(model)
     estimator.update(m, soles)
     np.testing.assert_allclose(estimator.com_in_world, data.subtree_com[1], atol=1e-9)
-    sensors = np.array([data.site(f"{f}_ft").xpos for f in FEET])
+    sensors = np.array([data.site(ft_site(f)).xpos for f in FEET])
     expected = zmp_in_world(force[None], moment[None], sensors[None], 5.0)[0]
     np.testing.assert_allclose(estimator.zmp_in_world, expected, atol=1e-9)
     np.testing.assert_allclose(estimator.force_z_n, force[:, 2], atol=1e-9)
@@ -73,7 +74,7 @@ def test_a_foot_off_its_plan_moves_the_estimate_by_its_share_of_the_weight() -> 
     model, data = _posed((0.0, 0.0, 0.3), (0.0, 0.0, 0.0), {})
     force = np.array([[0.0, 0.0, 10.0], [0.0, 0.0, 20.0]])
     m = _measurement(model, data, {}, force, np.zeros((2, 3)))
-    soles = np.array([data.site(f"{f}_sole").xpos for f in FEET])
+    soles = np.array([data.site(sole_site(f)).xpos for f in FEET])
     soles[0, 0] += 0.01
     estimator = _estimator(model)
     estimator.update(m, soles)
@@ -83,7 +84,7 @@ def test_a_foot_off_its_plan_moves_the_estimate_by_its_share_of_the_weight() -> 
 
 def test_no_contact_gives_no_zmp_and_keeps_the_last_anchor() -> None:
     model, data = _posed((0.0, 0.0, 0.3), (0.0, 0.0, 0.0), {})
-    soles = np.array([data.site(f"{f}_sole").xpos for f in FEET])
+    soles = np.array([data.site(sole_site(f)).xpos for f in FEET])
     estimator = _estimator(model)
     m = _measurement(model, data, {}, np.array([[0, 0, 20.0], [0, 0, 20.0]]), np.zeros((2, 3)))
     estimator.update(m, soles + np.array([0.02, 0.0, 0.0]))
@@ -106,13 +107,13 @@ def test_the_feet_give_the_yaw_that_a_drifting_imu_gets_wrong(imu_yaw_error_rad:
     m = _measurement(model, data, joints, force, moment)
     turn = np.array([np.cos(imu_yaw_error_rad / 2), 0.0, 0.0, np.sin(imu_yaw_error_rad / 2)])
     mujoco.mju_mulQuat(m.imu_quaternion, turn, m.imu_quaternion.copy())  # yaw error in world
-    soles = np.array([data.site(f"{f}_sole").xpos for f in FEET])
-    yaws = np.array([np.arctan2(data.site(f"{f}_sole").xmat[3], data.site(f"{f}_sole").xmat[0])
+    soles = np.array([data.site(sole_site(f)).xpos for f in FEET])
+    yaws = np.array([np.arctan2(data.site(sole_site(f)).xmat[3], data.site(sole_site(f)).xmat[0])
                      for f in FEET])  # fmt: skip
     estimator = _estimator(model)
     estimator.update(m, soles, yaws)
     np.testing.assert_allclose(estimator.com_in_world, data.subtree_com[1], atol=1e-9)
-    sensors = np.array([data.site(f"{f}_ft").xpos for f in FEET])
+    sensors = np.array([data.site(ft_site(f)).xpos for f in FEET])
     expected = zmp_in_world(force[None], moment[None], sensors[None], 5.0)[0]
     np.testing.assert_allclose(estimator.zmp_in_world, expected, atol=1e-9)
     assert estimator.yaw_correction_rad == pytest.approx(

@@ -42,6 +42,7 @@ from zmpkit.errors import ParameterError
 from zmpkit.sensors.imu import quaternion_pitch_roll, quaternion_yaw
 from zmpkit.sensors.mount import wrench_in_world
 from zmpkit.sensors.zmp import CONTACT_FORCE_THRESHOLD_N, zmp_in_world
+from zmpkit.sim.names import sole_site
 from zmpkit.sim.world import Simulation
 from zmpkit.walking.ik import JointTrajectory
 from zmpkit.walking.measurement import WalkMeasurement
@@ -264,7 +265,7 @@ class _Recorder:
             site = data.site(sensor.site)
             self.force[k, i], self.moment[k, i] = wrench_in_world(site.xmat, sim.ft(foot))
             self.sensor[k, i] = site.xpos
-            self.sole[k, i] = data.site(f"{foot}_sole").xpos
+            self.sole[k, i] = data.site(sole_site(foot)).xpos
         self.torso[k] = data.qpos[:3]
         self.qpos[k] = data.qpos
         self.rows += 1

@@ -33,6 +33,7 @@ from numpy.typing import NDArray
 
 from zmpkit.errors import ModelError
 from zmpkit.robots.robot import Robot
+from zmpkit.sim.names import sole_site
 from zmpkit.sim.world import Simulation
 
 __all__ = ["LEAN_RANGE_RAD", "WholeBodyLean", "whole_body_lean"]
@@ -125,8 +126,8 @@ def whole_body_lean(robot: Robot, plane: str) -> WholeBodyLean:
     config = mink.Configuration(model, standing)
     feet = []
     for foot in sim.robot.feet:
-        task = mink.FrameTask(f"{foot.foot}_sole", "site", _FOOT_COST, _FOOT_COST)
-        task.set_target(config.get_transform_frame_to_world(f"{foot.foot}_sole", "site"))
+        task = mink.FrameTask(sole_site(foot.foot), "site", _FOOT_COST, _FOOT_COST)
+        task.set_target(config.get_transform_frame_to_world(sole_site(foot.foot), "site"))
         feet.append(task)
     com = mink.ComTask(_COM_COST)
     posture = mink.PostureTask(model, _POSTURE_COST)

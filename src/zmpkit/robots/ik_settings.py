@@ -12,6 +12,7 @@ from dataclasses import dataclass, field
 
 from zmpkit import _validate
 from zmpkit.errors import ModelError
+from zmpkit.sim.names import sole_site
 
 __all__ = ["IkSettings"]
 
@@ -39,7 +40,7 @@ class IkSettings:
 
     joint_names: tuple[str, ...]
     sole_sites: Mapping[str, str] = field(
-        default_factory=lambda: {"left": "left_sole", "right": "right_sole"}
+        default_factory=lambda: {side: sole_site(side) for side in ("left", "right")}
     )
     torso_body: str = "torso"
     posture_rad: Mapping[str, float] = field(default_factory=dict)

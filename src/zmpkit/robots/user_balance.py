@@ -22,6 +22,7 @@ from zmpkit.robots.robot import BalanceModel
 from zmpkit.robots.robot_file import SIDES, RobotFile
 from zmpkit.robots.user_model import UserModel, root_body
 from zmpkit.robots.user_walking import axis_joints
+from zmpkit.sim.names import sole_site
 from zmpkit.sim.servo import ServoLimits
 
 __all__ = ["LEAN_CONTROL_PERIOD_S", "LEAN_ZMP_MARGIN", "lean_limits", "user_balance"]
@@ -39,7 +40,7 @@ def _support(data: mujoco.MjData, built: UserModel) -> dict[str, tuple[float, fl
     low, high = np.full(2, np.inf), np.full(2, -np.inf)
     for side in SIDES:
         foot = built.feet[side]
-        centre = np.asarray(data.site(f"{side}_sole").xpos[:2])
+        centre = np.asarray(data.site(sole_site(side)).xpos[:2])
         half = np.array([foot.length_m, foot.width_m]) / 2.0
         low, high = np.minimum(low, centre - half), np.maximum(high, centre + half)
     return {
@@ -73,7 +74,7 @@ def user_balance(file: RobotFile, built: UserModel) -> BalanceModel | None:
     roll = {s: axis_joints(model, data, file.legs[s], 0) for s in SIDES}
     if not all(pitch[s] and roll[s] for s in SIDES):
         return None
-    sole_z = float(np.mean([data.site(f"{s}_sole").xpos[2] for s in SIDES]))
+    sole_z = float(np.mean([data.site(sole_site(s)).xpos[2] for s in SIDES]))
     root = root_body(model)
     return BalanceModel(
         mass_kg=float(model.body_subtreemass[0]),

@@ -7,7 +7,7 @@ MuJoCo's own loader (:class:`mujoco.MjSpec`) reads the file, MJCF or URDF alike.
    the collision left is the model's primitive shapes (a foot needs at least one);
 1. a free joint is added at the root body when the model has none (a URDF's usual case);
 2. each foot gets a sole plate (:mod:`zmpkit.sim.sole_plate`): a body under the foot, aligned
-   with the world at the initial pose, whose top carries the F-T site ``{side}_ft`` and whose
+   with the world at the initial pose, whose top carries the F-T site ``zmpkit/{side}_ft`` and whose
    box is the only contact of the foot with the floor (the foot's own geoms stop colliding);
 3. the root is lifted so the plates rest on the floor (a plane, added if the model has none);
 4. an IMU site on the IMU body, the force, torque, gyro, accelerometer and orientation
@@ -41,7 +41,9 @@ from zmpkit.robots.problems import Problems
 from zmpkit.robots.robot_file import SIDES, RobotFile
 from zmpkit.sim.builder import add_ideal_servo
 from zmpkit.sim.effects import IdealServoParams
+from zmpkit.sim.names import FLOOR_GEOM, IMU_SITE, ft_plate_body, ft_site, sole_site
 from zmpkit.sim.sole_plate import SolePlate, add_sole_plate
+from zmpkit.sim.standard_sensors import add_standard_sensors
 
 __all__ = [
     "ACTUATOR_TAGS",
@@ -352,9 +354,9 @@ def _add_plate(
     top = np.array([foot.centre_m[0], foot.centre_m[1], foot.bottom_z_m])
     quat = np.zeros(4)
     mujoco.mju_mat2Quat(quat, xmat.T.flatten())
-    plate = body.add_body(name=f"{side}_ft_plate", pos=xmat.T @ (top - xpos), quat=quat)
-    plate.add_site(name=f"{side}_ft", size=[0.005, 0.005, 0.005])
-    plate.add_site(name=f"{side}_sole", pos=[0.0, 0.0, -h], size=[0.005, 0.005, 0.005])
+    plate = body.add_body(name=ft_plate_body(side), pos=xmat.T @ (top - xpos), quat=quat)
+    plate.add_site(name=ft_site(side), size=[0.005, 0.005, 0.005])
+    plate.add_site(name=sole_site(side), pos=[0.0, 0.0, -h], size=[0.005, 0.005, 0.005])
 
 
 def user_model(robot: RobotFile) -> UserModel:
@@ -409,28 +411,22 @@ def _finish_xml(
             _SOLREF,
             _SOLIMP,
         )
-        body = bodies[f"{side}_ft_plate"]
+        body = bodies[ft_plate_body(side)]
         for site in list(body.iter("site")):
             body.remove(site)
-        add_sole_plate(body, side, plate, centre_site=f"{side}_sole")
+        add_sole_plate(body, side, plate, centre_site=sole_site(side))
     world = xml.find("worldbody")
     assert world is not None
     if not any(g.get("type") == "plane" for g in world.findall("geom")):
-        ET.SubElement(world, "geom", {"name": "floor", "type": "plane", "size": "5 5 0.1"})
+        ET.SubElement(world, "geom", {"name": FLOOR_GEOM, "type": "plane", "size": "5 5 0.1"})
     imu = bodies[robot.imu or root]
-    ET.SubElement(imu, "site", {"name": "imu", "size": "0.01"})
+    ET.SubElement(imu, "site", {"name": IMU_SITE, "size": "0.01"})
     for old in xml.findall("actuator") + xml.findall("sensor") + xml.findall("keyframe"):
         xml.remove(old)
     for default in xml.iter("default"):
         for entry in [e for e in default if e.tag in ACTUATOR_TAGS]:
             default.remove(entry)
-    sensors = ET.SubElement(xml, "sensor")
-    for side in SIDES:
-        ET.SubElement(sensors, "force", {"name": f"{side}_ft_force", "site": f"{side}_ft"})
-        ET.SubElement(sensors, "torque", {"name": f"{side}_ft_torque", "site": f"{side}_ft"})
-    ET.SubElement(sensors, "gyro", {"name": "imu_gyro", "site": "imu"})
-    ET.SubElement(sensors, "accelerometer", {"name": "imu_accel", "site": "imu"})
-    ET.SubElement(sensors, "framequat", {"name": "imu_quat", "objtype": "site", "objname": "imu"})
+    add_standard_sensors(xml, SIDES)
     minimum = servo.kp * robot.timestep_s**2 / STIFFNESS_STEPS**2
     for joint in robot.leg_joints:
         add_ideal_servo(xml, joint, servo)

@@ -38,6 +38,7 @@ from zmpkit.robots.user_walking import user_walking
 from zmpkit.sim.description import FootSensor, RobotDescription
 from zmpkit.sim.effect_set import EffectSet
 from zmpkit.sim.effects import IdealServoParams, SensorParams
+from zmpkit.sim.names import ft_site
 from zmpkit.sim.servo import ServoLimits
 from zmpkit.sim.truth_file import read_truth_file
 
@@ -106,7 +107,7 @@ def _feet_mounts(mjcf: str, height: float) -> dict[str, FootMountEntry]:
     mujoco.mj_forward(model, data)
     return {
         side: {
-            "position": [float(v) for v in data.site(f"{side}_ft").xpos],
+            "position": [float(v) for v in data.site(ft_site(side)).xpos],
             "rpy": [0.0, 0.0, 0.0],
             "sole_height": height,
         }

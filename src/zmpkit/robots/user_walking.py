@@ -13,10 +13,10 @@ What the walk of :mod:`zmpkit.experiments.walk` needs of a robot, from the model
   and its CoM height (above the soles) the walk's CoM height;
 - **foot separation**: the lateral distance between the sole centres [m];
 - **step length limit**: :data:`STEP_LENGTH_FRACTION` :math:`\times L` [m];
-- **sole**: the feet's footprint (or the file's ``sole``); **sole sites** ``{side}_sole``;
+- **sole**: the feet's footprint (or the file's ``sole``); **sole sites** ``zmpkit/{side}_sole``;
   **torso**: the file's ``torso`` (default: the root body);
 - **IK model**: the simulation's own MJCF (rigid, every effect off): it carries the F-T sites
-  ``{side}_ft`` and the IMU site ``imu`` under the names the simulation reads;
+  ``zmpkit/{side}_ft`` and the IMU site ``zmpkit/imu`` under the names the simulation reads;
 - **speed**, **servo stiffness and damping**, **observer σ_c and σ_p**: the file's
   (``speed``, ``servo_stiffness``, ``servo_damping``, ``observer_com_noise``,
   ``observer_zmp_noise``), else 0.2 m/s, none (servos that track), the observer's defaults.
@@ -39,6 +39,7 @@ from zmpkit.robots.ik_settings import IkSettings
 from zmpkit.robots.robot import DEFAULT_WALK_SPEED_MPS, WalkingDefaults
 from zmpkit.robots.robot_file import SIDES, RobotFile
 from zmpkit.robots.user_model import UserModel, root_body
+from zmpkit.sim.names import sole_site
 
 __all__ = [
     "CONTROL_PERIOD_S",
@@ -80,7 +81,7 @@ def axis_joints(
 def leg_length_m(model: mujoco.MjModel, data: mujoco.MjData, file: RobotFile) -> float:
     """Mean hip height (first leg joint's anchor) above the sole centres [m]."""
     heights = [
-        float(data.xanchor[model.joint(file.legs[s][0]).id][2] - data.site(f"{s}_sole").xpos[2])
+        float(data.xanchor[model.joint(file.legs[s][0]).id][2] - data.site(sole_site(s)).xpos[2])
         for s in SIDES
     ]
     return float(np.mean(heights))
@@ -142,12 +143,12 @@ def _seed(model: mujoco.MjModel, file: RobotFile) -> NDArray[np.float64]:
         knee = _knee(model, data, file.legs[side])
         assert knee is not None  # walking_problem was None
         adr = int(model.joint(knee).qposadr[0])
-        before = float(data.site(f"{side}_sole").xpos[0])
+        before = float(data.site(sole_site(side)).xpos[0])
         probe = mujoco.MjData(model)
         probe.qpos[:] = q
         probe.qpos[adr] += _KNEE_SEED_RAD
         mujoco.mj_forward(model, probe)
-        sign = 1.0 if float(probe.site(f"{side}_sole").xpos[0]) < before else -1.0
+        sign = 1.0 if float(probe.site(sole_site(side)).xpos[0]) < before else -1.0
         q[adr] += sign * _KNEE_SEED_RAD
     return q
 
@@ -166,8 +167,8 @@ def crouch(model: mujoco.MjModel, file: RobotFile, depth_m: float) -> Crouch:
     config = mink.Configuration(model, model.qpos0.copy())
     feet = []
     for side in SIDES:
-        task = mink.FrameTask(f"{side}_sole", "site", 10.0, 10.0)
-        task.set_target(config.get_transform_frame_to_world(f"{side}_sole", "site"))
+        task = mink.FrameTask(sole_site(side), "site", 10.0, 10.0)
+        task.set_target(config.get_transform_frame_to_world(sole_site(side), "site"))
         feet.append(task)
     upright = mink.FrameTask(torso, "body", 0.0, 1.0)
     upright.set_target(config.get_transform_frame_to_world(torso, "body"))
@@ -183,7 +184,7 @@ def crouch(model: mujoco.MjModel, file: RobotFile, depth_m: float) -> Crouch:
         config.integrate_inplace(velocity, _IK_DT_S)
         if np.linalg.norm(com.compute_error(config)) < _IK_TOLERANCE_M:
             break
-    sole_z = np.mean([config.data.site(f"{s}_sole").xpos[2] for s in SIDES])
+    sole_z = np.mean([config.data.site(sole_site(s)).xpos[2] for s in SIDES])
     angles = {j: float(config.q[int(model.joint(j).qposadr[0])]) for j in file.leg_joints}
     return Crouch(angles, float(config.data.subtree_com[0][2] - sole_z))
 
@@ -203,7 +204,7 @@ def user_walking(file: RobotFile, built: UserModel) -> WalkingDefaults | None:
     leg = leg_length_m(model, data, file)
     bent = crouch(model, file, (given.crouch or CROUCH_FRACTION) * leg)
     posture = dict(given.posture_rad) if given.posture_rad is not None else bent.posture_rad
-    sole = [data.site(f"{s}_sole").xpos for s in SIDES]
+    sole = [data.site(sole_site(s)).xpos for s in SIDES]
     separation = float(abs(sole[1][1] - sole[0][1]))
     feet = built.feet
     return WalkingDefaults(
@@ -217,7 +218,7 @@ def user_walking(file: RobotFile, built: UserModel) -> WalkingDefaults | None:
         ),
         ik_settings=IkSettings(
             joint_names=file.leg_joints,
-            sole_sites={side: f"{side}_sole" for side in ("left", "right")},
+            sole_sites={side: sole_site(side) for side in ("left", "right")},
             torso_body=file.torso or root_body(model),
             posture_rad=posture,
         ),

@@ -14,6 +14,7 @@ from dataclasses import dataclass, field
 from zmpkit.sensors.zmp import CONTACT_FORCE_THRESHOLD_N
 from zmpkit.sim.effect_set import EffectSet
 from zmpkit.sim.effects import SensorParams, TrialVariability
+from zmpkit.sim.names import ft_site
 from zmpkit.sim.servo import ServoLimits
 
 __all__ = ["FootSensor", "ImuSensors", "RobotDescription"]
@@ -41,10 +42,10 @@ class FootSensor:
     def named(cls, foot: str, sole_height_m: float) -> FootSensor:
         """The sensor of ``foot`` named by convention.
 
-        Site ``{foot}_ft`` with the force and torque sensors ``{foot}_ft_force`` and
-        ``{foot}_ft_torque``.
+        Site ``zmpkit/{foot}_ft`` (:func:`~zmpkit.sim.names.ft_site`) with the force and
+        torque sensors ``{foot}_ft_force`` and ``{foot}_ft_torque``.
         """
-        return cls(foot, f"{foot}_ft_force", f"{foot}_ft_torque", f"{foot}_ft", sole_height_m)
+        return cls(foot, f"{foot}_ft_force", f"{foot}_ft_torque", ft_site(foot), sole_height_m)
 
 
 @dataclass(frozen=True)

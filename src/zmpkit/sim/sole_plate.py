@@ -1,6 +1,6 @@
 """MJCF of a sole plate under an ankle F-T sensor, shared by the virtual robots.
 
-The plate is the body below the sensor: its frame is the sensor frame (the ``{side}_ft``
+The plate is the body below the sensor: its frame is the sensor frame (the ``zmpkit/{side}_ft``
 site, x forward, y left, z up), and its box geom is the foot's contact with the floor.
 """
 
@@ -8,6 +8,8 @@ from __future__ import annotations
 
 import xml.etree.ElementTree as ET
 from dataclasses import dataclass
+
+from zmpkit.sim.names import ft_site, sole_geom
 
 __all__ = ["SolePlate", "add_sole_plate"]
 
@@ -42,7 +44,7 @@ def _f(*values: float) -> str:
 
 
 def add_sole_plate(sole: ET.Element, side: str, plate: SolePlate, centre_site: str) -> None:
-    """Add the contact box, the ``{side}_ft`` site and a sole-centre site to body ``sole``.
+    """Add the contact box, the ``zmpkit/{side}_ft`` site and a sole-centre site to body ``sole``.
 
     ``priority`` 1 makes the sole's own contact parameters win over the floor's, instead of
     MuJoCo averaging them.
@@ -52,7 +54,7 @@ def add_sole_plate(sole: ET.Element, side: str, plate: SolePlate, centre_site: s
         sole,
         "geom",
         {
-            "name": f"{side}_sole",
+            "name": sole_geom(side),
             "type": "box",
             "pos": _f(plate.centre_x_m, 0.0, -0.5 * h),
             "size": _f(0.5 * plate.length_m, 0.5 * plate.width_m, 0.5 * h),
@@ -64,7 +66,7 @@ def add_sole_plate(sole: ET.Element, side: str, plate: SolePlate, centre_site: s
             "rgba": "0.3 0.3 0.35 1",
         },
     )
-    ET.SubElement(sole, "site", {"name": f"{side}_ft", "pos": "0 0 0", "size": "0.005"})
+    ET.SubElement(sole, "site", {"name": ft_site(side), "pos": "0 0 0", "size": "0.005"})
     ET.SubElement(
         sole, "site", {"name": centre_site, "pos": _f(plate.centre_x_m, 0, -h), "size": "0.005"}
     )

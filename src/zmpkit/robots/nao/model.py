@@ -16,7 +16,7 @@ Feet: each sole is a 0.158 × 0.088 m box whose ankle projection lies 0.054 m fr
 virtual one carries a 6-axis F-T sensor (MuJoCo ``force`` + ``torque`` at a site) between the
 foot and a thin sole plate :data:`SOLE_PLATE_M` thick, so the sensor sits that high above the
 sole. Its wrench gives the same centre of pressure the FSRs estimate. The site
-``{side}_sole`` marks the sole centre on the sole plane (the footstep planner's foot point).
+``zmpkit/{side}_sole`` marks the sole centre on the sole plane (the footstep planner's foot point).
 A torso IMU (gyro, accelerometer, orientation) sits at the inertial unit's place.
 """
 
@@ -26,7 +26,9 @@ import xml.etree.ElementTree as ET
 from typing import TYPE_CHECKING
 
 from zmpkit.robots.nao import geometry as geo
+from zmpkit.sim.names import FLOOR_GEOM, IMU_SITE, sole_site
 from zmpkit.sim.sole_plate import SolePlate, add_sole_plate
+from zmpkit.sim.standard_sensors import add_standard_sensors
 
 if TYPE_CHECKING:
     from zmpkit.io.feet import FootMountEntry
@@ -159,7 +161,7 @@ def _sole(foot: ET.Element, side: str, friction: float) -> None:
         _SOLE_SOLREF,
         _SOLE_SOLIMP,
     )
-    add_sole_plate(sole, side, plate, centre_site=f"{side}_sole")
+    add_sole_plate(sole, side, plate, centre_site=sole_site(side))
 
 
 def _upper_body(torso: ET.Element, inertial: geo.Inertial) -> None:
@@ -168,7 +170,9 @@ def _upper_body(torso: ET.Element, inertial: geo.Inertial) -> None:
     ET.SubElement(
         torso, "geom", {"type": "box", "pos": "-0.005 0 0.04", "size": "0.04 0.06 0.07", **_VISUAL}
     )
-    ET.SubElement(torso, "site", {"name": "imu", "pos": _f(*geo.IMU_POSITION_M), "size": "0.005"})
+    ET.SubElement(
+        torso, "site", {"name": IMU_SITE, "pos": _f(*geo.IMU_POSITION_M), "size": "0.005"}
+    )
     head = _body(torso, "Head", geo.HEAD_ORIGIN_M)
     _inertial(head, geo.HEAD)
     ET.SubElement(head, "geom", {"type": "sphere", "pos": "0 0 0.05", "size": "0.055", **_VISUAL})
@@ -177,16 +181,6 @@ def _upper_body(torso: ET.Element, inertial: geo.Inertial) -> None:
         arm = _body(torso, side_letter(side) + "Arm", shoulder)
         _inertial(arm, geo.ARM if side == "left" else geo.ARM.mirrored())
         _capsule(arm, (0, 0, 0), (0, 0, -0.17), 0.025)
-
-
-def _sensors(root: ET.Element) -> None:
-    sensors = ET.SubElement(root, "sensor")
-    for side in NAO_SIDES:
-        ET.SubElement(sensors, "force", {"name": f"{side}_ft_force", "site": f"{side}_ft"})
-        ET.SubElement(sensors, "torque", {"name": f"{side}_ft_torque", "site": f"{side}_ft"})
-    ET.SubElement(sensors, "gyro", {"name": "imu_gyro", "site": "imu"})
-    ET.SubElement(sensors, "accelerometer", {"name": "imu_accel", "site": "imu"})
-    ET.SubElement(sensors, "framequat", {"name": "imu_quat", "objtype": "site", "objname": "imu"})
 
 
 def base_mjcf(
@@ -214,7 +208,7 @@ def base_mjcf(
     ET.SubElement(
         world,
         "geom",
-        {"name": "floor", "type": "plane", "size": "10 10 0.1", "rgba": "0.8 0.8 0.8 1"},
+        {"name": FLOOR_GEOM, "type": "plane", "size": "10 10 0.1", "rgba": "0.8 0.8 0.8 1"},
     )
     base = _body(world, "torso", (0.0, 0.0, ZERO_POSE_TORSO_HEIGHT_M))
     ET.SubElement(base, "freejoint", {"name": "root"})
@@ -227,7 +221,7 @@ def base_mjcf(
         "joint",
         {"name": "hip_yaw_pitch_coupling", "joint1": "RHipYawPitch", "joint2": "LHipYawPitch"},
     )
-    _sensors(mujoco)
+    add_standard_sensors(mujoco, NAO_SIDES)
     return mujoco
 
 

@@ -29,7 +29,9 @@ from typing import TYPE_CHECKING
 
 from zmpkit.robots.teo import geometry as geo
 from zmpkit.robots.teo.truth import TeoTruth
+from zmpkit.sim.names import FLOOR_GEOM, IMU_SITE, sole_site
 from zmpkit.sim.sole_plate import SolePlate, add_sole_plate
+from zmpkit.sim.standard_sensors import add_standard_sensors
 
 if TYPE_CHECKING:
     from zmpkit.io.feet import FootMountEntry
@@ -163,7 +165,7 @@ def _foot(ankle: ET.Element, side: str) -> None:
         _SOLE_CONTACT_SOLREF,
         _SOLE_CONTACT_SOLIMP,
     )
-    add_sole_plate(sole, side, plate, centre_site=f"{side}_sole_centre")
+    add_sole_plate(sole, side, plate, centre_site=sole_site(side))
 
 
 def _trunk(root: ET.Element, truth: TeoTruth) -> None:
@@ -180,7 +182,7 @@ def _trunk(root: ET.Element, truth: TeoTruth) -> None:
         "geom",
         {"type": "box", "pos": _f(0.02, 0, 0.2), "size": "0.09 0.2 0.15", **_VISUAL},
     )
-    ET.SubElement(trunk, "site", {"name": "imu", "pos": _f(0.0, 0.0, 0.1), "size": "0.01"})
+    ET.SubElement(trunk, "site", {"name": IMU_SITE, "pos": _f(0.0, 0.0, 0.1), "size": "0.01"})
     for name, (height, inertial) in geo.HEAD_LINKS.items():
         head = _body(trunk, name, (0.0, 0.0, height - geo.ROOT_TO_TRUNK_JOINTS_M))
         _inertial(head, inertial)
@@ -200,16 +202,6 @@ def _trunk(root: ET.Element, truth: TeoTruth) -> None:
         "inertial",
         {"pos": "0 0 0", "mass": _f(truth.payload_mass_kg), "diaginertia": "1e-4 1e-4 1e-4"},
     )
-
-
-def _sensors(root: ET.Element) -> None:
-    sensors = ET.SubElement(root, "sensor")
-    for side in TEO_SIDES:
-        ET.SubElement(sensors, "force", {"name": f"{side}_ft_force", "site": f"{side}_ft"})
-        ET.SubElement(sensors, "torque", {"name": f"{side}_ft_torque", "site": f"{side}_ft"})
-    ET.SubElement(sensors, "gyro", {"name": "imu_gyro", "site": "imu"})
-    ET.SubElement(sensors, "accelerometer", {"name": "imu_accel", "site": "imu"})
-    ET.SubElement(sensors, "framequat", {"name": "imu_quat", "objtype": "site", "objname": "imu"})
 
 
 def base_mjcf(truth: TeoTruth) -> ET.Element:
@@ -233,7 +225,7 @@ def base_mjcf(truth: TeoTruth) -> ET.Element:
     ET.SubElement(
         world,
         "geom",
-        {"name": "floor", "type": "plane", "size": "5 5 0.1", "rgba": "0.8 0.8 0.8 1"},
+        {"name": FLOOR_GEOM, "type": "plane", "size": "5 5 0.1", "rgba": "0.8 0.8 0.8 1"},
     )
     z_root = geo.ANKLE_TO_SOLE_M + geo.SHANK_M + geo.THIGH_M + geo.HIP_DROP_M
     root = _body(world, "root_waist", (0.0, 0.0, z_root))
@@ -243,7 +235,7 @@ def base_mjcf(truth: TeoTruth) -> ET.Element:
     for side in TEO_SIDES:
         _leg(root, side)
     _trunk(root, truth)
-    _sensors(mujoco)
+    add_standard_sensors(mujoco, TEO_SIDES)
     return mujoco
 
 
