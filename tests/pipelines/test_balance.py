@@ -11,12 +11,20 @@ from pathlib import Path
 
 import imageio_ffmpeg
 import pytest
+from hypothesis import given
+from hypothesis import strategies as st
 
 from helpers.gl import skip_without_gl
 from zmpkit.analysis.table1 import TABLE1_COLUMNS
 from zmpkit.cli import main
 from zmpkit.identify import BalanceParams
-from zmpkit.pipelines.balance import BalanceConfig, run_balance, step_experiment
+from zmpkit.pipelines.balance import (
+    MIN_CHOSEN_TARGETS,
+    BalanceConfig,
+    fit_targets_of,
+    run_balance,
+    step_experiment,
+)
 from zmpkit.pipelines.balance_document import balance_checks
 from zmpkit.pipelines.balance_report import write_balance_outputs
 from zmpkit.pipelines.videos import BALANCE_VIDEO, STEP_TRIAL_AFTER_S
@@ -183,3 +191,37 @@ def test_balance_video_films_the_dlipm_at_the_largest_target(balance_run, tmp_pa
     assert '<video controls loop muted playsinline preload="metadata" src="step_trial.mp4">' in (
         artifacts.report.read_text()
     )
+
+
+@given(
+    st.lists(st.integers(0, 200), min_size=MIN_CHOSEN_TARGETS, max_size=30, unique=True).map(
+        lambda mm: tuple(v / 1000.0 for v in mm)
+    )
+)
+def test_chosen_targets_fit_on_every_other_one_and_the_largest(targets: tuple[float, ...]) -> None:
+    fit = fit_targets_of(targets)
+    ordered = sorted(targets)
+    assert set(fit) <= set(ordered)
+    assert max(fit) == ordered[-1]  # the schedule spans them all
+    assert min(fit) == ordered[0]
+    assert len(fit) >= 3  # the error model's fewest points
+    assert len(ordered) - len(fit) >= 1  # something left to validate on
+    assert fit_targets_of(tuple(reversed(targets))) == fit  # order does not matter
+
+
+@pytest.mark.parametrize(
+    ("targets", "message"),
+    [
+        ("0,0.02,0.04", r"--targets needs at least 4 distinct targets .*got 3: 0, 0\.02, 0\.04 m"),
+        ("0:0.5:0.1", r"ZMP target 0\.2 m lies outside teo's support polygon in the sagittal"),
+        ("0,nan,1,2", r"--targets expects START:STOP:STEP in m"),
+    ],
+)
+def test_balance_bad_targets_are_one_line_exit_2(
+    targets: str, message: str, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    out = tmp_path / "never"
+    assert main(["balance", "--robot", "teo", "--targets", targets, "--out", str(out)]) == 2
+    (line,) = capsys.readouterr().err.strip().splitlines()
+    assert re.search(message, line), line
+    assert not out.exists()  # refused before any work

@@ -12,8 +12,16 @@ from zmpkit.cli.progress import SweepProgress
 from zmpkit.cli.robot_option import robot_option
 from zmpkit.cli.video_option import video_option
 from zmpkit.control import PAPER_A_TIME_SCALE
+from zmpkit.experiments.config import parse_targets
 from zmpkit.experiments.ft_faults import FAULT_KINDS
-from zmpkit.pipelines.balance import FAST_TIME_SCALE, FAST_ZETA, BalanceConfig, run_balance
+from zmpkit.pipelines.balance import (
+    FAST_TIME_SCALE,
+    FAST_ZETA,
+    MIN_CHOSEN_TARGETS,
+    BalanceConfig,
+    fit_targets_of,
+    run_balance,
+)
 from zmpkit.pipelines.balance_report import write_balance_outputs
 from zmpkit.robots.registry import DEFAULT_BALANCE_ROBOT
 
@@ -53,6 +61,12 @@ EXIT_BARS_NOT_MET = 1
     multiple=True,
     type=click.Choice(("sagittal", "frontal")),
     help="Plane(s) to run; default both.",
+)
+@click.option(
+    "--targets",
+    help="ZMP targets [m], both planes: START:STOP:STEP (stop included) or a comma list, at "
+    f"least {MIN_CHOSEN_TARGETS}; every other one and the largest are fitted on, the others "
+    "validate. Default: shares of 0.3 x the support polygon's nearest edge.",
 )
 @click.option("--workers", type=WORKERS, default=2, show_default=True, help="Parallel processes.")
 @click.option(
@@ -103,6 +117,7 @@ def balance_command(
     seed: int,
     effects: str,
     planes: tuple[str, ...],
+    targets: str | None,
     workers: int,
     dlipm_pace: str,
     max_hold: float | None,
@@ -125,6 +140,9 @@ def balance_command(
     }
     if planes:
         changes["planes"] = planes
+    if targets is not None:
+        chosen = parse_targets(targets, "--targets")
+        changes.update(targets_m=chosen, fit_targets_m=fit_targets_of(chosen))
     if dlipm_pace == "paper":
         changes.update(time_scale=PAPER_A_TIME_SCALE, servo_paced=False)
     elif dlipm_pace == "fast":

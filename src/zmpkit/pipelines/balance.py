@@ -39,6 +39,7 @@ from zmpkit.experiments import (
     trial_response,
 )
 from zmpkit.experiments.ft_faults import FtFaults
+from zmpkit.experiments.sweep import check_sweep
 from zmpkit.identify import BalanceIdentification, BalanceParams, ErrorModel, identify_balance
 from zmpkit.pipelines.balance_controllers import FEEDBACK_KINDS, LeanControllerFactory
 from zmpkit.robots.registry import DEFAULT_BALANCE_ROBOT, get_robot
@@ -50,11 +51,13 @@ __all__ = [
     "FAST_ZETA",
     "FIT_TARGETS",
     "FULL_TARGETS",
+    "MIN_CHOSEN_TARGETS",
     "QUICK_TARGETS",
     "BalanceConfig",
     "BalanceResult",
     "PlaneResult",
     "dataset_trials",
+    "fit_targets_of",
     "run_balance",
     "step_experiment",
     "support_polygon",
@@ -218,6 +221,8 @@ def run_balance(
     ``out_dir`` (created if missing).
     """
     started_s = time.time()
+    for plane in config.planes:  # every plane's targets in reach before any work
+        check_sweep(step_experiment(config, plane))
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     planes = {}
@@ -312,6 +317,30 @@ def _outcomes(
         controller=factory,
     )
     return dataset_trials(dataset), [(r.hold_end, r.hold_note) for r in dataset.trials]
+
+
+MIN_CHOSEN_TARGETS = 4
+"""Fewest targets ``--targets`` may give: three to fit the error model on, one to validate."""
+
+
+def fit_targets_of(targets_m: tuple[float, ...]) -> tuple[float, ...]:
+    """The targets to fit on among chosen ones [m]: every other one and the largest.
+
+    Sorted, the first, third, … target and the largest are fitted on; the others, between
+    them, validate the schedule (as the built-in ladders do: fit on even shares, validate on
+    all).
+
+    Raises:
+        ParameterError: on fewer than :data:`MIN_CHOSEN_TARGETS` distinct targets.
+    """
+    ordered = sorted({round(x, 6) for x in targets_m})
+    if len(ordered) < MIN_CHOSEN_TARGETS:
+        raise ParameterError(
+            f"--targets needs at least {MIN_CHOSEN_TARGETS} distinct targets (three to fit the "
+            f"error model on, one to validate it); got {len(ordered)}: "
+            f"{', '.join(f'{x:g}' for x in ordered)} m"
+        )
+    return tuple(sorted({*ordered[0::2], ordered[-1]}))
 
 
 def target_ladder(shares: tuple[float, ...], span_m: float) -> tuple[float, ...]:
