@@ -8,6 +8,7 @@ from typing import Any, TypeVar
 import click
 
 from zmpkit.robots.registry import get_robot, robot_names, robots_that
+from zmpkit.robots.robot_check import require_passing_check
 
 __all__ = ["robot_option"]
 
@@ -27,12 +28,17 @@ def robot_option(
 
     An unknown robot, or one without what the command ``needs`` (``"balance"``,
     ``"walking"``, ``"fit"``), ends the command with exit 2 and one line naming the valid ones.
+    A command that runs the robot (``needs`` given) refuses a ``robot.yaml`` whose robot fails
+    ``zmpkit robot check`` the same way
+    (:func:`~zmpkit.robots.robot_check.require_passing_check`).
     """
     valid = robots_that(needs) if needs else robot_names()
 
     def check(ctx: click.Context, param: click.Parameter, value: str | None) -> str | None:
         if value is not None:
-            get_robot(value, needs=needs)
+            robot = get_robot(value, needs=needs)
+            if needs is not None and value not in robot_names():
+                require_passing_check(robot, value)
         return value
 
     return click.option(

@@ -17,15 +17,17 @@ do not carry the whole foot (a foot geom still touching the floor) or a robot no
 from __future__ import annotations
 
 from dataclasses import dataclass
+from pathlib import Path
 
 import mujoco
 import numpy as np
 
+from zmpkit.errors import ParameterError
 from zmpkit.robots.robot import Robot
 from zmpkit.sensors.mount import wrench_in_world
 from zmpkit.sensors.zmp import zmp_in_world
 
-__all__ = ["RobotCheck", "check_robot"]
+__all__ = ["RobotCheck", "check_robot", "require_passing_check"]
 
 AGREEMENT_M = 0.002
 """The three ZMPs of a robot at rest agree within this [m]."""
@@ -140,3 +142,33 @@ def check_robot(robot: Robot, stand_s: float = 2.0) -> RobotCheck:
         com_xy_m=(float(data.subtree_com[0][0]), float(data.subtree_com[0][1])),
         stood_s=sim.time,
     )
+
+
+def require_passing_check(robot: Robot, reference: str) -> RobotCheck:
+    """``robot``'s check (:func:`check_robot`), refused with one line when it fails.
+
+    A command that runs a user's robot (``reference``: its ``robot.yaml``) runs the check
+    first: F-T sensors that do not carry the whole foot, or a robot that does not come to
+    rest, would make every ZMP it measures wrong. Checked once per file and modification
+    time in a process.
+
+    Raises:
+        ParameterError: naming the file, the gaps and the command that shows the details.
+    """
+    path = Path(reference)
+    key = (str(path.resolve()), path.stat().st_mtime_ns if path.exists() else 0)
+    result = _CHECKED.get(key)
+    if result is None:
+        result = _CHECKED[key] = check_robot(robot)
+    if not result.ok:
+        raise ParameterError(
+            f"{reference} fails its robot check: the F-T ZMP lies "
+            f"{1e3 * result.ft_vs_contact_m:.1f} mm from the contact ZMP and "
+            f"{1e3 * result.ft_vs_com_m:.1f} mm from the CoM projection (at rest both within "
+            f"{1e3 * AGREEMENT_M:g} mm); `zmpkit robot check {reference}` shows the details"
+        )
+    return result
+
+
+_CHECKED: dict[tuple[str, int], RobotCheck] = {}
+"""Checks run in this process, by robot file (resolved path, modification time [ns])."""
