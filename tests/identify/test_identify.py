@@ -285,6 +285,17 @@ def test_transient_without_a_step_is_flagged_not_nan() -> None:
     assert "no transient to fit" in fit.message
 
 
+def test_a_step_at_the_end_of_the_record_is_flagged_not_a_traceback() -> None:
+    """Half a sample recorded after the step: no ω_n both below Nyquist and with a period
+    recorded (scipy refused the bounds with a ValueError before)."""
+    t = np.arange(0.0, 1.0 + 1e-9, 0.01)
+    y = np.where(t >= 0.999, 0.05, 0.0) + 1e-4 * np.random.default_rng(3).standard_normal(t.size)
+    fit = fit_transient(StepTrial(t, y, 0.05, 0.995))
+    assert not fit.ok
+    assert fit.model is None
+    assert fit.message.startswith("too little recorded after the step to fit: 0.005 s at a ")
+
+
 def test_second_order_step_is_continuous_through_critical_damping() -> None:
     t = np.linspace(0.0, 3.0, 301)
     below, at, above = (second_order_step(t, z, 5.0) for z in (1 - 1e-7, 1.0, 1 + 1e-7))

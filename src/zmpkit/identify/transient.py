@@ -242,6 +242,12 @@ def _fit(trial: StepTrial, metrics: StepMetrics, noise: float, max_tau: float) -
     lower = [-np.inf, -np.inf, ZETA_BOUNDS[0], 2.0 * math.pi / span, 0.0]
     upper = [np.inf, np.inf, ZETA_BOUNDS[1], omega_max, max(max_tau, 1e-12)]
     n_params = 5 if max_tau > 0.0 else 4
+    if not lower[3] < upper[3]:  # no ω_n with one period recorded yet below Nyquist
+        message = (
+            f"too little recorded after the step to fit: {span:.3g} s at a sample period of "
+            f"{math.pi / omega_max:.3g} s (a 2nd-order fit needs more than two samples)"
+        )
+        return TransientFit(False, message, metrics, None, None, None, noise)
 
     def residual(p: FloatArray) -> FloatArray:
         tau = p[4] if n_params == 5 else 0.0
