@@ -35,6 +35,31 @@ def test_init_guesses_feet_and_legs_and_check_stands_it(
     assert "F-T vs contact" in capsys.readouterr().out
 
 
+def test_a_waist_joint_above_both_hips_belongs_to_neither_leg(tmp_path: Path) -> None:
+    """Both legs hang from a waist body with a yaw joint (as a G1's or Apollo's do): the legs
+    start below it (before: the waist joint was put first in both legs, then MuJoCo refused
+    the model with "repeated name 'waist_yaw' in actuator")."""
+    legs_start = BIPED_MJCF.index('<body name="r_thigh"')
+    legs_end = BIPED_MJCF.rindex("</body>", 0, BIPED_MJCF.rindex("</body>"))
+    waisted = (
+        BIPED_MJCF[:legs_start]
+        + '<body name="waist" pos="0 0 0"><joint name="waist_yaw" axis="0 0 1" range="-1 1"/>'
+        + '<geom type="sphere" size="0.01" mass="0.1" contype="0" conaffinity="0"/>'
+        + BIPED_MJCF[legs_start:legs_end]
+        + "</body>"
+        + BIPED_MJCF[legs_end:]
+    )
+    model = tmp_path / "waisted.xml"
+    model.write_text(waisted, encoding="utf-8")
+    out = tmp_path / "robot.yaml"
+    assert main(["robot", "init", str(model), "--out", str(out)]) == 0
+    doc = yaml.safe_load(out.read_text(encoding="utf-8"))
+    assert doc["legs"]["right"][0] == "r_hip_roll"
+    assert doc["legs"]["left"][0] == "l_hip_roll"
+    assert all("waist_yaw" not in leg for leg in doc["legs"].values())
+    assert main(["robot", "check", str(out)]) == 0
+
+
 def test_the_three_zmps_of_a_standing_biped_agree(biped: Path, tmp_path: Path) -> None:
     out = tmp_path / "robot.yaml"
     assert main(["robot", "init", str(biped), "--out", str(out)]) == 0

@@ -5,7 +5,8 @@ poses it at its initial configuration and guesses:
 
 - **feet**: the two lowest bodies (by their collision geoms' lowest point) on different
   branches of the tree, the one with the larger y being the left foot;
-- **legs**: the hinge joints on the path from the root to each foot, hip to ankle;
+- **legs**: the hinge joints on the path from each foot up to the first body both feet
+  hang from (a waist joint above both hips belongs to neither leg), hip to ankle;
 - **imu** and **torso**: the root body.
 
 The user checks and edits the result (``zmpkit robot check``).
@@ -51,6 +52,17 @@ def _separate(model: mujoco.MjModel, a: int, b: int) -> bool:
     return a not in _path_to_root(model, b) and b not in _path_to_root(model, a)
 
 
+def _leg_paths(model: mujoco.MjModel, right: int, left: int) -> dict[str, list[int]]:
+    """Each foot's bodies below the last body both feet hang from, hip first."""
+    paths = {"right": _path_to_root(model, right), "left": _path_to_root(model, left)}
+    shared = 0
+    for a, b in zip(paths["right"], paths["left"], strict=False):
+        if a != b:
+            break
+        shared += 1
+    return {side: path[shared:] for side, path in paths.items()}
+
+
 def _hinges(model: mujoco.MjModel, bodies: list[int]) -> list[str]:
     return [
         model.joint(j).name
@@ -90,10 +102,7 @@ def guess_robot_file(
         raise InputFileError(model_file, "found fewer than two separate lowest bodies (feet)")
     left, right = sorted(feet, key=lambda b: -float(data.xpos[b][1]))
     root = int(_path_to_root(model, left)[0])
-    legs = {
-        side: _hinges(model, _path_to_root(model, body))
-        for side, body in (("right", right), ("left", left))
-    }
+    legs = {side: _hinges(model, path) for side, path in _leg_paths(model, right, left).items()}
     folder = Path(out).resolve().parent
     doc: dict = {"name": model_file.stem, "model": os.path.relpath(model_file, folder)}
     if given:
