@@ -51,8 +51,10 @@ def robot_init_command(model: Path, out: Path, packages: tuple[str, ...]) -> Non
         if not sep or not name or not folder:
             raise click.BadParameter(f"expected NAME=DIR, got {text!r}", param_hint="'--package'")
         folders[name] = Path(folder)
-    path = write_robot_file(model, out, folders)
-    click.echo(f"wrote {path}; check the feet and legs, then: zmpkit robot check {path}")
+    guess = write_robot_file(model, out, folders)
+    for note in guess.notes:
+        click.echo(f"guessed {note}")
+    click.echo(f"wrote {out}; check the guesses, then: zmpkit robot check {out}")
 
 
 @robot_group.command("check")

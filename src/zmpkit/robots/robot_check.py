@@ -12,6 +12,9 @@ Then, from the last sample:
 
 They agree to about a millimetre on a correct robot; a larger gap points at F-T sensors that
 do not carry the whole foot (a foot geom still touching the floor) or a robot not at rest.
+
+It also checks the guesses a robot file rests on: the left foot stands to the left of the
+right one (world +y, the robot facing +x): feet swapped, or a wrong ``forward:``, fail.
 """
 
 from __future__ import annotations
@@ -26,6 +29,7 @@ from zmpkit.errors import ParameterError
 from zmpkit.robots.robot import Robot
 from zmpkit.sensors.mount import wrench_in_world
 from zmpkit.sensors.zmp import zmp_in_world
+from zmpkit.sim.names import sole_site
 
 __all__ = ["RobotCheck", "check_robot", "require_passing_check"]
 
@@ -49,6 +53,8 @@ class RobotCheck:
         zmp_contact_m: ZMP from MuJoCo's contact forces (x, y) [m].
         com_xy_m: the CoM's ground projection (x, y) [m].
         stood_s: how long it stood [s].
+        left_of_right_m: how far the left sole centre stands left (world +y) of the right
+            one [m]; None for a robot without both feet.
     """
 
     name: str
@@ -62,6 +68,7 @@ class RobotCheck:
     zmp_contact_m: tuple[float, float]
     com_xy_m: tuple[float, float]
     stood_s: float
+    left_of_right_m: float | None = None
 
     @property
     def ft_vs_contact_m(self) -> float:
@@ -74,13 +81,23 @@ class RobotCheck:
         return float(np.hypot(*np.subtract(self.zmp_ft_m, self.com_xy_m)))
 
     @property
-    def ok(self) -> bool:
+    def feet_sides_ok(self) -> bool:
+        """Whether the left foot stands left of the right one (or the robot has no pair)."""
+        return self.left_of_right_m is None or self.left_of_right_m > 0.0
+
+    @property
+    def zmps_agree(self) -> bool:
         """Whether the three ZMPs agree within :data:`AGREEMENT_M`."""
         return max(self.ft_vs_contact_m, self.ft_vs_com_m) <= AGREEMENT_M
 
+    @property
+    def ok(self) -> bool:
+        """Whether the three ZMPs agree and the feet stand on their sides."""
+        return self.zmps_agree and self.feet_sides_ok
+
     def lines(self) -> list[str]:
         """The report, one line per item."""
-        verdict = "OK" if self.ok else f"MISMATCH (> {1e3 * AGREEMENT_M:g} mm)"
+        verdict = "OK" if self.zmps_agree else f"MISMATCH (> {1e3 * AGREEMENT_M:g} mm)"
         feet = "; ".join(
             f"{f} sensor at ({x:.4f}, {y:.4f}, {z:.4f}) m, {1e3 * self.sensor_heights_m[f]:.1f} mm "
             "above the sole"
@@ -97,6 +114,21 @@ class RobotCheck:
             f"m, CoM projection ({self.com_xy_m[0]:.4f}, {self.com_xy_m[1]:.4f}) m",
             f"F-T vs contact {1e3 * self.ft_vs_contact_m:.2f} mm, F-T vs CoM "
             f"{1e3 * self.ft_vs_com_m:.2f} mm: {verdict}",
+            *self._sides_line(),
+        ]
+
+    def _sides_line(self) -> list[str]:
+        if self.left_of_right_m is None:
+            return []
+        side = "left" if self.left_of_right_m > 0.0 else "RIGHT"
+        verdict = (
+            "OK"
+            if self.feet_sides_ok
+            else "MISMATCH (feet swapped, or the robot does not face +x: check feet and forward)"
+        )
+        return [
+            f"left foot {1e3 * abs(self.left_of_right_m):.1f} mm to the {side} of the right "
+            f"foot, facing +x: {verdict}"
         ]
 
 
@@ -141,7 +173,15 @@ def check_robot(robot: Robot, stand_s: float = 2.0) -> RobotCheck:
         zmp_contact_m=_contact_zmp(model, data),
         com_xy_m=(float(data.subtree_com[0][0]), float(data.subtree_com[0][1])),
         stood_s=sim.time,
+        left_of_right_m=_left_of_right(model, data),
     )
+
+
+def _left_of_right(model: mujoco.MjModel, data: mujoco.MjData) -> float | None:
+    sites = {mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_SITE, i) for i in range(model.nsite)}
+    if not {sole_site("left"), sole_site("right")} <= sites:
+        return None
+    return float(data.site(sole_site("left")).xpos[1] - data.site(sole_site("right")).xpos[1])
 
 
 def require_passing_check(robot: Robot, reference: str) -> RobotCheck:
@@ -161,11 +201,21 @@ def require_passing_check(robot: Robot, reference: str) -> RobotCheck:
     if result is None:
         result = _CHECKED[key] = check_robot(robot)
     if not result.ok:
+        reasons = []
+        if not result.zmps_agree:
+            reasons.append(
+                f"the F-T ZMP lies {1e3 * result.ft_vs_contact_m:.1f} mm from the contact ZMP and "
+                f"{1e3 * result.ft_vs_com_m:.1f} mm from the CoM projection (at rest both within "
+                f"{1e3 * AGREEMENT_M:g} mm)"
+            )
+        if not result.feet_sides_ok and result.left_of_right_m is not None:
+            reasons.append(
+                f"its left foot stands {1e3 * -result.left_of_right_m:.1f} mm right of its right "
+                "foot (feet swapped, or a wrong forward:)"
+            )
         raise ParameterError(
-            f"{reference} fails its robot check: the F-T ZMP lies "
-            f"{1e3 * result.ft_vs_contact_m:.1f} mm from the contact ZMP and "
-            f"{1e3 * result.ft_vs_com_m:.1f} mm from the CoM projection (at rest both within "
-            f"{1e3 * AGREEMENT_M:g} mm); `zmpkit robot check {reference}` shows the details"
+            f"{reference} fails its robot check: {'; '.join(reasons)}; "
+            f"`zmpkit robot check {reference}` shows the details"
         )
     return result
 

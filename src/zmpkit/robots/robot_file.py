@@ -60,6 +60,7 @@ from zmpkit.robots.problems import Problems
 
 __all__ = [
     "FIELDS",
+    "FORWARD_AXES",
     "SIDES",
     "WALKING_FIELDS",
     "RobotFile",
@@ -77,6 +78,8 @@ DEFAULT_SOLE_HEIGHT_M = 0.005
 """Thickness of the sole plate zmpkit adds = F-T sensor height above the sole [m]."""
 DEFAULT_TIMESTEP_S = 0.001
 """Physics step of a user's robot [s]."""
+FORWARD_AXES = ("+x", "-x", "+y", "-y")
+"""The model-frame axes a robot may face (``forward:``); zmpkit turns it to face world +x."""
 FIELDS = (
     "name",
     "model",
@@ -85,6 +88,7 @@ FIELDS = (
     "legs",
     "imu",
     "torso",
+    "forward",
     "sole",
     "servo",
     "contact_threshold_n",
@@ -155,6 +159,8 @@ class RobotFile:
         legs: side → the leg's joints, hip to ankle.
         imu: body carrying the IMU, or None for the root body.
         torso: body kept upright when walking, or None for the root body.
+        forward: the axis of the model's root frame the robot faces (:data:`FORWARD_AXES`);
+            zmpkit turns the model about the vertical so that it faces the world's +x.
         sole_length_m: sole length, or None for the foot's footprint [m].
         sole_width_m: sole width, or None for the foot's footprint [m].
         sole_height_m: sole plate thickness = F-T height above the sole [m].
@@ -183,6 +189,7 @@ class RobotFile:
     walking: WalkingOverrides = WalkingOverrides()
     truth: Path | None = None
     packages: Mapping[str, Path] = field(default_factory=dict)
+    forward: str = "+x"
 
     @property
     def leg_joints(self) -> tuple[str, ...]:
@@ -273,6 +280,16 @@ def _names(path: Path, field: str, value: Any) -> tuple[str, ...]:
     if not isinstance(value, Sequence) or isinstance(value, str) or not value:
         raise _fail(path, field, f"expected a list of joint names, got {shorten(value)}")
     return tuple(str(v) for v in value)
+
+
+def _forward(path: Path, value: Any) -> str:
+    if value is None:
+        return "+x"
+    if value not in FORWARD_AXES:
+        raise _fail(
+            path, "forward", f"expected one of {', '.join(FORWARD_AXES)}, got {shorten(value)}"
+        )
+    return str(value)
 
 
 def _foot(path: Path, field: str, value: Any) -> tuple[str, str]:
@@ -433,6 +450,7 @@ def draft_robot_file(path: str | Path, model: Path | None = None) -> RobotFileDr
     legs = _sides(file, "legs", doc.get("legs"), _names, problems)
     imu = problems.attempt(_text, file, "imu", doc.get("imu"))
     torso = problems.attempt(_text, file, "torso", doc.get("torso"))
+    forward = problems.attempt(_forward, file, doc.get("forward"))
     length, width, height = _sole(file, doc.get("sole"), problems)
     servo = _servo(file, doc.get("servo"), problems)
     threshold = problems.attempt(
@@ -456,6 +474,7 @@ def draft_robot_file(path: str | Path, model: Path | None = None) -> RobotFileDr
         walking=_walking(file, doc.get("walking"), problems),
         truth=problems.attempt(_truth_path, file, doc.get("truth")),
         packages=packages or {},
+        forward=forward or "+x",
     )
     usable = model_file is not None and packages is not None
     return RobotFileDraft(robot if usable else None, problems.found)

@@ -4,18 +4,26 @@
 poses it at its initial configuration and guesses:
 
 - **feet**: the two lowest bodies (by their collision geoms' lowest point) on different
-  branches of the tree, the one with the larger y being the left foot;
+  branches of the tree;
+- **forward**: the horizontal axis of the feet's length (their collision geoms' extent), in
+  the direction the feet reach further ahead of their ankles (the foot bodies' origins) than
+  behind — toes are longer than heels; sure when the feet are at least 1.2 times as long as
+  wide and the reach differs by at least 5 % of their length, else said to be a guess;
+- **left**: the foot on the left of forward (z × forward);
 - **legs**: the hinge joints on the path from each foot up to the first body both feet
   hang from (a waist joint above both hips belongs to neither leg), hip to ankle;
 - **imu** and **torso**: the root body.
 
-The user checks and edits the result (``zmpkit robot check``).
+Each guess comes with the evidence it rests on (:class:`RobotGuess`), printed by
+``zmpkit robot init`` and written as comments into the file; the user checks and edits the
+result (``zmpkit robot check``).
 """
 
 from __future__ import annotations
 
 import os
 from collections.abc import Mapping
+from dataclasses import dataclass
 from pathlib import Path
 
 import mujoco
@@ -25,7 +33,28 @@ import yaml
 from zmpkit.errors import InputFileError
 from zmpkit.robots.user_model import geom_corners, load_spec
 
-__all__ = ["guess_robot_file", "write_robot_file"]
+__all__ = ["RobotGuess", "guess_robot", "guess_robot_file", "write_robot_file"]
+
+FORWARD_SURE_ASPECT = 1.2
+"""Feet at least this many times as long as wide show their long axis [-]."""
+FORWARD_SURE_REACH = 0.05
+"""Toes reaching this share of the foot's length further than the heel show forward [-]."""
+
+
+@dataclass(frozen=True)
+class RobotGuess:
+    """A first ``robot.yaml`` document and what each guess rests on.
+
+    Attributes:
+        doc: the document (``name``, ``model``, ``feet``, ``legs``, ``forward``, ``imu``,
+            ``torso``; ``packages`` when given).
+        notes: one line per guess: what was guessed, from what, and how sure.
+        sure: False when a guess is weak (the notes say which) and must be checked by hand.
+    """
+
+    doc: dict
+    notes: tuple[str, ...]
+    sure: bool
 
 
 def _lowest_z(model: mujoco.MjModel, data: mujoco.MjData) -> dict[int, float]:
@@ -72,9 +101,41 @@ def _hinges(model: mujoco.MjModel, bodies: list[int]) -> list[str]:
     ]
 
 
-def guess_robot_file(
+def _foot_geoms(model: mujoco.MjModel, foot: int) -> list[int]:
+    return [
+        g
+        for g in range(model.ngeom)
+        if int(model.geom_bodyid[g]) == foot
+        and (model.geom_contype[g] or model.geom_conaffinity[g])
+    ]
+
+
+def _forward(model: mujoco.MjModel, data: mujoco.MjData, feet: list[int]) -> tuple[str, str, bool]:
+    """The model axis the robot faces, the evidence, and whether it is sure (module docstring)."""
+    extent = np.zeros(2)
+    reach = np.zeros(2)  # (ahead − behind) of the ankle, summed over the feet [m]
+    for foot in feet:
+        corners = np.vstack([geom_corners(model, data, g) for g in _foot_geoms(model, foot)])
+        low, high = corners[:, :2].min(axis=0), corners[:, :2].max(axis=0)
+        ankle = data.xpos[foot][:2]
+        extent += high - low
+        reach += (high - ankle) - (ankle - low)
+    axis = 0 if extent[0] >= extent[1] else 1
+    length, width = extent[axis] / 2.0, extent[1 - axis] / 2.0
+    sign = "+" if reach[axis] >= 0.0 else "-"
+    label = f"{sign}{'xy'[axis]}"
+    share = abs(reach[axis]) / 2.0 / length if length > 0.0 else 0.0
+    sure = width > 0.0 and length >= FORWARD_SURE_ASPECT * width and share >= FORWARD_SURE_REACH
+    evidence = (
+        f"the feet are {length:.3f} m long along {'xy'[axis]} ({width:.3f} m wide) and reach "
+        f"{abs(reach[axis]) / 2.0:.3f} m further towards {label} of their ankles than away"
+    )
+    return label, evidence, sure
+
+
+def guess_robot(
     model_path: str | Path, out: str | Path, packages: Mapping[str, Path] | None = None
-) -> dict:
+) -> RobotGuess:
     """A ``robot.yaml`` document for the model at ``model_path``, to be written at ``out``.
 
     ``packages`` (package name → folder) resolve the model's ``package://`` URIs and are
@@ -100,32 +161,58 @@ def guess_robot_file(
             break
     if len(feet) < 2:
         raise InputFileError(model_file, "found fewer than two separate lowest bodies (feet)")
-    left, right = sorted(feet, key=lambda b: -float(data.xpos[b][1]))
+    forward, evidence, sure = _forward(model, data, feet)
+    unit = {"+x": (1.0, 0.0), "-x": (-1.0, 0.0), "+y": (0.0, 1.0), "-y": (0.0, -1.0)}[forward]
+    leftward = np.array([-unit[1], unit[0]])  # z × forward
+    left, right = sorted(feet, key=lambda b: -float(data.xpos[b][:2] @ leftward))
     root = int(_path_to_root(model, left)[0])
-    legs = {side: _hinges(model, path) for side, path in _leg_paths(model, right, left).items()}
+    paths = _leg_paths(model, right, left)
+    legs = {side: _hinges(model, path) for side, path in paths.items()}
     folder = Path(out).resolve().parent
     doc: dict = {"name": model_file.stem, "model": os.path.relpath(model_file, folder)}
     if given:
         doc["packages"] = {name: os.path.relpath(p, folder) for name, p in given.items()}
-    return {
+    names = {"right": model.body(right).name, "left": model.body(left).name}
+    hang = model.body(int(model.body_parentid[paths["left"][0]])).name if paths["left"] else "?"
+    notes = (
+        f"feet: {names['right']} (right) and {names['left']} (left): the two lowest bodies on "
+        "separate branches, left of forward",
+        f"forward: {forward} in the model's frame: {evidence}"
+        + ("" if sure else "; a weak guess: check `forward:` by hand"),
+        f"legs: {len(legs['right'])} and {len(legs['left'])} joints, from "
+        f"{legs['right'][0] if legs['right'] else '-'} and "
+        f"{legs['left'][0] if legs['left'] else '-'}, below {hang} (both feet hang from it)",
+        f"imu and torso: {model.body(root).name} (the root body)",
+    )
+    document = {
         **doc,
-        "feet": {"right": model.body(right).name, "left": model.body(left).name},
+        "feet": names,
         "legs": legs,
+        "forward": forward,
         "imu": model.body(root).name,
         "torso": model.body(root).name,
     }
+    return RobotGuess(document, notes, sure)
+
+
+def guess_robot_file(
+    model_path: str | Path, out: str | Path, packages: Mapping[str, Path] | None = None
+) -> dict:
+    """The document of :func:`guess_robot` (its notes dropped)."""
+    return guess_robot(model_path, out, packages).doc
 
 
 def write_robot_file(
     model_path: str | Path, out: str | Path, packages: Mapping[str, Path] | None = None
-) -> Path:
-    """Write :func:`guess_robot_file`'s document to ``out`` with a header comment."""
-    doc = guess_robot_file(model_path, out, packages)
+) -> RobotGuess:
+    """Write :func:`guess_robot`'s document to ``out``, its notes as the header comment."""
+    guess = guess_robot(model_path, out, packages)
     path = Path(out)
     path.parent.mkdir(parents=True, exist_ok=True)
     header = (
-        "# robot.yaml written by `zmpkit robot init` from the model: check the feet and the\n"
-        "# legs (hip to ankle), then run `zmpkit robot check` on this file.\n"
+        "# robot.yaml written by `zmpkit robot init` from the model: check the feet, the\n"
+        "# legs (hip to ankle) and forward, then run `zmpkit robot check` on this file.\n"
+        + "".join(f"# guessed {note}\n" for note in guess.notes)
     )
-    path.write_text(header + yaml.safe_dump(doc, sort_keys=False), encoding="utf-8")
-    return path
+    path.write_text(header + yaml.safe_dump(guess.doc, sort_keys=False), encoding="utf-8")
+    return guess

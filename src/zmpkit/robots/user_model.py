@@ -25,6 +25,7 @@ names, not numbers.
 
 from __future__ import annotations
 
+import math
 import xml.etree.ElementTree as ET
 from collections.abc import Mapping
 from dataclasses import dataclass
@@ -47,12 +48,14 @@ from zmpkit.sim.standard_sensors import add_standard_sensors
 
 __all__ = [
     "ACTUATOR_TAGS",
+    "YAW_TO_FACE_X_RAD",
     "FootPrint",
     "UserModel",
     "body_names",
     "check_names",
     "compile_model",
     "drop_missing_meshes",
+    "face_world_x",
     "foot_body",
     "footprint",
     "geom_corners",
@@ -175,6 +178,26 @@ def drop_missing_meshes(spec: mujoco.MjSpec) -> tuple[str, ...]:
     for mesh in missing:
         spec.delete(mesh)
     return files
+
+
+YAW_TO_FACE_X_RAD = {"+x": 0.0, "-x": math.pi, "+y": -0.5 * math.pi, "-y": 0.5 * math.pi}
+"""The turn about the vertical [rad] that makes a robot facing each model axis face +x."""
+
+
+def face_world_x(spec: mujoco.MjSpec, forward: str, compiled: mujoco.MjModel) -> None:
+    """Turn the root body of ``spec`` about the world's z so the robot faces +x.
+
+    ``forward`` is the root-frame axis the robot faces (a URDF whose root frame faces
+    backwards: ``-x``); the root's orientation as compiled (``compiled.body_quat``, whatever
+    form the file gave it in) is premultiplied by the yaw :data:`YAW_TO_FACE_X_RAD`.
+    """
+    root = spec.worldbody.first_body()
+    yaw = np.zeros(4)
+    mujoco.mju_axisAngle2Quat(yaw, np.array([0.0, 0.0, 1.0]), YAW_TO_FACE_X_RAD[forward])
+    turned = np.zeros(4)
+    mujoco.mju_mulQuat(turned, yaw, compiled.body_quat[compiled.body(root.name).id])
+    root.alt.type = mujoco.mjtOrientation.mjORIENTATION_QUAT
+    root.quat = turned
 
 
 def _compile(robot: RobotFile, spec: mujoco.MjSpec) -> tuple[mujoco.MjModel, mujoco.MjData]:
@@ -366,6 +389,8 @@ def user_model(robot: RobotFile) -> UserModel:
         InputFileError: naming the robot file or the model on any problem.
     """
     spec = load_spec(robot.model, robot.packages)
+    if robot.forward != "+x":
+        face_world_x(spec, robot.forward, _compile(robot, spec)[0])
     model, data = _compile(robot, spec)
     check_names(robot, model)
     feet = {side: footprint(robot, model, data, side) for side in SIDES}
