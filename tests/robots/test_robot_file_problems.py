@@ -129,8 +129,8 @@ def test_every_problem_of_the_layout_is_a_line(robot_yaml: Path) -> None:
         read_robot_file(bad)
     details = {p.key: p.detail for p in caught.value.problems}
     assert details == {
-        "colour": "unknown field; valid: name, model, packages, feet, legs, imu, torso, forward, sole, "
-        "servo, contact_threshold_n, timestep, truth, walking",
+        "colour": "unknown field; valid: name, model, packages, feet, legs, imu, torso, forward, "
+        "sole, servo, contact_threshold_n, timestep, truth, walking",
         "feet.lft": "unknown side; valid: right, left",
         "feet.left": "missing; expected a mapping with keys right and left",
         "legs": "missing; expected a mapping with keys right and left",
