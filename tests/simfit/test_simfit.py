@@ -242,7 +242,7 @@ def test_walk_folder_errors(nao_walk_folder: Path, tmp_path: Path) -> None:
 
 
 def test_resume_refuses_another_fit(tmp_path: Path) -> None:
-    with pytest.raises(InputFileError, match=r"checkpoint\.pkl: no checkpoint here"):
+    with pytest.raises(InputFileError, match=r"checkpoint\.json: no checkpoint here"):
         load_checkpoint(tmp_path)
     with pytest.raises(ParameterError, match="seed: 1 there, 2 now"):
         check_fingerprint({"seed": 1, "robot": "nao"}, {"seed": 2, "robot": "nao"}, tmp_path)
