@@ -37,10 +37,11 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from zmpkit._validate import shorten
 from zmpkit.errors import InputFileError, ParameterError
 from zmpkit.simfit.checkpoint_data import (
     ArrayFile,
+    damaged,
+    echo,
     generator_data,
     generator_state,
     npz_bytes,
@@ -194,9 +195,9 @@ def _read_document(folder: Path, path: Path) -> dict[str, Any]:
     except OSError as exc:
         raise InputFileError(path, f"cannot read it: {exc.strerror or exc}") from None
     except (ValueError, RecursionError) as exc:  # JSON or UTF-8 errors, nesting too deep
-        raise InputFileError(path, f"not JSON ({one_line(exc)}): damaged") from None
+        raise damaged(path, f"not JSON ({one_line(exc)})") from None
     if not isinstance(doc, dict):
-        raise InputFileError(path, "expected a JSON object of a zmpkit fit checkpoint")
+        raise damaged(path, "expected a JSON object of a zmpkit fit checkpoint")
     _check_format(doc, path)
     return doc
 
@@ -208,37 +209,36 @@ def _check_format(doc: dict[str, Any], path: Path) -> None:
         what = "of another zmpkit version" if older else "not a zmpkit fit checkpoint"
         raise InputFileError(
             path,
-            f"{what} (format {shorten(tag, _ECHO)}); this zmpkit reads {CHECKPOINT_FORMAT!r}: "
+            f"{what} (format {echo(tag)}); this zmpkit reads {CHECKPOINT_FORMAT!r}: "
             "start the fit again without --resume",
         )
     if set(doc) != _KEYS:
         missing, unknown = sorted(_KEYS - set(doc)), sorted(set(doc) - _KEYS)
         what = f"lacks the key {missing[0]!r}" if missing else f"unknown key {unknown[0][:_ECHO]!r}"
-        raise InputFileError(path, f"{what} (the checkpoint is damaged)")
+        raise damaged(path, what)
     if doc["cma"] != CMA_VERSION:
         raise InputFileError(
             path,
-            f"written with cma {shorten(doc['cma'], _ECHO)}, this Python has cma "
-            f"{CMA_VERSION}, whose optimiser state differs: resume under that cma, or "
-            "start the fit again",
+            f"written with cma {echo(doc['cma'], 20)} (this Python has cma {CMA_VERSION}, whose "
+            "state differs): resume under that cma or start the fit again",
         )
 
 
 def _from_data(doc: dict[str, Any], arrays: ArrayFile, where: Path) -> Checkpoint:
     fingerprint = doc["fingerprint"]
-    if not isinstance(fingerprint, dict):
-        raise InputFileError(where, "expected an object", key="fingerprint")
+    if not isinstance(fingerprint, dict) or not _depth(fingerprint, 4):
+        raise damaged(where, "expected an object of the fit's settings", key="fingerprint")
     counts = {k: doc[k] for k in ("generation", "restart", "run_start", "best_restart")}
     for key, value in counts.items():
         if type(value) is not int or not 0 <= value <= 2**31:
-            raise InputFileError(where, "expected an integer >= 0", key=key)
+            raise damaged(where, "expected an integer >= 0", key=key)
     if counts["run_start"] > counts["generation"] or counts["restart"] > _MAX_RUNS:
-        raise InputFileError(where, "run_start after generation, or restart over 64 (damaged)")
+        raise damaged(where, "run_start after generation, or restart over 64")
     if counts["best_restart"] > counts["restart"]:
-        raise InputFileError(where, "best_restart after restart (damaged)")
+        raise damaged(where, "best_restart after restart")
     random = doc["random"]
     if not isinstance(random, dict) or set(random) != {"draws", "global"}:
-        raise InputFileError(where, "expected keys draws and global", key="random")
+        raise damaged(where, "expected keys draws and global", key="random")
     draws = np.random.RandomState()  # cma's randn option: its state is set below
     strategy = rebuild_strategy(doc["strategy"], arrays, draws, where)
     draws.set_state(generator_state(random["draws"], arrays, "random.draws", where))
@@ -279,8 +279,23 @@ def _best(
 
 
 def _short(value: object) -> str | None:
-    text = repr(value)
-    return text if len(text) <= _ECHO else None
+    text = echo(value, 1000)
+    return text if len(text) <= _ECHO and "..." not in text else None
+
+
+def _depth(value: object, limit: int) -> bool:
+    """Whether ``value`` (parsed JSON) nests no deeper than ``limit`` lists and objects."""
+    level: list[object] = [value]
+    for _ in range(limit + 1):
+        level = [
+            v
+            for x in level
+            if isinstance(x, list | dict)
+            for v in (x.values() if isinstance(x, dict) else x)
+        ]
+        if not level:
+            return True
+    return False
 
 
 def check_fingerprint(saved: dict[str, Any], current: dict[str, Any], folder: Path) -> None:
@@ -299,7 +314,7 @@ def check_fingerprint(saved: dict[str, Any], current: dict[str, Any], folder: Pa
         for k in differ[:3]:
             there, now = _short(saved.get(k)), _short(current.get(k))
             both = there is not None and now is not None
-            parts.append(f"{k[:_ECHO]}: {there} there, {now} now" if both else f"{k} differs")
+            parts.append(f"{k[:_ECHO]}: {there} there, {now} now" if both else f"different {k}")
         more = f"; {len(differ) - 3} more" if len(differ) > 3 else ""
         detail = "; ".join(parts) + more
         raise ParameterError(f"cannot resume {folder}: it is another fit ({detail})")

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import hashlib
 import io
+import reprlib
 import zipfile
 from pathlib import Path
 from typing import Any
@@ -24,6 +25,8 @@ from zmpkit.errors import InputFileError
 
 __all__ = [
     "ArrayFile",
+    "damaged",
+    "echo",
     "generator_data",
     "generator_state",
     "npz_bytes",
@@ -33,6 +36,19 @@ __all__ = [
 
 _MT_WORDS = 624
 _ECHO = 60
+
+
+def echo(value: object, limit: int = _ECHO) -> str:
+    """A short ``repr`` of a value read from a file, safe for any nesting, for a message."""
+    echoer = reprlib.Repr()
+    echoer.maxlevel, echoer.maxlist, echoer.maxdict, echoer.maxstring = 2, 3, 3, 40
+    text = echoer.repr(value)
+    return text if len(text) <= limit else text[: limit - 3] + "..."
+
+
+def damaged(path: object, message: str, key: str | None = None) -> InputFileError:
+    """The error of a checkpoint file that is not as zmpkit wrote it: one line."""
+    return InputFileError(path, f"{message} (damaged)", key=key)
 
 
 def one_line(exc: BaseException) -> str:
@@ -54,7 +70,7 @@ class ArrayFile:
 
     def error(self, name: str, message: str) -> InputFileError:
         """A one-line error about array ``name`` of this file."""
-        return InputFileError(self.path, f"{message} (the checkpoint is damaged)", key=name)
+        return damaged(self.path, message, key=name)
 
     def ndim(self, name: object) -> int:
         """Dimensions of array ``name`` not yet taken; -1 if there is none."""
@@ -64,7 +80,7 @@ class ArrayFile:
     def take(self, name: object, shape: tuple[int, ...], dtype: Any = np.float64) -> NDArray[Any]:
         """The array ``name``, checked for ``shape`` (-1: any length) and ``dtype``."""
         if not isinstance(name, str) or name not in self._left:
-            raise InputFileError(self.path, f"lacks the array {str(name)[:_ECHO]!r} (damaged)")
+            raise damaged(self.path, f"lacks the array {echo(name)}")
         array = self._left.pop(name)
         dtype = np.dtype(dtype)
         if array.dtype != dtype:
@@ -79,7 +95,7 @@ class ArrayFile:
         """Refuse arrays nobody took (a checkpoint holds nothing it does not use)."""
         if self._left:
             name = sorted(self._left)[0][:_ECHO]
-            raise InputFileError(self.path, f"holds an unknown array {name!r} (damaged)")
+            raise damaged(self.path, f"holds an unknown array {name!r}")
 
 
 def npz_bytes(arrays: dict[str, NDArray[Any]]) -> bytes:
@@ -105,9 +121,9 @@ def read_arrays(path: Path, meta: object, where: Path) -> ArrayFile:
             ``.npz`` of the names it lists.
     """
     if not isinstance(meta, dict) or set(meta) != {"file", "sha256", "names"}:
-        raise InputFileError(where, "expected keys file, sha256 and names", key="arrays")
+        raise damaged(where, "expected keys file, sha256 and names", key="arrays")
     if meta["file"] != path.name or not isinstance(meta["names"], list):
-        raise InputFileError(where, f"expected file {path.name!r} and a list", key="arrays")
+        raise damaged(where, f"expected file {path.name!r} and a list", key="arrays")
     try:
         data = path.read_bytes()
     except OSError as exc:
@@ -118,7 +134,7 @@ def read_arrays(path: Path, meta: object, where: Path) -> ArrayFile:
         )
     arrays = _parse_npz(path, data)
     if sorted(arrays) != sorted(str(n) for n in meta["names"]):
-        raise InputFileError(path, f"holds other arrays than {where.name} names (damaged)")
+        raise damaged(path, f"holds other arrays than {where.name} names")
     return ArrayFile(path, arrays)
 
 
@@ -128,13 +144,13 @@ def _parse_npz(path: Path, data: bytes) -> dict[str, NDArray[Any]]:
         with zipfile.ZipFile(io.BytesIO(data)) as archive:
             packed = [i.filename for i in archive.infolist() if i.compress_type]
         if packed:
-            raise InputFileError(path, f"member {packed[0][:_ECHO]!r} is compressed (damaged)")
+            raise damaged(path, f"member {packed[0][:_ECHO]!r} is compressed")
         with np.load(io.BytesIO(data), allow_pickle=False) as npz:
             return {name: npz[name] for name in npz.files}
     except InputFileError:
         raise
     except Exception as exc:  # any failure of zipfile or numpy on these bytes: damaged
-        raise InputFileError(path, f"not a NumPy .npz ({one_line(exc)}): damaged") from None
+        raise damaged(path, f"not a NumPy .npz ({one_line(exc)})") from None
 
 
 def generator_data(state: tuple[Any, ...], name: str) -> tuple[dict[str, int], dict[str, Any]]:
@@ -156,14 +172,12 @@ def generator_state(doc: object, arrays: ArrayFile, name: str, where: Path) -> t
     """
     key_name = f"random.{name.rsplit('.', 1)[-1]}"
     if not isinstance(doc, dict) or set(doc) != {"pos", "has_gauss"}:
-        raise InputFileError(where, "expected keys pos and has_gauss", key=key_name)
+        raise damaged(where, "expected keys pos and has_gauss", key=key_name)
     pos, has_gauss = doc["pos"], doc["has_gauss"]
     if not all(type(v) is int for v in (pos, has_gauss)) or not (
         0 <= pos <= _MT_WORDS and has_gauss in (0, 1)
     ):
-        raise InputFileError(
-            where, f"expected pos in [0, {_MT_WORDS}] and has_gauss 0 or 1", key=key_name
-        )
+        raise damaged(where, f"expected pos in [0, {_MT_WORDS}] and has_gauss 0 or 1", key=key_name)
     key = arrays.take(f"{name}.key", (_MT_WORDS,), np.uint32)
     cached = float(arrays.take(f"{name}.cached_gaussian", ()))
     if not np.isfinite(cached):

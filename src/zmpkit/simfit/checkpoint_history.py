@@ -12,7 +12,7 @@ import math
 from dataclasses import dataclass, fields
 from pathlib import Path
 
-from zmpkit.errors import InputFileError
+from zmpkit.simfit.checkpoint_data import damaged
 
 __all__ = ["GenerationRecord", "history_from_json"]
 
@@ -78,15 +78,19 @@ def _field_problem(name: str, value: object) -> str | None:
 
 def _record(raw: object, k: int, where: Path) -> GenerationRecord:
     key = f"history[{k}]"
-    if not isinstance(raw, dict) or set(raw) != set(_FIELDS):
-        raise InputFileError(where, f"expected the fields {', '.join(_FIELDS)}", key=key)
+    if not isinstance(raw, dict):
+        raise damaged(where, "expected an object of a generation's fields", key=key)
+    missing, unknown = sorted(set(_FIELDS) - set(raw)), sorted(set(raw) - set(_FIELDS))
+    if missing or unknown:
+        what = f"lacks the field {missing[0]!r}" if missing else f"unknown field {unknown[0]!r}"
+        raise damaged(where, what[:80], key=key)
     for name in _FIELDS:
         problem = _field_problem(name, raw[name])
         if problem is not None:
-            message = f"{problem} (the checkpoint is damaged)"
-            raise InputFileError(where, message, key=f"{key}.{name}")
+            message = f"{problem}"
+            raise damaged(where, message, key=f"{key}.{name}")
     if raw["generation"] != k + 1:
-        raise InputFileError(where, f"expected generation {k + 1}", key=f"{key}.generation")
+        raise damaged(where, f"expected generation {k + 1}", key=f"{key}.generation")
     floats = {name: float(raw[name]) for name in (*_COSTS, "sigma", "wall_s")}
     values = {str(n): float(v) for n, v in raw["best_values"].items()}
     return GenerationRecord(**{**raw, **floats, "best_values": values})
@@ -104,7 +108,5 @@ def history_from_json(raw: object, generations: int, where: Path) -> list[Genera
         InputFileError: on a record missing, extra, out of order or with a bad field.
     """
     if not isinstance(raw, list) or len(raw) != generations:
-        raise InputFileError(
-            where, f"expected a list of {generations} generations (damaged)", key="history"
-        )
+        raise damaged(where, f"expected a list of {generations} generations", key="history")
     return [_record(r, k, where) for k, r in enumerate(raw)]

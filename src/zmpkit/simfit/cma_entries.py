@@ -28,8 +28,7 @@ from typing import Any, NamedTuple
 import numpy as np
 from numpy.typing import NDArray
 
-from zmpkit.errors import InputFileError
-from zmpkit.simfit.checkpoint_data import ArrayFile
+from zmpkit.simfit.checkpoint_data import ArrayFile, damaged, echo
 
 __all__ = ["STATE", "decode_entry", "encode_entry"]
 
@@ -173,7 +172,7 @@ def decode_entry(
     spec, key = STATE[path], f"strategy.state.{path}"
     if entry is None:
         if not spec.none_ok:
-            raise InputFileError(where, "is null; expected a value (damaged)", key=key)
+            raise damaged(where, "is null; expected a value", key=key)
         return None
     if spec.kind in ("int", "bool"):
         return _json_value(spec, entry, where, key)
@@ -181,14 +180,14 @@ def decode_entry(
         target = entry["same_as"]
         known = isinstance(target, str) and restored.get(target) is not None
         if not known or STATE[target] != spec:
-            raise InputFileError(where, "names no earlier entry of its kind (damaged)", key=key)
+            raise damaged(where, "names no earlier entry of its kind", key=key)
         return restored[target]
     if not isinstance(entry, dict) or set(entry) != {"array", "type"}:
-        raise InputFileError(where, 'expected {"array": NAME, "type": TYPE} (damaged)', key=key)
+        raise damaged(where, 'expected {"array": NAME, "type": TYPE}', key=key)
     kind, name, type_name = spec.kind, entry["array"], entry["type"]
     if type_name not in _TYPES.get(kind, ("ndarray",)):
         allowed = " or ".join(_TYPES.get(kind, ("ndarray",)))
-        raise InputFileError(where, f"type {str(type_name)[:20]!r}; expected {allowed}", key=key)
+        raise damaged(where, f"type {echo(type_name, 24)}; expected {allowed}", key=key)
     array = arrays.take(name, _shape(kind, arrays, name, *sizes), _DTYPES.get(kind, np.float64))
     _check_values(kind, array, arrays, str(name))
     return _as_type(array, type_name, arrays, str(name))
@@ -197,12 +196,12 @@ def decode_entry(
 def _json_value(spec: _Spec, value: object, where: Path, key: str) -> Any:
     if spec.kind == "bool":
         if type(value) is not bool:
-            raise InputFileError(where, "expected true or false (damaged)", key=key)
+            raise damaged(where, "expected true or false", key=key)
         return value
     wide = isinstance(value, dict) and set(value) == {"int64"}
     number = value["int64"] if isinstance(value, dict) and wide else value
     if type(number) is not int or not spec.low <= number <= _MAX_INT:
-        raise InputFileError(where, f"expected an integer >= {spec.low} (damaged)", key=key)
+        raise damaged(where, f"expected an integer >= {spec.low}", key=key)
     return np.int64(number) if wide else number
 
 

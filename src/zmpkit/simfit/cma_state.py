@@ -32,8 +32,7 @@ import cma
 import numpy as np
 from numpy.typing import NDArray
 
-from zmpkit.errors import InputFileError
-from zmpkit.simfit.checkpoint_data import ArrayFile
+from zmpkit.simfit.checkpoint_data import ArrayFile, damaged, one_line
 from zmpkit.simfit.cma_entries import STATE, decode_entry, encode_entry
 
 __all__ = [
@@ -122,17 +121,23 @@ def _construction(doc: dict[str, Any], arrays: ArrayFile, where: Path) -> tuple[
         raise arrays.error("strategy.sigma0", "expected a positive finite step size")
     popsize = doc["popsize"]
     if popsize is not None and (type(popsize) is not int or not 2 <= popsize <= MAX_POPSIZE):
-        raise InputFileError(
+        raise damaged(
             where, f"expected null or an integer in [2, {MAX_POPSIZE}]", key="strategy.popsize"
         )
     return x0, sigma0, popsize
 
 
-def _quiet(call: Callable[[], Any]) -> Any:
-    """Run ``call`` leaving NumPy's global random state as it found it."""
+def _quiet(call: Callable[[], Any], where: Path) -> Any:
+    """Run ``call``, ``cma`` on a checkpoint's construction, keeping NumPy's global state.
+
+    Any failure of ``cma`` there is the checkpoint's: an :class:`~zmpkit.errors.InputFileError`.
+    """
     outer = np.random.get_state()  # noqa: NPY002 - cma draws from the legacy global generator
     try:
         return call()
+    except Exception as exc:  # cma on numbers read from a file: whatever it raises
+        message = f"cma cannot build its strategy ({one_line(exc)})"
+        raise damaged(where, message, key="strategy") from None
     finally:
         np.random.set_state(outer)  # noqa: NPY002
 
@@ -159,15 +164,15 @@ def rebuild_strategy(doc: object, arrays: ArrayFile, draws: Any, where: Path) ->
             outside what is valid.
     """
     if not isinstance(doc, dict) or set(doc) != {"popsize", "state"}:
-        raise InputFileError(where, "expected keys popsize and state", key="strategy")
+        raise damaged(where, "expected keys popsize and state", key="strategy")
     x0, sigma0, popsize = _construction(doc, arrays, where)
-    es = _quiet(lambda: new_strategy(x0, sigma0, popsize, draws))
+    es = _quiet(lambda: new_strategy(x0, sigma0, popsize, draws), where)
     state = doc["state"]
     if state is None:
         return es
     if not isinstance(state, dict):
-        raise InputFileError(where, "expected null or an object", key="strategy.state")
-    probe = _quiet(lambda: _probe(x0, sigma0, popsize))
+        raise damaged(where, "expected null or an object", key="strategy.state")
+    probe = _quiet(lambda: _probe(x0, sigma0, popsize), where)
     _check_entries(state, probe, where)
     restored: dict[str, Any] = {}
     sizes = (int(es.N), int(es.sp.popsize))
@@ -186,7 +191,7 @@ def rebuild_strategy(doc: object, arrays: ArrayFile, draws: Any, where: Path) ->
 def _check_entries(state: dict[str, Any], probe: Any, where: Path) -> None:
     unknown = sorted(set(state) - set(STATE))
     if unknown:
-        raise InputFileError(where, f"unknown entry {unknown[0][:60]!r}", key="strategy.state")
+        raise damaged(where, f"unknown entry {unknown[0][:60]!r}", key="strategy.state")
     missing = [p for p in STATE if p not in state and _lookup(probe, p)[0]]
     if missing:
-        raise InputFileError(where, f"lacks the entry {missing[0]!r}", key="strategy.state")
+        raise damaged(where, f"lacks the entry {missing[0]!r}", key="strategy.state")
