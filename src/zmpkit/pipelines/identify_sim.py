@@ -7,7 +7,8 @@ step datasets, as the robot's fit replays them, using only the commanded angles,
 F-T ZMP and IMU — with rollouts in MuJoCo thread-pool batches (default), on a process pool or
 a Ray cluster, checkpointed every generation.
 
-Writes into the output folder: the checkpoint and ``history.json``; ``fitted_truth.yaml``
+Writes into the output folder: the checkpoint (``checkpoint.json`` and ``checkpoint.npz``,
+data only: :mod:`zmpkit.simfit.checkpoint`) and ``history.json``; ``fitted_truth.yaml``
 (loadable as ``--truth``), ``fitted_parameters.yaml``, ``cost_history.csv``,
 ``identifiability.csv``, ``reproduction.csv``, figures; with ``self_test``, the recorded
 experiments under ``self_test/`` and ``recovery.csv``.

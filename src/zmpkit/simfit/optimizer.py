@@ -242,6 +242,8 @@ def run_cma(
 
     Raises:
         FitInterruptedError: on Ctrl-C, naming the checkpoint.
+        InputFileError: if ``resume`` holds no readable checkpoint of this format and
+            ``cma`` version (:func:`~zmpkit.simfit.checkpoint.load_checkpoint`).
         ParameterError: if ``resume`` holds a checkpoint of another fit.
     """
     out_dir.mkdir(parents=True, exist_ok=True)
