@@ -249,6 +249,11 @@ DAMAGE = [
         r"state\.mean: type 'object'; expected ndarray",
     ),
     (
+        "an array where cma appends to a list",
+        _set("strategy/state/fit.hist/type", "ndarray"),
+        r"state\.fit\.hist: type 'ndarray'; expected list \(damaged\)",
+    ),
+    (
         "NaN in the history",
         _set("history/0/sigma", float("nan")),
         r"history\[0\]\.sigma: expected a positive step size",

@@ -312,9 +312,9 @@ def check_fingerprint(saved: dict[str, Any], current: dict[str, Any], folder: Pa
     if differ:
         parts = []
         for k in differ[:3]:
-            there, now = _short(saved.get(k)), _short(current.get(k))
+            there, now, name = _short(saved.get(k)), _short(current.get(k)), k[:_ECHO]
             both = there is not None and now is not None
-            parts.append(f"{k[:_ECHO]}: {there} there, {now} now" if both else f"different {k}")
+            parts.append(f"{name}: {there} there, {now} now" if both else f"different {name}")
         more = f"; {len(differ) - 3} more" if len(differ) > 3 else ""
         detail = "; ".join(parts) + more
         raise ParameterError(f"cannot resume {folder}: it is another fit ({detail})")

@@ -69,7 +69,7 @@ STATE: dict[str, _Spec] = {
     "B": _Spec("orthonormal"),
     "D": _POS_VEC,
     "sigma_vec.scaling": _Spec("scaling"),
-    "sigma_vec.dim": _INT,
+    "sigma_vec.dim": _Spec("int", low=1),
     "sigma_vec.is_identity": _BOOL,
     # step-size adaptation (cumulative, CSA)
     "adapt_sigma.ps": _VEC,
@@ -151,6 +151,7 @@ def encode_entry(
 def decode_entry(
     path: str,
     entry: object,
+    like: Any,
     restored: dict[str, Any],
     arrays: ArrayFile,
     where: Path,
@@ -161,6 +162,9 @@ def decode_entry(
     Args:
         path: the entry's attribute path.
         entry: its JSON.
+        like: the entry in a strategy of the same construction and ``cma`` after one
+            generation, or None: a list there must come back as a list (``cma`` appends to
+            it), an array as an array.
         restored: the entries decoded so far (``same_as`` names one of them).
         arrays: the checkpoint's arrays.
         where: the JSON file, for messages.
@@ -185,9 +189,12 @@ def decode_entry(
     if not isinstance(entry, dict) or set(entry) != {"array", "type"}:
         raise damaged(where, 'expected {"array": NAME, "type": TYPE}', key=key)
     kind, name, type_name = spec.kind, entry["array"], entry["type"]
-    if type_name not in _TYPES.get(kind, ("ndarray",)):
-        allowed = " or ".join(_TYPES.get(kind, ("ndarray",)))
-        raise damaged(where, f"type {echo(type_name, 24)}; expected {allowed}", key=key)
+    allowed = _TYPES.get(kind, ("ndarray",))
+    if like is not None and kind not in _SCALARS:
+        allowed = (_type_name(like),)
+    if type_name not in allowed:
+        expected = " or ".join(allowed)
+        raise damaged(where, f"type {echo(type_name, 24)}; expected {expected}", key=key)
     array = arrays.take(name, _shape(kind, arrays, name, *sizes), _DTYPES.get(kind, np.float64))
     _check_values(kind, array, arrays, str(name))
     return _as_type(array, type_name, arrays, str(name))

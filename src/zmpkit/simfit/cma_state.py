@@ -178,7 +178,8 @@ def rebuild_strategy(doc: object, arrays: ArrayFile, draws: Any, where: Path) ->
     sizes = (int(es.N), int(es.sp.popsize))
     for path in STATE:
         if path in state:
-            value = decode_entry(path, state[path], restored, arrays, where, sizes)
+            like = _lookup(probe, path)[1]
+            value = decode_entry(path, state[path], like, restored, arrays, where, sizes)
             holder, name = _resolve(es, path)
             setattr(holder, name, value)
             restored[path] = value
