@@ -180,7 +180,10 @@ def rebuild_strategy(doc: object, arrays: ArrayFile, draws: Any, where: Path) ->
         if path in state:
             like = _lookup(probe, path)[1]
             value = decode_entry(path, state[path], like, restored, arrays, where, sizes)
-            holder, name = _resolve(es, path)
+            try:
+                holder, name = _resolve(es, path)
+            except AttributeError:  # an entry of another cma version's strategy
+                raise damaged(where, f"{path!r} is not this cma's", key="strategy.state") from None
             setattr(holder, name, value)
             restored[path] = value
     for name, value in vars(probe).items():  # what a first generation creates besides its
