@@ -242,7 +242,7 @@ def test_walk_folder_errors(nao_walk_folder: Path, tmp_path: Path) -> None:
 
 
 def test_resume_refuses_another_fit(tmp_path: Path) -> None:
-    with pytest.raises(InputFileError, match=r"checkpoint\.pkl: no checkpoint here"):
+    with pytest.raises(InputFileError, match=r"checkpoint\.json: no checkpoint here"):
         load_checkpoint(tmp_path)
     with pytest.raises(ParameterError, match="seed: 1 there, 2 now"):
         check_fingerprint({"seed": 1, "robot": "nao"}, {"seed": 2, "robot": "nao"}, tmp_path)
@@ -264,6 +264,29 @@ def test_walk_folder_reads_back_as_recorded(nao_walk_folder: Path) -> None:
     assert signals.q_meas_rad.shape == (signals.time_s.size, 6)
     assert signals.dt_s == pytest.approx(0.01)
     assert np.isfinite(signals.zmp_m).all(axis=1).mean() > 0.9
+
+
+def test_identify_sim_refuses_to_resume_another_fit_in_one_line(
+    nao_walk_folder: Path, tmp_path: Path
+) -> None:
+    """A checkpoint of the same data, robot and parameters but seed 1, resumed with seed 2."""
+    from helpers.checkpoints import SphereEvaluator
+    from helpers.fuzz import run_cli
+    from zmpkit.simfit.optimizer import CmaOptions, run_cma
+    from zmpkit.simfit.truth_doc import base_truth_path as truth_path
+
+    config = IdentifySimConfig(data=(str(nao_walk_folder),), quick=True, generations=2)
+    params = config.fit_parameters()
+    experiments = tuple(read_experiments(config.data, config.robot))
+    problem = FitProblem(config.robot, config.sim_effects, params,
+                         load_truth_doc(truth_path(config.robot, None)), experiments)  # fmt: skip
+    run_cma(problem, SphereEvaluator(), CmaOptions(2, seed=1), tmp_path / "fit")
+    argv = ["identify", "sim", str(nao_walk_folder), "--quick", "--generations", "2"]
+    argv += ["--seed", "2", "--resume", str(tmp_path / "fit"), "--out", str(tmp_path / "out")]
+    outcome = run_cli(argv)
+    assert outcome.code == 2
+    (line,) = outcome.stderr.strip().splitlines()
+    assert line.endswith("it is another fit (seed: 1 there, 2 now)")
 
 
 def test_identify_sim_command_bad_data_is_one_line_exit_2(tmp_path, capsys) -> None:

@@ -7,7 +7,8 @@ step datasets, as the robot's fit replays them, using only the commanded angles,
 F-T ZMP and IMU — with rollouts in MuJoCo thread-pool batches (default), on a process pool or
 a Ray cluster, checkpointed every generation.
 
-Writes into the output folder: the checkpoint and ``history.json``; ``fitted_truth.yaml``
+Writes into the output folder: the checkpoint (``checkpoint.json`` and ``checkpoint.npz``,
+data only: :mod:`zmpkit.simfit.checkpoint`) and ``history.json``; ``fitted_truth.yaml``
 (loadable as ``--truth``), ``fitted_parameters.yaml``, ``cost_history.csv``,
 ``identifiability.csv``, ``reproduction.csv``, figures; with ``self_test``, the recorded
 experiments under ``self_test/`` and ``recovery.csv``.
@@ -25,6 +26,7 @@ from zmpkit.errors import ParameterError
 from zmpkit.pipelines.identify_sim_report import reproduction_checks, write_fit_files
 from zmpkit.robots.registry import DEFAULT_FIT_ROBOT, get_robot
 from zmpkit.simfit.backends import BACKENDS, DEFAULT_WORKERS, make_evaluator
+from zmpkit.simfit.checkpoint import load_checkpoint
 from zmpkit.simfit.cost import CostWeights
 from zmpkit.simfit.cost_hessian import CostDirection
 from zmpkit.simfit.experiments import Experiment, read_experiments
@@ -279,12 +281,17 @@ def run_identify_sim(
             :class:`~zmpkit.simfit.optimizer.FitProgress`.
 
     Raises:
-        InputFileError: on an unreadable experiment folder, base truth or checkpoint.
+        InputFileError: on an unreadable experiment folder or base truth, or a checkpoint
+            that is missing, damaged, of an older format or of another ``cma`` version
+            (refused before anything is written).
         ParameterError: on a resume of another fit, or ``backend="ray"`` without Ray.
         FitInterruptedError: on Ctrl-C, naming the checkpoint to resume from.
     """
     started_s = time.time()
     out = Path(out_dir)
+    resume = Path(config.resume) if config.resume is not None else None
+    if resume is not None:
+        load_checkpoint(resume)  # refuse a bad checkpoint before anything is read or written
     params = config.fit_parameters()
     base_doc = load_truth_doc(base_truth_path(config.robot, config.truth))
     # Recorded experiments are read before the output folder exists: bad input leaves none.
@@ -305,7 +312,6 @@ def run_identify_sim(
     )
     evaluator = make_evaluator(problem, config.backend, config.workers, config.address)
     try:
-        resume = Path(config.resume) if config.resume is not None else None
         cma_result = run_cma(problem, evaluator, options, out, resume, progress)
         judged = identifiability(
             problem, evaluator, cma_result.best_values, cma_result.best_cost, cma_result.unit_std

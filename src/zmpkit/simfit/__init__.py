@@ -12,7 +12,11 @@ physical robot." One concept per module:
 - :mod:`~zmpkit.simfit.cost`: the normalised cost terms;
 - :mod:`~zmpkit.simfit.problem`: the problem as data, one evaluation;
 - :mod:`~zmpkit.simfit.backends`: serial, local process pool, Ray;
-- :mod:`~zmpkit.simfit.checkpoint`: CMA-ES state and history on disk;
+- :mod:`~zmpkit.simfit.checkpoint`: CMA-ES state and history on disk, as data (JSON and
+  ``.npz``, no pickle): :mod:`~zmpkit.simfit.checkpoint_data` (arrays, random generators),
+  :mod:`~zmpkit.simfit.checkpoint_history` (the generations),
+  :mod:`~zmpkit.simfit.cma_state` and :mod:`~zmpkit.simfit.cma_entries` (the ``cma``
+  strategy written and rebuilt);
 - :mod:`~zmpkit.simfit.optimizer`: the CMA-ES loop with resume;
 - :mod:`~zmpkit.simfit.cost_hessian`: the cost's Hessian, marginal resolutions, loose directions;
 - :mod:`~zmpkit.simfit.identifiability`: profile, marginal resolution and CMA-ES spread;

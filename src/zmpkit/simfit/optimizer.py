@@ -36,11 +36,11 @@ from zmpkit.simfit.checkpoint import (
     load_checkpoint,
     save_checkpoint,
 )
+from zmpkit.simfit.cma_state import MAX_POPSIZE, new_strategy
 from zmpkit.simfit.parameters import from_unit, to_unit
 from zmpkit.simfit.problem import FitProblem
 from zmpkit.simfit.restarts import (
     global_rng,
-    new_strategy,
     restart,
     run_over,
     set_global_rng,
@@ -58,8 +58,6 @@ __all__ = [
     "run_cma",
 ]
 
-MAX_POPSIZE = 65_536
-"""Largest population of any run, restarts included (a GPU batch of 64 k worlds)."""
 MAX_RESTARTS = 9
 """Most IPOP restarts: the last run's population is 2^9 = 512 times the first's."""
 
@@ -165,13 +163,15 @@ def fingerprint(problem: FitProblem, options: CmaOptions) -> dict[str, Any]:
 
 def _start(problem: FitProblem, options: CmaOptions) -> Checkpoint:
     x0 = to_unit(problem.parameters, [p.nominal for p in problem.parameters])
-    draws = np.random.RandomState(options.seed)  # cma calls randn(lam, N); pickles with it
-    outer = global_rng()
+    draws = np.random.RandomState(options.seed)  # cma calls randn(lam, N); the checkpoint
+    outer = global_rng()  # keeps its state
     np.random.seed(options.seed)  # noqa: NPY002 - any other draw cma makes
     strategy = new_strategy(x0, options.sigma0, options.popsize, draws)
     rng = global_rng()
     set_global_rng(outer)
-    return Checkpoint(fingerprint(problem, options), strategy, rng, 0, x0.tolist(), np.inf, [])
+    return Checkpoint(
+        fingerprint(problem, options), strategy, draws, rng, 0, x0.tolist(), np.inf, []
+    )
 
 
 def _generation(state: Checkpoint, problem: FitProblem, evaluator: Evaluator) -> GenerationRecord:
@@ -242,6 +242,8 @@ def run_cma(
 
     Raises:
         FitInterruptedError: on Ctrl-C, naming the checkpoint.
+        InputFileError: if ``resume`` holds no readable checkpoint of this format and
+            ``cma`` version (:func:`~zmpkit.simfit.checkpoint.load_checkpoint`).
         ParameterError: if ``resume`` holds a checkpoint of another fit.
     """
     out_dir.mkdir(parents=True, exist_ok=True)

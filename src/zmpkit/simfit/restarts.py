@@ -1,9 +1,9 @@
 r"""The ``cma`` strategy of a fit, its random draws, and IPOP-CMA-ES restarts.
 
-``cma`` samples through its ``randn`` option, here a private ``RandomState`` (pickled with the
-strategy, so it travels in the checkpoint); any other draw it makes comes from numpy's global
-generator, whose state the checkpoint keeps and :func:`with_rng` swaps in only around the
-strategy's calls.
+``cma`` samples through its ``randn`` option, here a private ``RandomState``
+(:attr:`~zmpkit.simfit.checkpoint.Checkpoint.draws`, whose state travels in the checkpoint);
+any other draw it makes comes from numpy's global generator, whose state the checkpoint keeps
+and :func:`with_rng` swaps in only around the strategy's calls.
 
 IPOP-CMA-ES (Auger & Hansen 2005): when a run stops (``cma``'s own stop criteria, or its
 generation budget, :func:`run_over`), :func:`restart` starts a new run from a uniformly
@@ -21,11 +21,10 @@ from __future__ import annotations
 from collections.abc import Callable
 from typing import Any
 
-import cma
 import numpy as np
-from numpy.typing import NDArray
 
 from zmpkit.simfit.checkpoint import Checkpoint
+from zmpkit.simfit.cma_state import new_strategy
 
 __all__ = [
     "global_rng",
@@ -59,22 +58,6 @@ def with_rng(state: Checkpoint, call: Callable[[], Any]) -> Any:
         set_global_rng(outer)
 
 
-def new_strategy(mean: NDArray[np.float64], sigma0: float, popsize: int | None, draws: Any) -> Any:
-    """A ``cma`` strategy in [0, 1]^n sampling through ``draws`` (a ``RandomState``).
-
-    Args:
-        mean: initial mean, normalised [-].
-        sigma0: initial step size, normalised [-].
-        popsize: candidates per generation; None = ``cma``'s 4 + 3 ln n.
-        draws: the ``RandomState`` whose ``randn`` the strategy samples with.
-    """
-    opts: dict[str, Any] = {"bounds": [0.0, 1.0], "seed": np.nan, "randn": draws.randn}
-    opts["verbose"] = -9
-    if popsize is not None:
-        opts["popsize"] = popsize
-    return cma.CMAEvolutionStrategy(mean.tolist(), sigma0, opts)
-
-
 def unit_std(strategy: Any) -> list[float]:
     r"""The strategy's standard deviation per coordinate, :math:`\sigma \sqrt{C_{ii}}` [-]."""
     return (float(strategy.sigma) * np.sqrt(np.diag(strategy.sm.covariance_matrix))).tolist()
@@ -98,3 +81,4 @@ def restart(state: Checkpoint, seed: int, sigma0: float) -> None:
     mean = draws.uniform(0.0, 1.0, len(state.best_unit))
     popsize = 2 * int(state.strategy.popsize)
     state.strategy = with_rng(state, lambda: new_strategy(mean, sigma0, popsize, draws))
+    state.draws = draws
