@@ -399,3 +399,14 @@ def test_identify_sim_refuses_a_damaged_resume_before_writing(folder: Path, tmp_
         "checkpoint.npz: strategy.sm.D: holds NaN or infinity; expected finite numbers (damaged)"
     )
     assert not (tmp_path / "out").exists()  # nothing recorded, nothing written
+
+
+def test_a_record_as_plain_values_is_what_asdict_gives() -> None:
+    from dataclasses import asdict
+
+    from zmpkit.simfit.checkpoint_history import GenerationRecord
+
+    record = GenerationRecord(3, 18, 0.5, 0.25, 0.75, 0.1, {"a": 1.0, "b": 2.5}, 0.01, 1, 12)
+    plain = record.as_plain()
+    assert plain == asdict(record)
+    assert plain["best_values"] is not record.best_values  # a copy, as asdict makes

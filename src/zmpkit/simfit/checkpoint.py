@@ -30,7 +30,7 @@ from __future__ import annotations
 import hashlib
 import json
 import os
-from dataclasses import asdict, dataclass
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -132,7 +132,7 @@ def _to_data(checkpoint: Checkpoint) -> tuple[dict[str, Any], dict[str, NDArray[
         "best_run_std": None if checkpoint.best_run_std is None else "fit.best_run_std",
         "strategy": strategy,
         "random": {"draws": draws, "global": outer},
-        "history": [asdict(r) for r in checkpoint.history],
+        "history": [r.as_plain() for r in checkpoint.history],
     }
     return doc, arrays
 
@@ -150,13 +150,13 @@ def save_checkpoint(checkpoint: Checkpoint, folder: Path) -> Path:
     digest = hashlib.sha256(npz).hexdigest()
     doc["arrays"] = {"file": ARRAYS_FILE, "sha256": digest, "names": sorted(arrays)}
     path = folder / CHECKPOINT_FILE
-    text = json.dumps(doc, indent=1) + "\n"
+    text = json.dumps(doc) + "\n"  # no indent: json's C encoder (indent runs it in Python)
     npz_tmp = _temporary(folder / ARRAYS_FILE, npz)
     json_tmp = _temporary(path, text.encode("utf-8"))
     os.replace(npz_tmp, folder / ARRAYS_FILE)
     os.replace(json_tmp, path)
-    history = [asdict(r) for r in checkpoint.history]
-    history_tmp = _temporary(folder / HISTORY_FILE, (json.dumps(history, indent=1) + "\n").encode())
+    history = ",\n".join(json.dumps(r.as_plain()) for r in checkpoint.history)  # a line each
+    history_tmp = _temporary(folder / HISTORY_FILE, f"[\n{history}\n]\n".encode())
     os.replace(history_tmp, folder / HISTORY_FILE)
     return path
 

@@ -1,6 +1,6 @@
 """A fit's generations: :class:`GenerationRecord`, and reading them back from a checkpoint.
 
-The checkpoint's JSON keeps the history as ``asdict`` of each record;
+The checkpoint's JSON keeps the history as :meth:`GenerationRecord.as_plain` of each record;
 :func:`history_from_json` checks every field (type, range, one record per generation
 in order) and raises :class:`~zmpkit.errors.InputFileError` in one line on the first that
 is not as zmpkit wrote it.
@@ -44,6 +44,25 @@ class GenerationRecord:
     wall_s: float
     restart: int = 0
     popsize: int = 0
+
+    def as_plain(self) -> dict[str, object]:
+        """The record as JSON-ready values, as ``dataclasses.asdict`` gives them.
+
+        Built directly: a checkpoint writes every record after every generation, and
+        ``asdict``'s generic deep copy made a 770-generation fit spend 32 s in it.
+        """
+        return {
+            "generation": self.generation,
+            "evaluations": self.evaluations,
+            "best_cost": self.best_cost,
+            "best_so_far": self.best_so_far,
+            "median_cost": self.median_cost,
+            "sigma": self.sigma,
+            "best_values": dict(self.best_values),
+            "wall_s": self.wall_s,
+            "restart": self.restart,
+            "popsize": self.popsize,
+        }
 
 
 _FIELDS = tuple(f.name for f in fields(GenerationRecord))
