@@ -95,3 +95,54 @@ def test_manifest_errors_name_the_field(manifest: Path, tmp_path: Path) -> None:
     bad.write_text(manifest.read_text().replace("length_m: 0.777\n", ""))
     with pytest.raises(InputFileError, match=r"missing field 'length_m'"):
         read_step_manifest(bad)
+
+
+def test_a_light_robots_threshold_counts_a_lightly_loaded_foot(tmp_path: Path) -> None:
+    """A 3 kg robot stands on both feet (15 N each, centres of pressure at 10 mm), then leans
+    onto its right foot: 25 N at 30 mm, the left 5 N at −10 mm. With the 10 N default the
+    left foot drops out of contact and the ZMP jumps to the right foot's 30 mm; with the
+    robot's own threshold (5 % of its weight, 1.5 N) it is the F_z-weighted mean of both
+    (eq. 6): 23.3 mm. The manifest's ``contact_threshold_n`` is the one its trials use."""
+    (tmp_path / "feet.yaml").write_text(FEET_YAML)
+    feet = read_feet_yaml(tmp_path / "feet.yaml")
+    rows = []
+    for t in np.arange(0.0, 4.0, 1.0 / RATE_HZ):
+        before = t <= 1.0  # the start-up window [0.5, 1.0] s is all before
+        row = [t]
+        for side in ("right", "left"):
+            m = feet[side]
+            load_n = 15.0 if before else (25.0 if side == "right" else 5.0)
+            x = 0.01 if before else (0.03 if side == "right" else -0.01)
+            point = np.array([x, m.position[1], m.ground_height])
+            row += list(wrench_in_sensor(point, np.array([0.0, 0.0, load_n]), m.position,
+                                         m.rotation))  # fmt: skip
+        rows.append(row)
+    write_log(tmp_path / "lean.csv", np.array(rows))
+    head = "plane: sagittal\nfeet: feet.yaml\nmass_kg: 3.0\nlength_m: 0.2\nstartup_window_s: 0.5\n"
+    trial = "trials:\n  - {log: lean.csv, target_m: 0.02, t_step_s: 1.0}\n"
+    default, own = tmp_path / "default.yaml", tmp_path / "own.yaml"
+    default.write_text(head + trial)
+    own.write_text(head + "contact_threshold_n: 1.5\n" + trial)
+    step = {}
+    for name, path in (("default", default), ("own", own)):
+        steps = read_step_manifest(path).trials[0]
+        step[name] = float(steps.zmp_measured[steps.time > 0.5].mean())  # offset removed
+    assert step["default"] == pytest.approx(0.03 - 0.01, abs=1e-9)
+    assert step["own"] == pytest.approx((25.0 * 0.03 + 5.0 * -0.01) / 30.0 - 0.01, abs=1e-9)
+
+
+@pytest.mark.parametrize(
+    ("value", "message"),
+    [
+        ("0", r"contact_threshold_n must lie in"),
+        ("abc", r"field 'contact_threshold_n' must be a number"),
+    ],
+)
+def test_a_bad_manifest_threshold_is_one_line(
+    manifest: Path, tmp_path: Path, value: str, message: str
+) -> None:
+    bad = tmp_path / "bad.yaml"
+    bad.write_text(f"contact_threshold_n: {value}\n" + manifest.read_text())
+    with pytest.raises(InputFileError, match=message) as caught:
+        read_step_manifest(bad)
+    assert len(str(caught.value).splitlines()) == 1

@@ -32,10 +32,10 @@ from typing import Any
 
 import numpy as np
 
-from zmpkit.errors import InputFileError
+from zmpkit.errors import InputFileError, ParameterError
 from zmpkit.experiments.trial import StepTrialRecord
 from zmpkit.io import FT_LOG_COLUMNS, feet_from_mapping
-from zmpkit.sensors import SensorMount
+from zmpkit.sensors import CONTACT_FORCE_THRESHOLD_N, SensorMount, contact_threshold
 from zmpkit.signals import PLANES
 
 __all__ = [
@@ -77,12 +77,16 @@ class StepDataset:
         meta: the parsed ``meta.json`` (validated).
         mounts: each foot's F-T sensor mount, from ``meta["sensor_mounts"]``.
         trials: the finished trials, in the order of ``meta["trials"]``.
+        contact_threshold_n: the robot's contact threshold, from
+            ``meta["contact_threshold_n"]`` (a dataset written before it was recorded: the
+            10 N default it was then measured with) [N].
     """
 
     path: Path
     meta: Mapping[str, Any]
     mounts: Mapping[str, SensorMount]
     trials: tuple[StepTrialRecord, ...]
+    contact_threshold_n: float = CONTACT_FORCE_THRESHOLD_N
 
     @property
     def plane(self) -> str:
@@ -250,4 +254,17 @@ def read_step_dataset(folder: str | Path) -> StepDataset:
     trials = tuple(
         read_trial_csv(folder / entry["file"], meta, k) for k, entry in enumerate(meta["trials"])
     )
-    return StepDataset(folder, meta, mounts, trials)
+    return StepDataset(folder, meta, mounts, trials, _threshold(folder, meta))
+
+
+def _threshold(folder: Path, meta: Mapping[str, Any]) -> float:
+    """The dataset's contact threshold [N], checked (one line naming the file if not sane)."""
+    value = meta.get("contact_threshold_n", CONTACT_FORCE_THRESHOLD_N)
+    if isinstance(value, bool) or not isinstance(value, int | float):
+        raise InputFileError(
+            folder / META_FILE, f"contact_threshold_n: expected a number [N], got {value!r}"
+        )
+    try:
+        return contact_threshold(float(value))
+    except ParameterError as exc:
+        raise InputFileError(folder / META_FILE, str(exc)) from None

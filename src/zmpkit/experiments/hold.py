@@ -32,7 +32,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from zmpkit.sensors import SensorMount, zmp_series
+from zmpkit.sensors import CONTACT_FORCE_THRESHOLD_N, SensorMount, zmp_series
 from zmpkit.signals import PLANES, SteadyState, StepTrial, steady_state
 from zmpkit.signals.steady_state import CREEP_MIN_M, CREEP_TOLERANCE_FRACTION
 
@@ -105,7 +105,9 @@ class HoldMonitor:
         max_hold_s: float | None,
         mounts: Mapping[str, SensorMount],
         polygon: tuple[float, float],
+        contact_threshold_n: float = CONTACT_FORCE_THRESHOLD_N,
     ) -> None:
+        self._contact_threshold_n = contact_threshold_n
         self._axis = PLANES.index(plane)
         self._plane, self._target, self._t_step = plane, target_m, t_step_s
         self._startup = (t_step_s - startup_window_s, t_step_s)
@@ -146,7 +148,12 @@ class HoldMonitor:
         rows = np.vstack(self._pending)
         times = self._time[len(self._zmp) :]
         series = zmp_series(
-            times, rows[:, :6], rows[:, 6:], self._mounts["right"], self._mounts["left"]
+            times,
+            rows[:, :6],
+            rows[:, 6:],
+            self._mounts["right"],
+            self._mounts["left"],
+            contact_threshold_n=self._contact_threshold_n,
         )
         self._zmp = np.concatenate([self._zmp, series.zmp[:, self._axis]])
         self._fz = np.vstack([self._fz, np.column_stack([series.fz_right, series.fz_left])])

@@ -33,6 +33,7 @@ from numpy.typing import NDArray
 from zmpkit.experiments.dataset import StepDataset
 from zmpkit.experiments.trial import StepTrialRecord
 from zmpkit.sensors import (
+    CONTACT_FORCE_THRESHOLD_N,
     SensorMount,
     remove_zmp_offset,
     zmp_offset_from_standing_window,
@@ -108,6 +109,7 @@ def measured_zmp(
     trial: StepTrialRecord,
     mounts: Mapping[str, SensorMount],
     startup_window: tuple[float, float],
+    contact_threshold_n: float = CONTACT_FORCE_THRESHOLD_N,
 ) -> NDArray[np.float64]:
     """Measured ZMP of ``trial`` in its plane [m], start-up offset removed, NaN where undefined.
 
@@ -116,9 +118,16 @@ def measured_zmp(
         mounts: the F-T sensor mounts, ``{"right": ..., "left": ...}``.
         startup_window: quiet standing before the step (t0, t1) [s], whose mean ZMP is the
             offset removed (as paper A's code does at start-up).
+        contact_threshold_n: a foot is in contact above this world F_z [N] (the robot's:
+            :attr:`~zmpkit.robots.robot.Robot.contact_force_threshold_n`).
     """
     series = zmp_series(
-        trial.time, trial.right_wrench, trial.left_wrench, mounts["right"], mounts["left"]
+        trial.time,
+        trial.right_wrench,
+        trial.left_wrench,
+        mounts["right"],
+        mounts["left"],
+        contact_threshold_n=contact_threshold_n,
     )
     offset = zmp_offset_from_standing_window(series, None, startup_window)
     axis = 0 if trial.plane == "sagittal" else 1
@@ -126,7 +135,12 @@ def measured_zmp(
 
 
 def _measured(dataset: StepDataset, index: int) -> NDArray[np.float64]:
-    return measured_zmp(dataset.trials[index], dataset.mounts, dataset.startup_window(index))
+    return measured_zmp(
+        dataset.trials[index],
+        dataset.mounts,
+        dataset.startup_window(index),
+        dataset.contact_threshold_n,
+    )
 
 
 def expected_zmp(trial: StepTrialRecord, angle_joints: dict[str, float]) -> NDArray[np.float64]:

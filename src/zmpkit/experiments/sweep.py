@@ -77,6 +77,7 @@ def new_meta(
         "settings": config.settings(),
         "joint_names": list(joints),
         "sensor_mounts": robot.feet_mounts(),
+        "contact_threshold_n": robot.contact_force_threshold_n,
         "units": column_units(joints),
         "zmpkit_version": __version__,
         "lean_length_m": design_lean_model(config.robot, config.plane).lean_length_m,

@@ -249,6 +249,7 @@ def run_step_trial(
         config.plane,
         feet_from_mapping(robot.feet_mounts()),
         FtFaults(config.faults) if config.faults else None,
+        contact_threshold_n=robot.contact_force_threshold_n,
     )
     command = _command(angle, target_m, controller, sim.dt, balance.control_period_s, reader)
     stream = make_stream() if command is not None else None
@@ -311,6 +312,7 @@ def _monitor(
         config.max_hold_s,
         feet_from_mapping(robot.feet_mounts()),
         robot.require_balance().support_polygon_m[config.plane],
+        robot.contact_force_threshold_n,
     )
 
 

@@ -17,7 +17,7 @@ from collections.abc import Iterable, Mapping
 from typing import Protocol
 
 from zmpkit.experiments.ft_faults import FtFaults
-from zmpkit.sensors import DoubleSupportZmp, SensorMount
+from zmpkit.sensors import CONTACT_FORCE_THRESHOLD_N, DoubleSupportZmp, SensorMount
 from zmpkit.sensors.plausibility import PlausibilityGate, PlausibilityLimits
 from zmpkit.signals import PLANES
 
@@ -41,6 +41,7 @@ class ZmpReader:
         mounts: the feet's F-T sensor mounts, ``{"right": ..., "left": ...}``.
         faults: faults injected into the readings after the step; None: none.
         limits: what the plausibility gate accepts; None: its defaults.
+        contact_threshold_n: a foot is in contact above this world F_z [N] (the robot's).
     """
 
     def __init__(
@@ -50,10 +51,11 @@ class ZmpReader:
         mounts: Mapping[str, SensorMount],
         faults: FtFaults | None = None,
         limits: PlausibilityLimits | None = None,
+        contact_threshold_n: float = CONTACT_FORCE_THRESHOLD_N,
     ) -> None:
         self._source = source
         self._faults = faults
-        zmp = DoubleSupportZmp(mounts["right"], mounts["left"])
+        zmp = DoubleSupportZmp(mounts["right"], mounts["left"], contact_threshold_n)
         self.gate = PlausibilityGate(zmp, PLANES.index(plane), limits)
         self._sum, self._count = 0.0, 0
         self._offset: float | None = None

@@ -7,6 +7,8 @@ A robot's logs hold wrenches, not what the experimenter commanded, so a manifest
     mass_kg: 62.6                   # pendulum the controller believes [kg]
     length_m: 0.777                 # pendulum length, ankle pivot to CoM [m]
     startup_window_s: 0.5           # quiet standing before each step, for the ZMP offset [s]
+    contact_threshold_n: 10         # optional: a foot is in contact above this F_z [N];
+                                    # a light robot's is lower (zmpkit's: 5 % of the weight)
     units: units.yaml               # optional, as for ``zmpkit zmp --units``
     trials:
       - {log: step_020.db3, target_m: 0.02, t_step_s: 3.5,
@@ -26,12 +28,14 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from zmpkit.errors import InputFileError
+from zmpkit.errors import InputFileError, ParameterError
 from zmpkit.io.feet import feet_from_mapping, read_feet_yaml
 from zmpkit.io.ft_source import read_ft_source
 from zmpkit.io.yaml_file import read_yaml_mapping, require_number
 from zmpkit.sensors import (
+    CONTACT_FORCE_THRESHOLD_N,
     SensorMount,
+    contact_threshold,
     remove_zmp_offset,
     zmp_offset_from_standing_window,
     zmp_series,
@@ -73,12 +77,14 @@ def read_step_manifest(path: str | Path) -> StepManifest:
         raise InputFileError(path, f"field 'plane' must be one of {', '.join(PLANES)}")
     mounts = _mounts(path, doc.get("feet"))
     window = require_number(path, "startup_window_s", doc.get("startup_window_s", 0.5))
+    threshold = _threshold(path, doc.get("contact_threshold_n", CONTACT_FORCE_THRESHOLD_N))
     units = _relative(path, doc["units"]) if "units" in doc else None
     entries = doc.get("trials")
     if not isinstance(entries, list) or not entries:
         raise InputFileError(path, "field 'trials' must be a non-empty list of trials")
     trials = tuple(
-        _trial(path, k, entry, mounts, plane, window, units) for k, entry in enumerate(entries)
+        _trial(path, k, entry, mounts, plane, window, units, threshold)
+        for k, entry in enumerate(entries)
     )
     return StepManifest(
         trials=trials,
@@ -86,6 +92,14 @@ def read_step_manifest(path: str | Path) -> StepManifest:
         length_m=require_number(path, "length_m", _required(path, doc, "length_m")),
         plane=plane,
     )
+
+
+def _threshold(manifest: Path, value: object) -> float:
+    number = require_number(manifest, "contact_threshold_n", value)
+    try:
+        return contact_threshold(number)
+    except ParameterError as exc:
+        raise InputFileError(manifest, str(exc)) from None
 
 
 def _required(path: Path, doc: Mapping[str, Any], key: str) -> Any:
@@ -116,6 +130,7 @@ def _trial(
     plane: str,
     window_s: float,
     units: Path | None,
+    contact_threshold_n: float,
 ) -> StepTrial:
     field = f"trials[{index}]"
     if not isinstance(entry, Mapping) or "log" not in entry:
@@ -133,7 +148,12 @@ def _trial(
         units=units,
     )
     series = zmp_series(
-        log.time, log.right_wrench, log.left_wrench, mounts["right"], mounts["left"]
+        log.time,
+        log.right_wrench,
+        log.left_wrench,
+        mounts["right"],
+        mounts["left"],
+        contact_threshold_n=contact_threshold_n,
     )
     offset = zmp_offset_from_standing_window(series, None, (t_step - window_s, t_step))
     zmp = remove_zmp_offset(series, offset).zmp[:, 0 if plane == "sagittal" else 1]

@@ -32,7 +32,7 @@ from zmpkit.errors import InputFileError, ZmpkitError
 from zmpkit.experiments import read_step_dataset
 from zmpkit.experiments.walk_dataset import PITCH_JOINTS, SERIES_FILE, SUMMARY_FILE, read_series
 from zmpkit.robots.registry import get_robot
-from zmpkit.sensors import zmp_series
+from zmpkit.sensors import CONTACT_FORCE_THRESHOLD_N, zmp_series
 from zmpkit.sensors.imu import tilt_from_quaternions
 from zmpkit.simfit.recorded import RecordedSignals
 from zmpkit.simfit.walk_plan import match_walk_plan
@@ -80,6 +80,8 @@ class StepExperiment:
         mounts: the F-T sensor mounts, ``{"right": ..., "left": ...}``.
         signals: the recording; ``q_cmd_rad`` holds every driven joint.
         robot: the robot that stepped (registry name or ``robot.yaml`` path).
+        contact_threshold_n: the dataset's contact threshold, recorded and simulated ZMP
+            alike [N].
     """
 
     name: str
@@ -88,6 +90,7 @@ class StepExperiment:
     mounts: dict
     signals: RecordedSignals
     robot: str
+    contact_threshold_n: float = CONTACT_FORCE_THRESHOLD_N
 
 
 Experiment = WalkExperiment | StepExperiment
@@ -169,6 +172,7 @@ def _step_experiments(folder: Path, robot: str) -> list[StepExperiment]:
             trial.left_wrench,
             dataset.mounts["right"],
             dataset.mounts["left"],
+            contact_threshold_n=dataset.contact_threshold_n,
         ).zmp
         signals = RecordedSignals(
             trial.time,
@@ -180,7 +184,9 @@ def _step_experiments(folder: Path, robot: str) -> list[StepExperiment]:
         )
         name = f"{folder.name}/{trial.plane}_{trial.target_m:g}"
         settle = float(settings.get("settle_s", trial.time[0]))
-        out.append(StepExperiment(name, trial.plane, settle, dict(dataset.mounts), signals, robot))
+        mounts = dict(dataset.mounts)
+        threshold = dataset.contact_threshold_n
+        out.append(StepExperiment(name, trial.plane, settle, mounts, signals, robot, threshold))
     return out
 
 

@@ -158,5 +158,12 @@ def step_zmp_and_tilt(
     """
     time = experiment.signals.time_s[: len(quats)]
     mounts = experiment.mounts
-    zmp = zmp_series(time, ft_right, ft_left, mounts["right"], mounts["left"]).zmp
+    zmp = zmp_series(
+        time,
+        ft_right,
+        ft_left,
+        mounts["right"],
+        mounts["left"],
+        contact_threshold_n=experiment.contact_threshold_n,
+    ).zmp
     return zmp, tilt_from_quaternions(quats, experiment.plane)
