@@ -156,3 +156,25 @@ def test_unknown_robot_is_exit_2_with_one_line(capsys: pytest.CaptureFixture[str
     err = capsys.readouterr().err.strip().splitlines()
     expected = "robot must be one of op3, teo; got 'atlas' (or a robot.yaml file)"
     assert err == [f"zmpkit: error: {expected}"]
+
+
+def test_links_overlapping_at_the_initial_pose_do_not_push_each_other_apart(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """An imported URDF whose thighs reach 3 cm into the pelvis across the hip links (MuJoCo
+    filters only parent and child): zmpkit excludes those pairs, and the robot stands with
+    its three ZMPs together (before: 61 mm apart, the overlap pushing the links apart)."""
+    from helpers.biped import BIPED_URDF, LEG_M
+
+    thigh = f'<cylinder radius="0.03" length="{LEG_M}"/>'
+    longer = f'<cylinder radius="0.03" length="{LEG_M + 0.06}"/>'
+    model = tmp_path / "overlap.urdf"
+    model.write_text(BIPED_URDF.replace(thigh, longer))
+    out = tmp_path / "robot.yaml"
+    assert main(["robot", "init", str(model), "--out", str(out)]) == 0
+    capsys.readouterr()
+    assert main(["robot", "check", str(out)]) == 0
+    printed = capsys.readouterr().out
+    assert "excluded self-contacts (2 pairs of links touching at the initial pose): " in printed
+    assert "l_thigh–pelvis, pelvis–r_thigh" in printed
+    assert "self-contacts after standing: 0" in printed

@@ -55,6 +55,10 @@ class RobotCheck:
         stood_s: how long it stood [s].
         left_of_right_m: how far the left sole centre stands left (world +y) of the right
             one [m]; None for a robot without both feet.
+        excluded_contacts: the pairs of bodies whose contacts the model excludes (an
+            imported model's links overlapping at the initial pose).
+        self_contacts: contacts between two of the robot's bodies after standing.
+        self_contact_force_n: the largest normal force of those [N]; 0 without any.
     """
 
     name: str
@@ -69,6 +73,9 @@ class RobotCheck:
     com_xy_m: tuple[float, float]
     stood_s: float
     left_of_right_m: float | None = None
+    excluded_contacts: tuple[tuple[str, str], ...] = ()
+    self_contacts: int = 0
+    self_contact_force_n: float = 0.0
 
     @property
     def ft_vs_contact_m(self) -> float:
@@ -115,7 +122,22 @@ class RobotCheck:
             f"F-T vs contact {1e3 * self.ft_vs_contact_m:.2f} mm, F-T vs CoM "
             f"{1e3 * self.ft_vs_com_m:.2f} mm: {verdict}",
             *self._sides_line(),
+            *self._contacts_lines(),
         ]
+
+    def _contacts_lines(self) -> list[str]:
+        lines = []
+        if self.excluded_contacts:
+            pairs = ", ".join(f"{a}–{b}" for a, b in self.excluded_contacts)
+            lines.append(
+                f"excluded self-contacts ({len(self.excluded_contacts)} pairs of links touching "
+                f"at the initial pose): {pairs}"
+            )
+        lines.append(
+            f"self-contacts after standing: {self.self_contacts}"
+            + (f", largest {self.self_contact_force_n:.3g} N" if self.self_contacts else "")
+        )
+        return lines
 
     def _sides_line(self) -> list[str]:
         if self.left_of_right_m is None:
@@ -161,6 +183,7 @@ def check_robot(robot: Robot, stand_s: float = 2.0) -> RobotCheck:
     origin = np.array([s.xpos for s in sites])
     zmp = zmp_in_world(force[None], moment[None], origin[None], robot.contact_force_threshold_n)[0]
     names = tuple(model.sensor(i).name for i in range(model.nsensor))
+    touching, largest_n = _self_contacts(model, data)
     return RobotCheck(
         name=robot.name,
         mass_kg=float(model.body_subtreemass[0]),
@@ -174,7 +197,34 @@ def check_robot(robot: Robot, stand_s: float = 2.0) -> RobotCheck:
         com_xy_m=(float(data.subtree_com[0][0]), float(data.subtree_com[0][1])),
         stood_s=sim.time,
         left_of_right_m=_left_of_right(model, data),
+        excluded_contacts=_excluded(model),
+        self_contacts=touching,
+        self_contact_force_n=largest_n,
     )
+
+
+def _excluded(model: mujoco.MjModel) -> tuple[tuple[str, str], ...]:
+    """The model's ``<exclude>`` pairs of body names (signature: body1 << 16 | body2)."""
+    pairs = []
+    for signature in model.exclude_signature[: model.nexclude]:
+        a, b = model.body(int(signature) >> 16).name, model.body(int(signature) & 0xFFFF).name
+        pairs.append((min(a, b), max(a, b)))
+    return tuple(sorted(pairs))
+
+
+def _self_contacts(model: mujoco.MjModel, data: mujoco.MjData) -> tuple[int, float]:
+    """How many contacts join two of the robot's bodies, and the largest normal force [N]."""
+    count, largest = 0, 0.0
+    wrench = np.zeros(6)
+    for k in range(data.ncon):
+        contact = data.contact[k]
+        first, second = (int(model.geom_bodyid[g]) for g in (contact.geom1, contact.geom2))
+        if first == 0 or second == 0 or first == second:
+            continue
+        mujoco.mj_contactForce(model, data, k, wrench)
+        count += 1
+        largest = max(largest, abs(float(wrench[0])))
+    return count, largest
 
 
 def _left_of_right(model: mujoco.MjModel, data: mujoco.MjData) -> float | None:

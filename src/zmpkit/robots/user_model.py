@@ -42,7 +42,7 @@ from zmpkit.robots.problems import Problems
 from zmpkit.robots.robot_file import SIDES, RobotFile
 from zmpkit.sim.builder import add_ideal_servo
 from zmpkit.sim.effects import IdealServoParams
-from zmpkit.sim.names import FLOOR_GEOM, IMU_SITE, ft_plate_body, ft_site, sole_site
+from zmpkit.sim.names import FLOOR_GEOM, IMU_SITE, NAMESPACE, ft_plate_body, ft_site, sole_site
 from zmpkit.sim.sole_plate import SolePlate, add_sole_plate
 from zmpkit.sim.standard_sensors import add_standard_sensors
 
@@ -120,12 +120,15 @@ class UserModel:
         feet: side → its footprint.
         mass_kg: total mass [kg].
         servo: the ideal servos' gains.
+        excluded_contacts: the pairs of bodies whose geoms already touch at the initial pose
+            (overlapping links of an imported model), whose contacts zmpkit excludes.
     """
 
     mjcf: str
     feet: dict[str, FootPrint]
     mass_kg: float
     servo: IdealServoParams
+    excluded_contacts: tuple[tuple[str, str], ...] = ()
 
 
 def load_spec(model_file: Path, packages: Mapping[str, Path] | None = None) -> mujoco.MjSpec:
@@ -198,6 +201,41 @@ def face_world_x(spec: mujoco.MjSpec, forward: str, compiled: mujoco.MjModel) ->
     mujoco.mju_mulQuat(turned, yaw, compiled.body_quat[compiled.body(root.name).id])
     root.alt.type = mujoco.mjtOrientation.mjORIENTATION_QUAT
     root.quat = turned
+
+
+def exclude_initial_self_contacts(
+    spec: mujoco.MjSpec, model: mujoco.MjModel, data: mujoco.MjData
+) -> tuple[tuple[str, str], ...]:
+    """Exclude contacts between the robot's bodies whose geoms touch at the initial pose.
+
+    An imported model's links often overlap where they meet (a thigh mesh reaching into the
+    pelvis across the small hip links between them: MuJoCo only filters parent and child);
+    simulated as they are, such overlaps push the links apart with forces of kilonewtons.
+    Geoms touching at the initial pose (``data`` after ``mj_forward``) are taken as meant to
+    overlap: their bodies get an ``<exclude>`` (unnamed bodies are named ``zmpkit/body{id}``
+    first). Contacts with the world (the floor) are kept.
+
+    Returns:
+        The excluded pairs of body names, each sorted, sorted.
+    """
+    pairs = set()
+    for contact in data.contact[: data.ncon]:
+        bodies = sorted(int(model.geom_bodyid[g]) for g in (contact.geom1, contact.geom2))
+        if bodies[0] != 0 and bodies[0] != bodies[1]:
+            pairs.add((bodies[0], bodies[1]))
+    names = []
+    for pair in sorted(pairs):
+        named = []
+        for body_id in pair:
+            body = spec.body(model.body(body_id).name) if model.body(body_id).name else None
+            if body is None:
+                body = spec.bodies[body_id]
+                body.name = f"{NAMESPACE}body{body_id}"
+            named.append(body.name)
+        exclude = spec.add_exclude()
+        exclude.bodyname1, exclude.bodyname2 = named
+        names.append((named[0], named[1]))
+    return tuple(sorted((min(a, b), max(a, b)) for a, b in names))
 
 
 def _compile(robot: RobotFile, spec: mujoco.MjSpec) -> tuple[mujoco.MjModel, mujoco.MjData]:
@@ -393,6 +431,7 @@ def user_model(robot: RobotFile) -> UserModel:
         face_world_x(spec, robot.forward, _compile(robot, spec)[0])
     model, data = _compile(robot, spec)
     check_names(robot, model)
+    excluded = exclude_initial_self_contacts(spec, model, data)
     feet = {side: footprint(robot, model, data, side) for side in SIDES}
     mass = float(model.body_subtreemass[0])
     servo = _servo(robot, model, data, min(f.bottom_z_m for f in feet.values()))
@@ -411,7 +450,7 @@ def user_model(robot: RobotFile) -> UserModel:
     xml = ET.fromstring(spec.to_xml())
     _finish_xml(xml, robot, feet, mass, servo, root_body(model))
     ET.indent(xml)
-    return UserModel(ET.tostring(xml, encoding="unicode"), feet, mass, servo)
+    return UserModel(ET.tostring(xml, encoding="unicode"), feet, mass, servo, excluded)
 
 
 def _finish_xml(
