@@ -272,7 +272,7 @@ def _design_lean_model(source: str, plane: str) -> Lean:
     balance = robot.require_balance()
     if balance.lean == "whole_body":
         return whole_body_lean(robot, plane)
-    pivots, hip_rolls = balance.lean_joints[plane], balance.hip_roll_joints
+    pivots, hip_rolls = balance.require_plane(plane), balance.hip_roll_joints
     sim = robot.make_simulation("none")
     m, d = sim.model, sim.data
     axis = _AXIS_INDEX[plane]

@@ -118,7 +118,7 @@ def whole_body_lean(robot: Robot, plane: str) -> WholeBodyLean:
         ModelError: if the lean does not move the pivot joints.
     """
     balance = robot.require_balance()
-    pivots = balance.lean_joints[plane]
+    pivots = balance.require_plane(plane)
     sim = robot.make_simulation("none")
     model, standing = sim.model, sim.data.qpos.copy()
     length = _lean_length(sim, pivots)

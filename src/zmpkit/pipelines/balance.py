@@ -87,7 +87,8 @@ class BalanceConfig:
 
     Attributes:
         robot: the robot's registry name or ``robot.yaml`` path (it needs a balance model).
-        planes: planes to run, ``"sagittal"`` and/or ``"frontal"``.
+        planes: planes to run, ``"sagittal"`` and/or ``"frontal"``; empty: every plane the
+            robot can lean in (:attr:`~zmpkit.robots.robot.BalanceModel.planes`).
         targets_m: validation targets [m]; the fit uses those in ``fit_targets_m``; empty:
             :data:`FULL_TARGETS` of the robot's largest target
             (:attr:`~zmpkit.robots.robot.BalanceModel.max_target_m`, inside its support
@@ -115,7 +116,7 @@ class BalanceConfig:
     """
 
     robot: str = DEFAULT_BALANCE_ROBOT
-    planes: tuple[str, ...] = ("sagittal", "frontal")
+    planes: tuple[str, ...] = ()
     targets_m: tuple[float, ...] = ()
     fit_targets_m: tuple[float, ...] = ()
     effects: str = "all"
@@ -132,7 +133,12 @@ class BalanceConfig:
     faults: tuple[str, ...] = ()
 
     def __post_init__(self) -> None:
-        span = get_robot(self.robot, needs="balance").require_balance().max_target_m
+        balance = get_robot(self.robot, needs="balance").require_balance()
+        if not self.planes:
+            object.__setattr__(self, "planes", balance.planes)
+        for plane in self.planes:
+            balance.require_plane(plane)
+        span = balance.max_target_m
         if not self.targets_m:
             object.__setattr__(self, "targets_m", target_ladder(FULL_TARGETS, span))
         if not self.fit_targets_m:
@@ -226,6 +232,8 @@ def run_balance(
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     planes = {}
+    for plane, why in get_robot(config.robot).require_balance().missing_planes.items():
+        echo(f"{plane} plane: not run, the robot cannot lean in it ({why})")
     for plane in config.planes:
         echo(f"{plane} plane: LIPM steps, identification, DLIPM and linear validation")
         planes[plane] = _run_plane(config, plane, out, progress)

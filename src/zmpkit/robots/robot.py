@@ -19,7 +19,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -69,8 +69,10 @@ class BalanceModel:
         support_polygon_m: plane → double-support extent ``(min, max)`` of the soles along
             the plane's axis (x sagittal, y frontal), world frame, standing pose [m].
         lean_joints: plane → the pivot joints ``(right, left)`` that lean the robot about its
-            ankles (sagittal: ankle pitch; frontal: ankle roll).
-        hip_roll_joints: ``(right, left)`` hip roll joints that close the frontal lean's chain.
+            ankles (sagittal: ankle pitch; frontal: ankle roll); only the planes the robot
+            can lean in (:attr:`planes`).
+        hip_roll_joints: ``(right, left)`` hip roll joints that close the frontal lean's chain
+            (the ankle lean's; empty names where the robot has none).
         push_bodies: push point (``"com"``, ``"trunk"``) → body the push acts on.
         control_period_s: period at which a lean controller is stepped [s].
         lean: how the robot leans: ``"ankle"`` (the ankle strategy, the frontal lean's
@@ -81,6 +83,8 @@ class BalanceModel:
             itself; None: the servo limits, scaled so no leaning joint exceeds them.
         target_span_m: the largest ZMP target of a balance sweep [m]; None: derived from the
             support polygon (:attr:`max_target_m`).
+        missing_planes: plane → why the robot cannot lean in it (a leg without an ankle
+            joint about that axis).
     """
 
     mass_kg: float
@@ -93,17 +97,40 @@ class BalanceModel:
     lean: str = "ankle"
     lean_limits: ServoLimits | None = None
     target_span_m: float | None = None
+    missing_planes: Mapping[str, str] = field(default_factory=dict)
+
+    @property
+    def planes(self) -> tuple[str, ...]:
+        """The planes the robot can lean in, sagittal first."""
+        return tuple(p for p in ("sagittal", "frontal") if p in self.lean_joints)
+
+    def require_plane(self, plane: str) -> tuple[str, str]:
+        """The lean's pivot joints in ``plane``.
+
+        Raises:
+            ParameterError: naming why the robot cannot lean in it and the planes it can.
+        """
+        if plane not in self.lean_joints:
+            why = self.missing_planes.get(plane, "it has no lean joints for it")
+            raise ParameterError(
+                f"the robot cannot lean in the {plane} plane: {why}; it can lean in: "
+                f"{', '.join(self.planes) or 'none'}"
+            )
+        return self.lean_joints[plane]
 
     @property
     def max_target_m(self) -> float:
-        """The largest ZMP target of a balance sweep, both planes [m].
+        """The largest ZMP target of a balance sweep, every plane it can lean in [m].
 
         ``target_span_m`` when given; else :data:`TARGET_SUPPORT_SHARE` of the support
-        polygon's nearest edge (over both planes and both directions), rounded down to 1 mm.
+        polygon's nearest edge (over those planes and both directions), rounded down to 1 mm.
         """
         if self.target_span_m is not None:
             return self.target_span_m
-        edge = min(min(-low, high) for low, high in self.support_polygon_m.values())
+        edges = [self.support_polygon_m[p] for p in self.planes] or list(
+            self.support_polygon_m.values()
+        )
+        edge = min(min(-low, high) for low, high in edges)
         return math.floor(TARGET_SUPPORT_SHARE * edge * 1000.0) / 1000.0
 
 

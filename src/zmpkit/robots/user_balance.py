@@ -5,12 +5,17 @@
 - **support polygon**: the double-support extent of the two soles (their rectangles around
   the sole centres, :attr:`~zmpkit.robots.user_model.FootPrint` size), per plane [m];
 - **lean**: the whole-body IK lean (:mod:`zmpkit.experiments.whole_body_lean`); its pivots
-  measure the lean angle: the last pitch joint (sagittal) and the last roll joint (frontal) of
-  each leg, i.e. the ankle's; the hip roll joints are the legs' first roll joints;
+  measure the lean angle: each leg's ankle pitch joint (sagittal) and ankle roll joint
+  (frontal): its last joint about that axis (world y, x), when that joint's anchor lies
+  within :data:`ANKLE_HEIGHT_SHARE` of the hip's height above the sole; the hip roll joints
+  are the legs' first roll joints;
 - **push bodies**: ``com`` on the root body, ``trunk`` on the torso body.
 
-A leg without a pitch and a roll joint (a world axis along y and along x) has no ankle to
-measure the lean by: the robot then has no balance model.
+A robot leans only in the planes both its legs have an ankle joint for (a leg without an
+ankle roll joint cannot shift the ZMP sideways about the ankle: its hip roll would be asked
+for a lean it cannot make); the others are in
+:attr:`~zmpkit.robots.robot.BalanceModel.missing_planes` with the reason. A robot with an
+ankle joint in neither plane has no balance model.
 """
 
 from __future__ import annotations
@@ -25,12 +30,21 @@ from zmpkit.robots.user_walking import axis_joints
 from zmpkit.sim.names import sole_site
 from zmpkit.sim.servo import ServoLimits
 
-__all__ = ["LEAN_CONTROL_PERIOD_S", "LEAN_ZMP_MARGIN", "lean_limits", "user_balance"]
+__all__ = [
+    "ANKLE_HEIGHT_SHARE",
+    "LEAN_CONTROL_PERIOD_S",
+    "LEAN_ZMP_MARGIN",
+    "lean_limits",
+    "user_balance",
+]
 
 LEAN_CONTROL_PERIOD_S = 0.01
 """Period at which a user's robot's lean controller is stepped [s]."""
 LEAN_ZMP_MARGIN = 0.25
 """The lean's acceleration may shift the ZMP by this share of the half sole length [-]."""
+ANKLE_HEIGHT_SHARE = 0.35
+"""A leg's last pitch (roll) joint is its ankle's when its anchor lies below this share of
+the hip's height above the sole (a knee sits near half of it) [-]."""
 LEAN_TIME_S = 0.5
 """The lean's velocity limit lets it cross its acceleration-limited range in about this [s]."""
 
@@ -72,7 +86,19 @@ def user_balance(file: RobotFile, built: UserModel) -> BalanceModel | None:
     mujoco.mj_forward(model, data)
     pitch = {s: axis_joints(model, data, file.legs[s], 1) for s in SIDES}
     roll = {s: axis_joints(model, data, file.legs[s], 0) for s in SIDES}
-    if not all(pitch[s] and roll[s] for s in SIDES):
+    lean_joints, missing = {}, {}
+    for plane, joints, kind in (("sagittal", pitch, "pitch"), ("frontal", roll, "roll")):
+        ankles = [_ankle(model, data, file, s, joints[s]) for s in SIDES]
+        if ankles[0] is not None and ankles[1] is not None:
+            lean_joints[plane] = (ankles[0], ankles[1])
+        else:
+            lacking = [s for s, a in zip(SIDES, ankles, strict=True) if a is None]
+            missing[plane] = (
+                f"neither leg has an ankle {kind} joint"
+                if len(lacking) == 2
+                else f"the {lacking[0]} leg has no ankle {kind} joint"
+            )
+    if not lean_joints:
         return None
     sole_z = float(np.mean([data.site(sole_site(s)).xpos[2] for s in SIDES]))
     root = root_body(model)
@@ -80,11 +106,10 @@ def user_balance(file: RobotFile, built: UserModel) -> BalanceModel | None:
         mass_kg=float(model.body_subtreemass[0]),
         com_height_m=float(data.subtree_com[0][2]) - sole_z,
         support_polygon_m=_support(data, built),
-        lean_joints={
-            "sagittal": (pitch["right"][-1], pitch["left"][-1]),
-            "frontal": (roll["right"][-1], roll["left"][-1]),
-        },
-        hip_roll_joints=(roll["right"][0], roll["left"][0]),
+        lean_joints=lean_joints,
+        hip_roll_joints=(roll["right"][0], roll["left"][0])
+        if roll["right"] and roll["left"]
+        else ("", ""),
         push_bodies={"com": root, "trunk": file.torso or root},
         control_period_s=LEAN_CONTROL_PERIOD_S,
         lean="whole_body",
@@ -92,4 +117,17 @@ def user_balance(file: RobotFile, built: UserModel) -> BalanceModel | None:
             float(data.subtree_com[0][2]) - sole_z,
             min(foot.length_m for foot in built.feet.values()),
         ),
+        missing_planes=missing,
     )
+
+
+def _ankle(
+    model: mujoco.MjModel, data: mujoco.MjData, file: RobotFile, side: str, joints: list[str]
+) -> str | None:
+    """The last of ``joints`` if it sits at the ankle (module docstring), else None."""
+    if not joints:
+        return None
+    sole_z = float(data.site(sole_site(side)).xpos[2])
+    hip_z = float(data.xanchor[model.joint(file.legs[side][0]).id][2]) - sole_z
+    ankle_z = float(data.xanchor[model.joint(joints[-1]).id][2]) - sole_z
+    return joints[-1] if ankle_z <= ANKLE_HEIGHT_SHARE * hip_z else None
