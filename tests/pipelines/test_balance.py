@@ -225,3 +225,49 @@ def test_balance_bad_targets_are_one_line_exit_2(
     (line,) = capsys.readouterr().err.strip().splitlines()
     assert re.search(message, line), line
     assert not out.exists()  # refused before any work
+
+
+def test_a_failed_plane_keeps_the_finished_ones_report(
+    balance_run, monkeypatch: pytest.MonkeyPatch, tmp_path: Path
+) -> None:
+    """The frontal plane's identification fails; the sagittal plane (the module's run) is
+    reported, the frontal one's bars are undefined and say why, and no bar counts as met."""
+    import zmpkit.pipelines.balance as balance_module
+    from zmpkit.errors import ModelError
+
+    _, finished, _ = balance_run
+    why = "the error model has a negative slope: the robot does not lean as commanded"
+
+    def run_plane(config, plane, out, progress):
+        if plane == "frontal":
+            raise ModelError(why)
+        return finished.planes[plane]
+
+    monkeypatch.setattr(balance_module, "_run_plane", run_plane)
+    said: list[str] = []
+    result = run_balance(
+        replace(CONFIG, planes=("sagittal", "frontal")), tmp_path, echo=said.append
+    )
+    assert list(result.planes) == ["sagittal"]
+    assert result.failed_planes == {"frontal": why}
+    assert f"frontal plane failed: {why}" in said
+    artifacts = write_balance_outputs(result, tmp_path)
+    assert not artifacts.met
+    html = artifacts.report.read_text(encoding="utf-8")
+    assert "frontal: paper A" in html
+    assert f"the plane failed: {why}" in html
+    assert (tmp_path / "table1.csv").read_text(encoding="utf-8").count("sagittal") >= 1
+
+
+def test_when_every_plane_fails_the_first_error_is_raised(
+    monkeypatch: pytest.MonkeyPatch, tmp_path: Path
+) -> None:
+    import zmpkit.pipelines.balance as balance_module
+    from zmpkit.errors import ModelError
+
+    def run_plane(config, plane, out, progress):
+        raise ModelError(f"{plane}: no error model")
+
+    monkeypatch.setattr(balance_module, "_run_plane", run_plane)
+    with pytest.raises(ModelError, match="sagittal: no error model"):
+        run_balance(replace(CONFIG, planes=("sagittal", "frontal")), tmp_path, echo=lambda _: None)

@@ -160,6 +160,8 @@ def balance_command(
     for verdict in artifacts.verdicts.values():
         for line in verdict.lines():
             click.echo(f"  {line}")
+    for plane, why in artifacts.failed_planes.items():
+        click.echo(f"  {plane}: not finished, bars undefined ({why})")
     return _exit_code(artifacts.met, strict)
 
 

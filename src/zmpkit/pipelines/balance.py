@@ -29,7 +29,7 @@ from typing import Any
 
 from zmpkit.analysis.balance_validation import ControllerOutcome, evaluate_trial
 from zmpkit.analysis.table1 import Table1Row
-from zmpkit.errors import ParameterError
+from zmpkit.errors import ParameterError, ZmpkitError
 from zmpkit.experiments import (
     StepDataset,
     StepExperimentConfig,
@@ -185,11 +185,15 @@ class PlaneResult:
 
 @dataclass(frozen=True, eq=False)
 class BalanceResult:
-    """What ``run_balance`` produced: per-plane results and the identified parameters."""
+    """What ``run_balance`` produced: per-plane results and the identified parameters.
+
+    ``failed_planes``: plane → why it did not finish (the finished planes are reported).
+    """
 
     config: BalanceConfig
     planes: dict[str, PlaneResult] = field(default_factory=dict)
     started_s: float = field(default_factory=time.time)
+    failed_planes: dict[str, str] = field(default_factory=dict)
 
     def params(self, plane: str) -> BalanceParams:
         """The identified parameters of ``plane`` (pendulum length: its lean length)."""
@@ -224,7 +228,12 @@ def run_balance(
     """Run every plane of ``config`` and write its outputs into ``out_dir``.
 
     Writes datasets, ``params.yaml``, ``table1.csv``, figures and the report into
-    ``out_dir`` (created if missing).
+    ``out_dir`` (created if missing). A plane that fails (its identification finds no error
+    model, its simulation diverges) is recorded with why in ``failed_planes`` and the run
+    goes on with the others.
+
+    Raises:
+        ZmpkitError: the first plane's error when no plane finishes.
     """
     started_s = time.time()
     for plane in config.planes:  # every plane's targets in reach before any work
@@ -234,10 +243,19 @@ def run_balance(
     planes = {}
     for plane, why in get_robot(config.robot).require_balance().missing_planes.items():
         echo(f"{plane} plane: not run, the robot cannot lean in it ({why})")
+    failed: dict[str, str] = {}
+    first_error: ZmpkitError | None = None
     for plane in config.planes:
         echo(f"{plane} plane: LIPM steps, identification, DLIPM and linear validation")
-        planes[plane] = _run_plane(config, plane, out, progress)
-    return BalanceResult(config=config, planes=planes, started_s=started_s)
+        try:
+            planes[plane] = _run_plane(config, plane, out, progress)
+        except ZmpkitError as exc:
+            echo(f"{plane} plane failed: {exc}")
+            failed[plane] = str(exc)
+            first_error = first_error or exc
+    if not planes and first_error is not None:
+        raise first_error
+    return BalanceResult(config=config, planes=planes, started_s=started_s, failed_planes=failed)
 
 
 def step_experiment(config: BalanceConfig, plane: str) -> StepExperimentConfig:

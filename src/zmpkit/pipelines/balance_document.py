@@ -179,6 +179,8 @@ def balance_checks(result: BalanceResult, verdicts: dict[str, PlaneVerdict]) -> 
             )
         checks += _feedback_checks(name, rows)
         checks += [Check(f"{name}: warning", "info", w) for w in verdict.warnings]
+    for name, why in result.failed_planes.items():
+        checks.append(Check(f"{name}: paper A's bars", "undefined", f"the plane failed: {why}"))
     return tuple(checks)
 
 

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
@@ -39,7 +39,8 @@ class BalanceArtifacts:
     """Paths written by :func:`write_balance_outputs`, each plane's figures and verdict.
 
     ``videos`` holds the step trial's video when the config asked for one (``step_trial.mp4``,
-    or the GIF or keyframes written instead).
+    or the GIF or keyframes written instead). ``failed_planes``: plane → why it did not
+    finish (its bars are undefined).
     """
 
     report: Path
@@ -49,11 +50,12 @@ class BalanceArtifacts:
     targets: dict[str, BalanceTargets]
     verdicts: dict[str, PlaneVerdict]
     videos: tuple[Path, ...] = ()
+    failed_planes: dict[str, str] = field(default_factory=dict)
 
     @property
     def met(self) -> bool:
-        """Whether every bar of every plane was met."""
-        return all(v.met for v in self.verdicts.values())
+        """Whether every bar of every plane was met (a failed plane's are not)."""
+        return not self.failed_planes and all(v.met for v in self.verdicts.values())
 
 
 def write_balance_outputs(
@@ -81,7 +83,9 @@ def write_balance_outputs(
     )
     report = write_report(document, out, report_format)
     targets = {name: balance_targets(name, plane.rows) for name, plane in result.planes.items()}
-    return BalanceArtifacts(report, table1, params, tuple(figures), targets, verdicts, videos)
+    return BalanceArtifacts(
+        report, table1, params, tuple(figures), targets, verdicts, videos, result.failed_planes
+    )
 
 
 def _write_params(result: BalanceResult, out: Path) -> Path:
