@@ -82,14 +82,29 @@ class SweepProgress(_Display):
 
 
 class SimTimeProgress(_Display):
-    """A bar of simulated seconds; the instance is a ``progress(simulated_s, total_s)``."""
+    """A bar of simulated seconds; the instance is a ``progress(simulated_s, total_s)``.
+
+    It appears with the first simulated step, so a walk refused before it is simulated (a
+    plan the robot cannot follow) prints its one line alone.
+    """
 
     def __init__(self, label: str) -> None:
         super().__init__("{task.completed:.1f}/{task.total:.1f} s simulated")
         self._task = self._bar.add_task(label, total=0.0)
+        self._started = False
+
+    def __enter__(self) -> SimTimeProgress:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        if self._started:
+            self._bar.stop()
 
     def __call__(self, simulated_s: float, total_s: float) -> None:
         """Show ``simulated_s`` of ``total_s`` simulated seconds."""
+        if not self._started:
+            self._bar.start()
+            self._started = True
         self._bar.update(self._task, completed=simulated_s, total=total_s)
 
 

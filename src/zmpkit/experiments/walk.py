@@ -13,6 +13,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass, replace
 
 import mujoco
+import numpy as np
 
 from zmpkit.errors import ParameterError
 from zmpkit.experiments.walk_config import WalkConfig
@@ -40,7 +41,9 @@ from zmpkit.walking.walk_controllers import (
 from zmpkit.walking.zmp_observer import ZmpObserverParameters
 
 __all__ = [
+    "IK_REALISABLE_M",
     "WalkTrial",
+    "check_realisable",
     "make_controller",
     "run_walk_trial",
     "sensor_layout",
@@ -182,17 +185,53 @@ def walk_controller(
     )  # fmt: skip
 
 
-def run_walk_trial(config: WalkConfig, progress: ProgressCallback | None = None) -> WalkTrial:
+IK_REALISABLE_M = 0.005
+"""A plan is realisable when the whole-body IK follows its CoM and soles within this [m].
+
+The built-in robots' walks leave at most 0.14 mm (a turning NAO walk); a leg that cannot
+reach its footstep leaves centimetres, and the walk then falls for a reason that is not the
+robot's balance."""
+
+
+def check_realisable(trajectory: JointTrajectory) -> None:
+    """Refuse a walk whose plan the robot's legs cannot follow (:data:`IK_REALISABLE_M`).
+
+    Raises:
+        ParameterError: naming the largest CoM and sole errors, when, and what to change.
+    """
+    com, foot = trajectory.max_com_error_m, trajectory.max_foot_error_m
+    if max(com, foot) <= IK_REALISABLE_M:
+        return
+    t_com = float(trajectory.time_s[int(np.argmax(trajectory.com_error_m))])
+    t_foot = float(trajectory.time_s[int(np.argmax(trajectory.foot_error_m))])
+    raise ParameterError(
+        f"the robot's legs cannot follow this walk's plan: the whole-body IK leaves the CoM "
+        f"{1e3 * com:.1f} mm off (at {t_com:.2f} s) and a sole {1e3 * foot:.1f} mm off (at "
+        f"{t_foot:.2f} s), more than {1e3 * IK_REALISABLE_M:g} mm; try a lower --speed or "
+        "--step-duration, or check the robot file's legs, walking.com_height and crouch"
+    )
+
+
+def run_walk_trial(
+    config: WalkConfig,
+    progress: ProgressCallback | None = None,
+    *,
+    realisable_only: bool = False,
+) -> WalkTrial:
     """Plan, solve the IK, simulate and summarise one walk.
 
     Args:
         config: the walk.
         progress: called with (simulated time, total time) [s] during the simulation.
+        realisable_only: refuse, before simulating, a plan the IK cannot follow
+            (:func:`check_realisable`); else simulate it (the summary keeps the IK's errors).
     """
     robot = get_robot(config.robot, needs="walking")
     pattern = generate_pattern(config.pattern_config())
     model, settings = robot.ik_model(), robot.ik_settings
     trajectory = solve_walking_ik(pattern, model, settings)
+    if realisable_only:
+        check_realisable(trajectory)
     sim = robot.make_simulation(config.effects, config.truth, seed=config.seed)
     controller = walk_controller(config, robot, pattern, trajectory, model, sim)
     record = simulate_walk(

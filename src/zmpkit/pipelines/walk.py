@@ -61,9 +61,13 @@ def run_walk(config: WalkConfig, progress: ProgressCallback | None = None) -> Wa
 
     Returns:
         The summary and the signals; nothing is written.
+
+    Raises:
+        ParameterError: before simulating, on a plan the robot's legs cannot follow
+            (:func:`~zmpkit.experiments.walk.check_realisable`).
     """
     started_s = time.time()
-    trial = run_walk_trial(config, progress)
+    trial = run_walk_trial(config, progress, realisable_only=True)
     return WalkResult(
         config, trial.summary, trial.pattern, trial.trajectory, trial.record, started_s=started_s
     )

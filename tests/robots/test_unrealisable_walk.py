@@ -1,0 +1,60 @@
+"""A walk the robot's legs cannot follow is refused before it is simulated, not a fall.
+
+The test biped asked to walk with its CoM at 0.62 m, above what its legs reach: the
+whole-body IK leaves the CoM and the soles centimetres from the plan (the built-in robots'
+walks leave at most 0.14 mm), and ``zmpkit walk`` says so in one line, exit 2.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from helpers.biped import BIPED_MJCF
+from zmpkit.cli import main
+from zmpkit.errors import ParameterError
+from zmpkit.experiments.walk import IK_REALISABLE_M, check_realisable
+from zmpkit.walking.ik import JointTrajectory
+
+
+def test_a_walk_above_the_legs_reach_is_refused_in_one_line(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    model = tmp_path / "biped.xml"
+    model.write_text(BIPED_MJCF, encoding="utf-8")
+    robot_yaml = tmp_path / "robot.yaml"
+    assert main(["robot", "init", str(model), "--out", str(robot_yaml)]) == 0
+    with robot_yaml.open("a", encoding="utf-8") as f:
+        f.write("walking:\n  com_height: 0.62\n")
+    out = tmp_path / "walk"
+    capsys.readouterr()
+    assert main(["walk", "--robot", str(robot_yaml), "--duration", "3", "--out", str(out)]) == 2
+    (line,) = capsys.readouterr().err.strip().splitlines()
+    assert (
+        "the robot's legs cannot follow this walk's plan: the whole-body IK leaves the CoM" in line
+    )
+    assert f"more than {1e3 * IK_REALISABLE_M:g} mm" in line
+    assert not out.exists()
+
+
+def _trajectory(com_error: float, foot_error: float) -> JointTrajectory:
+    n = 5
+    return JointTrajectory(
+        time_s=np.linspace(0.0, 0.4, n),
+        joint_names=("j",),
+        q_rad=np.zeros((n, 1)),
+        base_qpos=np.zeros((n, 7)),
+        com_error_m=np.array([0.0, com_error, 0.0, 0.0, 0.0]),
+        foot_error_m=np.array([0.0, 0.0, 0.0, foot_error, 0.0]),
+        torso_error_rad=np.zeros(n),
+    )
+
+
+def test_the_bar_is_the_ik_error_and_names_when() -> None:
+    check_realisable(_trajectory(IK_REALISABLE_M, IK_REALISABLE_M))  # on the bar: realisable
+    with pytest.raises(ParameterError, match=r"CoM 6\.0 mm off \(at 0\.10 s\) and a sole 1\.0"):
+        check_realisable(_trajectory(0.006, 0.001))
+    with pytest.raises(ParameterError, match=r"a sole 20\.0 mm off \(at 0\.30 s\)"):
+        check_realisable(_trajectory(0.0, 0.02))
