@@ -59,3 +59,17 @@ def test_a_plane_the_robot_cannot_lean_in_is_one_line(
         "it can lean in: sagittal"
     )
     assert not out.exists()
+
+
+def test_a_report_says_which_effects_a_robot_without_truth_simulated(
+    no_ankle_roll: Path,
+) -> None:
+    """A robot file without a truth has no motor, gear or link values: ``all`` runs its
+    sensor errors only, and the reports say so instead of "every effect on"."""
+    robot = get_robot(str(no_ankle_roll))
+    assert robot.simulated_effects_note("all") == (
+        " (simulated: S; the robot has no truth values for M, I, G, F)"
+    )
+    assert robot.simulated_effects_note("S") == ""
+    assert robot.simulated_effects_note("none") == ""
+    assert get_robot("nao").simulated_effects_note("all") == ""  # a truth for every effect

@@ -8,7 +8,7 @@ target passes for a validated one. Empty cells of Table 1 carry a mark whose not
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from pathlib import Path
 
 import numpy as np
@@ -95,7 +95,8 @@ def _summary(c: BalanceConfig, title: str) -> str:
     fitted = set(np.round(c.fit_targets_m, 6))
     held_out = [x for x in c.targets_m if round(x, 6) not in fitted]
     return (
-        f"Paper A's balance experiment on the virtual {title}, {_effects(c.effects)}: LIPM "
+        f"Paper A's balance experiment on the virtual {title}, {_effects(c.effects)}"
+        f"{get_robot(c.robot).simulated_effects_note(c.effects, c.truth)}: LIPM "
         "step trials; identification of the steady-state error model from the force–torque "
         f"ZMP, fitted on the LIPM steps at **{_targets(c.fit_targets_m)} m**; then every target "
         "under the gain-scheduled DLIPM (paper A eq. 7–11, ζ = "
@@ -441,17 +442,24 @@ _CAPTIONS = {
     "(one colour per target, dashed: the target) under the LIPM and the DLIPM, and both at one "
     "target ({plane}, paper A Fig. 21); a red × ends a trial that did not settle, with its "
     "status in the legend.",
-    "fig18": "Planned ankle lean [rad] over time [s] for the 0.09 m ZMP step under the DLIPM and "
-    "the linear correction, before the servo limits ({plane}; paper A Fig. 18).",
+    "fig18": "Planned ankle lean [rad] over time [s] for the {target} ZMP step under the DLIPM and "
+    "the linear correction, before the servo limits ({plane}; paper A Fig. 18 at 0.09 m).",
 }
 
 
-def balance_figures(paths: Sequence[Path]) -> tuple[Figure, ...]:
-    """The balance figures with their captions (by the paper's figure number in the name)."""
+def balance_figures(
+    paths: Sequence[Path], planned_targets_m: Mapping[str, float] | None = None
+) -> tuple[Figure, ...]:
+    """The balance figures with their captions (by the paper's figure number in the name).
+
+    ``planned_targets_m``: plane → the ZMP step of its planned-lean figure [m].
+    """
     figures = []
     for path in paths:
         key, _, rest = path.stem.partition("_")
         plane = rest.split("_")[0]
         template = _CAPTIONS.get(key, "{plane}: " + path.stem.replace("_", " ") + ".")
-        figures.append(Figure(path, template.format(plane=plane)))
+        planned = (planned_targets_m or {}).get(plane)
+        target = "largest" if planned is None else f"{planned:g} m"
+        figures.append(Figure(path, template.format(plane=plane, target=target)))
     return tuple(figures)

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -18,7 +19,7 @@ from zmpkit.analysis.balance_targets import BalanceTargets, balance_targets
 from zmpkit.analysis.balance_verdict import PlaneVerdict, plane_verdict
 from zmpkit.analysis.report_files import write_report
 from zmpkit.analysis.step_plot import Curve, plot_step_responses
-from zmpkit.analysis.table1 import write_table1_csv
+from zmpkit.analysis.table1 import Table1Row, write_table1_csv
 from zmpkit.experiments import CONTROL_PERIOD_S
 from zmpkit.pipelines.balance import BalanceResult, PlaneResult
 from zmpkit.pipelines.balance_document import (
@@ -30,7 +31,20 @@ from zmpkit.pipelines.videos import write_step_trial_video
 
 __all__ = ["BalanceArtifacts", "write_balance_outputs"]
 
-_PLANNED_TARGET_M = 0.09  # paper A Fig. 18 and 21b
+PAPER_PLANNED_TARGET_M = 0.09
+"""Paper A's planned lean (Fig. 18 and 21b) is for this ZMP step [m]."""
+
+
+def planned_target_m(rows: Sequence[Table1Row]) -> float:
+    """The ZMP step whose planned lean is drawn [m].
+
+    Paper A's 0.09 m where the run reaches it, else the run's largest target (a smaller
+    robot's).
+    """
+    largest = max((abs(r.zmp_ref) for r in rows), default=PAPER_PLANNED_TARGET_M)
+    return PAPER_PLANNED_TARGET_M if largest >= PAPER_PLANNED_TARGET_M else largest
+
+
 _PLANNED_DURATION_S = 15.0
 
 
@@ -79,7 +93,12 @@ def write_balance_outputs(
     video = write_step_trial_video(result, out) if result.config.video else None
     videos = () if video is None or video.path is None else (video.path,)
     document = balance_document(
-        result, balance_figures(figures), verdicts, videos=step_trial_videos(result, videos)
+        result,
+        balance_figures(
+            figures, {name: planned_target_m(p.rows) for name, p in result.planes.items()}
+        ),
+        verdicts,
+        videos=step_trial_videos(result, videos),
     )
     report = write_report(document, out, report_format)
     targets = {name: balance_targets(name, plane.rows) for name, plane in result.planes.items()}
@@ -116,19 +135,20 @@ def _plane_figures(plane: PlaneResult, out: Path) -> list[Path]:
 
 
 def _planned_angles(plane: PlaneResult, path: Path) -> Path:
-    """The ankle-angle plans of the scheduled DLIPM and the linear correction at 0.09 m."""
+    """The ankle-angle plans of the scheduled DLIPM and the linear correction at one target."""
+    target = planned_target_m(plane.rows)
     n = round(_PLANNED_DURATION_S / CONTROL_PERIOD_S)
     t = np.arange(n + 1, dtype=np.float64) * CONTROL_PERIOD_S
     curves = []
     for kind, factory in plane.factories.items():
         controller = factory()
-        controller.set_target(_PLANNED_TARGET_M)
+        controller.set_target(target)
         angles = np.array([0.0] + [controller.step() for _ in range(n)])
         curves.append(Curve(f"{kind} plan (before the servo limits)", t, angles))
-    lipm = math.asin(_PLANNED_TARGET_M / plane.lean_length_m)
+    lipm = math.asin(target / plane.lean_length_m)
     return plot_step_responses(
         curves,
         path,
-        title=f"Planned lean for a {_PLANNED_TARGET_M:g} m ZMP step, {plane.plane}",
+        title=f"Planned lean for a {target:g} m ZMP step, {plane.plane}",
         reference_rad=lipm,
     )

@@ -243,7 +243,8 @@ def walk_document(result: WalkResult) -> ReportDocument:
         f"The virtual {title} walked {c.duration_s:g} s at a commanded {c.speed_mps:g} m/s "
         f"(lateral {c.lateral_speed_mps:g} m/s, turning {c.turn_rate_rps:g} rad/s) with "
         f"{c.step_duration_s:g} s steps: 3D-LIPM preview-control pattern, whole-body IK, "
-        f"controller `{c.controller}`, {effects_name(c.effects)}."
+        f"controller `{c.controller}`, {effects_name(c.effects)}"
+        f"{get_robot(c.robot).simulated_effects_note(c.effects, c.truth)}."
         + (f" Pushes: {', '.join(s.pushes)}." if s.pushes else "")
     )
     body: list[Block] = [

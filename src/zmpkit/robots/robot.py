@@ -268,6 +268,30 @@ class Robot:
         """The simulator's description with ``effects`` on and ``truth`` (None: shipped)."""
         return self.describe(effects, truth)
 
+    def simulated_effects_note(
+        self, effects: EffectSet | str, truth: Truth | str | Path | None = None
+    ) -> str:
+        """What a report says of ``effects`` when the robot simulates fewer [text].
+
+        Empty when the robot simulates what was asked; else e.g. ``" (simulated: S; the
+        robot has no truth values for M, I, G, F)"``: a robot file without a truth has no
+        motor, gear or link values, and ``all`` then runs its sensor errors only.
+        """
+        asked = EffectSet.parse(effects)
+        simulated = self.describe(effects, truth).effects
+        if simulated == asked:
+            return ""
+        flags = ("motor", "inductance", "gear", "flex", "sensors")
+        dropped = [
+            letter
+            for letter, name in zip("MIGFS", flags, strict=True)
+            if getattr(asked, name) and not getattr(simulated, name)
+        ]
+        return (
+            f" (simulated: {simulated.letters}; the robot has no truth values for "
+            f"{', '.join(dropped)})"
+        )
+
     def make_simulation(
         self,
         effects: EffectSet | str = "all",
