@@ -13,6 +13,7 @@ import pytest
 from zmpkit.analysis.balance_validation import evaluate_trial, percent_error
 from zmpkit.analysis.balance_verdict import plane_verdict
 from zmpkit.analysis.table1 import (
+    ABSOLUTE_COLUMNS,
     BASE_COLUMNS,
     FEEDBACK_COLUMNS,
     STATUS_COLUMNS,
@@ -48,6 +49,20 @@ def test_outcome_matches_second_order_closed_form() -> None:
     envelope_settle = -math.log(0.05 * math.sqrt(1 - ZETA**2)) / (ZETA * OMEGA_N)
     assert outcome.settling_time_s == pytest.approx(envelope_settle, abs=2 * math.pi / OMEGA_N)
     assert 0.0 < outcome.rms_oscillation_m < 0.1116
+
+
+def test_a_small_step_has_its_error_in_mm_and_no_overshoot_from_noise() -> None:
+    """A 3 mm target the robot barely moves to (0.05 mm, under 5 σ of 20 µm noise): the
+    overshoot of such a step is noise over noise (it read thousands of percent); the error
+    is stated in mm beside the percentage."""
+    small = evaluate_trial("lipm", _trial(0.003, 0.00005))
+    assert small.overshoot_pct is None
+    assert small.settling_time_s is None
+    assert small.error_mm == pytest.approx(0.05 - 3.0, abs=0.02)
+    assert small.error_pct == pytest.approx(100 * (0.00005 - 0.003) / 0.003, abs=1.0)
+    clear = evaluate_trial("lipm", _trial(0.003, 0.0031))  # 3.1 mm ≫ 5 σ: measured
+    assert clear.overshoot_pct == pytest.approx(37.2, abs=2.0)
+    assert clear.error_mm == pytest.approx(0.1, abs=0.02)
 
 
 def test_zero_target_has_no_percent_error() -> None:
@@ -122,7 +137,12 @@ def test_earlier_columns_are_kept_and_the_new_ones_follow() -> None:
     assert TABLE1_COLUMNS[: len(ORIGINAL_COLUMNS)] == ORIGINAL_COLUMNS
     status_end = len(ORIGINAL_COLUMNS) + len(STATUS_COLUMNS)
     assert TABLE1_COLUMNS[len(ORIGINAL_COLUMNS) : status_end] == STATUS_COLUMNS
-    assert TABLE1_COLUMNS[status_end:] == FEEDBACK_COLUMNS
+    feedback_end = status_end + len(FEEDBACK_COLUMNS)
+    assert TABLE1_COLUMNS[status_end:feedback_end] == FEEDBACK_COLUMNS
+    assert TABLE1_COLUMNS[feedback_end:] == ABSOLUTE_COLUMNS == (
+        "lipm_error_mm", "dlipm_error_mm", "linear_error_mm", "lipm_pid_error_mm",
+        "dlipm_fb_error_mm",
+    )  # fmt: skip
     assert "lipm_drift_mm_s" in STATUS_COLUMNS
     assert STATUS_COLUMNS[-1] == "extrapolated"
     assert FEEDBACK_COLUMNS[:4] == (

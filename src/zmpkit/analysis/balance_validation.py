@@ -8,6 +8,13 @@ response first reaches it. A trial that did not settle (the detector's creep che
 :func:`zmpkit.signals.steady_state`) has none of these; it keeps its status, the drift rate
 at its end [mm/s], its hold [s] and the error over its last second [%], so a report can say
 "did not settle within H s (drift X mm/s)".
+
+At small targets a percentage says little: the absolute error [mm] stands beside it
+(:attr:`ControllerOutcome.error_mm`), and overshoot and settling time are measured only on
+a step that stands out of the noise: the measured step (settled value − value before the
+step) at least :data:`MIN_STEP_NOISE_RATIO` times the ZMP's sample-to-sample noise
+(σ = 1.4826·MAD(Δy)/√2); a 3 mm target the robot barely moves to would otherwise read an
+overshoot of thousands of percent of a step that is noise.
 """
 
 from __future__ import annotations
@@ -18,18 +25,23 @@ import numpy as np
 from numpy.typing import NDArray
 
 from zmpkit.signals import SteadyState, StepTrial, steady_state
+from zmpkit.signals.steady_state import MAD_TO_SIGMA
 from zmpkit.signals.step_metrics import step_metrics
 
 __all__ = [
     "END_WINDOW_S",
+    "MIN_STEP_NOISE_RATIO",
     "OUTCOME_STATUSES",
     "SETTLING_BAND",
     "ControllerOutcome",
     "evaluate_trial",
     "percent_error",
+    "step_stands_out",
 ]
 
 SETTLING_BAND = 0.05  # settling band, a fraction of the step size [-]
+MIN_STEP_NOISE_RATIO = 5.0
+"""Overshoot and settling are measured on steps at least this many noise σ tall [-]."""
 END_WINDOW_S = 1.0
 """The end error is the mean over this last part of the record [s]."""
 OUTCOME_STATUSES = ("settled", "drifting", "oscillating", "short", "tipping")
@@ -67,6 +79,12 @@ class ControllerOutcome:
     def zmp_measured(self) -> float | None:
         """Settled measured ZMP [m], None if the trial did not settle."""
         return self.steady.value
+
+    @property
+    def error_mm(self) -> float | None:
+        """Settled measured ZMP − target [mm]; None if the trial did not settle."""
+        value = self.steady.value
+        return None if value is None else 1e3 * (value - self.trial.zmp_ref)
 
     @property
     def status(self) -> str:
@@ -125,7 +143,7 @@ def evaluate_trial(
         steady = replace(steady, value=None, std_error=None, settled=False, reason=hold_note)
     final = steady.value
     overshoot = settling = rms = None
-    if final is not None and trial.zmp_ref != 0.0:
+    if final is not None and trial.zmp_ref != 0.0 and step_stands_out(trial, final):
         metrics = step_metrics(
             trial.time,
             trial.zmp_measured,
@@ -147,6 +165,12 @@ def evaluate_trial(
         hold_end=hold_end,
         hold_note=hold_note,
     )
+
+
+def step_stands_out(trial: StepTrial, final: float) -> bool:
+    """Whether the measured step is at least :data:`MIN_STEP_NOISE_RATIO` noise σ tall."""
+    noise = MAD_TO_SIGMA * float(np.median(np.abs(np.diff(trial.zmp_measured)))) / np.sqrt(2.0)
+    return abs(final - _pre_step_value(trial)) >= MIN_STEP_NOISE_RATIO * noise
 
 
 def _pre_step_value(trial: StepTrial) -> float:

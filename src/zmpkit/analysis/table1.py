@@ -7,7 +7,9 @@ unsettled [mm/s] and the error over its last second [%]; and ``extrapolated`` (1
 target lies outside the range of measured ZMPs the error model was fitted on, so the
 controllers ran the model beyond its data). Last, :data:`FEEDBACK_COLUMNS`: the same
 measures for the LIPM with a PI on the measured ZMP (``lipm_pid_*``) and the DLIPM with
-that PI (``dlipm_fb_*``), empty unless the run had ``--dlipm-feedback``.
+that PI (``dlipm_fb_*``), empty unless the run had ``--dlipm-feedback``; then
+:data:`ABSOLUTE_COLUMNS`: each controller's settled error in mm (measured − target), which
+at a small target says more than the percentage.
 """
 
 from __future__ import annotations
@@ -21,6 +23,7 @@ from zmpkit.analysis.balance_validation import ControllerOutcome
 from zmpkit.control.schedule import EXTRAPOLATION_TOLERANCE_M
 
 __all__ = [
+    "ABSOLUTE_COLUMNS",
     "BASE_COLUMNS",
     "FEEDBACK_COLUMNS",
     "STATUS_COLUMNS",
@@ -64,7 +67,9 @@ FEEDBACK_COLUMNS = tuple(
     f"{c}_{name}" for c in _FEEDBACK_CONTROLLERS for name in (*_MEASURES, *_STATUS_FIELDS)
 )
 """Columns after :data:`STATUS_COLUMNS`: LIPM+PID and DLIPM+feedback, when they ran."""
-TABLE1_COLUMNS = BASE_COLUMNS + STATUS_COLUMNS + FEEDBACK_COLUMNS
+ABSOLUTE_COLUMNS = tuple(f"{c}_error_mm" for c in (*_CONTROLLERS, *_FEEDBACK_CONTROLLERS))
+"""Last columns: each controller's settled error, measured − target [mm]."""
+TABLE1_COLUMNS = BASE_COLUMNS + STATUS_COLUMNS + FEEDBACK_COLUMNS + ABSOLUTE_COLUMNS
 
 
 @dataclass(frozen=True)
@@ -150,6 +155,7 @@ class Table1Row:
             cells[f"{name}_hold_s"] = _fmt(o.hold_s)
             cells[f"{name}_drift_mm_s"] = _fmt(o.drift_mm_s)
             cells[f"{name}_end_error_pct"] = _fmt(o.end_error_pct)
+            cells[f"{name}_error_mm"] = _fmt(o.error_mm)
         cells["extrapolated"] = "1" if self.extrapolated else "0"
         return cells
 

@@ -14,7 +14,11 @@ from pathlib import Path
 import numpy as np
 
 from zmpkit.analysis.balance_targets import TRANSIENT_FROM_M, balance_targets
-from zmpkit.analysis.balance_validation import ControllerOutcome
+from zmpkit.analysis.balance_validation import (
+    MIN_STEP_NOISE_RATIO,
+    ControllerOutcome,
+    step_stands_out,
+)
 from zmpkit.analysis.balance_verdict import Bar, PlaneVerdict
 from zmpkit.analysis.provenance import capture
 from zmpkit.analysis.report_document import (
@@ -356,8 +360,10 @@ def controller_blocks(plane: PlaneResult) -> tuple[Block, ...]:
 _TABLE1_COLUMNS = (
     ("lipm", "zmp_measured", ".5f", "LIPM ZMP [m]"),
     ("lipm", "error_pct", ".1f", "LIPM error [%]"),
+    ("lipm", "error_mm", ".2f", "LIPM error [mm]"),
     ("dlipm", "zmp_measured", ".5f", "DLIPM ZMP [m]"),
     ("dlipm", "error_pct", ".1f", "DLIPM error [%]"),
+    ("dlipm", "error_mm", ".2f", "DLIPM error [mm]"),
     ("linear", "error_pct", ".1f", "linear error [%]"),
     ("lipm", "overshoot_pct", ".1f", "LIPM overshoot [%]"),
     ("dlipm", "overshoot_pct", ".1f", "DLIPM overshoot [%]"),
@@ -410,6 +416,13 @@ def _why_empty(outcome: ControllerOutcome, target_m: float, attribute: str) -> s
         return f"{name} at {target_m:g} m {outcome.unsettled_text()}"
     if target_m == 0.0 and attribute != "zmp_measured":
         return "target 0 m: an error or step metric relative to a zero step is undefined"
+    value = outcome.steady.value
+    stepped = value is not None and step_stands_out(outcome.trial, value)
+    if attribute in ("overshoot_pct", "settling_time_s") and not stepped:
+        return (
+            f"{name} at {target_m:g} m: the measured step is within "
+            f"{MIN_STEP_NOISE_RATIO:g} σ of the ZMP's noise, too small to time or to overshoot"
+        )
     if attribute == "settling_time_s":
         return f"{name} at {target_m:g} m: did not stay within ±5 % of the step before the end"
     return f"{name} at {target_m:g} m: undefined (the response never reached its settled value)"
