@@ -188,8 +188,8 @@ def walk_controller(
 IK_REALISABLE_M = 0.005
 """A plan is realisable when the whole-body IK follows its CoM and soles within this [m].
 
-The built-in robots' walks leave at most 0.14 mm (a turning NAO walk); a leg that cannot
-reach its footstep leaves centimetres, and the walk then falls for a reason that is not the
+The shipped robots' walks leave at most 0.14 mm (a turning walk); a leg that cannot reach
+its footstep leaves centimetres, and the walk then falls for a reason that is not the
 robot's balance."""
 
 
