@@ -9,8 +9,15 @@ import click
 from zmpkit.robots.registry import get_robot, missing_reason, robot_names, robots_that
 from zmpkit.robots.robot_check import check_robot
 from zmpkit.robots.robot_init import write_robot_file
+from zmpkit.robots.truth_template import write_truth_template
 
-__all__ = ["robot_check_command", "robot_group", "robot_init_command", "robot_list_command"]
+__all__ = [
+    "robot_check_command",
+    "robot_group",
+    "robot_init_command",
+    "robot_list_command",
+    "robot_truth_init_command",
+]
 
 
 @click.group("robot")
@@ -55,6 +62,26 @@ def robot_init_command(model: Path, out: Path, packages: tuple[str, ...]) -> Non
     for note in guess.notes:
         click.echo(f"guessed {note}")
     click.echo(f"wrote {out}; check the guesses, then: zmpkit robot check {out}")
+
+
+@robot_group.group("truth")
+def robot_truth_group() -> None:
+    """The truth of your robot's effects (motors, gears, links): what the simulator plays."""
+
+
+@robot_truth_group.command("init")
+@click.argument("robot_file", type=click.Path(path_type=Path))
+@click.option(
+    "--out", type=click.Path(path_type=Path), required=True, help="The truth YAML to write."
+)
+def robot_truth_init_command(robot_file: Path, out: Path) -> None:
+    """Write a first truth for ROBOT_FILE's leg drives: what the model states, the rest ASSUMED."""
+    template = write_truth_template(robot_file, out)
+    click.echo(
+        f"wrote {out}: {template.from_model} values from the model, {template.assumed} ASSUMED "
+        "(marked in the file: replace them with your robot's)"
+    )
+    click.echo(f"add `truth: {out}` to {robot_file} (a path relative to it) to simulate them")
 
 
 @robot_group.command("check")

@@ -106,7 +106,8 @@ def missing_reason(name: str) -> str | None:
 _NEEDS = {
     "balance": "it has no balance model",
     "walking": "it has no walking defaults",
-    "fit": "it has no simulator-fit catalogue",
+    "fit": "it has no simulator-fit catalogue; a robot.yaml gets one from a `truth:` file, "
+    "which `zmpkit robot truth init robot.yaml --out truth.yaml` starts",
 }
 
 

@@ -1,0 +1,207 @@
+r"""``zmpkit robot truth init``: a first servo truth for a user's robot, every guess marked.
+
+A robot file without a ``truth:`` has no motor, gear or link values: ``--effects all`` runs
+its sensor errors only, and the simulator fit has nothing to fit. This writes a truth in the
+layout of :mod:`zmpkit.robots.servo_truth` for the robot's leg joints (one motor model for
+all of them, the layout's), taking from the model what it states, over the leg joints
+(their median):
+
+- the **position gain** ``kp`` and **damping** ``kd`` of a position actuator
+  (``gainprm[0]``, ``−biasprm[2]``), else :math:`k_p = \tau_{stall} / 0.05` rad (ASSUMED:
+  the drive saturates at 0.05 rad of error; the OP3's soft factory gains saturate at
+  0.22 rad, and it walks at half speed) and :math:`k_d = 0.02\,k_p` s;
+- the **stall torque** from the actuator's ``forcerange`` or the joint's
+  ``actuatorfrcrange`` (a URDF's ``<limit effort>``), else
+  :math:`\tau_{stall} = \tfrac12 m g h_{hip}` (ASSUMED: holds the robot on one bent leg);
+- the **armature** (:math:`J N^2`, the rotor inertia seen at the joint) and the joint's
+  **Coulomb friction** (``frictionloss``).
+
+Everything else is ASSUMED and marked so in the file: gear ratio :math:`N = 200`, supply
+12 V, no-load joint speed :math:`\omega_{nl} = 6` rad/s, from which the DC motor follows as
+in the OP3's truth: :math:`K = V / (\omega_{nl} N)` and :math:`R = N K V / \tau_{stall}`;
+a rotor inertia of :math:`10^{-6} \max(1, m / 3\,\mathrm{kg})` kg·m² when the model
+states no armature; inductance 0.1 mH; a current drive; a gear three times as stiff as the
+servo (a kid-size robot's gears: NAO's about 840 N·m/rad, the OP3's 400) with 0.25° of
+backlash; no flexible link. The template is checked to stand (tests). Replace each
+ASSUMED value with the robot's when known.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from pathlib import Path
+
+import mujoco
+import numpy as np
+
+from zmpkit.robots.robot_file import RobotFile, read_robot_file
+from zmpkit.robots.user_model import UserModel, load_spec, user_model
+from zmpkit.robots.user_walking import leg_length_m
+
+__all__ = ["ASSUMED", "TruthTemplate", "truth_template", "write_truth_template"]
+
+ASSUMED = "ASSUMED"
+"""The mark of a value the model does not state."""
+GEAR_RATIO = 200.0
+SUPPLY_V = 12.0
+NO_LOAD_SPEED_RAD_S = 6.0
+INDUCTANCE_H = 1.0e-4
+GEAR_STIFFNESS_PER_KP = 3.0
+SATURATING_ERROR_RAD = 0.05
+KD_PER_KP_S = 0.02
+ROTOR_INERTIA_KG_M2 = 1.0e-6
+ROTOR_REFERENCE_MASS_KG = 3.0
+BACKLASH_RAD = 0.00436  # 0.25°
+G = 9.81
+
+
+@dataclass(frozen=True)
+class TruthTemplate:
+    """The template's text and how many of its values came from the model.
+
+    Attributes:
+        text: the truth YAML, each value's source in a comment.
+        from_model: how many values the model states.
+        assumed: how many are ASSUMED.
+    """
+
+    text: str
+    from_model: int
+    assumed: int
+
+
+class _Values:
+    """Values with their sources, in the order they are written."""
+
+    def __init__(self) -> None:
+        self.lines: list[str] = []
+        self.from_model = 0
+        self.assumed = 0
+
+    def add(self, key: str, value: float | str, source: str | None, indent: int = 2) -> None:
+        """A ``key: value`` line; ``source`` None marks it ASSUMED."""
+        text = f"{value:.6g}" if isinstance(value, float) else str(value)
+        comment = f"from the model: {source}" if source else ASSUMED
+        self.lines.append(f"{' ' * indent}{key}: {text}".ljust(40) + f"# {comment}")
+        if source:
+            self.from_model += 1
+        else:
+            self.assumed += 1
+
+
+def _median(values: list[float]) -> float | None:
+    return float(np.median(values)) if values else None
+
+
+def _leg_facts(file: RobotFile) -> dict[str, float | None]:
+    """What the model states about its leg joints' drives (module docstring)."""
+    model = load_spec(file.model, file.packages).compile()
+    kp, kd, torque, armature, friction = [], [], [], [], []
+    for name in file.leg_joints:
+        joint = model.joint(name).id
+        dof = int(model.jnt_dofadr[joint])
+        if model.jnt_actfrclimited[joint]:
+            torque.append(float(np.max(np.abs(model.jnt_actfrcrange[joint]))))
+        for a in range(model.nu):
+            if model.actuator_trntype[a] != mujoco.mjtTrn.mjTRN_JOINT:
+                continue
+            if int(model.actuator_trnid[a, 0]) != joint:
+                continue
+            gear = abs(float(model.actuator_gear[a, 0])) or 1.0
+            if model.actuator_biastype[a] == mujoco.mjtBias.mjBIAS_AFFINE:
+                kp.append(float(model.actuator_gainprm[a, 0]) * gear)
+                kd.append(-float(model.actuator_biasprm[a, 2]) * gear)
+            if model.actuator_forcelimited[a]:
+                torque.append(float(np.max(np.abs(model.actuator_forcerange[a]))) * gear)
+        if model.dof_armature[dof] > 0.0:
+            armature.append(float(model.dof_armature[dof]))
+        if model.dof_frictionloss[dof] > 0.0:
+            friction.append(float(model.dof_frictionloss[dof]))
+    return {
+        "kp": _median(kp),
+        "kd": _median([v for v in kd if v > 0.0]),
+        "torque": _median(torque),
+        "armature": _median(armature),
+        "friction": _median(friction),
+    }
+
+
+def truth_template(file: RobotFile, built: UserModel, hip_height_m: float) -> TruthTemplate:
+    """The truth template of ``file``'s robot (module docstring).
+
+    Args:
+        file: the robot file.
+        built: the model zmpkit simulates (its mass and ideal servo).
+        hip_height_m: the hips' height above the soles [m].
+    """
+    facts = _leg_facts(file)
+    values = _Values()
+    values.lines.append(
+        "# Truth of the effects of a robot-file robot (zmpkit robot truth init): the layout of"
+    )
+    values.lines.append(
+        "# zmpkit.robots.servo_truth, SI units. Values marked ASSUMED are guesses: replace"
+    )
+    values.lines.append("# them with the robot's own (datasheets, identification).")
+    values.add("servo_rate_hz", 1.0 / file.timestep_s, "the physics rate", indent=0)
+    torque = facts["torque"]
+    torque_source = "forcerange / actuatorfrcrange" if torque else None
+    if torque is None:
+        torque = 0.5 * built.mass_kg * G * hip_height_m
+    torque_constant = SUPPLY_V / (NO_LOAD_SPEED_RAD_S * GEAR_RATIO)
+    resistance = GEAR_RATIO * torque_constant * SUPPLY_V / torque
+    armature = facts["armature"]
+    armature_source = "joint armature" if armature else None
+    if armature is None:
+        rotor = ROTOR_INERTIA_KG_M2 * max(1.0, built.mass_kg / ROTOR_REFERENCE_MASS_KG)
+        armature = rotor * GEAR_RATIO**2
+    kp, kd = facts["kp"], facts["kd"]
+    gain = kp if kp else torque / SATURATING_ERROR_RAD
+    values.lines.append("motor:")
+    values.add("gear_ratio", GEAR_RATIO, None)
+    values.add("supply_voltage", SUPPLY_V, None)
+    values.lines.append(
+        f"  # stall torque {torque:.4g} N·m at the joint"
+        + (" (from the model)" if torque_source else " ASSUMED: half the weight at hip height")
+        + f"; no-load speed {NO_LOAD_SPEED_RAD_S:g} rad/s ASSUMED"
+    )
+    values.add("torque_constant", torque_constant, None)
+    values.add("resistance", resistance, torque_source and "R = N K V / tau_stall")
+    values.add("inductance", INDUCTANCE_H, None)
+    values.add("rotor_inertia", armature / GEAR_RATIO**2, armature_source and "armature / N^2")
+    values.add("drive", "current", None)
+    values.lines.append("pid:")
+    values.add("kp", gain, "position actuator kp" if kp else None)
+    values.add("ki", 0.0, None)
+    values.add("kd", kd if kd else KD_PER_KP_S * gain, "position actuator kv" if kd else None)
+    values.add("integral_limit_link", 0.05, None)
+    friction = facts["friction"]
+    values.lines.append("friction:")
+    values.add("coulomb_link", friction or 0.0, "joint frictionloss" if friction else None)
+    stiffness = GEAR_STIFFNESS_PER_KP * gain
+    values.lines.append("gear:")
+    values.add("stiffness", stiffness, None)
+    values.add("damping", 2.0 * math.sqrt(stiffness * armature) * 0.05, None)
+    values.add("backlash", BACKLASH_RAD, None)
+    values.add("inertia_link", 1.0e-3, None)
+    values.lines.append("flex: []                                # no flexible link ASSUMED")
+    return TruthTemplate("\n".join(values.lines) + "\n", values.from_model, values.assumed)
+
+
+def write_truth_template(robot_file: str | Path, out: str | Path) -> TruthTemplate:
+    """Write the truth template of the robot of ``robot_file`` to ``out`` (folders created).
+
+    Raises:
+        InputFileError: on a robot file with problems, one line each.
+    """
+    file = read_robot_file(robot_file)
+    built = user_model(file)
+    model = mujoco.MjModel.from_xml_string(built.mjcf)
+    data = mujoco.MjData(model)
+    mujoco.mj_forward(model, data)
+    template = truth_template(file, built, leg_length_m(model, data, file))
+    path = Path(out)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    path.write_text(template.text, encoding="utf-8")
+    return template

