@@ -3,14 +3,13 @@
 from __future__ import annotations
 
 import math
-import tracemalloc
 
 import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from helpers.allocations import alone
+from helpers.allocations import traced_growth_and_peak
 from zmpkit.control import (
     DlipmController,
     GainSchedule,
@@ -241,22 +240,9 @@ def test_step_does_not_allocate() -> None:
     controller.set_target(0.07)
     for _ in range(100):
         controller.step()
-
-    def measure() -> tuple[int, int, int]:
-        tracemalloc.start()
-        try:
-            baseline, _ = tracemalloc.get_traced_memory()
-            tracemalloc.reset_peak()
-            for _ in range(1000):
-                controller.step()
-            current, peak = tracemalloc.get_traced_memory()
-        finally:
-            tracemalloc.stop()
-        return baseline, current, peak
-
-    baseline, current, peak = alone(measure)
-    assert current - baseline < 256  # [bytes] no growth over 1000 ticks
-    assert peak - baseline < 1024  # no arrays or containers built per tick
+    growth, peak = traced_growth_and_peak(lambda _: controller.step(), 1000)
+    assert growth < 256  # [bytes] no growth over 1000 ticks
+    assert peak < 1024  # no arrays or containers built per tick
 
 
 def test_dlipm_controller_error_texts() -> None:

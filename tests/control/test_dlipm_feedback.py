@@ -3,13 +3,12 @@
 from __future__ import annotations
 
 import math
-import tracemalloc
 
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from helpers.allocations import alone
+from helpers.allocations import traced_growth_and_peak
 from zmpkit.control import (
     DlipmController,
     DlipmFeedbackController,
@@ -221,21 +220,9 @@ def test_step_does_not_allocate() -> None:
     for _ in range(100):
         fb.step(0.01)
 
-    def measure() -> tuple[int, int, int]:
-        tracemalloc.start()
-        try:
-            baseline, _ = tracemalloc.get_traced_memory()
-            tracemalloc.reset_peak()
-            for k in range(1000):
-                fb.step(None if k % 7 == 0 else 0.06)
-            current, peak = tracemalloc.get_traced_memory()
-        finally:
-            tracemalloc.stop()
-        return baseline, current, peak
-
-    baseline, current, peak = alone(measure)
-    assert current - baseline < 256  # [bytes] no growth over 1000 ticks
-    assert peak - baseline < 1024
+    growth, peak = traced_growth_and_peak(lambda k: fb.step(None if k % 7 == 0 else 0.06), 1000)
+    assert growth < 256  # [bytes] no growth over 1000 ticks
+    assert peak < 1024
 
 
 def test_gain_error_texts() -> None:

@@ -11,10 +11,11 @@ from __future__ import annotations
 
 import os
 import pickle
+import tracemalloc
 from collections.abc import Callable
 from typing import TypeVar
 
-__all__ = ["alone"]
+__all__ = ["alone", "traced_growth_and_peak"]
 
 T = TypeVar("T")
 
@@ -48,3 +49,24 @@ def alone(measure: Callable[[], T]) -> T:
     if not ok:
         raise RuntimeError(f"the measuring child failed: {value}")
     return value
+
+
+def traced_growth_and_peak(tick: Callable[[int], object], ticks: int) -> tuple[int, int]:
+    """Bytes ``tick(k)`` kept over ``ticks`` calls, and the peak above the start [B].
+
+    Measured :func:`alone` with :mod:`tracemalloc` (started just before the loop).
+    """
+
+    def measure() -> tuple[int, int]:
+        tracemalloc.start()
+        try:
+            baseline, _ = tracemalloc.get_traced_memory()
+            tracemalloc.reset_peak()
+            for k in range(ticks):
+                tick(k)
+            current, peak = tracemalloc.get_traced_memory()
+        finally:
+            tracemalloc.stop()
+        return current - baseline, peak - baseline
+
+    return alone(measure)

@@ -6,7 +6,7 @@
 
 from __future__ import annotations
 
-__all__ = ["BIPED_MASS_KG", "BIPED_MJCF", "BIPED_URDF", "LEG_M"]
+__all__ = ["BIPED_MASS_KG", "BIPED_MJCF", "BIPED_URDF", "LEG_M", "write_biped_robot"]
 
 LEG_M = 0.22
 """Thigh and shank length of the test biped [m]."""
@@ -86,3 +86,21 @@ BIPED_URDF = (
 
 BIPED_MASS_KG = 2.0 + 3.0 + 2 * (0.8 + 0.6 + 0.3)
 """The biped's mass, without zmpkit's two sole plates [kg]."""
+
+
+def write_biped_robot(folder, mjcf: str = BIPED_MJCF, model_name: str = "biped.xml"):
+    """Write ``mjcf`` into ``folder`` and ``zmpkit robot init`` it; the robot.yaml's path.
+
+    Args:
+        folder: a ``pathlib.Path`` (the test's temporary folder).
+        mjcf: the model text (default: the biped's; a test's variant of it).
+        model_name: the model's file name (``.xml`` or ``.urdf``).
+    """
+    from zmpkit.cli import main
+
+    model = folder / model_name
+    model.write_text(mjcf, encoding="utf-8")
+    robot_yaml = folder / "robot.yaml"
+    if main(["robot", "init", str(model), "--out", str(robot_yaml)]) != 0:
+        raise AssertionError(f"robot init failed on {model}")
+    return robot_yaml

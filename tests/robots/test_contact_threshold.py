@@ -13,7 +13,7 @@ from pathlib import Path
 
 import pytest
 
-from helpers.biped import BIPED_MASS_KG, BIPED_MJCF
+from helpers.biped import BIPED_MASS_KG, write_biped_robot
 from zmpkit.cli import main
 from zmpkit.errors import InputFileError
 from zmpkit.experiments import read_step_dataset
@@ -25,10 +25,7 @@ from zmpkit.simfit.experiments import read_experiments
 @pytest.fixture(scope="module")
 def dataset(tmp_path_factory: pytest.TempPathFactory) -> Path:
     folder = tmp_path_factory.mktemp("threshold")
-    model = folder / "biped.xml"
-    model.write_text(BIPED_MJCF, encoding="utf-8")
-    robot_yaml = folder / "robot.yaml"
-    assert main(["robot", "init", str(model), "--out", str(robot_yaml)]) == 0
+    robot_yaml = write_biped_robot(folder)
     out = folder / "push"
     args = ["--robot", str(robot_yaml), "--targets", "0,0.01", "--hold", "1", "--workers", "1"]
     assert main(["sim", "push", *args, "--out", str(out)]) == 0

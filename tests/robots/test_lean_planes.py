@@ -13,21 +13,16 @@ from pathlib import Path
 
 import pytest
 
-from helpers.biped import BIPED_MJCF
+from helpers.biped import BIPED_MJCF, write_biped_robot
 from zmpkit.cli import main
 from zmpkit.robots.registry import get_robot
 
 
 @pytest.fixture(scope="module")
 def no_ankle_roll(tmp_path_factory: pytest.TempPathFactory) -> Path:
-    folder = tmp_path_factory.mktemp("no_ankle_roll")
     text = re.sub(r'\s*<joint name="[rl]_ankle_roll"[^>]*/>', "", BIPED_MJCF)
     assert "ankle_roll" not in text
-    model = folder / "biped.xml"
-    model.write_text(text, encoding="utf-8")
-    out = folder / "robot.yaml"
-    assert main(["robot", "init", str(model), "--out", str(out)]) == 0
-    return out
+    return write_biped_robot(tmp_path_factory.mktemp("no_ankle_roll"), text)
 
 
 def test_the_balance_model_has_the_planes_its_ankles_lean_in(no_ankle_roll: Path) -> None:

@@ -12,7 +12,7 @@ from pathlib import Path
 
 import pytest
 
-from helpers.biped import BIPED_MJCF
+from helpers.biped import BIPED_MJCF, write_biped_robot
 from zmpkit.cli import main
 
 PELVIS_GEOM = '<geom type="box" size="0.06 0.1 0.04" mass="2"/>'
@@ -22,10 +22,8 @@ TAIL = '<geom type="capsule" fromto="-0.2 0 0 -0.2 0 -0.56" size="0.02" mass="0.
 @pytest.fixture(scope="module")
 def tailed_robot_yaml(tmp_path_factory: pytest.TempPathFactory) -> Path:
     folder = tmp_path_factory.mktemp("tailed")
+    robot_yaml = write_biped_robot(folder)
     model = folder / "biped.xml"
-    model.write_text(BIPED_MJCF, encoding="utf-8")
-    robot_yaml = folder / "robot.yaml"
-    assert main(["robot", "init", str(model), "--out", str(robot_yaml)]) == 0
     model.write_text(BIPED_MJCF.replace(PELVIS_GEOM, PELVIS_GEOM + TAIL, 1), encoding="utf-8")
     return robot_yaml
 

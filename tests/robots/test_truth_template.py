@@ -15,7 +15,7 @@ from pathlib import Path
 import pytest
 import yaml
 
-from helpers.biped import BIPED_MJCF
+from helpers.biped import write_biped_robot
 from zmpkit.cli import main
 from zmpkit.robots.registry import get_robot
 from zmpkit.robots.servo_truth import read_servo_truth
@@ -24,11 +24,7 @@ from zmpkit.robots.truth_template import ASSUMED
 
 @pytest.fixture
 def biped_yaml(tmp_path: Path) -> Path:
-    model = tmp_path / "biped.xml"
-    model.write_text(BIPED_MJCF, encoding="utf-8")
-    out = tmp_path / "robot.yaml"
-    assert main(["robot", "init", str(model), "--out", str(out)]) == 0
-    return out
+    return write_biped_robot(tmp_path)
 
 
 def test_the_op3_template_takes_what_its_model_states(

@@ -12,7 +12,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from helpers.biped import BIPED_MJCF
+from helpers.biped import write_biped_robot
 from zmpkit.cli import main
 from zmpkit.errors import ParameterError
 from zmpkit.experiments.walk import IK_REALISABLE_M, check_realisable
@@ -22,10 +22,7 @@ from zmpkit.walking.ik import JointTrajectory
 def test_a_walk_above_the_legs_reach_is_refused_in_one_line(
     tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
-    model = tmp_path / "biped.xml"
-    model.write_text(BIPED_MJCF, encoding="utf-8")
-    robot_yaml = tmp_path / "robot.yaml"
-    assert main(["robot", "init", str(model), "--out", str(robot_yaml)]) == 0
+    robot_yaml = write_biped_robot(tmp_path)
     with robot_yaml.open("a", encoding="utf-8") as f:
         f.write("walking:\n  com_height: 0.62\n")
     out = tmp_path / "walk"

@@ -13,7 +13,7 @@ from pathlib import Path
 import mujoco
 import pytest
 
-from helpers.biped import BIPED_MJCF
+from helpers.biped import BIPED_MJCF, write_biped_robot
 from zmpkit.cli import main
 from zmpkit.robots.registry import get_robot
 from zmpkit.sim.names import FLOOR_GEOM, IMU_SITE, NAMESPACE, ft_site, sole_site
@@ -27,15 +27,8 @@ THEIRS = (
 
 @pytest.fixture
 def crowded_robot_yaml(tmp_path: Path) -> Path:
-    model = tmp_path / "crowded.xml"
-    model.write_text(
-        BIPED_MJCF.replace('<geom type="box" size="0.06 0.1 0.04" mass="2"/>',
-                           '<geom type="box" size="0.06 0.1 0.04" mass="2"/>' + THEIRS, 1),
-        encoding="utf-8",
-    )  # fmt: skip
-    out = tmp_path / "robot.yaml"
-    assert main(["robot", "init", str(model), "--out", str(out)]) == 0
-    return out
+    pelvis = '<geom type="box" size="0.06 0.1 0.04" mass="2"/>'
+    return write_biped_robot(tmp_path, BIPED_MJCF.replace(pelvis, pelvis + THEIRS, 1))
 
 
 def test_a_model_with_zmpkits_old_names_goes_in_unedited(

@@ -2,13 +2,11 @@
 
 from __future__ import annotations
 
-import tracemalloc
-
 import control
 import numpy as np
 import pytest
 
-from helpers.allocations import alone
+from helpers.allocations import traced_growth_and_peak
 from zmpkit.errors import ParameterError
 from zmpkit.walking import (
     PreviewController,
@@ -163,21 +161,9 @@ def test_step_allocates_no_arrays() -> None:
     for _ in range(5):
         controller.step(window, window)
 
-    def measure() -> tuple[int, int, int]:
-        tracemalloc.start()
-        try:
-            before, _ = tracemalloc.get_traced_memory()
-            tracemalloc.reset_peak()
-            for _ in range(500):
-                controller.step(window, window)
-            after, peak = tracemalloc.get_traced_memory()
-        finally:
-            tracemalloc.stop()
-        return before, after, peak
-
-    before, after, peak = alone(measure)
-    assert after - before < 256  # no growth
-    assert peak - before < 1024  # never as much as one (N_L + 1)-array (1288 bytes)
+    growth, peak = traced_growth_and_peak(lambda _: controller.step(window, window), 500)
+    assert growth < 256  # no growth
+    assert peak < 1024  # never as much as one (N_L + 1)-array (1288 bytes)
 
 
 @pytest.mark.parametrize(
