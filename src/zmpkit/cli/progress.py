@@ -81,7 +81,30 @@ class SweepProgress(_Display):
         return update
 
 
-class SimTimeProgress(_Display):
+class _LazyDisplay(_Display):
+    """A display that appears with its first update.
+
+    An input error found before any work then prints its one line alone.
+    """
+
+    def __init__(self, *middle: Any) -> None:
+        super().__init__(*middle)
+        self._started = False
+
+    def __enter__(self) -> Any:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        if self._started:
+            self._bar.stop()
+
+    def _show(self) -> None:
+        if not self._started:
+            self._bar.start()
+            self._started = True
+
+
+class SimTimeProgress(_LazyDisplay):
     """A bar of simulated seconds; the instance is a ``progress(simulated_s, total_s)``.
 
     It appears with the first simulated step, so a walk refused before it is simulated (a
@@ -91,20 +114,10 @@ class SimTimeProgress(_Display):
     def __init__(self, label: str) -> None:
         super().__init__("{task.completed:.1f}/{task.total:.1f} s simulated")
         self._task = self._bar.add_task(label, total=0.0)
-        self._started = False
-
-    def __enter__(self) -> SimTimeProgress:
-        return self
-
-    def __exit__(self, *exc: object) -> None:
-        if self._started:
-            self._bar.stop()
 
     def __call__(self, simulated_s: float, total_s: float) -> None:
         """Show ``simulated_s`` of ``total_s`` simulated seconds."""
-        if not self._started:
-            self._bar.start()
-            self._started = True
+        self._show()
         self._bar.update(self._task, completed=simulated_s, total=total_s)
 
 
@@ -122,7 +135,7 @@ class StageProgress(_Display):
         self._bar.update(self._tasks[stage], completed=finished, total=total)
 
 
-class GenerationProgress(_Display):
+class GenerationProgress(_LazyDisplay):
     """A bar of CMA-ES generations with the best cost and ETA.
 
     The instance is the fit's ``progress(FitProgress)`` callback. It appears with the first
@@ -133,20 +146,10 @@ class GenerationProgress(_Display):
         super().__init__(_COUNT(), "best cost {task.fields[best]}", "ETA {task.fields[eta]}")
         self._task = self._bar.add_task(label, total=None, best="–", eta="–")
         self._label = label
-        self._started = False
-
-    def __enter__(self) -> GenerationProgress:
-        return self
-
-    def __exit__(self, *exc: object) -> None:
-        if self._started:
-            self._bar.stop()
 
     def __call__(self, progress: Any) -> None:
         """Show one finished generation (a ``FitProgress``)."""
-        if not self._started:
-            self._bar.start()
-            self._started = True
+        self._show()
         restart = getattr(progress, "restart", 0)
         label = f"{self._label} (restart {restart}, {progress.popsize})" if restart else self._label
         self._bar.update(
