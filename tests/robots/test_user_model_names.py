@@ -46,3 +46,24 @@ def test_a_model_with_zmpkits_old_names_goes_in_unedited(
     for side in ("right", "left"):
         assert model.site(ft_site(side)).name.startswith(NAMESPACE)
         assert model.site(sole_site(side)).name.startswith(NAMESPACE)
+
+
+def test_a_model_whose_defaults_switch_collisions_off_stands_on_zmpkits_plates(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """Menagerie's Apollo gives every geom ``contype`` 0 and ``condim`` 1 by default (its
+    scene file adds explicit foot-floor pairs): robot init finds the feet among all geoms,
+    and zmpkit's floor and sole plates collide, with friction, whatever the defaults say
+    (before: "found fewer than two separate lowest bodies (feet)", then a robot that fell
+    through the floor)."""
+    defaults = '<default><geom contype="0" conaffinity="0" condim="1"/></default>'
+    mjcf = BIPED_MJCF.replace('<compiler angle="radian"/>', '<compiler angle="radian"/>' + defaults)
+    robot_yaml = write_biped_robot(tmp_path, mjcf)
+    capsys.readouterr()
+    assert main(["robot", "check", str(robot_yaml)]) == 0
+    assert "F-T vs contact" in capsys.readouterr().out
+    model = get_robot(str(robot_yaml)).make_simulation("none").model
+    for side in ("right", "left"):
+        plate = model.geom(f"{NAMESPACE}{side}_sole")
+        assert plate.contype == 1
+        assert plate.condim == 3

@@ -31,7 +31,7 @@ import numpy as np
 import yaml
 
 from zmpkit.errors import InputFileError
-from zmpkit.robots.user_model import geom_corners, load_spec
+from zmpkit.robots.user_model import collision_geoms, geom_corners, load_spec
 
 __all__ = ["RobotGuess", "guess_robot", "guess_robot_file", "write_robot_file"]
 
@@ -58,11 +58,15 @@ class RobotGuess:
 
 
 def _lowest_z(model: mujoco.MjModel, data: mujoco.MjData) -> dict[int, float]:
-    """Each body's lowest collision-geom point at the initial pose [m] (bodies with geoms)."""
+    """Each body's lowest collision-geom point at the initial pose [m] (bodies with geoms).
+
+    Collision geoms as :func:`~zmpkit.robots.user_model.collision_geoms` finds them.
+    """
     low: dict[int, float] = {}
+    colliding = collision_geoms(model)
     for g in range(model.ngeom):
         body = int(model.geom_bodyid[g])
-        if body == 0 or not (model.geom_contype[g] or model.geom_conaffinity[g]):
+        if body == 0 or not colliding[g]:
             continue
         z = float(geom_corners(model, data, g)[:, 2].min())
         low[body] = min(low.get(body, np.inf), z)
@@ -102,12 +106,8 @@ def _hinges(model: mujoco.MjModel, bodies: list[int]) -> list[str]:
 
 
 def _foot_geoms(model: mujoco.MjModel, foot: int) -> list[int]:
-    return [
-        g
-        for g in range(model.ngeom)
-        if int(model.geom_bodyid[g]) == foot
-        and (model.geom_contype[g] or model.geom_conaffinity[g])
-    ]
+    colliding = collision_geoms(model)
+    return [g for g in range(model.ngeom) if int(model.geom_bodyid[g]) == foot and colliding[g]]
 
 
 def _forward(model: mujoco.MjModel, data: mujoco.MjData, feet: list[int]) -> tuple[str, str, bool]:

@@ -48,11 +48,13 @@ from zmpkit.sim.standard_sensors import add_standard_sensors
 
 __all__ = [
     "ACTUATOR_TAGS",
+    "COLLISION_GROUP",
     "YAW_TO_FACE_X_RAD",
     "FootPrint",
     "UserModel",
     "body_names",
     "check_names",
+    "collision_geoms",
     "compile_model",
     "drop_missing_meshes",
     "face_world_x",
@@ -66,6 +68,8 @@ __all__ = [
 ]
 
 _FLOOR_FRICTION = 1.0
+_FLOOR_CONTACT = {"contype": "1", "conaffinity": "1", "condim": "3", "margin": "0", "gap": "0"}
+"""The floor's collision attributes, explicit: the model's geom defaults are not the floor's."""
 _SOLREF = "0.005 1"
 _SOLIMP = "0.9 0.95 0.001"
 _PLATE_MASS_FRACTION = 0.002
@@ -264,8 +268,23 @@ def geom_corners(model: mujoco.MjModel, data: mujoco.MjData, geom: int) -> NDArr
     return data.geom_xpos[geom] + local @ data.geom_xmat[geom].reshape(3, 3).T
 
 
-def _collides(model: mujoco.MjModel, geom: int) -> bool:
-    return bool(model.geom_contype[geom] or model.geom_conaffinity[geom])
+COLLISION_GROUP = 3
+"""The geom group MuJoCo Menagerie puts collision geoms in (visual ones in 1 and 2)."""
+
+
+def collision_geoms(model: mujoco.MjModel) -> NDArray[np.bool_]:
+    """Which geoms are the model's collision geoms, shape (ngeom,).
+
+    Those with a ``contype`` or ``conaffinity``; a model that gives none (its contacts come
+    from explicit ``<pair>`` elements of a scene file, as Menagerie's Apollo's do) marks
+    them by group instead: :data:`COLLISION_GROUP`, else every geom.
+    """
+    robot = model.geom_bodyid != 0
+    colliding = (model.geom_contype != 0) | (model.geom_conaffinity != 0)
+    if np.any(colliding & robot):
+        return colliding
+    grouped = model.geom_group == COLLISION_GROUP
+    return grouped if np.any(grouped & robot) else np.ones(model.ngeom, dtype=bool)
 
 
 def footprint(robot: RobotFile, model: mujoco.MjModel, data: mujoco.MjData, side: str) -> FootPrint:
@@ -288,9 +307,8 @@ def _foot_geoms(robot: RobotFile, model: mujoco.MjModel, side: str) -> tuple[str
     """``side``'s foot body and the collision geoms of its subtree (at least one)."""
     body = foot_body(robot, model, side)
     bodies = _subtree(model, model.body(body).id)
-    geoms = [
-        g for g in range(model.ngeom) if model.geom_bodyid[g] in bodies and _collides(model, g)
-    ]
+    colliding = collision_geoms(model)
+    geoms = [g for g in range(model.ngeom) if model.geom_bodyid[g] in bodies and colliding[g]]
     if not geoms:
         raise InputFileError(robot.path, f"body {body!r} has no collision geom", key=f"feet.{side}")
     return body, geoms
@@ -482,7 +500,8 @@ def _finish_xml(
     world = xml.find("worldbody")
     assert world is not None
     if not any(g.get("type") == "plane" for g in world.findall("geom")):
-        ET.SubElement(world, "geom", {"name": FLOOR_GEOM, "type": "plane", "size": "5 5 0.1"})
+        floor = {"name": FLOOR_GEOM, "type": "plane", "size": "5 5 0.1", **_FLOOR_CONTACT}
+        ET.SubElement(world, "geom", floor)
     imu = bodies[robot.imu or root]
     ET.SubElement(imu, "site", {"name": IMU_SITE, "size": "0.01"})
     for old in xml.findall("actuator") + xml.findall("sensor") + xml.findall("keyframe"):

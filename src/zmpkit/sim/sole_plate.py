@@ -47,7 +47,10 @@ def add_sole_plate(sole: ET.Element, side: str, plate: SolePlate, centre_site: s
     """Add the contact box, the ``zmpkit/{side}_ft`` site and a sole-centre site to body ``sole``.
 
     ``priority`` 1 makes the sole's own contact parameters win over the floor's, instead of
-    MuJoCo averaging them.
+    MuJoCo averaging them. Its collision attributes are explicit (``contype``,
+    ``conaffinity``, ``condim`` 3, no margin), so a model whose defaults switch collisions
+    off or make them frictionless (Menagerie's Apollo: every geom ``contype`` 0, ``condim``
+    1) does not pass them on to the plate.
     """
     h = plate.height_m
     ET.SubElement(
@@ -63,6 +66,11 @@ def add_sole_plate(sole: ET.Element, side: str, plate: SolePlate, centre_site: s
             "solref": plate.solref,
             "solimp": plate.solimp,
             "priority": "1",
+            "contype": "1",
+            "conaffinity": "1",
+            "condim": "3",
+            "margin": "0",
+            "gap": "0",
             "rgba": "0.3 0.3 0.35 1",
         },
     )
