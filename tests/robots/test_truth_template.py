@@ -102,3 +102,21 @@ def test_the_fit_self_test_recovers_the_biped_with_its_template(
     for row in rows:
         assert row["identifiable"] == "true", row
         assert abs(float(row["error_pct"])) < 5.0, row  # the issue's bar
+
+
+def test_gear_joints_ignore_the_models_joint_defaults(tmp_path: Path) -> None:
+    """Menagerie's Apollo gives every joint a range through its default class; the gear
+    deflection joints zmpkit adds inherited it ("range[0] should be smaller than range[1]
+    in joint 'l_hip_ie_gear'", a traceback): they are unlimited whatever the defaults."""
+    from helpers.biped import BIPED_MJCF
+
+    defaults = '<default><joint range="-1 1" limited="true"/></default>'
+    mjcf = BIPED_MJCF.replace('<compiler angle="radian"/>', '<compiler angle="radian"/>' + defaults)
+    robot_yaml = write_biped_robot(tmp_path, mjcf)
+    truth = tmp_path / "truth.yaml"
+    assert main(["robot", "truth", "init", str(robot_yaml), "--out", str(truth)]) == 0
+    with robot_yaml.open("a", encoding="utf-8") as f:
+        f.write("truth: truth.yaml\n")
+    model = get_robot(str(robot_yaml)).make_simulation("all").model
+    gear = model.joint("r_knee_gear")
+    assert not model.jnt_limited[gear.id]

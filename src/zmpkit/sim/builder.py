@@ -161,7 +161,12 @@ def add_gear_compliance(root: ET.Element, joint: str, gear: GearParams) -> str:
     jel.set("armature", _fmt(armature))
     body = _parent_of(root, jel)
     name = joint + GEAR_JOINT_SUFFIX
-    gel = ET.Element("joint", {"name": name, "type": "hinge", "axis": jel.get("axis", "0 0 1")})
+    # unlimited whatever the model's joint defaults say (Menagerie's Apollo gives every joint
+    # a range its default class inherits; a deflection joint has none of its own)
+    gel = ET.Element(
+        "joint",
+        {"name": name, "type": "hinge", "axis": jel.get("axis", "0 0 1"), "limited": "false"},
+    )
     if jel.get("pos") is not None:
         gel.set("pos", jel.get("pos", ""))
     body.insert(list(body).index(jel) + 1, gel)
@@ -200,6 +205,7 @@ def add_flex_joint(root: ET.Element, flex: FlexJoint) -> ET.Element:
         "pos": _fmt(*flex.anchor),
         "stiffness": _fmt(*stiffness),
         "damping": _fmt(flex.damping),
+        "limited": "false",
     }
     joints = [i for i, el in enumerate(body) if el.tag == "joint"]
     where = joints[-1] + 1 if joints else 0
