@@ -207,9 +207,10 @@ def _check_format(doc: dict[str, Any], path: Path) -> None:
     if tag != CHECKPOINT_FORMAT:
         older = isinstance(tag, str) and tag.startswith("zmpkit-simfit-checkpoint/")
         what = "of another zmpkit version" if older else "not a zmpkit fit checkpoint"
+        shown = repr(tag) if isinstance(tag, str) and len(tag) <= 40 else type(tag).__name__
         raise InputFileError(
             path,
-            f"{what} (format {echo(tag)}); this zmpkit reads {CHECKPOINT_FORMAT!r}: "
+            f"{what} (format {shown}); this zmpkit reads {CHECKPOINT_FORMAT!r}: "
             "start the fit again without --resume",
         )
     if set(doc) != _KEYS:
