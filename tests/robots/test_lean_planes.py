@@ -68,24 +68,3 @@ def test_a_report_says_which_effects_a_robot_without_truth_simulated(
     assert robot.simulated_effects_note("S") == ""
     assert robot.simulated_effects_note("none") == ""
     assert get_robot("nao").simulated_effects_note("all") == ""  # a truth for every effect
-
-
-def test_the_largest_target_is_bounded_by_the_edge_the_targets_lean_to() -> None:
-    """A robot whose ankle sits near its heel (the H1's: 12 mm behind, 194 mm ahead): the
-    positive targets of a sweep lean forward, so the heel does not bound them (it gave
-    0–3 mm targets that never settled); 0.3 of the front edge does, rounded down to 1 mm."""
-    from zmpkit.robots.robot import TARGET_SUPPORT_SHARE, BalanceModel
-
-    balance = BalanceModel(
-        mass_kg=50.0,
-        com_height_m=0.9,
-        support_polygon_m={"sagittal": (-0.012, 0.1935), "frontal": (-0.2469, 0.2469)},
-        lean_joints={"sagittal": ("r", "l")},
-        hip_roll_joints=("", ""),
-        push_bodies={"com": "pelvis"},
-    )
-    assert balance.max_target_m == pytest.approx(0.058)
-    assert balance.max_target_m == int(TARGET_SUPPORT_SHARE * 0.1935 * 1000) / 1000
-    both = BalanceModel(**{**balance.__dict__, "lean_joints": {"sagittal": ("r", "l"),
-                                                              "frontal": ("r", "l")}})  # fmt: skip
-    assert both.max_target_m == pytest.approx(0.058)  # frontal's 0.247 m is farther

@@ -47,8 +47,7 @@ __all__ = [
 ]
 
 TARGET_SUPPORT_SHARE = 0.3
-"""A robot's largest balance target, as a share of the nearest support-polygon edge the
-targets lean towards [-] (a sweep's targets are positive: forward and leftward): a
+"""A robot's largest balance target, as a share of the nearest support-polygon edge [-]: a
 soft-servo robot's ZMP overshoots a lean step by up to its target and settles beyond it, so
 twice the target must stay on the sole with room to spare. (Paper A's TEO, with stiff
 servos, was run to 0.57 of its edge: 0.10 m of 0.175 m; its preset says so.)"""
@@ -124,17 +123,14 @@ class BalanceModel:
         """The largest ZMP target of a balance sweep, every plane it can lean in [m].
 
         ``target_span_m`` when given; else :data:`TARGET_SUPPORT_SHARE` of the support
-        polygon's nearest edge on the side the targets lean to (positive: forward, left;
-        over those planes), rounded down to 1 mm. The edge behind does not bound them: a
-        robot whose ankle sits at its heel (Unitree's H1: 12 mm behind, 194 mm ahead) got
-        targets of 0–3 mm from it, which never settled.
+        polygon's nearest edge (over those planes and both directions), rounded down to 1 mm.
         """
         if self.target_span_m is not None:
             return self.target_span_m
         edges = [self.support_polygon_m[p] for p in self.planes] or list(
             self.support_polygon_m.values()
         )
-        edge = min(high for _, high in edges)
+        edge = min(min(-low, high) for low, high in edges)
         return math.floor(TARGET_SUPPORT_SHARE * edge * 1000.0) / 1000.0
 
 
