@@ -21,6 +21,8 @@ evenly over the frames left, ``φ_k = φ_{k-1} + (1 - φ_{k-1}) / (T' - k + 1)``
 
 from __future__ import annotations
 
+import numpy as np
+
 __all__ = ["AdjustedSwing"]
 
 
@@ -38,7 +40,9 @@ class AdjustedSwing:
 
     def __init__(self, step_height_m: float) -> None:
         self.step_height_m = step_height_m
-        self._coefficients = [[0.0] * 6, [0.0] * 6]  # per axis, a_0..a_5 [m/frame^i]
+        # per axis, a_0..a_5 [m/frame^i]: in an array, so that a re-plan keeps no new floats
+        self._coefficients = np.zeros((2, 6))
+        self._rows = (self._coefficients[0], self._coefficients[1])
         self._start = 0.0  # t_0 [frames]
         self.touchdown_frame = 0.0
         self.goal_m = [0.0, 0.0]
@@ -61,19 +65,24 @@ class AdjustedSwing:
     ) -> None:
         """From ``frame`` on, reach ``(G_x, G_y)`` at ``touchdown_frame`` (> ``frame``)."""
         t = frame - self._start
-        for axis, goal in ((0, goal_x_m), (1, goal_y_m)):
-            a0, a1, a2, a3, a4, a5 = self._coefficients[axis]
-            x = a0 + t * (a1 + t * (a2 + t * (a3 + t * (a4 + t * a5))))
-            v = a1 + t * (2.0 * a2 + t * (3.0 * a3 + t * (4.0 * a4 + t * 5.0 * a5)))
-            a = 2.0 * a2 + t * (6.0 * a3 + t * (12.0 * a4 + t * 20.0 * a5))
-            self._plan(frame, x, v, a, axis, goal, touchdown_frame)
+        self._replan(frame, t, 0, goal_x_m, touchdown_frame)  # no loop: a tick makes one
+        self._replan(frame, t, 1, goal_y_m, touchdown_frame)  # loop iterator at most
         self._start, self.touchdown_frame = frame, touchdown_frame
         self.goal_m[0], self.goal_m[1] = goal_x_m, goal_y_m
+
+    def _replan(self, frame: float, t: float, axis: int, goal: float, touchdown: float) -> None:
+        """One axis's quintic from its state ``t`` frames into the current one."""
+        c = self._rows[axis]
+        a1, a2, a3, a4, a5 = c.item(1), c.item(2), c.item(3), c.item(4), c.item(5)
+        x = c.item(0) + t * (a1 + t * (a2 + t * (a3 + t * (a4 + t * a5))))
+        v = a1 + t * (2.0 * a2 + t * (3.0 * a3 + t * (4.0 * a4 + t * 5.0 * a5)))
+        a = 2.0 * a2 + t * (6.0 * a3 + t * (12.0 * a4 + t * 20.0 * a5))
+        self._plan(frame, x, v, a, axis, goal, touchdown)
 
     def _plan(self, frame: float, x: float, v: float, a: float, axis: int, goal: float,
               touchdown_frame: float) -> None:  # fmt: skip
         d = touchdown_frame - frame
-        c = self._coefficients[axis]
+        c = self._rows[axis]
         delta = goal - x
         c[0], c[1], c[2] = x, v, 0.5 * a
         c[3] = (20.0 * delta - 12.0 * v * d - 3.0 * a * d * d) / (2.0 * d * d * d)
@@ -86,13 +95,17 @@ class AdjustedSwing:
             self.x_m, self.y_m, self.z_m = self.goal_m[0], self.goal_m[1], 0.0
             return
         t = frame - self._start
-        a0, a1, a2, a3, a4, a5 = self._coefficients[0]
-        self.x_m = a0 + t * (a1 + t * (a2 + t * (a3 + t * (a4 + t * a5))))
-        a0, a1, a2, a3, a4, a5 = self._coefficients[1]
-        self.y_m = a0 + t * (a1 + t * (a2 + t * (a3 + t * (a4 + t * a5))))
+        self.x_m = _position(self._rows[0], t)
+        self.y_m = _position(self._rows[1], t)
         if frame > self._phase_frame:
             self._phase += (1.0 - self._phase) / (self.touchdown_frame - self._phase_frame)
             self._phase_frame = frame
         phase = self._phase
         bump = phase * (1.0 - phase)
         self.z_m = 64.0 * self.step_height_m * bump * bump * bump
+
+
+def _position(c: np.ndarray, t: float) -> float:
+    """``Σ a_i t^i`` of one axis's quintic (Horner) [m]."""
+    a4, a5 = c.item(4), c.item(5)
+    return c.item(0) + t * (c.item(1) + t * (c.item(2) + t * (c.item(3) + t * (a4 + t * a5))))

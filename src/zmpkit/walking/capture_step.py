@@ -116,30 +116,25 @@ def _excess(value: float, lo: float, hi: float) -> float:
     return value - hi if value > hi else (lo - value if value < lo else 0.0)
 
 
-def _bounds(
-    a: float, b_sigma0: float, margin: float, landing: float, kappa: float, lo: float, hi: float
-) -> tuple[float, float, float, float]:
-    """The roots of ``Δ(σ) = hi`` and ``Δ(σ) = lo`` and which side of each captures.
+def _upper(upper: float, c: float, d: float) -> float:
+    """The largest σ of ``[.., upper]`` with ``c σ <= d`` (-inf: none)."""
+    if c > 0.0:
+        root = d / c
+        return root if root < upper else upper
+    return upper if c < 0.0 or d >= 0.0 else -math.inf
 
-    Returns ``(root_hi, sense_hi, root_lo, sense_lo)``: sense +1 means σ ≤ root captures,
-    -1 means σ ≥ root, 0 means every σ (or none: root -2) on that bound.
-    """
-    # upper: (a - m) σ <= κ hi + b σ_0 - m + l ; lower: (a + m) σ >= κ lo + b σ_0 + m - l
-    c_hi, d_hi = a - margin, kappa * hi + b_sigma0 - margin + landing
-    c_lo, d_lo = a + margin, kappa * lo + b_sigma0 + margin - landing
-    if c_hi > 0.0:
-        root_hi, sense_hi = d_hi / c_hi, 1.0
-    elif c_hi < 0.0:
-        root_hi, sense_hi = d_hi / c_hi, -1.0
-    else:
-        root_hi, sense_hi = (_NONE if d_hi >= 0.0 else -2.0), 0.0
-    if c_lo > 0.0:
-        root_lo, sense_lo = d_lo / c_lo, -1.0
-    elif c_lo < 0.0:
-        root_lo, sense_lo = d_lo / c_lo, 1.0
-    else:
-        root_lo, sense_lo = (_NONE if d_lo <= 0.0 else -2.0), 0.0
-    return root_hi, sense_hi, root_lo, sense_lo
+
+def _lower(lower: float, c: float, d: float) -> float:
+    """The least σ of ``[lower, ..]`` with ``c σ <= d`` (inf: none)."""
+    if c < 0.0:
+        root = d / c
+        return root if root > lower else lower
+    return lower if c > 0.0 or d >= 0.0 else math.inf
+
+
+def _root(c: float, d: float) -> float:
+    """σ at which ``c σ = d``, or -1 (none)."""
+    return d / c if c != 0.0 else _NONE
 
 
 def solve_capture(
@@ -160,6 +155,11 @@ def solve_capture(
     hi_y: float,
 ) -> tuple[float, float, float, float]:
     """The capture step of the module docstring, in the stance foot's frame (scalars only).
+
+    Each bound ``lo ≤ Δ(σ) ≤ hi`` is, the dead band only widening it, one affine inequality
+    ``c σ ≤ d``: ``(a - m) σ ≤ κ hi + b σ_0 - m + l`` and
+    ``-(a + m) σ ≤ -(κ lo + b σ_0 + m - l)`` with ``a = e + b``. Written without tuples or
+    loops (a control tick makes no objects of its own).
 
     Args:
         error_x: e along the stance foot [m].
@@ -184,54 +184,55 @@ def solve_capture(
     """
     ax, ay = error_x + offset_x, error_y + offset_y
     bx, by = offset_x * sigma_plan, offset_y * sigma_plan
-    upper, lower = sigma_plan, sigma_min
-    roots = (
-        _bounds(ax, bx, margin_x, landing_x, kappa, lo_x, hi_x),
-        _bounds(ay, by, margin_y, landing_y, kappa, lo_y, hi_y),
-    )
-    for root_hi, sense_hi, root_lo, sense_lo in roots:
-        for root, sense in ((root_hi, sense_hi), (root_lo, sense_lo)):
-            if sense > 0.0:
-                upper = root if root < upper else upper
-            elif sense < 0.0:
-                lower = root if root > lower else lower
-            elif root < -1.5:
-                upper, lower = 0.0, 1.0  # this bound captures nowhere
+    c1, d1 = ax - margin_x, kappa * hi_x + bx - margin_x + landing_x
+    c2, d2 = -(ax + margin_x), -(kappa * lo_x + bx + margin_x - landing_x)
+    c3, d3 = ay - margin_y, kappa * hi_y + by - margin_y + landing_y
+    c4, d4 = -(ay + margin_y), -(kappa * lo_y + by + margin_y - landing_y)
+    upper = _upper(_upper(_upper(_upper(sigma_plan, c1, d1), c2, d2), c3, d3), c4, d4)
+    lower = _lower(_lower(_lower(_lower(sigma_min, c1, d1), c2, d2), c3, d3), c4, d4)
     if lower <= upper:
-        sigma = upper
-        dx = _required(ax, bx, margin_x, landing_x, sigma, kappa)
-        dy = _required(ay, by, margin_y, landing_y, sigma, kappa)
-        return sigma, _clip(dx, lo_x, hi_x), _clip(dy, lo_y, hi_y), 0.0
+        dx = _required(ax, bx, margin_x, landing_x, upper, kappa)
+        dy = _required(ay, by, margin_y, landing_y, upper, kappa)
+        return upper, _clip(dx, lo_x, hi_x), _clip(dy, lo_y, hi_y), 0.0
+    # No σ captures: the least total excess, a convex piecewise-linear function of σ, lies at
+    # an end or at a root; ties go to the later touchdown.
+    best, least = sigma_plan, math.inf
     margins = (margin_x, margin_y, landing_x, landing_y)
-    return _least_left(ax, bx, ay, by, sigma_plan, sigma_min, kappa, margins,
-                       lo_x, hi_x, lo_y, hi_y, roots)  # fmt: skip
+    box, bounds = (lo_x, hi_x, lo_y, hi_y), (sigma_min, sigma_plan)
+    best, least = _better(best, least, sigma_plan, ax, bx, ay, by, kappa, margins, box, bounds)
+    best, least = _better(best, least, sigma_min, ax, bx, ay, by, kappa, margins, box, bounds)
+    root = _root(c1, d1)  # unrolled: no loop, no tuple of the bounds
+    best, least = _better(best, least, root, ax, bx, ay, by, kappa, margins, box, bounds)
+    root = _root(c2, d2)
+    best, least = _better(best, least, root, ax, bx, ay, by, kappa, margins, box, bounds)
+    root = _root(c3, d3)
+    best, least = _better(best, least, root, ax, bx, ay, by, kappa, margins, box, bounds)
+    root = _root(c4, d4)
+    best, least = _better(best, least, root, ax, bx, ay, by, kappa, margins, box, bounds)
+    dx = _required(ax, bx, margin_x, landing_x, best, kappa)
+    dy = _required(ay, by, margin_y, landing_y, best, kappa)
+    return best, _clip(dx, lo_x, hi_x), _clip(dy, lo_y, hi_y), kappa * max(least, 1e-9)
 
 
 def _clip(value: float, lo: float, hi: float) -> float:
     return lo if value < lo else (hi if value > hi else value)
 
 
-def _least_left(
-    ax: float, bx: float, ay: float, by: float, sigma_plan: float, sigma_min: float,
-    kappa: float, margins: tuple[float, float, float, float], lo_x: float, hi_x: float, lo_y: float,
-    hi_y: float, roots: tuple[tuple[float, float, float, float], ...],
-) -> tuple[float, float, float, float]:  # fmt: skip
-    """No σ captures: the σ among the ends and the roots that leaves the least outside."""
-    margin_x, margin_y, landing_x, landing_y = margins
-    best_sigma, best_left = sigma_plan, math.inf
-    candidates = (sigma_plan, sigma_min, roots[0][0], roots[0][2], roots[1][0], roots[1][2])
-    for sigma in candidates:
-        if not sigma_min <= sigma <= sigma_plan:
-            continue
-        dx = _required(ax, bx, margin_x, landing_x, sigma, kappa)
-        dy = _required(ay, by, margin_y, landing_y, sigma, kappa)
-        left = _excess(dx, lo_x, hi_x) + _excess(dy, lo_y, hi_y)
-        if left < best_left - 1e-12 or (left < best_left + 1e-12 and sigma > best_sigma):
-            best_sigma, best_left = sigma, left
-    dx = _required(ax, bx, margin_x, landing_x, best_sigma, kappa)
-    dy = _required(ay, by, margin_y, landing_y, best_sigma, kappa)
-    return (best_sigma, _clip(dx, lo_x, hi_x), _clip(dy, lo_y, hi_y),
-            kappa * max(best_left, 1e-9))  # fmt: skip
+def _better(
+    best: float, least: float, sigma: float, ax: float, bx: float, ay: float, by: float,
+    kappa: float, margins: tuple[float, float, float, float],
+    box: tuple[float, float, float, float], bounds: tuple[float, float],
+) -> tuple[float, float]:  # fmt: skip
+    """``(σ, excess)``: the best so far, or ``sigma`` if it lies in ``bounds`` and leaves less."""
+    if not bounds[0] <= sigma <= bounds[1]:
+        return best, least
+    mx, my, lx, ly = margins
+    lo_x, hi_x, lo_y, hi_y = box
+    left = _excess(_required(ax, bx, mx, lx, sigma, kappa), lo_x, hi_x)
+    left += _excess(_required(ay, by, my, ly, sigma, kappa), lo_y, hi_y)
+    if left < least - 1e-12 or (left < least + 1e-12 and sigma > best):
+        return sigma, left
+    return best, least
 
 
 @dataclass(frozen=True)

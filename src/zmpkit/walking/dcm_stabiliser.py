@@ -270,13 +270,13 @@ class DcmStabiliser:
         )
         self.dcm_error_in_world = np.full((self._n, 2), np.nan)
         """The DCM error ``e = ξ̂ - ξ^{ref}`` of each period [m], shape (N, 2)."""
-        self.reference_shift = [[0.0] * 5, [0.0] * 5]
+        self.reference_shift = np.zeros((2, 5))
         """What a re-planned walk adds to the plan's references of the next :meth:`update`,
-        per axis (x, y): c [m], ċ [m/s], c̈ [m/s²], p [m], ξ [m]
+        rows x, y: c [m], ċ [m/s], c̈ [m/s²], p [m], ξ [m], shape (2, 5)
         (:mod:`zmpkit.walking.step_adjustment`); zeros: the plan. The robot does not jump
         with a re-planned command: the command error's velocity and acceleration take back
         what the re-plan changed beyond the reference's own motion."""
-        self._moved_before = [[0.0, 0.0], [0.0, 0.0]]  # ċ, c̈ of the last shift
+        self._moved_before = np.zeros((2, 2))  # rows x, y: ċ, c̈ of the last shift
         self.desired_zmp_in_world = np.full((self._n, 2), np.nan)
         """The ZMP ``p^d`` asked for at each period [m], shape (N, 2)."""
 
@@ -326,12 +326,17 @@ class DcmStabiliser:
         for axis, z, (c_ref, v_ref, a_ref, p_ref, dcm_ref) in self._axes:
             e_c, e_v, e_a, d = z.item(0), z.item(1), z.item(2), z.item(3)
             shift, rate = shifts.item(axis), rates.item(axis)
-            c_moved, v_moved, a_moved, p_moved, dcm_moved = moved[axis]
-            before = moved_before[axis]  # a re-plan moves the command, not the robot: the
-            jump_v = v_moved - before[0] - dt * before[1]  # error state takes the jump back
-            jump_a = a_moved - before[1]
-            before[0], before[1] = v_moved, a_moved
-            e_v, e_a = e_v - jump_v, e_a - jump_a
+            c_moved, v_moved, a_moved = (
+                moved.item(axis, 0),
+                moved.item(axis, 1),
+                moved.item(axis, 2),
+            )
+            p_moved, dcm_moved = moved.item(axis, 3), moved.item(axis, 4)
+            v_before, a_before = moved_before.item(axis, 0), moved_before.item(axis, 1)
+            # a re-plan moves the command, not the robot: the error state takes the jump back
+            e_v -= v_moved - v_before - dt * a_before
+            e_a -= a_moved - a_before
+            moved_before[axis, 0], moved_before[axis, 1] = v_moved, a_moved
             c_cmd = c_ref[k] + c_moved + shift
             v_cmd = v_ref[k] + v_moved + rate
             a_cmd = a_ref[k] + a_moved + accels.item(axis)

@@ -241,8 +241,8 @@ class StepAdjustment:
     Attributes:
         dcm_error_in_world: the DCM error ``e`` of each frame of a single support [m],
             shape (N, 2); NaN elsewhere.
-        dcm_reference_shift: per axis (x, y): δc [m], δċ [m/s], δc̈ [m/s²], δp [m], δξ [m]
-            of the frame before the last :meth:`update`.
+        dcm_reference_shift: rows x, y: δc [m], δċ [m/s], δc̈ [m/s²], δp [m], δξ [m] of the
+            frame before the last :meth:`update`, shape (2, 5).
         com_shift_next: δc (x, y) of the frame of the last :meth:`update` [m].
     """
 
@@ -281,11 +281,16 @@ class StepAdjustment:
         plans = [getattr(pattern.feet, f).position_in_world for f in feet]
         self._feet = tuple(zip(range(len(feet)), plans, [targets[f] for f in feet], strict=True))
         self._soles = soles
-        self._offsets = [[0.0, 0.0] for _ in feet]  # each foot's placement against the plan
-        self._global = [0.0, 0.0]  # o of the last placement: every later one moves by it
+        # each foot's placement against the plan, and o of the last placement (every later one
+        # moves by it); arrays: a foot's first landing keeps no new float objects
+        self._offsets = np.zeros((len(feet), 2))
+        self._global = np.zeros(2)
         self._swing = AdjustedSwing(config.step_height_m)
         self._span = -1
         self._goal = [0.0, 0.0]
+        self._shift_along = self._shift_lateral = 0.0
+        self._asked = [0.0, 0.0, 0.0, 0.0]  # touchdown [frames], along, lateral, left [m]
+        self._asking = False
         self._stance_offset = [0.0, 0.0]
         self._tail_offset = [0.0, 0.0]
         self._touchdown = 0.0
@@ -294,7 +299,7 @@ class StepAdjustment:
         self._scalar = np.zeros(())
         self._zero, self._one = np.zeros(()), np.ones(())
         self._com_shift = [0.0, 0.0]
-        self.dcm_reference_shift = [[0.0] * 5, [0.0] * 5]
+        self.dcm_reference_shift = np.zeros((2, 5))
         self.com_shift_next = [0.0, 0.0]
         self.dcm_error_in_world = np.full((n, 2), np.nan)
         swing = max((s.touchdown - s.lift for s in self._steps), default=1)
@@ -331,6 +336,10 @@ class StepAdjustment:
         if j >= 0:
             if frame < self._touchdown - self._min_remaining:
                 self._adjust(j, frame, before, dcm_x_m, dcm_y_m)
+            if self._asking:  # (after _adjust: a tick holds fewer floats at once)
+                self._asking = False
+                asked = self._asked
+                self._land_at(j, frame, asked[1], asked[2], asked[3], asked[0])
             self._advance(j, frame)
         if self._moved:
             self._write_feet(j, frame)
@@ -342,18 +351,21 @@ class StepAdjustment:
         if j < 0:
             return
         step = self._steps[j]
-        stance, swing = self._offsets[step.stance], self._offsets[step.foot]
-        self._stance_offset[0], self._stance_offset[1] = stance[0], stance[1]
-        gx, gy = step.land_x + self._global[0], step.land_y + self._global[1]
+        offsets, o = self._offsets, self._global
+        ox, oy = o.item(0), o.item(1)
+        self._stance_offset[0] = offsets.item(step.stance, 0)
+        self._stance_offset[1] = offsets.item(step.stance, 1)
+        gx, gy = step.land_x + ox, step.land_y + oy
         target = self._feet[step.foot][2]
         self._swing.start(
             float(step.lift), target.item(step.lift, 0), target.item(step.lift, 1), gx, gy,
             float(step.touchdown),
         )  # fmt: skip
         self._goal[0], self._goal[1] = gx, gy
+        self._shift_along = self._shift_lateral = 0.0  # the landing against the plan's [m]
         self._touchdown = float(step.touchdown)
-        self._tail_offset[0], self._tail_offset[1] = self._global[0], self._global[1]
-        self._modified = swing[0] != self._global[0] or swing[1] != self._global[1]
+        self._tail_offset[0], self._tail_offset[1] = ox, oy
+        self._modified = offsets.item(step.foot, 0) != ox or offsets.item(step.foot, 1) != oy
         self._quiet = 0 if self._active else self._quiet + 1
         self._active = self._landed = False
         if self._references is not None:
@@ -385,18 +397,20 @@ class StepAdjustment:
         soonest = frame + self._min_remaining
         earliest = soonest if soonest > earliest else earliest
         earliest = touchdown if earliest > touchdown else earliest
+        (m_x, m_y), (l_x, l_y) = par.cop_margin_m, par.landing_margin_m
+        lo_x, hi_x, lo_y, hi_y = self._box(step)  # (a call with *args builds a list)
         sigma, d_along, d_across, left = solve_capture(
             along, across, c * bx + s * by, -s * bx + c * by,
             math.exp(omega * dt * (touchdown - before)), math.exp(omega * dt * (earliest - before)),
-            self._kappa, *par.cop_margin_m, *par.landing_margin_m, *self._box(step),
+            self._kappa, m_x, m_y, l_x, l_y, lo_x, hi_x, lo_y, hi_y,
         )  # fmt: skip
-        ahead = float(round(math.log(sigma) / (omega * dt)))
-        landing = before + ahead
-        landing = (
-            earliest if landing < earliest else (touchdown if landing > touchdown else landing)
-        )
-        self._land_at(j, frame, step.along + d_along, step.lateral + step.sign * d_across, left,
-                      landing)  # fmt: skip
+        landing = before + float(round(math.log(sigma) / (omega * dt)))
+        asked = self._asked  # for _land_at, called once these locals are gone (see update)
+        landing = earliest if landing < earliest else landing
+        asked[0] = touchdown if landing > touchdown else landing
+        asked[1], asked[2] = step.along + d_along, step.lateral + step.sign * d_across
+        asked[3] = left
+        self._asking = True
 
     def _unhabitual(self, step: _Step, before: int, ex: float, ey: float) -> tuple[float, float]:
         """The DCM error less the walk's own repeated one at this point of the swing [m].
@@ -423,10 +437,21 @@ class StepAdjustment:
     def _land_at(
         self, j: int, frame: int, along: float, lateral: float, left: float, touchdown: float
     ) -> None:
-        """Aim step ``j``'s swing at the landing ``(along, lateral)`` of its stance sole."""
+        """Aim step ``j``'s swing at the landing ``(along, lateral)`` of its stance sole.
+
+        The landing is drawn into the legs' reach, then kept within ``a D² / 5.77`` of the
+        planned one (``D`` the time left to touchdown; a shift already made is kept).
+        """
         step = self._steps[j]
         along_in, lateral_in = self.reach.limit(along, lateral)
-        along_in, lateral_in = self._swing_limit(step, frame, touchdown, along_in, lateral_in)
+        time = (touchdown - frame) * self._dt
+        limit = self.parameters.max_swing_acceleration_mps2 * time * time / 5.774
+        bound = abs(self._shift_along)
+        bound = limit if limit > bound else bound
+        along_in = _clip(along_in, step.along - bound, step.along + bound)
+        bound = abs(self._shift_lateral)
+        bound = limit if limit > bound else bound
+        lateral_in = _clip(lateral_in, step.lateral - bound, step.lateral + bound)
         moved = math.hypot(along_in - along, lateral_in - lateral)
         if moved > 1e-9:
             left += self._kappa * moved
@@ -443,27 +468,9 @@ class StepAdjustment:
             return
         self._swing.retarget(float(frame), gx, gy, touchdown)
         goal[0], goal[1] = gx, gy
+        self._shift_along, self._shift_lateral = along_in - step.along, lateral_in - step.lateral
         self._touchdown = touchdown
         self._modified = self._moved = True
-
-    def _swing_limit(
-        self, step: _Step, frame: int, touchdown: float, along: float, lateral: float
-    ) -> tuple[float, float]:
-        """The landing ``(along, lateral)`` at most ``a D² / 5.77`` from the planned one.
-
-        ``D`` is the time left to touchdown; a shift already made is kept.
-        """
-        time = (touchdown - frame) * self._dt
-        limit = self.parameters.max_swing_acceleration_mps2 * time * time / 5.774
-        c, s = step.cos_yaw, step.sin_yaw
-        dx = self._goal[0] - step.stance_x - self._stance_offset[0]
-        dy = self._goal[1] - step.stance_y - self._stance_offset[1]
-        now_along = c * dx + s * dy - step.along
-        now_lateral = step.sign * (-s * dx + c * dy) - step.lateral
-        limit_along = limit if limit > abs(now_along) else abs(now_along)
-        limit_lateral = limit if limit > abs(now_lateral) else abs(now_lateral)
-        along = _clip(along, step.along - limit_along, step.along + limit_along)
-        return along, _clip(lateral, step.lateral - limit_lateral, step.lateral + limit_lateral)
 
     def _advance(self, j: int, frame: int) -> None:
         """The swing's target of ``frame``; at touchdown, the step's placement is kept."""
@@ -471,15 +478,15 @@ class StepAdjustment:
         if self._landed or frame < self._touchdown:
             return
         step, goal = self._steps[j], self._goal
-        offset = self._offsets[step.foot]
-        offset[0], offset[1] = goal[0] - step.land_x, goal[1] - step.land_y
-        self._global[0], self._global[1] = offset[0], offset[1]
-        self._shift[j, 0], self._shift[j, 1] = offset[0], offset[1]
+        ox, oy = goal[0] - step.land_x, goal[1] - step.land_y
+        self._offsets[step.foot, 0], self._offsets[step.foot, 1] = ox, oy
+        self._global[0], self._global[1] = ox, oy
+        self._shift[j, 0], self._shift[j, 1] = ox, oy
         self._landed_at[j] = (step.touchdown - frame) * self._dt
         self._landed = True
         if self._references is not None and self._modified:
             self._rewrite_reference(j)
-        if offset[0] != 0.0 or offset[1] != 0.0:
+        if ox != 0.0 or oy != 0.0:
             self._moved = True
 
     def _write_feet(self, j: int, frame: int) -> None:
@@ -491,9 +498,8 @@ class StepAdjustment:
                 swing = self._swing
                 x, y, z = swing.x_m, swing.y_m, swing.z_m
             else:
-                offset = self._offsets[i]
-                x = plan.item(frame, 0) + offset[0]
-                y = plan.item(frame, 1) + offset[1]
+                x = plan.item(frame, 0) + self._offsets.item(i, 0)
+                y = plan.item(frame, 1) + self._offsets.item(i, 1)
                 z = plan.item(frame, 2)
             target[frame, 0], target[frame, 1], target[frame, 2] = x, y, z
             soles[frame, i, 0], soles[frame, i, 1], soles[frame, i, 2] = x, y, z
@@ -508,29 +514,36 @@ class StepAdjustment:
         np.maximum(views.ramp, self._zero, out=views.ramp)
         np.minimum(views.ramp, self._one, out=views.ramp)
         step = self._steps[j]
-        for axis, stance, goal, row in (
-            (0, step.stance_x, self._goal[0], rows[0]),
-            (1, step.stance_y, self._goal[1], rows[1]),
-        ):
-            start = stance + self._stance_offset[axis]
-            scalar[()] = goal - start
-            np.multiply(views.ramp, scalar, out=row)
-            scalar[()] = start
-            np.add(row, scalar, out=row)
+        self._ramp_to(step.stance_x + self._stance_offset[0], self._goal[0], views, rows[0])
+        self._ramp_to(step.stance_y + self._stance_offset[1], self._goal[1], views, rows[1])
+
+    def _ramp_to(
+        self, start: float, goal: float, views: _ReferenceViews, row: NDArray[np.float64]
+    ) -> None:
+        """``start + (goal - start) r`` into ``row`` [m] (``r`` in ``views.ramp``)."""
+        scalar = self._scalar
+        scalar[()] = goal - start
+        np.multiply(views.ramp, scalar, out=row)
+        scalar[()] = start
+        np.add(row, scalar, out=row)
 
     def _rewrite_reference(self, j: int) -> None:
         """Move the ZMP reference from this step on by what its re-planned landing changed."""
-        views, scalar = self._references[j], self._scalar  # type: ignore[index]
+        views = self._references[j]  # type: ignore[index]
         self._reference_shape(j, views.new_rows)
         step = self._steps[j]
-        for axis, land in ((0, step.land_x), (1, step.land_y)):
-            np.subtract(views.new_rows[axis], views.old_rows[axis], out=views.change)
-            np.add(views.segments[axis], views.change, out=views.segments[axis])
-            offset = self._goal[axis] - land
-            scalar[()] = offset - self._tail_offset[axis]
-            np.add(views.tails[axis], scalar, out=views.tails[axis])
-            self._tail_offset[axis] = offset
+        self._move_reference(0, step.land_x, views)  # unrolled: one loop iterator at most
+        self._move_reference(1, step.land_y, views)
         np.copyto(views.old, views.new)
+
+    def _move_reference(self, axis: int, land: float, views: _ReferenceViews) -> None:
+        """One axis: the transfer's change, and the rest of the walk by the landing's offset."""
+        np.subtract(views.new_rows[axis], views.old_rows[axis], out=views.change)
+        np.add(views.segments[axis], views.change, out=views.segments[axis])
+        offset = self._goal[axis] - land
+        self._scalar[()] = offset - self._tail_offset[axis]
+        np.add(views.tails[axis], self._scalar, out=views.tails[axis])
+        self._tail_offset[axis] = offset
 
     def _shift_dcm_reference(self, j: int, before: int) -> None:
         """δξ, δp and the CoM reference that follows them, at ``before`` (module docstring)."""
@@ -550,19 +563,13 @@ class StepAdjustment:
             o = self._stance_offset[axis]
             to_goal, to_land = self._goal[axis] - stance - o, land - stance
             if not self._landed:
-                to_goal = to_land + self._global[axis] - o
+                to_goal = to_land + self._global.item(axis) - o
             zmp = o + to_goal * zmp_new - to_land * zmp_plan
             dcm = o + to_goal * dcm_new - to_land * dcm_plan
             com = self._com_shift[axis]
             rate = omega * (dcm - com)
-            row = shift[axis]
-            row[0], row[1], row[2], row[3], row[4] = (
-                com,
-                rate,
-                omega * omega * (com - zmp),
-                zmp,
-                dcm,
-            )
+            shift[axis, 0], shift[axis, 1], shift[axis, 2] = com, rate, omega * omega * (com - zmp)
+            shift[axis, 3], shift[axis, 4] = zmp, dcm
             com += dt * rate
             self._com_shift[axis] = com
             self.com_shift_next[axis] = com
