@@ -299,6 +299,8 @@ class StepAdjustment:
         self._scalar = np.zeros(())
         self._zero, self._one = np.zeros(()), np.ones(())
         self._com_shift = [0.0, 0.0]
+        self.replans_dcm = False
+        """Whether :meth:`update` re-plans the DCM, ZMP and CoM references (the ``dcm`` walk)."""
         self.dcm_reference_shift = np.zeros((2, 5))
         self.com_shift_next = [0.0, 0.0]
         self.dcm_error_in_world = np.full((n, 2), np.nan)
@@ -343,7 +345,8 @@ class StepAdjustment:
             self._advance(j, frame)
         if self._moved:
             self._write_feet(j, frame)
-        self._shift_dcm_reference(j, before)
+        if self.replans_dcm:
+            self._shift_dcm_reference(j, before)
 
     def _begin(self, j: int) -> None:
         """A swing lifts off: start it towards the planned landing moved by the last offset."""
@@ -551,11 +554,12 @@ class StepAdjustment:
         if j < 0:
             return
         step, omega, dt, t_d = self._steps[j], self._omega, self._dt, self._t_d
-        ahead, planned = (self._touchdown - before) * dt, (step.touchdown - before) * dt
-        if not self._landed:  # the plan's references until the foot is down
-            ahead = planned
-        zmp_new, zmp_plan = transfer_zmp(t_d, ahead), transfer_zmp(t_d, planned)
-        dcm_new, dcm_plan = transfer_dcm(omega, t_d, ahead), transfer_dcm(omega, t_d, planned)
+        planned = (step.touchdown - before) * dt
+        zmp_plan, dcm_plan = transfer_zmp(t_d, planned), transfer_dcm(omega, t_d, planned)
+        zmp_new, dcm_new = zmp_plan, dcm_plan  # the plan's references until the foot is down
+        if self._landed:
+            ahead = (self._touchdown - before) * dt
+            zmp_new, dcm_new = transfer_zmp(t_d, ahead), transfer_dcm(omega, t_d, ahead)
         for axis, stance, land in (
             (0, step.stance_x, step.land_x),
             (1, step.stance_y, step.land_y),

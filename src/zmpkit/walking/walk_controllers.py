@@ -373,6 +373,7 @@ class DcmWalk(_OnlineWalk):
             com.com_acceleration_in_world, pattern.zmp_reference_in_world, com.com_height_m,
             self.dt, STANDARD_GRAVITY_MPS2, self.parameters,
         )  # fmt: skip
+        self.stepping.replans_dcm = True
         self.stabiliser.reference_shift = self.stepping.dcm_reference_shift
         self._com_shift = self.stepping.com_shift_next
         self.desired_zmp_in_world = self.stabiliser.desired_zmp_in_world
