@@ -11,7 +11,7 @@ from zmpkit.experiments.walk import run_walk_trial
 from zmpkit.experiments.walk_trial import Push
 from zmpkit.pipelines.walk_document import walk_checks
 from zmpkit.walking.gait import StepLimits
-from zmpkit.walking.step_adjustment import NOT_CAPTURED
+from zmpkit.walking.step_events import NOT_CAPTURED
 
 SEPARATION_M = 0.1  # the built-in walker's feet [m]
 

@@ -31,7 +31,7 @@ from zmpkit.signals.contact_phases import (
 from zmpkit.signals.spectra import amplitude_spectrum
 from zmpkit.walking.ik import JointTrajectory
 from zmpkit.walking.pattern import WalkingPattern
-from zmpkit.walking.step_adjustment import NOT_CAPTURED, StepEvent
+from zmpkit.walking.step_events import NOT_CAPTURED, StepEvent
 
 __all__ = [
     "HEADING_TOLERANCE_RAD",

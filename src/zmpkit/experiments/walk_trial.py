@@ -46,7 +46,7 @@ from zmpkit.sim.names import sole_site
 from zmpkit.sim.world import Simulation
 from zmpkit.walking.ik import JointTrajectory
 from zmpkit.walking.measurement import WalkMeasurement
-from zmpkit.walking.step_adjustment import StepEvent
+from zmpkit.walking.step_events import StepEvent
 from zmpkit.walking.walk_controllers import WalkController
 
 __all__ = [

@@ -58,22 +58,18 @@ import numpy as np
 from numpy.typing import NDArray
 
 from zmpkit import _validate
+from zmpkit.models.pendulum import STANDARD_GRAVITY_MPS2
 from zmpkit.walking.adjusted_swing import AdjustedSwing
-from zmpkit.walking.capture_step import (
-    double_support_factor,
-    solve_capture,
-    transfer_dcm,
-    transfer_zmp,
-)
-from zmpkit.walking.gait import SIDE_SIGN
+from zmpkit.walking.capture_step import double_support_factor, solve_capture
 from zmpkit.walking.pattern import WalkingPattern
+from zmpkit.walking.planned_steps import PlannedStep, planned_steps
+from zmpkit.walking.replanned_dcm import ReplannedDcmReference
+from zmpkit.walking.replanned_zmp import ReplannedZmpReference
+from zmpkit.walking.step_events import NOT_CAPTURED, StepEvent
 from zmpkit.walking.step_reach import DEFAULT_REACH_MARGIN, StepReach
-from zmpkit.walking.swing import swing_edges
 
 __all__ = ["NOT_CAPTURED", "StepAdjustment", "StepAdjustmentParameters", "StepEvent"]
 
-NOT_CAPTURED = "no admissible step captures the DCM"
-"""The event of a step that could not capture the DCM within the legs' limits."""
 _MOVED_M = 1e-5  # a landing that moves less than this is not re-planned [m]
 
 
@@ -102,7 +98,7 @@ class StepAdjustmentParameters:
     """
 
     enabled: bool = True
-    trigger_dcm_error_m: tuple[float, float] = (0.03, 0.02)
+    trigger_dcm_error_m: tuple[float, float] = (0.04, 0.02)
     cop_margin_m: tuple[float, float] = (0.06, 0.035)
     landing_margin_m: tuple[float, float] = (0.0, 0.0)
     min_swing_fraction: float = 0.7
@@ -134,96 +130,8 @@ class StepAdjustmentParameters:
         )  # fmt: skip
 
 
-@dataclass(frozen=True)
-class StepEvent:
-    """A step the walk adjusted.
-
-    Attributes:
-        time_s: when the adjustment began [s].
-        step: the footstep's index [-].
-        side: the swing foot.
-        dcm_error_m: the DCM error that triggered it (x, y), world frame [m].
-        shift_m: where it landed against the plan's landing (x, y), world frame [m].
-        shortened_s: how much earlier than planned it touched down [s].
-        captured: whether a step within the limits captured the DCM.
-        dcm_error_left_m: the DCM error the step could not remove [m] (0: captured).
-    """
-
-    time_s: float
-    step: int
-    side: str
-    dcm_error_m: tuple[float, float]
-    shift_m: tuple[float, float]
-    shortened_s: float
-    captured: bool
-    dcm_error_left_m: float
-
-    @property
-    def kind(self) -> str:
-        """``step adjusted``, or :data:`NOT_CAPTURED`."""
-        return "step adjusted" if self.captured else NOT_CAPTURED
-
-
-@dataclass(frozen=True)
-class _Step:
-    """One footstep of the plan, as a tick reads it (frames, metres, the stance's rotation)."""
-
-    side: str
-    foot: int  # the swing foot's index in the feet order
-    stance: int  # the stance foot's index
-    lift: int  # the last frame on the ground before the swing
-    touchdown: int  # the planned touchdown (the first frame on the ground again)
-    stance_x: float
-    stance_y: float
-    cos_yaw: float
-    sin_yaw: float
-    land_x: float
-    land_y: float
-    along: float  # the planned landing in the stance frame [m]
-    lateral: float  # outwards [m]
-    sign: float  # +1 a left swing, -1 a right one
-
-
-def _steps(pattern: WalkingPattern, feet: tuple[str, ...]) -> list[_Step]:
-    """The plan's steps whose swing lies in the sampled walk, in order."""
-    plan = pattern.footsteps
-    swings = {f: sorted(swing_edges(getattr(pattern.feet, f).in_contact).items()) for f in feet}
-    seen = dict.fromkeys(feet, 0)
-    steps = []
-    for j, step in enumerate(plan.steps):
-        if seen[step.side] >= len(swings[step.side]):
-            break
-        lift, land = swings[step.side][seen[step.side]]
-        seen[step.side] += 1
-        stance = plan.stance_before(j)
-        c, s = math.cos(stance.yaw), math.sin(stance.yaw)
-        dx, dy = step.x - stance.x, step.y - stance.y
-        sign = SIDE_SIGN[step.side]
-        foot = feet.index(step.side)
-        steps.append(_Step(
-            step.side, foot, feet.index(stance.side), lift - 1, land, stance.x, stance.y, c, s,
-            step.x, step.y, c * dx + s * dy, sign * (-s * dx + c * dy), sign,
-        ))  # fmt: skip
-    return steps
-
-
 def _clip(value: float, lo: float, hi: float) -> float:
     return lo if value < lo else (hi if value > hi else value)
-
-
-class _ReferenceViews:
-    """What re-planning one step's ZMP reference writes (made with the walk)."""
-
-    def __init__(self, reference_by_axis: list[NDArray[np.float64]], first: int, end: int) -> None:
-        self.frames = np.arange(first, end, dtype=np.float64)
-        self.ramp = np.zeros(end - first)
-        self.change = np.zeros(end - first)
-        self.new = np.zeros((2, end - first))
-        self.old = np.zeros((2, end - first))
-        self.new_rows = (self.new[0], self.new[1])
-        self.old_rows = (self.old[0], self.old[1])
-        self.segments = tuple(r[first:end] for r in reference_by_axis)
-        self.tails = tuple(r[end:] for r in reference_by_axis)
 
 
 class StepAdjustment:
@@ -241,9 +149,6 @@ class StepAdjustment:
     Attributes:
         dcm_error_in_world: the DCM error ``e`` of each frame of a single support [m],
             shape (N, 2); NaN elsewhere.
-        dcm_reference_shift: rows x, y: δc [m], δċ [m/s], δc̈ [m/s²], δp [m], δξ [m] of the
-            frame before the last :meth:`update`, shape (2, 5).
-        com_shift_next: δc (x, y) of the frame of the last :meth:`update` [m].
     """
 
     def __init__(
@@ -258,11 +163,11 @@ class StepAdjustment:
         self.parameters, self.reach = parameters, reach
         config = pattern.config
         self._dt = dt = config.control_period_s
-        self._omega = math.sqrt(9.80665 / config.com_height_m)
+        self._omega = math.sqrt(STANDARD_GRAVITY_MPS2 / config.com_height_m)
         self._t_d = config.gait.double_support_s
         self._t_d_frames = max(self._t_d / dt, 1e-9)
         self._kappa = double_support_factor(self._omega, self._t_d)
-        self._steps = _steps(pattern, feet)
+        self._steps = planned_steps(pattern, feet)
         self._n = n = pattern.time_s.size
         self._step_at = [-1] * n
         for j, step in enumerate(self._steps):
@@ -292,17 +197,14 @@ class StepAdjustment:
         self._asked = [0.0, 0.0, 0.0, 0.0]  # touchdown [frames], along, lateral, left [m]
         self._asking = False
         self._stance_offset = [0.0, 0.0]
-        self._tail_offset = [0.0, 0.0]
         self._touchdown = 0.0
         self._active = self._modified = self._landed = self._moved = False
-        self._references: list[_ReferenceViews] | None = None
-        self._scalar = np.zeros(())
-        self._zero, self._one = np.zeros(()), np.ones(())
-        self._com_shift = [0.0, 0.0]
+        self._reference: ReplannedZmpReference | None = None
         self.replans_dcm = False
         """Whether :meth:`update` re-plans the DCM, ZMP and CoM references (the ``dcm`` walk)."""
-        self.dcm_reference_shift = np.zeros((2, 5))
-        self.com_shift_next = [0.0, 0.0]
+        self.dcm_reference = ReplannedDcmReference(self._omega, dt, self._t_d)
+        """The change of the DCM, ZMP and CoM references (:mod:`zmpkit.walking.replanned_dcm`)."""
+        self._planned_goal = [0.0, 0.0]
         self.dcm_error_in_world = np.full((n, 2), np.nan)
         swing = max((s.touchdown - s.lift for s in self._steps), default=1)
         self._habit = [[[0.0] * swing for _ in range(2)] for _ in feet]  # foot, axis, frame
@@ -316,10 +218,7 @@ class StepAdjustment:
 
     def attach_reference(self, reference_by_axis: list[NDArray[np.float64]]) -> None:
         """Re-plan this ZMP reference (one writable array per axis, [m]) with the steps."""
-        self._references = []
-        for step in self._steps:
-            end = min(math.ceil(step.touchdown + self._t_d_frames) + 1, reference_by_axis[0].size)
-            self._references.append(_ReferenceViews(reference_by_axis, step.lift, end))
+        self._reference = ReplannedZmpReference(reference_by_axis, self._steps, self._t_d_frames)
 
     def update(self, frame: int, before: int, dcm_x_m: float, dcm_y_m: float) -> None:
         """Adjust the step under way and write the feet's targets of ``frame``.
@@ -367,12 +266,15 @@ class StepAdjustment:
         self._goal[0], self._goal[1] = gx, gy
         self._shift_along = self._shift_lateral = 0.0  # the landing against the plan's [m]
         self._touchdown = float(step.touchdown)
-        self._tail_offset[0], self._tail_offset[1] = ox, oy
         self._modified = offsets.item(step.foot, 0) != ox or offsets.item(step.foot, 1) != oy
         self._quiet = 0 if self._active else self._quiet + 1
         self._active = self._landed = False
-        if self._references is not None:
-            self._reference_shape(j, self._references[j].old_rows)
+        if self._reference is not None:
+            start = self._stance_offset
+            self._reference.begin(
+                j, step.stance_x + start[0], step.stance_y + start[1], gx, gy, self._touchdown,
+                ox, oy,
+            )  # fmt: skip
 
     def _adjust(self, j: int, frame: int, before: int, dcm_x: float, dcm_y: float) -> None:
         """Re-plan the landing and touchdown of step ``j`` from the DCM of ``before``."""
@@ -415,7 +317,9 @@ class StepAdjustment:
         asked[3] = left
         self._asking = True
 
-    def _unhabitual(self, step: _Step, before: int, ex: float, ey: float) -> tuple[float, float]:
+    def _unhabitual(
+        self, step: PlannedStep, before: int, ex: float, ey: float
+    ) -> tuple[float, float]:
         """The DCM error less the walk's own repeated one at this point of the swing [m].
 
         A walking robot's DCM deviates from the plan's in the same way step after step (the
@@ -428,7 +332,7 @@ class StepAdjustment:
             habit[0][i], habit[1][i] = hx + rate * (ex - hx), hy + rate * (ey - hy)
         return ex - hx, ey - hy
 
-    def _box(self, step: _Step) -> tuple[float, float, float, float]:
+    def _box(self, step: PlannedStep) -> tuple[float, float, float, float]:
         """(lo, hi) of the landing's shift along and across the stance sole [m]."""
         reach = self.reach
         lo_x, hi_x = -reach.max_along_m - step.along, reach.max_along_m - step.along
@@ -487,8 +391,12 @@ class StepAdjustment:
         self._shift[j, 0], self._shift[j, 1] = ox, oy
         self._landed_at[j] = (step.touchdown - frame) * self._dt
         self._landed = True
-        if self._references is not None and self._modified:
-            self._rewrite_reference(j)
+        if self._reference is not None and self._modified:
+            start = self._stance_offset
+            self._reference.replan(
+                j, step.stance_x + start[0], step.stance_y + start[1], goal[0], goal[1],
+                self._touchdown, ox, oy,
+            )  # fmt: skip
         if ox != 0.0 or oy != 0.0:
             self._moved = True
 
@@ -507,76 +415,24 @@ class StepAdjustment:
             target[frame, 0], target[frame, 1], target[frame, 2] = x, y, z
             soles[frame, i, 0], soles[frame, i, 1], soles[frame, i, 2] = x, y, z
 
-    def _reference_shape(self, j: int, rows: tuple[NDArray[np.float64], ...]) -> None:
-        """``S + (G - S) r(t - T')`` over step ``j``'s transfer, into ``rows`` (x, y) [m]."""
-        views, scalar = self._references[j], self._scalar  # type: ignore[index]
-        scalar[()] = self._touchdown
-        np.subtract(views.frames, scalar, out=views.ramp)
-        scalar[()] = 1.0 / self._t_d_frames
-        np.multiply(views.ramp, scalar, out=views.ramp)
-        np.maximum(views.ramp, self._zero, out=views.ramp)
-        np.minimum(views.ramp, self._one, out=views.ramp)
-        step = self._steps[j]
-        self._ramp_to(step.stance_x + self._stance_offset[0], self._goal[0], views, rows[0])
-        self._ramp_to(step.stance_y + self._stance_offset[1], self._goal[1], views, rows[1])
-
-    def _ramp_to(
-        self, start: float, goal: float, views: _ReferenceViews, row: NDArray[np.float64]
-    ) -> None:
-        """``start + (goal - start) r`` into ``row`` [m] (``r`` in ``views.ramp``)."""
-        scalar = self._scalar
-        scalar[()] = goal - start
-        np.multiply(views.ramp, scalar, out=row)
-        scalar[()] = start
-        np.add(row, scalar, out=row)
-
-    def _rewrite_reference(self, j: int) -> None:
-        """Move the ZMP reference from this step on by what its re-planned landing changed."""
-        views = self._references[j]  # type: ignore[index]
-        self._reference_shape(j, views.new_rows)
-        step = self._steps[j]
-        self._move_reference(0, step.land_x, views)  # unrolled: one loop iterator at most
-        self._move_reference(1, step.land_y, views)
-        np.copyto(views.old, views.new)
-
-    def _move_reference(self, axis: int, land: float, views: _ReferenceViews) -> None:
-        """One axis: the transfer's change, and the rest of the walk by the landing's offset."""
-        np.subtract(views.new_rows[axis], views.old_rows[axis], out=views.change)
-        np.add(views.segments[axis], views.change, out=views.segments[axis])
-        offset = self._goal[axis] - land
-        self._scalar[()] = offset - self._tail_offset[axis]
-        np.add(views.tails[axis], self._scalar, out=views.tails[axis])
-        self._tail_offset[axis] = offset
-
     def _shift_dcm_reference(self, j: int, before: int) -> None:
-        """δξ, δp and the CoM reference that follows them, at ``before`` (module docstring)."""
-        shift = self.dcm_reference_shift
+        """δξ, δp and the CoM reference that follows them, at ``before``.
+
+        Until the foot is down the references are the plan's, moved by the last placement's
+        offset: the controllers keep to the plan while the swing is re-planned.
+        """
         if j < 0:
             return
-        step, omega, dt, t_d = self._steps[j], self._omega, self._dt, self._t_d
-        planned = (step.touchdown - before) * dt
-        zmp_plan, dcm_plan = transfer_zmp(t_d, planned), transfer_dcm(omega, t_d, planned)
-        zmp_new, dcm_new = zmp_plan, dcm_plan  # the plan's references until the foot is down
+        step = self._steps[j]
         if self._landed:
-            ahead = (self._touchdown - before) * dt
-            zmp_new, dcm_new = transfer_zmp(t_d, ahead), transfer_dcm(omega, t_d, ahead)
-        for axis, stance, land in (
-            (0, step.stance_x, step.land_x),
-            (1, step.stance_y, step.land_y),
-        ):
-            o = self._stance_offset[axis]
-            to_goal, to_land = self._goal[axis] - stance - o, land - stance
-            if not self._landed:
-                to_goal = to_land + self._global.item(axis) - o
-            zmp = o + to_goal * zmp_new - to_land * zmp_plan
-            dcm = o + to_goal * dcm_new - to_land * dcm_plan
-            com = self._com_shift[axis]
-            rate = omega * (dcm - com)
-            shift[axis, 0], shift[axis, 1], shift[axis, 2] = com, rate, omega * omega * (com - zmp)
-            shift[axis, 3], shift[axis, 4] = zmp, dcm
-            com += dt * rate
-            self._com_shift[axis] = com
-            self.com_shift_next[axis] = com
+            self.dcm_reference.update(step, before, self._stance_offset, self._goal,
+                                      self._touchdown)  # fmt: skip
+            return
+        planned = self._planned_goal
+        planned[0] = step.land_x + self._global.item(0)
+        planned[1] = step.land_y + self._global.item(1)
+        self.dcm_reference.update(step, before, self._stance_offset, planned,
+                                  float(step.touchdown))  # fmt: skip
 
     def events(self) -> tuple[StepEvent, ...]:
         """The steps adjusted so far, in order."""

@@ -49,7 +49,8 @@ from zmpkit.walking.ik import IkSettings, JointTrajectory, WalkingIk
 from zmpkit.walking.measurement import WalkMeasurement
 from zmpkit.walking.pattern import WalkingPattern
 from zmpkit.walking.state_estimator import KinematicStateEstimator
-from zmpkit.walking.step_adjustment import StepAdjustment, StepAdjustmentParameters, StepEvent
+from zmpkit.walking.step_adjustment import StepAdjustment, StepAdjustmentParameters
+from zmpkit.walking.step_events import StepEvent
 from zmpkit.walking.step_reach import step_reach
 from zmpkit.walking.zmp_observer import ObservedPreviewControl, ZmpObserverParameters
 
@@ -374,8 +375,8 @@ class DcmWalk(_OnlineWalk):
             self.dt, STANDARD_GRAVITY_MPS2, self.parameters,
         )  # fmt: skip
         self.stepping.replans_dcm = True
-        self.stabiliser.reference_shift = self.stepping.dcm_reference_shift
-        self._com_shift = self.stepping.com_shift_next
+        self.stabiliser.reference_shift = self.stepping.dcm_reference.shift
+        self._com_shift = self.stepping.dcm_reference.com_next
         self.desired_zmp_in_world = self.stabiliser.desired_zmp_in_world
         """The ZMP p^d the stabiliser asked for at each frame [m], shape (N, 2)."""
         self.foot_damping: FootDamping | None = None
@@ -403,8 +404,8 @@ class DcmWalk(_OnlineWalk):
         shift = self.stabiliser.update(k, est.com_in_world, zmp)
         plan, targets = self.pattern.com.com_position_in_world, self.targets.com_position_in_world
         moved = self._com_shift  # the re-planned CoM of an adjusted step
-        targets[frame, 0] = plan.item(frame, 0) + shift.item(0) + moved[0]
-        targets[frame, 1] = plan.item(frame, 1) + shift.item(1) + moved[1]
+        targets[frame, 0] = plan.item(frame, 0) + shift.item(0) + moved.item(0)
+        targets[frame, 1] = plan.item(frame, 1) + shift.item(1) + moved.item(1)
         if self.foot_damping is not None:
             np.subtract(self.desired_zmp_in_world[k], zmp, out=self._zmp_error)
             for i, yaws in enumerate(self._sole_yaws):
