@@ -14,7 +14,8 @@ def _row(controller: str, fell: bool, **case: str) -> tuple[str, ...]:
         "fell": "true" if fell else "false", "fall_time_s": "6.1" if fell else "",
         "fall_kind": "roll" if fell else "", "speed_error_pct": "" if fell else "1.0",
         "trunk_pitch_peak_hz": "" if fell else "2.0",
-        "trunk_pitch_peak_amplitude_rad": "" if fell else "0.03",
+        "trunk_pitch_peak_amplitude_rad": "" if fell else "0.03", "adjusted_steps": "0",
+        "uncaptured_steps": "0",
     }  # fmt: skip
     cells.update(case)
     return tuple(cells[c] for c in ROBUSTNESS_COLUMNS)

@@ -5,9 +5,11 @@ from __future__ import annotations
 from collections.abc import Sequence
 from pathlib import Path
 
+from matplotlib.patches import Rectangle
+
 from zmpkit.analysis.figure import new_figure, save_figure
 
-__all__ = ["case_label", "plot_robustness"]
+__all__ = ["case_label", "plot_push_matrix", "plot_robustness"]
 
 
 def case_label(row: dict[str, str]) -> str:
@@ -50,3 +52,49 @@ def plot_robustness(
     falls = sum(c["fell"] == "true" for c in cases)
     ax.set_title(f"{title}: {falls} of {len(cases)} walks fell", fontsize=9)
     return save_figure(fig, path)
+
+
+def plot_push_matrix(
+    rows: Sequence[Sequence[str]], columns: Sequence[str], path: str | Path, title: str
+) -> Path | None:
+    """The pushes as a matrix: force and direction down, phase of the step across.
+
+    Each cell is one pushed walk: green if it stood, red if it fell (with the kind of fall),
+    grey if it was not walked; a cell whose walk moved a step that could not capture the DCM
+    carries a ``×``.
+
+    Args:
+        rows: the controller's rows of ``robustness.csv`` (cells as text).
+        columns: the CSV's columns.
+        path: the PNG to write.
+        title: the figure's title.
+
+    Returns:
+        The PNG, or None when no row is a push.
+    """
+    cases = [dict(zip(columns, row, strict=True)) for row in rows]
+    pushes = [c for c in cases if c["push_n"] not in ("", "0")]
+    if not pushes:
+        return None
+    lines = list(dict.fromkeys((c["push_n"], c["push_dir"]) for c in pushes))
+    phases = sorted({c["push_phase"] for c in pushes}, key=float)
+    fig, ax = new_figure(width_in=4.0 + 0.6 * len(phases), height_in=1.2 + 0.22 * len(lines))
+    for case in pushes:
+        i, j = lines.index((case["push_n"], case["push_dir"])), phases.index(case["push_phase"])
+        fell = case["fell"] == "true"
+        ax.add_patch(_cell(j, i, "tab:red" if fell else "tab:green"))
+        uncaptured = case.get("uncaptured_steps", "") not in ("", "0")
+        text = (case["fall_kind"] if fell else "") + (" ×" if uncaptured else "")
+        ax.text(j, i, text, ha="center", va="center", fontsize=6, color="white")
+    ax.set_xlim(-0.5, len(phases) - 0.5)
+    ax.set_ylim(len(lines) - 0.5, -0.5)
+    ax.set_xticks(range(len(phases)), [f"{float(p):g}" for p in phases], fontsize=7)
+    ax.set_yticks(range(len(lines)), [f"{float(f):g} N {d}" for f, d in lines], fontsize=6)
+    ax.set_xlabel("phase of the step at which the 0.1 s push starts [-]")
+    falls = sum(c["fell"] == "true" for c in pushes)
+    ax.set_title(f"{title}: {falls} of {len(pushes)} pushes fell", fontsize=9)
+    return save_figure(fig, path)
+
+
+def _cell(x: float, y: float, color: str) -> Rectangle:
+    return Rectangle((x - 0.48, y - 0.45), 0.96, 0.9, color=color)

@@ -60,8 +60,16 @@ __all__ = ["walk_compensate_command", "walk_group", "walk_sweep_command"]
     "--push",
     "pushes",
     multiple=True,
-    metavar="FORCE_N@TIME_S[:x|y|-x|-y]",
-    help="A 0.1 s push on the torso, e.g. 20@4.2:y (repeatable).",
+    metavar="FORCE_N@TIME_S[:DIR]",
+    help="A 0.1 s push on the torso, e.g. 20@4.2:y; DIR one of x, -x, y, -y, x+y, x-y, -x+y, "
+    "-x-y (repeatable).",
+)
+@click.option(
+    "--step-adjustment/--no-step-adjustment",
+    default=False,
+    show_default=True,
+    help="Let the feedback walks move their steps (where and when the swing foot lands) to "
+    "capture the DCM after a push.",
 )
 @click.option(
     "--effects",
@@ -94,6 +102,7 @@ def walk_group(
     turn_rate: float,
     controller: str,
     pushes: tuple[str, ...],
+    step_adjustment: bool,
     effects: str,
     seed: int,
     truth: Path | None,
@@ -120,6 +129,7 @@ def walk_group(
         turn_rate_rps=turn_rate,
         pushes=tuple(Push.parse(text) for text in pushes),
         video=video,
+        step_adjustment=step_adjustment,
     )
     with SimTimeProgress(f"walk ({config.effects or 'none'})") as progress:
         result = run_walk(config, progress=progress)
@@ -143,6 +153,11 @@ def walk_group(
         f"{s.controller}: fell: {fall}; speed {speed_text} m/s{path_text} "
         f"(commanded {s.commanded_speed_mps:.4f}); trunk pitch peak {peak_hz} Hz, {peak_rad} rad"
     )
+    if s.adjusted_steps:
+        click.echo(
+            f"step adjustment: {s.adjusted_steps} step(s) moved, {s.uncaptured_steps} where no "
+            "admissible step captures the DCM"
+        )
     click.echo(f"summary: {Path(out_dir) / 'summary.json'}")
     click.echo(f"report: {report}")
     if "video" in result.files:
@@ -246,6 +261,17 @@ def walk_compensate_command(
 @click.option("--seed", type=int, default=0, show_default=True, help="Seed of the sensor noise.")
 @click.option("--workers", type=int, default=2, show_default=True, help="Parallel processes.")
 @click.option(
+    "--step-adjustment/--no-step-adjustment",
+    default=False,
+    show_default=True,
+    help="Walk every case with the feedback walks' step adjustment.",
+)
+@click.option(
+    "--cases",
+    default="",
+    help="Only the cases whose label contains this text, e.g. 'push 30' or '-y @ 0.25'.",
+)
+@click.option(
     "--out", "out_dir", type=click.Path(path_type=Path), required=True, help="Output folder."
 )
 @report_option
@@ -256,6 +282,8 @@ def walk_sweep_command(
     duration: float,
     seed: int,
     workers: int,
+    step_adjustment: bool,
+    cases: str,
     out_dir: Path,
     report_format: str,
 ) -> None:
@@ -270,13 +298,15 @@ def walk_sweep_command(
         duration_s=duration,
         seed=seed,
         workers=workers,
+        step_adjustment=step_adjustment,
+        cases=cases,
     )
     with StageProgress() as progress:
         result = run_walk_sweep(config, out_dir, progress=progress)
     result = write_walk_sweep(result, out_dir)
     for controller in config.controllers:
-        falls, cases = result.falls(controller)
-        click.echo(f"{controller}: {falls} of {cases} walks fell")
+        falls, walked = result.falls(controller)
+        click.echo(f"{controller}: {falls} of {walked} walks fell")
     click.echo(f"robustness: {Path(out_dir) / 'robustness.csv'}")
     click.echo(f"report: {write_walk_sweep_report(result, out_dir, report_format)}")
 

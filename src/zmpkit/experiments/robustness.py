@@ -7,8 +7,9 @@ One :class:`RobustnessCase` is one walk that differs from the nominal one (0.2 m
 - step duration 0.35–0.70 s (0.2 m/s);
 - walking sideways at ±0.05 m/s (no forward speed);
 - turning at ±0.3 rad/s (0.2 m/s);
-- a push of 10 or 20 N for 0.1 s on the torso, in four directions (±x, ±y), at four phases
-  of a step (0, ¼, ½, ¾ of the step after the start of the seventh step);
+- a push of 10, 20 or 30 N for 0.1 s on the torso, in eight directions (±x, ±y and the
+  diagonals between them), at four phases of a step (0, ¼, ½, ¾ of the step after the start
+  of the seventh step);
 - a sensor fault in the middle of the walk (:data:`~zmpkit.experiments.walk_trial.FAULTS`).
 
 :func:`run_case` walks it and reduces it to one :class:`RobustnessRow` (the columns of
@@ -42,7 +43,7 @@ PUSH_STEP = 6
 """Pushes land in the seventh step (index 6) after walking starts [-]."""
 PUSH_PHASES = (0.0, 0.25, 0.5, 0.75)
 """Phases of the step at which a push starts [-]."""
-PUSH_FORCES_N = (10.0, 20.0)
+PUSH_FORCES_N = (10.0, 20.0, 30.0)
 """Push magnitudes [N], each for 0.1 s."""
 FAULT_TIME_S = 5.0
 """When a transient sensor fault starts [s]."""
@@ -50,7 +51,8 @@ FAULT_TIME_S = 5.0
 ROBUSTNESS_COLUMNS: tuple[str, ...] = (
     "controller", "speed_mps", "lateral_mps", "turn_rad_s", "step_duration_s", "push_n",
     "push_dir", "push_phase", "fault", "fell", "fall_time_s", "fall_kind", "speed_error_pct",
-    "trunk_pitch_peak_hz", "trunk_pitch_peak_amplitude_rad",
+    "trunk_pitch_peak_hz", "trunk_pitch_peak_amplitude_rad", "adjusted_steps",
+    "uncaptured_steps",
 )  # fmt: skip
 """Columns of ``robustness.csv``, in order (the first nine name the case)."""
 
@@ -66,7 +68,8 @@ class RobustnessCase:
         turn_rad_s: yaw rate [rad/s].
         step_duration_s: [s].
         push_n: push force [N] (0: none).
-        push_dir: push direction (``x``, ``-x``, ``y``, ``-y``; empty without a push).
+        push_dir: push direction (one of
+            :data:`~zmpkit.experiments.walk_trial.PUSH_DIRECTIONS`; empty without a push).
         push_phase: phase of the step at which the push starts [-].
         fault: sensor fault (empty: none).
     """
@@ -82,12 +85,32 @@ class RobustnessCase:
     fault: str = ""
 
     @property
+    def label(self) -> str:
+        """A short name, e.g. ``push 20 N -y @ 0.25`` (``zmpkit walk sweep --cases``)."""
+        if self.push_n > 0.0:
+            return f"push {self.push_n:g} N {self.push_dir} @ {self.push_phase:g}"
+        if self.fault:
+            return f"fault {self.fault}"
+        if self.lateral_mps:
+            return f"lateral {self.lateral_mps:g} m/s"
+        if self.turn_rad_s:
+            return f"turn {self.turn_rad_s:g} rad/s"
+        return f"{self.speed_mps:g} m/s, {self.step_duration_s:g} s steps"
+
+    @property
     def key(self) -> tuple[str, ...]:
         """The case as the first nine cells of its CSV row (for resuming)."""
         return tuple(_cell(getattr(self, name)) for name in ROBUSTNESS_COLUMNS[:9])
 
-    def walk_config(self, robot: str, effects: str, duration_s: float, seed: int) -> WalkConfig:
-        """The walk of this case on ``robot``."""
+    def walk_config(
+        self,
+        robot: str,
+        effects: str,
+        duration_s: float,
+        seed: int,
+        step_adjustment: bool = False,
+    ) -> WalkConfig:
+        """The walk of this case on ``robot`` (``step_adjustment``: the walk moves its steps)."""
         pushes: tuple[Push, ...] = ()
         if self.push_n > 0.0:
             probe = WalkConfig(
@@ -110,6 +133,7 @@ class RobustnessCase:
             pushes=pushes,
             faults=faults,
             figures=False,
+            step_adjustment=step_adjustment,
         )
 
 
@@ -126,6 +150,8 @@ class RobustnessRow:
             after a fall or without a forward command.
         trunk_pitch_peak_hz: the trunk-pitch spectrum's peak [Hz]; None after a fall.
         trunk_pitch_peak_amplitude_rad: its amplitude [rad]; None after a fall.
+        adjusted_steps: steps the walk moved to capture its DCM.
+        uncaptured_steps: of them, those no admissible step could capture.
     """
 
     case: RobustnessCase
@@ -135,12 +161,15 @@ class RobustnessRow:
     speed_error_pct: float | None
     trunk_pitch_peak_hz: float | None
     trunk_pitch_peak_amplitude_rad: float | None
+    adjusted_steps: int = 0
+    uncaptured_steps: int = 0
 
     def cells(self) -> list[str]:
         """The CSV row, in :data:`ROBUSTNESS_COLUMNS` order (empty cell for None)."""
         values = (
             self.fell, self.fall_time_s, self.fall_kind, self.speed_error_pct,
-            self.trunk_pitch_peak_hz, self.trunk_pitch_peak_amplitude_rad,
+            self.trunk_pitch_peak_hz, self.trunk_pitch_peak_amplitude_rad, self.adjusted_steps,
+            self.uncaptured_steps,
         )  # fmt: skip
         return [*self.case.key, *(_cell(v) for v in values)]
 
@@ -156,7 +185,7 @@ def _cell(value: object) -> str:
 
 
 def robustness_matrix(controllers: tuple[str, ...]) -> list[RobustnessCase]:
-    """Every case of the module docstring for each controller (52 per controller)."""
+    """Every case of the module docstring for each controller (116 per controller)."""
     cases: list[RobustnessCase] = []
     for c in controllers:
         cases += [RobustnessCase(c, speed_mps=v) for v in (0.05, 0.10, 0.15, 0.20, 0.25, 0.30)]
@@ -176,10 +205,16 @@ def robustness_matrix(controllers: tuple[str, ...]) -> list[RobustnessCase]:
 
 
 def run_case(
-    case: RobustnessCase, robot: str, effects: str, duration_s: float, seed: int
+    case: RobustnessCase,
+    robot: str,
+    effects: str,
+    duration_s: float,
+    seed: int,
+    step_adjustment: bool = False,
 ) -> RobustnessRow:
     """Walk ``case`` on ``robot`` and reduce it to its row."""
-    summary = run_walk_trial(case.walk_config(robot, effects, duration_s, seed)).summary
+    config = case.walk_config(robot, effects, duration_s, seed, step_adjustment)
+    summary = run_walk_trial(config).summary
     error = None
     if summary.mean_speed_mps is not None and abs(case.speed_mps) > 0.0 and not case.turn_rad_s:
         error = 100.0 * (summary.mean_speed_mps - case.speed_mps) / case.speed_mps
@@ -187,5 +222,5 @@ def run_case(
     return RobustnessRow(
         case, summary.fell, summary.fall_time_s, summary.fall_kind,
         None if error is None or not math.isfinite(error) else error,
-        summary.trunk_pitch_peak_hz, amplitude,
+        summary.trunk_pitch_peak_hz, amplitude, summary.adjusted_steps, summary.uncaptured_steps,
     )  # fmt: skip

@@ -29,6 +29,7 @@ from zmpkit.walking.heading_feedback import HeadingFeedbackGains
 from zmpkit.walking.ik import IkSettings, JointTrajectory, solve_walking_ik
 from zmpkit.walking.pattern import WalkingPattern
 from zmpkit.walking.servo_feedforward import servo_compliance_offsets
+from zmpkit.walking.step_adjustment import StepAdjustmentParameters
 from zmpkit.walking.walk_controllers import (
     DcmWalk,
     OffsetWalk,
@@ -103,6 +104,7 @@ def make_controller(
     servo_damping_nm_s_per_rad: float = 0.0,
     observer_zmp_noise_m: float | None = None,
     reference_adapter: ReferenceAdapter | None = None,
+    step_adjustment: bool = False,
 ) -> WalkController:
     """The walking controller ``name`` for this walk (``open``, ``zmpip`` or ``dcm``).
 
@@ -136,12 +138,14 @@ def make_controller(
             com_noise_m=observer_com_noise_m or observer.com_noise_m,
             zmp_noise_m=observer_zmp_noise_m or observer.zmp_noise_m,
         )
+        stepping = StepAdjustmentParameters(enabled=step_adjustment)
         if name == "zmpip":
             controller = ZmpIpWalk(pattern, model, settings, layout, joints, observer, heading,
-                                   reference_adapter=reference_adapter)  # fmt: skip
+                                   reference_adapter=reference_adapter,
+                                   stepping=stepping)  # fmt: skip
         else:
             dcm = DcmParameters(observer=observer)
-            controller = DcmWalk(pattern, model, settings, layout, joints, dcm, heading)
+            controller = DcmWalk(pattern, model, settings, layout, joints, dcm, heading, stepping)
     if servo_stiffness_nm_per_rad is None:
         return controller
     offsets = servo_compliance_offsets(
@@ -173,15 +177,16 @@ def walk_controller(
 
     ``model`` is the robot's IK model the trajectory was solved on.
 
-    The controller, heading feedback and effects come from ``config``; the soft servos'
-    feed-forward and the observer's noise levels from the robot's walking defaults.
+    The controller, heading feedback, step adjustment and effects come from ``config``; the
+    soft servos' feed-forward and the observer's noise levels from the robot's walking
+    defaults.
     """
     walking = robot.require_walking()
     return make_controller(
         config.controller, pattern, trajectory, model, robot.ik_settings, sim,
         config.heading_feedback, soft_servo_stiffness(walking, config.effects),
         walking.observer_com_noise_m, walking.servo_damping_nm_s_per_rad,
-        walking.observer_zmp_noise_m, reference_adapter,
+        walking.observer_zmp_noise_m, reference_adapter, config.step_adjustment,
     )  # fmt: skip
 
 

@@ -68,6 +68,8 @@ class WalkConfig:
             from its recorded configurations).
         heading_feedback: whether a feedback walk (``zmpip``, ``dcm``) turns its footsteps
             by the IMU's yaw to keep its heading (:mod:`zmpkit.walking.heading_feedback`).
+        step_adjustment: whether a feedback walk moves its steps to capture its DCM after a
+            push (:mod:`zmpkit.walking.step_adjustment`).
     """
 
     robot: str = DEFAULT_WALK_ROBOT
@@ -86,6 +88,7 @@ class WalkConfig:
     faults: tuple[SensorFault, ...] = ()
     video: bool = False
     heading_feedback: bool = True
+    step_adjustment: bool = False
 
     def __post_init__(self) -> None:
         walking = get_robot(self.robot, needs="walking").require_walking()

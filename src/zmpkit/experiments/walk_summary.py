@@ -31,6 +31,7 @@ from zmpkit.signals.contact_phases import (
 from zmpkit.signals.spectra import amplitude_spectrum
 from zmpkit.walking.ik import JointTrajectory
 from zmpkit.walking.pattern import WalkingPattern
+from zmpkit.walking.step_events import NOT_CAPTURED, StepEvent
 
 __all__ = [
     "HEADING_TOLERANCE_RAD",
@@ -98,6 +99,10 @@ class WalkSummary:
             [m/s]; equals ``mean_speed_mps`` on a straight walk along x, and is the speed a
             turning or sideways walk actually makes; None after a fall or on a window shorter
             than two gait cycles.
+        adjusted_steps: how many steps the walk moved to capture its DCM
+            (:mod:`zmpkit.walking.step_adjustment`).
+        uncaptured_steps: how many of them no admissible step could capture.
+        step_events: each adjusted step in words (when, where it landed, whether it captured).
     """
 
     fell: bool
@@ -128,6 +133,9 @@ class WalkSummary:
     heading_error_max_rad: float | None = None
     heading_error_end_rad: float | None = None
     path_speed_mps: float | None = None
+    adjusted_steps: int = 0
+    uncaptured_steps: int = 0
+    step_events: tuple[str, ...] = ()
 
 
 def heading_error(pattern: WalkingPattern, record: WalkRecord) -> NDArray[np.float64] | None:
@@ -243,6 +251,18 @@ def _feet(
     }
 
 
+def _describe(event: StepEvent) -> str:
+    """One adjusted step in words, e.g. ``4.19 s, step 6 (left): landed (+0.4, +10.7) cm ...``."""
+    dx, dy = (100.0 * v for v in event.shift_m)
+    text = (
+        f"{event.time_s:.2f} s, step {event.step} ({event.side}): landed ({dx:+.1f}, {dy:+.1f}) "
+        f"cm from the plan, {event.shortened_s:.2f} s early"
+    )
+    if event.captured:
+        return text
+    return f"{text}; {NOT_CAPTURED} ({100.0 * event.dcm_error_left_m:.1f} cm left)"
+
+
 def summarise_walk(
     pattern: WalkingPattern,
     trajectory: JointTrajectory,
@@ -312,6 +332,9 @@ def summarise_walk(
         commanded_turn_rate_rps=float(command.omega),
         clamped_step_limits=pattern.footsteps.clamped_limits,
         pushes=tuple(pushes),
+        adjusted_steps=len(record.step_events),
+        uncaptured_steps=sum(not e.captured for e in record.step_events),
+        step_events=tuple(_describe(e) for e in record.step_events),
         **{
             k: (None if v is None or not math.isfinite(v) else float(v)) for k, v in metrics.items()
         },

@@ -46,6 +46,7 @@ from zmpkit.sim.names import sole_site
 from zmpkit.sim.world import Simulation
 from zmpkit.walking.ik import JointTrajectory
 from zmpkit.walking.measurement import WalkMeasurement
+from zmpkit.walking.step_events import StepEvent
 from zmpkit.walking.walk_controllers import WalkController
 
 __all__ = [
@@ -72,10 +73,14 @@ PROGRESS_EVERY_S = 0.5
 ProgressCallback = Callable[[float, float], None]
 """``progress(simulated_s, total_s)``, called during a run."""
 
+_DIAGONAL = 0.5**0.5
 PUSH_DIRECTIONS: dict[str, tuple[float, float]] = {
     "x": (1.0, 0.0), "-x": (-1.0, 0.0), "y": (0.0, 1.0), "-y": (0.0, -1.0),
+    "x+y": (_DIAGONAL, _DIAGONAL), "x-y": (_DIAGONAL, -_DIAGONAL),
+    "-x+y": (-_DIAGONAL, _DIAGONAL), "-x-y": (-_DIAGONAL, -_DIAGONAL),
 }  # fmt: skip
-"""Push directions in the world frame (x forward, y left)."""
+"""Push directions in the world frame (x forward, y left), unit vectors: the axes and the
+diagonals between them."""
 
 
 @dataclass(frozen=True)
@@ -113,7 +118,8 @@ class Push:
             return cls(float(force), float(when), direction or "x")
         except ValueError:
             raise ParameterError(
-                f"a push is FORCE_N@TIME_S[:x|y|-x|-y], e.g. 20@3.5:y; got {text!r}"
+                f"a push is FORCE_N@TIME_S[:DIR] with DIR one of {', '.join(PUSH_DIRECTIONS)}, "
+                f"e.g. 20@3.5:y; got {text!r}"
             ) from None
 
     def force_in_world(self, time_s: float) -> tuple[float, float]:
@@ -182,6 +188,9 @@ class WalkRecord:
         qpos: the simulator's whole configuration (MuJoCo ``qpos``), shape (N, nq); for
             validating models against the simulation, not something a real robot reports.
         contact_threshold_n: the robot's contact threshold [N] (:mod:`zmpkit.sensors.zmp`).
+        trunk_yaw_rad: IMU yaw, unwrapped [rad], shape (N,); None in records made without it.
+        step_events: the steps the controller adjusted to capture its DCM, and whether they
+            could (:class:`~zmpkit.walking.step_adjustment.StepEvent`).
     """
 
     time_s: NDArray[np.float64]
@@ -204,6 +213,7 @@ class WalkRecord:
     fall_kind: str | None = None
     controller: str = "open"
     trunk_yaw_rad: NDArray[np.float64] | None = None
+    step_events: tuple[StepEvent, ...] = ()
 
     def zmp_in_world(self) -> NDArray[np.float64]:
         """The measured ZMP from the feet's F-T sensors [m], shape (N, 2); NaN without contact."""
@@ -271,7 +281,9 @@ class _Recorder:
         self.rows += 1
         return self.pitch[k], self.roll[k]
 
-    def result(self, fall_kind: str | None, controller: str) -> WalkRecord:
+    def result(
+        self, fall_kind: str | None, controller: str, events: tuple[StepEvent, ...] = ()
+    ) -> WalkRecord:
         n = self.rows
         fall_time = float(self.time[n - 1]) if fall_kind is not None else None
         return WalkRecord(
@@ -280,7 +292,7 @@ class _Recorder:
             self.moment[:n], self.sensor[:n], self.sole[:n], self.torso[:n],
             fall_kind is not None, fall_time, self.qpos[:n],
             self.sim.robot.contact_force_threshold_n, fall_kind, controller,
-            np.unwrap(self.yaw[:n]),
+            np.unwrap(self.yaw[:n]), events,
         )  # fmt: skip
 
     def reading(self) -> FrameReading:
@@ -449,7 +461,13 @@ def simulate_walk(
         pitch, roll = recorder.record(q_frames[k])
         kind = _fall_kind(sim, pitch, roll, fall_height_m)
         if kind is not None:
-            return recorder.result(kind, name)
+            return recorder.result(kind, name, _step_events(controller))
         if progress is not None and k % every == 0:
             progress(sim.time, total)
-    return recorder.result(None, name)
+    return recorder.result(None, name, _step_events(controller))
+
+
+def _step_events(controller: WalkController | None) -> tuple[StepEvent, ...]:
+    """The steps ``controller`` adjusted (none for a controller that does not step)."""
+    events = getattr(controller, "step_events", None)
+    return () if events is None else tuple(events())

@@ -116,6 +116,8 @@ def walk_checks(summary: WalkSummary, prefix: str = "") -> tuple[Check, ...]:
             "forward speed is the advance along x",
         )
     )
+    if summary.adjusted_steps:
+        checks.append(_stepping_check(summary, lead))
     amplitude = summary.trunk_pitch_peak_amplitude_rad
     checks.append(
         Check(
@@ -129,6 +131,17 @@ def walk_checks(summary: WalkSummary, prefix: str = "") -> tuple[Check, ...]:
         )
     )
     return tuple(checks)
+
+
+def _stepping_check(summary: WalkSummary, lead: str) -> Check:
+    """The adjusted steps: met when each captured the DCM within the legs' limits."""
+    missed = summary.uncaptured_steps
+    return Check(
+        f"{lead}every adjusted step captures the DCM",
+        "missed" if missed else "met",
+        f"{summary.adjusted_steps} step(s) adjusted, {missed} where no admissible step captures "
+        "the DCM: " + "; ".join(summary.step_events),
+    )
 
 
 def _met(ok: bool) -> Status:

@@ -4,7 +4,9 @@ Every case of :func:`~zmpkit.experiments.robustness.robustness_matrix` is walked
 pool; each finished row is appended to ``robustness.csv`` at once, so an interrupted sweep
 loses at most the walks in flight, and a rerun into the same folder walks only the cases not
 yet in the file (rows of another configuration are refused: ``sweep.json`` records it).
-``write_walk_sweep`` adds one figure per controller and the counts of falls.
+``write_walk_sweep`` adds two figures per controller (every case; the pushes as a matrix) and
+the counts of falls. ``SweepConfig.cases`` walks a subset (e.g. the 30 N pushes) into the
+same folder.
 """
 
 from __future__ import annotations
@@ -19,7 +21,7 @@ from dataclasses import asdict, dataclass, field
 from pathlib import Path
 
 from zmpkit import _validate
-from zmpkit.analysis.robustness_plot import plot_robustness
+from zmpkit.analysis.robustness_plot import plot_push_matrix, plot_robustness
 from zmpkit.errors import InputFileError, ParameterError
 from zmpkit.experiments.robustness import (
     ROBUSTNESS_COLUMNS,
@@ -50,6 +52,9 @@ class SweepConfig:
         duration_s: walking time of each case [s].
         seed: sensor-noise seed.
         workers: parallel processes.
+        step_adjustment: whether the feedback walks move their steps to capture the DCM.
+        cases: walk only the cases whose label contains this text (empty: all); e.g.
+            ``push 30`` (:attr:`~zmpkit.experiments.robustness.RobustnessCase.label`).
     """
 
     robot: str = DEFAULT_WALK_ROBOT
@@ -58,6 +63,8 @@ class SweepConfig:
     duration_s: float = 10.0
     seed: int = 0
     workers: int = 2
+    step_adjustment: bool = False
+    cases: str = ""
 
     def __post_init__(self) -> None:
         get_robot(self.robot, needs="walking")
@@ -77,8 +84,14 @@ class SweepConfig:
         object.__setattr__(self, "effects", EffectSet.parse(self.effects).letters)
 
     def identity(self) -> dict[str, object]:
-        """What must match for rows to be resumed (not the controllers nor the workers)."""
-        return {k: v for k, v in asdict(self).items() if k not in ("controllers", "workers")}
+        """What must match for rows to be resumed (not the controllers, workers or cases)."""
+        skip = ("controllers", "workers", "cases")
+        return {k: v for k, v in asdict(self).items() if k not in skip}
+
+    def matrix(self) -> list[RobustnessCase]:
+        """The cases this sweep walks: the matrix, or those whose label holds ``cases``."""
+        cases = robustness_matrix(self.controllers)
+        return [c for c in cases if self.cases in c.label]
 
 
 @dataclass(frozen=True)
@@ -87,7 +100,8 @@ class SweepResult:
 
     Attributes:
         config: what was swept.
-        rows: one row per case, in the matrix's order.
+        rows: one row per finished case (this run's and earlier runs' into the folder), in the
+            matrix's order.
         files: the files written, by role.
         started_s: when this run of the sweep started [s since the epoch].
     """
@@ -130,20 +144,22 @@ def _check_identity(out: Path, config: SweepConfig) -> None:
 def _finished(cases: list[RobustnessCase], config: SweepConfig) -> Iterator[RobustnessRow]:
     if config.workers <= 1:
         for case in cases:
-            yield run_case(case, config.robot, config.effects, config.duration_s, config.seed)
+            yield run_case(case, *_trial(config))
         return
     context = multiprocessing.get_context("spawn")
     with ProcessPoolExecutor(max_workers=config.workers, mp_context=context) as pool:
         pending: set[Future[RobustnessRow]] = {
-            pool.submit(
-                run_case, case, config.robot, config.effects, config.duration_s, config.seed
-            )
-            for case in cases
+            pool.submit(run_case, case, *_trial(config)) for case in cases
         }
         while pending:
             done, pending = wait(pending, return_when=FIRST_COMPLETED)
             for future in done:
                 yield future.result()
+
+
+def _trial(config: SweepConfig) -> tuple[str, str, float, int, bool]:
+    """What :func:`run_case` takes besides the case."""
+    return config.robot, config.effects, config.duration_s, config.seed, config.step_adjustment
 
 
 def run_walk_sweep(
@@ -157,7 +173,7 @@ def run_walk_sweep(
         progress: called with ("walks", finished, total).
     """
     started_s = time.time()
-    cases = robustness_matrix(config.controllers)
+    cases = config.matrix()
     out.mkdir(parents=True, exist_ok=True)
     _check_identity(out, config)
     path = out / CSV_FILE
@@ -180,22 +196,36 @@ def run_walk_sweep(
             finished += 1
             if progress is not None:
                 progress("walks", finished, len(cases))
-    rows = tuple(done[c.key] for c in cases)
+    every = robustness_matrix(config.controllers)  # the report shows every finished case
+    rows = tuple(done[c.key] for c in every if c.key in done)
     return SweepResult(config, rows, {"robustness": path}, started_s)
 
 
 def write_walk_sweep(result: SweepResult, out: Path) -> SweepResult:
-    """Write one figure per controller and ``summary.json`` (falls per controller)."""
+    """Write two figures per controller and ``summary.json`` (falls per controller).
+
+    The figures: every case's outcome (:func:`~zmpkit.analysis.robustness_plot.plot_robustness`)
+    and the pushes as a matrix of force, direction and phase
+    (:func:`~zmpkit.analysis.robustness_plot.plot_push_matrix`).
+    """
     files = dict(result.files)
-    for controller in result.config.controllers:
+    config = result.config
+    for controller in config.controllers:
         rows = [r for r in result.rows if r[0] == controller]
+        title = (
+            f"{get_robot(config.robot).title}, effects {config.effects or 'none'}: {controller}"
+            + (" with step adjustment" if config.step_adjustment else "")
+        )
         files[f"figure_{controller}"] = plot_robustness(
-            rows, ROBUSTNESS_COLUMNS, out / f"robustness_{controller}.png",
-            f"{get_robot(result.config.robot).title}, effects {result.config.effects or 'none'}: "
-            f"{controller}",
-        )  # fmt: skip
+            rows, ROBUSTNESS_COLUMNS, out / f"robustness_{controller}.png", title
+        )
+        matrix = plot_push_matrix(rows, ROBUSTNESS_COLUMNS, out / f"pushes_{controller}.png", title)
+        if matrix is not None:
+            files[f"matrix_{controller}"] = matrix
     summary = {
-        c: {"falls": f, "cases": n} for c in result.config.controllers for f, n in [result.falls(c)]
+        c: {"falls": f, "cases": n, "step_adjustment": config.step_adjustment}
+        for c in config.controllers
+        for f, n in [result.falls(c)]
     }
     path = out / "summary.json"
     path.write_text(json.dumps(summary, indent=2) + "\n", encoding="utf-8")

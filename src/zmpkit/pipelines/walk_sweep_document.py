@@ -93,6 +93,16 @@ def walk_sweep_document(result: SweepResult) -> ReportDocument:
         )
         for role, path in result.files.items()
         if role.startswith("figure_")
+    ] + [
+        Figure(
+            path,
+            f"The pushes of `{role.removeprefix('matrix_')}` as a matrix: force and direction "
+            "down, the phase of the step at which the 0.1 s push starts across; green: stood, "
+            "red: fell (its kind named); ×: a step was moved but no admissible step could "
+            "capture the DCM.",
+        )
+        for role, path in result.files.items()
+        if role.startswith("matrix_")
     ]
     title = get_robot(c.robot).title
     return ReportDocument(
@@ -100,9 +110,14 @@ def walk_sweep_document(result: SweepResult) -> ReportDocument:
         summary=(
             f"Each controller walked every case of the robustness matrix for {c.duration_s:g} s "
             f"with effects {c.effects or 'none (rigid)'}: forward 0.05–0.30 m/s, steps of "
-            "0.35–0.70 s, sideways ±0.05 m/s, turning ±0.3 rad/s, pushes of 10 and 20 N × 0.1 s "
-            "in four directions at four phases of the step, and sensor faults. A fall is a "
-            "fall: its metrics are empty in `robustness.csv`."
+            "0.35–0.70 s, sideways ±0.05 m/s, turning ±0.3 rad/s, pushes of 10, 20 and 30 N × "
+            "0.1 s in eight directions at four phases of the step, and sensor faults"
+            + (
+                "; the feedback walks moved their steps to capture the DCM"
+                if c.step_adjustment
+                else ""
+            )
+            + ". A fall is a fall: its metrics are empty in `robustness.csv`."
         ),
         checks=tuple(checks),
         sections=(

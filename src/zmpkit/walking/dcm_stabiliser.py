@@ -270,6 +270,13 @@ class DcmStabiliser:
         )
         self.dcm_error_in_world = np.full((self._n, 2), np.nan)
         """The DCM error ``e = ξ̂ - ξ^{ref}`` of each period [m], shape (N, 2)."""
+        self.reference_shift = np.zeros((2, 5))
+        """What a re-planned walk adds to the plan's references of the next :meth:`update`,
+        rows x, y: c [m], ċ [m/s], c̈ [m/s²], p [m], ξ [m], shape (2, 5)
+        (:mod:`zmpkit.walking.step_adjustment`); zeros: the plan. The robot does not jump
+        with a re-planned command: the command error's velocity and acceleration take back
+        what the re-plan changed beyond the reference's own motion."""
+        self._moved_before = np.zeros((2, 2))  # rows x, y: ċ, c̈ of the last shift
         self.desired_zmp_in_world = np.full((self._n, 2), np.nan)
         """The ZMP ``p^d`` asked for at each period [m], shape (N, 2)."""
 
@@ -311,6 +318,7 @@ class DcmStabiliser:
             par.max_com_shift_m,
         )
         (l00, l01), (l10, l11), (l20, l21), (l30, l31) = self._l
+        moved, moved_before = self.reference_shift, self._moved_before
         (a00, a01, a02, _), (_, a11, a12, _), (_, _, a22, _), _ = self._a
         zc_g = self._zc_over_g
         shifts, rates = self.shift_in_world, self.shift_rate_in_world
@@ -318,9 +326,21 @@ class DcmStabiliser:
         for axis, z, (c_ref, v_ref, a_ref, p_ref, dcm_ref) in self._axes:
             e_c, e_v, e_a, d = z.item(0), z.item(1), z.item(2), z.item(3)
             shift, rate = shifts.item(axis), rates.item(axis)
-            c_cmd = c_ref[k] + shift
-            v_cmd = v_ref[k] + rate
-            a_cmd = a_ref[k] + accels.item(axis)
+            c_moved, v_moved, a_moved = (
+                moved.item(axis, 0),
+                moved.item(axis, 1),
+                moved.item(axis, 2),
+            )
+            p_moved, dcm_moved = moved.item(axis, 3), moved.item(axis, 4)
+            v_before, a_before = moved_before.item(axis, 0), moved_before.item(axis, 1)
+            # a re-plan moves the command, not the robot: the error state takes the jump back
+            e_v -= v_moved - v_before - dt * a_before
+            e_a -= a_moved - a_before
+            moved_before[axis, 0], moved_before[axis, 1] = v_moved, a_moved
+            c_cmd = c_ref[k] + c_moved + shift
+            v_cmd = v_ref[k] + v_moved + rate
+            a_cmd = a_ref[k] + a_moved + accels.item(axis)
+            p_plan = p_ref[k] + p_moved
             zmp = zmp_in_world.item(axis)
             has_zmp = math.isfinite(zmp)
             if has_zmp:
@@ -332,7 +352,7 @@ class DcmStabiliser:
                 e_a += l20 * r_c + l21 * r_p
                 d += l30 * r_c + l31 * r_p
                 d = _clamp(d, offset_limit)
-            error = c_cmd + e_c + (v_cmd + e_v) / omega - dcm_ref[k]
+            error = c_cmd + e_c + (v_cmd + e_v) / omega - (dcm_ref[k] + dcm_moved)
             self.dcm_error_in_world[k, axis] = error
             excess = abs(error) - deadband
             error = math.copysign(excess, error) if excess > 0.0 else 0.0
@@ -341,11 +361,11 @@ class DcmStabiliser:
             integrals[axis] = integral
             accel = -omega * rate - omega * gain * (error + integral_gain * integral)
             if admittance > 0.0 and has_zmp:
-                zmp_error = zmp - (p_ref[k] - accel / omega2)
+                zmp_error = zmp - (p_plan - accel / omega2)
                 zmp_error = _clamp(zmp_error, admittance_clip)
                 accel += admittance * zmp_error
             accel = _clamp(accel, accel_limit)
-            self.desired_zmp_in_world[k, axis] = p_ref[k] - accel / omega2
+            self.desired_zmp_in_world[k, axis] = p_plan - accel / omega2
             accels[axis] = accel
             rate += accel * dt
             shift += rate * dt

@@ -34,7 +34,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Protocol
 
 import mujoco
@@ -49,6 +49,9 @@ from zmpkit.walking.ik import IkSettings, JointTrajectory, WalkingIk
 from zmpkit.walking.measurement import WalkMeasurement
 from zmpkit.walking.pattern import WalkingPattern
 from zmpkit.walking.state_estimator import KinematicStateEstimator
+from zmpkit.walking.step_adjustment import StepAdjustment, StepAdjustmentParameters
+from zmpkit.walking.step_events import StepEvent
+from zmpkit.walking.step_reach import step_reach
 from zmpkit.walking.zmp_observer import ObservedPreviewControl, ZmpObserverParameters
 
 __all__ = [
@@ -59,6 +62,7 @@ __all__ = [
     "OpenLoopWalk",
     "ReferenceAdapter",
     "SensorLayout",
+    "StepAdjustmentParameters",
     "WalkController",
     "ZmpIpWalk",
 ]
@@ -149,16 +153,26 @@ class OffsetWalk:
         row = self.offsets_rad[min(frame, self.offsets_rad.shape[0] - 1)]
         return np.add(self.inner.step(frame, measurement), row, out=self._targets)
 
+    def step_events(self) -> tuple[StepEvent, ...]:
+        """The inner controller's adjusted steps (none for the open loop)."""
+        events = getattr(self.inner, "step_events", None)
+        return () if events is None else events()
+
 
 YAW_FROM_FEET = True
 """Whether the feedback walks take the base's yaw from the feet in contact (not the IMU)."""
 
 
 class _OnlineTargets:
-    """What the IK reads of a pattern: the CoM and the feet's yaw are written frame by frame."""
+    """What the IK reads of a pattern: the CoM, the feet and their yaw, written frame by frame."""
 
     def __init__(self, pattern: WalkingPattern, heading: HeadingFeedback) -> None:
-        self.feet = heading.targets
+        feet = heading.targets  # the yaws the heading feedback writes, the soles' own copies
+        self.feet = replace(
+            feet,
+            left=replace(feet.left, position_in_world=feet.left.position_in_world.copy()),
+            right=replace(feet.right, position_in_world=feet.right.position_in_world.copy()),
+        )
         self.com_position_in_world = pattern.com_position_in_world.copy()
 
 
@@ -176,6 +190,7 @@ class _OnlineWalk:
         sensors: SensorLayout,
         joint_names: tuple[str, ...],
         heading_gains: HeadingFeedbackGains | None = None,
+        stepping: StepAdjustmentParameters | None = None,
     ) -> None:
         self.pattern = pattern
         self.dt = pattern.config.control_period_s
@@ -211,6 +226,21 @@ class _OnlineWalk:
         self._q_sources = tuple(enumerate(self.ik.qadr))  # (target index, qpos address)
         self._q_targets = np.zeros(len(self.ik.qadr))
         self._ik_qpos = self.ik.configuration.data.qpos  # the IK's own (mink's ``q`` copies)
+        stepping = stepping or StepAdjustmentParameters(enabled=False)
+        reach = step_reach(
+            model, ik_settings, self._ik_qpos.copy(),
+            pattern.config.limits.min_foot_separation_m, stepping.reach_margin,
+        )  # fmt: skip
+        sides = {"left": self.targets.feet.left, "right": self.targets.feet.right}
+        self.stepping = StepAdjustment(
+            pattern, self.estimator.feet, reach, stepping,
+            {f: sides[f].position_in_world for f in self.estimator.feet}, self._soles,
+        )  # fmt: skip
+        """The step adjustment (:mod:`zmpkit.walking.step_adjustment`)."""
+
+    def step_events(self) -> tuple[StepEvent, ...]:
+        """The steps this walk adjusted so far (:class:`StepEvent`)."""
+        return self.stepping.events()
 
     def _correct(self, frame: int) -> None:
         """Write the CoM target of ``frame`` into ``self.targets`` (estimates are current)."""
@@ -230,6 +260,13 @@ class _OnlineWalk:
         com, estimates = self.estimator.com_in_world, self.com_estimate_in_world
         estimates[last, 0], estimates[last, 1] = com.item(0), com.item(1)
         self.heading.update(now, measurement.imu_quaternion)
+        omega, velocity = self.omega, self.estimator.com_velocity_in_world
+        self.stepping.update(
+            now,
+            last,
+            com.item(0) + velocity.item(0) / omega,
+            com.item(1) + velocity.item(1) / omega,
+        )
         self._correct(frame)
         targets, commanded = self.targets.com_position_in_world, self.com_target_in_world
         commanded[frame, 0], commanded[frame, 1] = targets.item(frame, 0), targets.item(frame, 1)
@@ -255,6 +292,7 @@ class ZmpIpWalk(_OnlineWalk):
         reference_adapter: adapts the tracked ZMP reference online from the measured ZMP
             before each correction (paper B's Algorithm 2, line 3: the ZMP/IP controller
             walks on ``p'``); None: the plan's reference.
+        stepping: the step adjustment's trigger and limits (default: off).
     """
 
     name = "zmpip"
@@ -269,8 +307,9 @@ class ZmpIpWalk(_OnlineWalk):
         parameters: ZmpObserverParameters | None = None,
         heading_gains: HeadingFeedbackGains | None = None,
         reference_adapter: ReferenceAdapter | None = None,
+        stepping: StepAdjustmentParameters | None = None,
     ) -> None:
-        super().__init__(pattern, model, ik_settings, sensors, joint_names, heading_gains)
+        super().__init__(pattern, model, ik_settings, sensors, joint_names, heading_gains, stepping)
         self.reference_adapter = reference_adapter
         com = pattern.com
         initial = np.column_stack(
@@ -283,6 +322,7 @@ class ZmpIpWalk(_OnlineWalk):
         self.control = ObservedPreviewControl(
             pattern.gains, pattern.zmp_reference_in_world, initial, parameters
         )
+        self.stepping.attach_reference(self.control.reference_by_axis)
         self.offset_in_world = np.full((pattern.time_s.size, 2), np.nan)
         """The estimated ZMP offset ``d̂`` of each frame [m], shape (N, 2)."""
 
@@ -310,6 +350,7 @@ class DcmWalk(_OnlineWalk):
         joint_names: the encoders' joints, in the measurement's order.
         parameters: gains and limits.
         heading_gains: the IMU yaw feedback to the footsteps (default gains; gain 0: off).
+        stepping: the step adjustment's trigger and limits (default: off).
     """
 
     name = "dcm"
@@ -323,8 +364,9 @@ class DcmWalk(_OnlineWalk):
         joint_names: tuple[str, ...],
         parameters: DcmParameters | None = None,
         heading_gains: HeadingFeedbackGains | None = None,
+        stepping: StepAdjustmentParameters | None = None,
     ) -> None:
-        super().__init__(pattern, model, ik_settings, sensors, joint_names, heading_gains)
+        super().__init__(pattern, model, ik_settings, sensors, joint_names, heading_gains, stepping)
         self.parameters = parameters or DcmParameters()
         com = pattern.com
         self.stabiliser = DcmStabiliser(
@@ -332,6 +374,9 @@ class DcmWalk(_OnlineWalk):
             com.com_acceleration_in_world, pattern.zmp_reference_in_world, com.com_height_m,
             self.dt, STANDARD_GRAVITY_MPS2, self.parameters,
         )  # fmt: skip
+        self.stepping.replans_dcm = True
+        self.stabiliser.reference_shift = self.stepping.dcm_reference.shift
+        self._com_shift = self.stepping.dcm_reference.com_next
         self.desired_zmp_in_world = self.stabiliser.desired_zmp_in_world
         """The ZMP p^d the stabiliser asked for at each frame [m], shape (N, 2)."""
         self.foot_damping: FootDamping | None = None
@@ -358,8 +403,9 @@ class DcmWalk(_OnlineWalk):
         zmp = est.zmp_in_world
         shift = self.stabiliser.update(k, est.com_in_world, zmp)
         plan, targets = self.pattern.com.com_position_in_world, self.targets.com_position_in_world
-        targets[frame, 0] = plan.item(frame, 0) + shift.item(0)
-        targets[frame, 1] = plan.item(frame, 1) + shift.item(1)
+        moved = self._com_shift  # the re-planned CoM of an adjusted step
+        targets[frame, 0] = plan.item(frame, 0) + shift.item(0) + moved.item(0)
+        targets[frame, 1] = plan.item(frame, 1) + shift.item(1) + moved.item(1)
         if self.foot_damping is not None:
             np.subtract(self.desired_zmp_in_world[k], zmp, out=self._zmp_error)
             for i, yaws in enumerate(self._sole_yaws):
