@@ -24,7 +24,7 @@ humanoid robot Atlas", IROS 2017). Every control tick of a single support:
    (:mod:`zmpkit.walking.step_reach`: no crossing, no over-stretched knee) that capture the
    DCM, or the step that leaves the least of it (then the step is reported:
    :class:`StepEvent`, :data:`NOT_CAPTURED`). A swing leg moved fast pushes the body the
-   other way (the NAO's leg is a fifth of its mass): the landing moves at most
+   other way (a kid-size robot's leg is a fifth of its mass): the landing moves at most
    ``a D² / 5.77`` from the plan's, ``D`` the time left.
 4. **The swing** is re-planned to ``G`` at ``T'`` (:mod:`zmpkit.walking.adjusted_swing`).
 5. **The rest of the walk** moves with the step once the foot is down: every later footstep
