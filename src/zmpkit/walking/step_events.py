@@ -24,8 +24,9 @@ class StepEvent:
         step: the footstep's index [-].
         side: the swing foot.
         dcm_error_m: the DCM error that triggered it (x, y), world frame [m].
-        shift_m: where it landed against the plan's landing (x, y), world frame [m].
-        shortened_s: how much earlier than planned it touched down [s].
+        shift_m: where it landed against the plan's landing (x, y), world frame [m]; (0, 0)
+            if the walk ended (a fall) before it landed.
+        shortened_s: how much earlier than planned it touched down [s] (0 if it did not).
         captured: whether a step within the limits captured the DCM.
         dcm_error_left_m: the DCM error the step could not remove [m] (0: captured).
     """
