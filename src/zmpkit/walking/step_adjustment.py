@@ -47,7 +47,7 @@ humanoid robot Atlas", IROS 2017). Every control tick of a single support:
 The state estimator places the robot by the feet in contact, so it is given the adjusted
 feet.
 
-**How the defaults were chosen, and what they give** (virtual NAO, all effects, seed 0).
+**How the defaults were chosen, and what they give** (the walking robot, all effects, seed 0).
 Tuning set: ``zmpip``'s 32 pushes of 10 and 20 N along ±x and ±y (10 fall without the
 adjustment). Falls of 32 with: the references re-planned every tick, 15 to 28; the exact
 LIPM capture (no ankle margin), 31; CoP margins (0.04, 0.015) m, 20–21, (0.06, 0.035) m, 12;
