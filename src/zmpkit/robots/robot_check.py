@@ -14,7 +14,9 @@ They agree to about a millimetre on a correct robot; a larger gap points at F-T 
 do not carry the whole foot (a foot geom still touching the floor) or a robot not at rest.
 
 It also checks the guesses a robot file rests on: the left foot stands to the left of the
-right one (world +y, the robot facing +x): feet swapped, or a wrong ``forward:``, fail.
+right one (world +y, the robot facing +x), and flexing the knees carries the feet backwards
+(world −x; :func:`~zmpkit.robots.facing.knee_flexion`, where the knees bend one way only):
+feet swapped, or a wrong ``forward:``, fail.
 """
 
 from __future__ import annotations
@@ -26,6 +28,7 @@ import mujoco
 import numpy as np
 
 from zmpkit.errors import ParameterError
+from zmpkit.robots.facing import knee_flexion
 from zmpkit.robots.robot import Robot
 from zmpkit.sensors.mount import wrench_in_world
 from zmpkit.sensors.zmp import zmp_in_world
@@ -59,6 +62,10 @@ class RobotCheck:
             imported model's links overlapping at the initial pose).
         self_contacts: contacts between two of the robot's bodies after standing.
         self_contact_force_n: the largest normal force of those [N]; 0 without any.
+        knee_shift_x_m: how far flexing the knees carries the feet along world x, averaged
+            over the feet [m]: negative (backwards) on a robot facing +x; None when its knees
+            do not bend one way only.
+        knees: the knee joints flexed.
     """
 
     name: str
@@ -76,6 +83,8 @@ class RobotCheck:
     excluded_contacts: tuple[tuple[str, str], ...] = ()
     self_contacts: int = 0
     self_contact_force_n: float = 0.0
+    knee_shift_x_m: float | None = None
+    knees: tuple[str, ...] = ()
 
     @property
     def ft_vs_contact_m(self) -> float:
@@ -93,14 +102,19 @@ class RobotCheck:
         return self.left_of_right_m is None or self.left_of_right_m > 0.0
 
     @property
+    def knees_ok(self) -> bool:
+        """Whether flexing the knees carries the feet backwards (or the knees cannot tell)."""
+        return self.knee_shift_x_m is None or self.knee_shift_x_m < 0.0
+
+    @property
     def zmps_agree(self) -> bool:
         """Whether the three ZMPs agree within :data:`AGREEMENT_M`."""
         return max(self.ft_vs_contact_m, self.ft_vs_com_m) <= AGREEMENT_M
 
     @property
     def ok(self) -> bool:
-        """Whether the three ZMPs agree and the feet stand on their sides."""
-        return self.zmps_agree and self.feet_sides_ok
+        """Whether the ZMPs agree, the feet stand on their sides and the knees bend forwards."""
+        return self.zmps_agree and self.feet_sides_ok and self.knees_ok
 
     def lines(self) -> list[str]:
         """The report, one line per item."""
@@ -122,6 +136,7 @@ class RobotCheck:
             f"F-T vs contact {1e3 * self.ft_vs_contact_m:.2f} mm, F-T vs CoM "
             f"{1e3 * self.ft_vs_com_m:.2f} mm: {verdict}",
             *self._sides_line(),
+            *self._knees_line(),
             *self._contacts_lines(),
         ]
 
@@ -153,6 +168,27 @@ class RobotCheck:
             f"foot, facing +x: {verdict}"
         ]
 
+    def _knees_line(self) -> list[str]:
+        if self.knee_shift_x_m is None:
+            return ["knees: none bends one way only, so they cannot show forward"]
+        way = "backwards" if self.knee_shift_x_m < 0.0 else "FORWARDS"
+        verdict = "OK" if self.knees_ok else "MISMATCH (the robot does not face +x: check forward)"
+        return [
+            f"flexing {' and '.join(self.knees)} carries the feet "
+            f"{1e3 * abs(self.knee_shift_x_m):.0f} mm {way}, facing +x: {verdict}"
+        ]
+
+
+def _knee_shift(
+    model: mujoco.MjModel, qpos: np.ndarray, bodies: list[int]
+) -> tuple[float | None, tuple[str, ...]]:
+    """The feet's mean shift along world x when their knees flex [m], and the knees."""
+    flexed = [knee_flexion(model, qpos, b) for b in bodies]
+    bent = [k for k in flexed if k is not None]
+    if not bent:
+        return None, ()
+    return float(np.mean([k.foot_shift_m[0] for k in bent])), tuple(k.joint for k in bent)
+
 
 def _contact_zmp(model: mujoco.MjModel, data: mujoco.MjData) -> tuple[float, float]:
     """Centre of pressure of the floor contacts [m] (module docstring)."""
@@ -174,6 +210,8 @@ def _xyz(vector: np.ndarray) -> tuple[float, float, float]:
 def check_robot(robot: Robot, stand_s: float = 2.0) -> RobotCheck:
     """Stand ``robot`` for ``stand_s`` [s] with the effects off and report (module docstring)."""
     sim = robot.make_simulation("none")
+    soles = [sim.model.site(sole_site(f.foot)).bodyid.item() for f in sim.robot.feet]
+    knee_shift_x_m, knees = _knee_shift(sim.model, sim.data.qpos.copy(), soles)
     sim.step(max(1, round(stand_s / sim.dt)))
     model, data = sim.model, sim.data
     feet = sim.robot.feet
@@ -200,6 +238,8 @@ def check_robot(robot: Robot, stand_s: float = 2.0) -> RobotCheck:
         excluded_contacts=_excluded(model),
         self_contacts=touching,
         self_contact_force_n=largest_n,
+        knee_shift_x_m=knee_shift_x_m,
+        knees=knees,
     )
 
 
@@ -257,6 +297,11 @@ def require_passing_check(robot: Robot, reference: str) -> RobotCheck:
                 f"the F-T ZMP lies {1e3 * result.ft_vs_contact_m:.1f} mm from the contact ZMP and "
                 f"{1e3 * result.ft_vs_com_m:.1f} mm from the CoM projection (at rest both within "
                 f"{1e3 * AGREEMENT_M:g} mm)"
+            )
+        if not result.knees_ok and result.knee_shift_x_m is not None:
+            reasons.append(
+                f"flexing its knees carries its feet {1e3 * result.knee_shift_x_m:.0f} mm "
+                "forwards (a wrong forward:)"
             )
         if not result.feet_sides_ok and result.left_of_right_m is not None:
             reasons.append(

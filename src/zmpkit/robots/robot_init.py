@@ -6,9 +6,11 @@ poses it at its initial configuration and guesses:
 - **feet**: the two lowest bodies (by their collision geoms' lowest point) on different
   branches of the tree;
 - **forward**: the horizontal axis of the feet's length (their collision geoms' extent), in
-  the direction the feet reach further ahead of their ankles (the foot bodies' origins) than
-  behind — toes are longer than heels; sure when the feet are at least 1.2 times as long as
-  wide and the reach differs by at least 5 % of their length, else said to be a guess;
+  the direction the model's left/right names say, else the one its knees bend towards,
+  else the one the feet reach further ahead of their ankles (the foot bodies' origins) than
+  behind — toes are longer than heels (:mod:`~zmpkit.robots.facing`); sure when no evidence
+  disagrees and a strong one is cast (names, knees, or toes on feet at least 1.2 times as
+  long as wide whose reach differs by at least 5 % of their length), else said to be a guess;
 - **left**: the foot on the left of forward (z × forward);
 - **legs**: the hinge joints on the path from each foot up to the first body both feet
   hang from (a waist joint above both hips belongs to neither leg), hip to ankle;
@@ -31,6 +33,7 @@ import numpy as np
 import yaml
 
 from zmpkit.errors import InputFileError
+from zmpkit.robots.facing import FacingVote, decide, facing_votes
 from zmpkit.robots.user_model import collision_geoms, geom_corners, load_spec
 
 __all__ = ["RobotGuess", "guess_robot", "guess_robot_file", "write_robot_file"]
@@ -122,14 +125,23 @@ def _forward(model: mujoco.MjModel, data: mujoco.MjData, feet: list[int]) -> tup
         reach += (high - ankle) - (ankle - low)
     axis = 0 if extent[0] >= extent[1] else 1
     length, width = extent[axis] / 2.0, extent[1 - axis] / 2.0
-    sign = "+" if reach[axis] >= 0.0 else "-"
-    label = f"{sign}{'xy'[axis]}"
     share = abs(reach[axis]) / 2.0 / length if length > 0.0 else 0.0
-    sure = width > 0.0 and length >= FORWARD_SURE_ASPECT * width and share >= FORWARD_SURE_REACH
-    evidence = (
+    toe_sign = 1 if reach[axis] >= 0.0 else -1
+    toes = FacingVote(
+        "toes",
+        toe_sign,
+        width > 0.0 and length >= FORWARD_SURE_ASPECT * width and share >= FORWARD_SURE_REACH,
         f"the feet are {length:.3f} m long along {'xy'[axis]} ({width:.3f} m wide) and reach "
-        f"{abs(reach[axis]) / 2.0:.3f} m further towards {label} of their ankles than away"
+        f"{abs(reach[axis]) / 2.0:.3f} m further towards {'+' if toe_sign > 0 else '-'}"
+        f"{'xy'[axis]} of their ankles than away",
     )
+    votes = facing_votes(model, data, feet, axis, toes)
+    sign, sure = decide(votes)
+    label = f"{'+' if sign > 0 else '-'}{'xy'[axis]}"
+    disagree = [v.source for v in votes if v.sign not in (0, sign)]
+    evidence = "; ".join(f"{v.source}: {v.evidence}" for v in votes)
+    if disagree:
+        evidence += f" (the {' and '.join(disagree)} disagree)"
     return label, evidence, sure
 
 
