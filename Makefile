@@ -25,10 +25,12 @@ $(VENV)/.installed: pyproject.toml | $(BIN)/python
 
 # The tests install Ray too, so the cluster backend is exercised live (on a local instance),
 # and qibullet without its dependencies: a test reads NAO's URDF out of it (never imports it,
-# so pybullet is not needed).
+# so pybullet is not needed). CI adds PAL's TALOS (URDF and meshes, 131 MB: example-robot-data
+# without its dependencies, none of which a test imports) for a slow test of an unseen robot.
 $(VENV)/.installed-test: pyproject.toml | $(BIN)/python
 	$(BIN)/python -m pip install --quiet -e '.[test,ray]'
 	$(BIN)/python -m pip install --quiet --no-deps 'qibullet==1.4.6'
+	$(if $(CI),$(BIN)/python -m pip install --quiet --no-deps 'example-robot-data==6.0.0')
 	touch $@ $(VENV)/.installed
 
 demo: $(VENV)/.installed
