@@ -196,3 +196,41 @@ def test_verdict_met_missed_and_undefined_with_its_reason() -> None:
     assert undefined.bars[0].why.startswith("LIPM at 0.1 m did not settle within 7 s")
     assert "undefined: LIPM at 0.1 m did not settle" in undefined.lines()[1]
     assert not undefined.met
+
+
+def test_a_lipm_error_within_the_noise_leaves_the_ratios_undefined() -> None:
+    """Targets of a few millimetres where the LIPM's settled error is a few micrometres,
+    inside two standard errors of its settled value (20 µm noise): a ratio of two noise
+    draws is no bar met or missed."""
+    rows = []
+    for x in (0.0, 0.001, 0.002, 0.003):
+        rows.append(
+            Table1Row(
+                "frontal",
+                x,
+                evaluate_trial("lipm", _trial(x, x, seed=1)),  # the LIPM is exact here
+                evaluate_trial("dlipm", _trial(x, x, seed=2)),
+                evaluate_trial("linear", _trial(x, x, seed=3)),
+                fitted_on=True,
+                fit_range_m=(0.0, 0.003),
+            )
+        )
+    verdict = plane_verdict("frontal", rows)
+    assert [b.state for b in verdict.bars] == ["undefined", "undefined"]
+    assert verdict.bars[0].why.startswith("the LIPM's error at 0.003 m, ")
+    assert "within 2 standard errors" in verdict.bars[0].why
+    assert "at 3 of 3 targets ≠ 0" in verdict.bars[1].why
+    # The same targets with a 3 % LIPM error (90 µm at 3 mm, many standard errors): measured.
+    measured = [
+        Table1Row(
+            r.plane,
+            r.zmp_ref,
+            evaluate_trial("lipm", _trial(r.zmp_ref, 1.03 * r.zmp_ref, seed=1)),
+            r.dlipm,
+            r.linear,
+            fitted_on=True,
+            fit_range_m=(0.0, 0.003),
+        )
+        for r in rows
+    ]
+    assert [b.state for b in plane_verdict("frontal", measured).bars] == ["met", "met"]

@@ -87,15 +87,30 @@ def test_a_creep_is_held_to_the_limit_and_reported_with_its_rate() -> None:
 
 
 def test_a_creep_toward_the_toe_ends_the_trial_before_the_edge() -> None:
-    low, high = support_polygon("sagittal")
+    _, high = support_polygon("sagittal")
     monitor = _monitor("sagittal", 0.08, 3.0, 60.0)
     _feed(monitor, "sagittal", _step(0.08, 0.01), 60.0)  # 10 mm/s toward the toe
     assert monitor.end is not None
     assert monitor.end.kind == "tipping"
-    centre = 0.5 * (low + high)
-    reached = 0.08 + 0.01 * monitor.end.hold_s
-    assert centre + TIP_EDGE_FRACTION * (high - centre) < reached < high
+    reached = 0.08 + 0.01 * monitor.end.hold_s  # from the standing ZMP, 0 m
+    assert TIP_EDGE_FRACTION * high < reached < high
     assert "support edge" in monitor.end.note
+
+
+def test_a_robot_standing_near_its_heel_edge_is_not_tipping() -> None:
+    """The Unitree H1 stands with its ZMP 12 mm in front of its heel edge, 0.193 m behind
+    its toe edge (world); a 3 mm lean forwards is no tipping (it once was: the edge was
+    judged from the polygon's centre, 9 cm ahead of where the robot stands)."""
+    polygon = (-0.012, 0.193)
+    mounts = feet_from_mapping(FEET)
+    monitor = HoldMonitor("sagittal", 0.003, T_STEP_S, 0.4, 3.0, 20.0, mounts, polygon)
+    _feed(monitor, "sagittal", _step(0.003), 30.0)
+    assert monitor.end is not None
+    assert monitor.end.kind == "settled"
+    behind = HoldMonitor("sagittal", -0.011, T_STEP_S, 0.4, 3.0, 20.0, mounts, polygon)
+    _feed(behind, "sagittal", _step(-0.011), 30.0)
+    assert behind.end is not None
+    assert behind.end.kind == "tipping"  # 11 mm back: past 85 % of the 12 mm to the heel
 
 
 def test_a_foot_about_to_lift_ends_a_frontal_trial() -> None:

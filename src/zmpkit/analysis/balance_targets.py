@@ -4,6 +4,12 @@
   2.0 / 11.6 = 0.17);
 - mean |error| over targets ≠ 0: DLIPM / LIPM (target ≤ 1/3);
 - targets ≥ 0.03 m where the DLIPM's overshoot, resp. settling time, is lower than LIPM's.
+
+A ratio of errors means something only where the LIPM's error is measured: the far ratio is
+undefined when the LIPM's settled error at the far target lies within :data:`RESOLVED_SE`
+standard errors of its settled value, the mean ratio when fewer than half of the targets'
+LIPM errors are resolved so (targets of a few millimetres on a noisy F-T ZMP, where a ratio
+of two noise draws once read as a missed bar).
 """
 
 from __future__ import annotations
@@ -20,6 +26,8 @@ __all__ = ["BalanceTargets", "balance_targets"]
 FAR_TARGET_RATIO_MAX = 0.20
 MEAN_ERROR_RATIO_MAX = 1.0 / 3.0
 TRANSIENT_FROM_M = 0.03
+RESOLVED_SE = 2.0
+"""A LIPM error is measured when it exceeds this many standard errors of its settled value."""
 
 
 @dataclass(frozen=True)
@@ -34,6 +42,8 @@ class BalanceTargets:
     mean_error_ratio: float | None
     overshoot_lower: tuple[int, int]
     settling_lower: tuple[int, int]
+    far_unresolved: str = ""
+    mean_unresolved: str = ""
 
     def lines(self) -> list[str]:
         """Human-readable lines with each figure against its target."""
@@ -59,9 +69,22 @@ def balance_targets(plane: str, rows: Sequence[Table1Row]) -> BalanceTargets:
     far = max(rows, key=lambda r: abs(r.zmp_ref))
     lipm_far, dlipm_far = far.lipm.error_pct, far.dlipm.error_pct
     ratio = abs(dlipm_far / lipm_far) if lipm_far and dlipm_far is not None else None
-    lipm_mean = _mean_abs([r.lipm.error_pct for r in rows if r.zmp_ref != 0.0])
-    dlipm_mean = _mean_abs([r.dlipm.error_pct for r in rows if r.zmp_ref != 0.0])
+    far_unresolved = _unresolved(far)
+    if far_unresolved:
+        ratio = None
+    nonzero = [r for r in rows if r.zmp_ref != 0.0]
+    lipm_mean = _mean_abs([r.lipm.error_pct for r in nonzero])
+    dlipm_mean = _mean_abs([r.dlipm.error_pct for r in nonzero])
     mean_ratio = dlipm_mean / lipm_mean if lipm_mean and dlipm_mean is not None else None
+    unresolved = [r for r in nonzero if _unresolved(r)]
+    mean_unresolved = ""
+    if nonzero and 2 * len(unresolved) > len(nonzero):
+        mean_ratio = None
+        mean_unresolved = (
+            f"the LIPM's error is within {RESOLVED_SE:g} standard errors of its settled value "
+            f"at {len(unresolved)} of {len(nonzero)} targets ≠ 0: too little error to measure "
+            "a ratio; choose larger targets (--targets)"
+        )
     transient = [r for r in rows if abs(r.zmp_ref) >= TRANSIENT_FROM_M - 1e-9]
     return BalanceTargets(
         plane=plane,
@@ -72,6 +95,24 @@ def balance_targets(plane: str, rows: Sequence[Table1Row]) -> BalanceTargets:
         mean_error_ratio=mean_ratio,
         overshoot_lower=_count_lower(transient, "overshoot_pct"),
         settling_lower=_count_lower(transient, "settling_time_s"),
+        far_unresolved=far_unresolved,
+        mean_unresolved=mean_unresolved,
+    )
+
+
+def _unresolved(row: Table1Row) -> str:
+    """Why the LIPM's settled error at ``row`` is not measured; empty when it is."""
+    steady = row.lipm.steady
+    if row.zmp_ref == 0.0 or steady.value is None or steady.std_error is None:
+        return ""
+    error_m = steady.value - row.zmp_ref
+    if abs(error_m) > RESOLVED_SE * steady.std_error:
+        return ""
+    return (
+        f"the LIPM's error at {row.zmp_ref:g} m, {1e3 * error_m:.3g} mm, is within "
+        f"{RESOLVED_SE:g} standard errors ({1e3 * RESOLVED_SE * steady.std_error:.3g} mm) of "
+        "its settled value: too little error to measure a ratio; choose larger targets "
+        "(--targets)"
     )
 
 

@@ -7,7 +7,9 @@ Bars (:mod:`zmpkit.analysis.balance_targets`), per plane:
 - ``mean error ratio``: mean |DLIPM error| / mean |LIPM error| over the targets ≠ 0 ≤ 1/3.
 
 A bar is *undefined* when a value it needs is: the verdict then names the trials that did
-not settle and why ("did not settle within H s (drift X mm/s)", "ended tipping …").
+not settle and why ("did not settle within H s (drift X mm/s)", "ended tipping …"), or the
+LIPM errors too small to measure a ratio of (within two standard errors of their settled
+values, :data:`~zmpkit.analysis.balance_targets.RESOLVED_SE`).
 Warnings, which do not decide a bar but belong to the verdict: targets outside the range the
 error model was fitted on (the controllers extrapolated it), and unsettled trials elsewhere.
 """
@@ -111,14 +113,14 @@ def plane_verdict(plane: str, rows: Sequence[Table1Row]) -> PlaneVerdict:
         figures.far_error_ratio,
         FAR_TARGET_RATIO_MAX,
         _state(figures.far_error_ratio, FAR_TARGET_RATIO_MAX),
-        "" if figures.far_error_ratio is not None else _why([far]),
+        "" if figures.far_error_ratio is not None else figures.far_unresolved or _why([far]),
     )
     mean_bar = Bar(
         "mean error ratio",
         figures.mean_error_ratio,
         MEAN_ERROR_RATIO_MAX,
         _state(figures.mean_error_ratio, MEAN_ERROR_RATIO_MAX),
-        "" if figures.mean_error_ratio is not None else _why(nonzero),
+        "" if figures.mean_error_ratio is not None else figures.mean_unresolved or _why(nonzero),
     )
     return PlaneVerdict(plane, (far_bar, mean_bar), _warnings(rows))
 

@@ -55,7 +55,9 @@ TIP_CHECK_PERIOD_S = 0.1
 TIP_AVERAGE_S = 0.25
 """The tipping check reads the mean ZMP and loads over this much of the end [s]."""
 TIP_EDGE_FRACTION = 0.85
-"""A ZMP this far from the polygon's centre to its edge ends the trial [-]."""
+"""A ZMP this far of the way from where it stood before the step to the support edge it
+heads for ends the trial [-] (from the standing ZMP, not the polygon's centre: a robot
+whose ankles sit near its heels stands near the heel edge)."""
 LIFT_LOAD_FRACTION = 0.02
 """A foot carrying less than this fraction of the weight is about to lift [-]."""
 MONITOR_CREEP_MARGIN = 0.8
@@ -181,19 +183,23 @@ class HoldMonitor:
                 "to lift; trial ended before the robot tips",
                 time,
             )
-        return self._edge(float(z.mean()) - (self._offset or 0.0), time, after)
+        return self._edge(float(z.mean()), time, after)
 
     def _edge(self, zmp: float, time: float, after: float) -> bool:
+        """Stop when the ZMP ``zmp`` [m] (world) is far towards the support edge it heads for.
+
+        Far: :data:`TIP_EDGE_FRACTION` of the way from where it stood before the step.
+        """
         low, high = self._polygon
-        centre = 0.5 * (low + high)
-        edge = high if zmp >= centre else low
-        if abs(zmp - centre) <= TIP_EDGE_FRACTION * abs(edge - centre):
+        rest = self._offset or 0.0
+        edge = high if zmp >= rest else low
+        if abs(zmp - rest) <= TIP_EDGE_FRACTION * abs(edge - rest):
             return False
         return self._stop(
             "tipping",
-            f"the ZMP reached {zmp:.4f} m {after:.2f} s after the step, past "
-            f"{100 * TIP_EDGE_FRACTION:g} % of the way to the support edge at {edge:.4f} m; "
-            "trial ended before the robot tips",
+            f"the ZMP reached {zmp - rest:.4f} m from where it stood {after:.2f} s after the "
+            f"step, past {100 * TIP_EDGE_FRACTION:g} % of the way to the support edge "
+            f"{edge - rest:.4f} m from there; trial ended before the robot tips",
             time,
         )
 
