@@ -7,8 +7,10 @@ walks leave at most 0.14 mm), and ``zmpkit walk`` says so in one line, exit 2.
 
 from __future__ import annotations
 
+from dataclasses import replace
 from pathlib import Path
 
+import mujoco
 import numpy as np
 import pytest
 
@@ -55,3 +57,23 @@ def test_the_bar_is_the_ik_error_and_names_when() -> None:
         check_realisable(_trajectory(0.006, 0.001))
     with pytest.raises(ParameterError, match=r"a sole 20\.0 mm off \(at 0\.30 s\)"):
         check_realisable(_trajectory(0.0, 0.02))
+
+
+def test_the_refusal_names_the_joints_held_at_their_limits() -> None:
+    """The Berkeley Humanoid's walk was refused with only its IK errors; its ankle pitch
+    (range −0.524 to 0.698 rad) sat at its limit when the plan was missed most."""
+    model = mujoco.MjModel.from_xml_string(
+        '<mujoco><compiler angle="radian"/><worldbody><body>'
+        '<joint name="ankle" range="-0.524 0.698"/>'
+        '<joint name="knee" range="0 2"/><geom size="0.1"/></body></worldbody></mujoco>'
+    )
+    trajectory = _trajectory(0.0, 0.02)
+    q = np.zeros((5, 2))
+    q[3] = (-0.524, 0.5)  # the row of the largest error: the ankle at its lower limit
+    trajectory = replace(trajectory, joint_names=("ankle", "knee"), q_rad=q)
+    match = r"at 0\.30 s ankle at its lower limit \(-0\.524 rad\); try"
+    with pytest.raises(ParameterError, match=match):
+        check_realisable(trajectory, model)
+    q[3] = (0.0, 0.5)  # nothing at a limit: nothing named
+    with pytest.raises(ParameterError, match=r"more than 5 mm; try"):
+        check_realisable(replace(trajectory, q_rad=q), model)

@@ -198,23 +198,51 @@ its footstep leaves centimetres, and the walk then falls for a reason that is no
 robot's balance."""
 
 
-def check_realisable(trajectory: JointTrajectory) -> None:
+AT_LIMIT_RAD = 1e-3
+"""A joint this close to its range's end is at its limit [rad]."""
+
+
+def check_realisable(trajectory: JointTrajectory, model: mujoco.MjModel | None = None) -> None:
     """Refuse a walk whose plan the robot's legs cannot follow (:data:`IK_REALISABLE_M`).
 
+    Args:
+        trajectory: the whole-body IK's solution of the plan.
+        model: the IK's model; when given, the message names the leg joints at their limits
+            when the plan is missed most (the usual cause: an ankle's short range).
+
     Raises:
-        ParameterError: naming the largest CoM and sole errors, when, and what to change.
+        ParameterError: naming the largest CoM and sole errors, when, what holds the legs
+            back, and what to change.
     """
     com, foot = trajectory.max_com_error_m, trajectory.max_foot_error_m
     if max(com, foot) <= IK_REALISABLE_M:
         return
     t_com = float(trajectory.time_s[int(np.argmax(trajectory.com_error_m))])
     t_foot = float(trajectory.time_s[int(np.argmax(trajectory.foot_error_m))])
+    worst = int(np.argmax(np.maximum(trajectory.com_error_m, trajectory.foot_error_m)))
+    limits = _at_limits(trajectory, model, worst) if model is not None else ""
     raise ParameterError(
         f"the robot's legs cannot follow this walk's plan: the whole-body IK leaves the CoM "
         f"{1e3 * com:.1f} mm off (at {t_com:.2f} s) and a sole {1e3 * foot:.1f} mm off (at "
-        f"{t_foot:.2f} s), more than {1e3 * IK_REALISABLE_M:g} mm; try a lower --speed or "
-        "--step-duration, or check the robot file's legs, walking.com_height and crouch"
+        f"{t_foot:.2f} s), more than {1e3 * IK_REALISABLE_M:g} mm{limits}; try a lower --speed "
+        "or --step-duration, or check the robot file's legs, walking.com_height and crouch"
     )
+
+
+def _at_limits(trajectory: JointTrajectory, model: mujoco.MjModel, row: int) -> str:
+    """``"; at T s J is at its lower limit (X rad)"`` for the joints at a limit at ``row``."""
+    found = []
+    for name, angle in zip(trajectory.joint_names, trajectory.q_rad[row], strict=True):
+        joint = model.joint(name).id
+        if not model.jnt_limited[joint]:
+            continue
+        low, high = (float(v) for v in model.jnt_range[joint])
+        for end, value in (("lower", low), ("upper", high)):
+            if abs(float(angle) - value) <= AT_LIMIT_RAD:
+                found.append(f"{name} at its {end} limit ({value:.3f} rad)")
+    if not found:
+        return ""
+    return f"; at {float(trajectory.time_s[row]):.2f} s {', '.join(found)}"
 
 
 def run_walk_trial(
@@ -236,7 +264,7 @@ def run_walk_trial(
     model, settings = robot.ik_model(), robot.ik_settings
     trajectory = solve_walking_ik(pattern, model, settings)
     if realisable_only:
-        check_realisable(trajectory)
+        check_realisable(trajectory, model)
     sim = robot.make_simulation(config.effects, config.truth, seed=config.seed)
     controller = walk_controller(config, robot, pattern, trajectory, model, sim)
     record = simulate_walk(
