@@ -40,3 +40,28 @@ def test_bad_walk_options_are_exit_2_with_one_line(
     assert code == 2
     assert message in capsys.readouterr().err
     assert not (tmp_path / "w").exists()
+
+
+class _StoppedError(Exception):
+    """Raised instead of running the compensation: the config it got."""
+
+
+@pytest.mark.parametrize(
+    ("args", "controller"),
+    [
+        (["--method", "alg1"], "open"),  # paper B ran Algorithm 1 open loop (Fig. 5)
+        (["--method", "alg1", "--controller", "zmpip"], "zmpip"),  # asked for: kept
+        (["--method", "alg2"], "zmpip"),
+        ([], "zmpip"),
+    ],
+)
+def test_walk_compensate_runs_algorithm_1_open_loop_by_default(
+    args: list[str], controller: str, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    def stop(config: object, *_: object, **__: object) -> None:
+        raise _StoppedError(config)
+
+    monkeypatch.setattr("zmpkit.cli.walk.run_walk_compensate", stop)
+    with pytest.raises(_StoppedError) as stopped:
+        main(["walk", "compensate", *args, "--out", str(tmp_path / "c")])
+    assert stopped.value.args[0].controller == controller
