@@ -23,10 +23,10 @@ import mujoco
 import numpy as np
 
 from harness import base_parser, best_of, environment, print_table, write_json
-from zmpkit.compensate.multibody_zmp import InverseDynamicsZmp, trajectory_qpos
 from zmpkit.robots.nao import nao_ik_model
 from zmpkit.walking import GaitParameters, PatternConfig, WalkCommand, generate_pattern
 from zmpkit.walking.ik import solve_walking_ik
+from zmpkit.walking.multibody_zmp import InverseDynamicsZmp, trajectory_qpos
 
 __all__ = ["main"]
 

@@ -9,10 +9,10 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from zmpkit.compensate.evaluate import simulate_with_offset
-from zmpkit.compensate.multibody_zmp import InverseDynamicsZmp, finite_differences
 from zmpkit.errors import ModelError, ParameterError
 from zmpkit.experiments.walk_config import WalkConfig
 from zmpkit.robots.nao import make_nao, nao_ik_model
+from zmpkit.walking.multibody_zmp import InverseDynamicsZmp, finite_differences
 
 # Measured on the 3 s ideal walk (effects none, 10 ms frames): RMS 11.3 mm (x), 5.7 mm (y)
 # between the multibody ZMP of the simulated qpos and the ZMP of the simulated contact
@@ -89,11 +89,11 @@ def test_matches_the_contact_force_zmp_on_an_ideal_walk() -> None:
 @given(seed=st.integers(0, 2**32 - 1))
 def test_vectorised_position_differences_equal_mujoco(seed: int) -> None:
     """Free base + hinges: the one-pass difference equals mj_differentiatePos per sample."""
-    from zmpkit.compensate.multibody_zmp import (
+    from zmpkit.robots.nao import nao_ik_model
+    from zmpkit.walking.multibody_zmp import (
         _free_base_and_scalar_joints,
         _position_differences,
     )
-    from zmpkit.robots.nao import nao_ik_model
 
     model = nao_ik_model()
     assert _free_base_and_scalar_joints(model)  # the one-pass path is the one tested

@@ -123,6 +123,22 @@ def test_zmpip_recovers_from_a_20_n_push_that_fells_the_open_loop_walk() -> None
 
 
 @pytest.mark.slow
+def test_feedback_does_not_shake_a_rigid_robot() -> None:
+    """Every effect off, 0.2 m/s, 0.5 s steps, 10 s: the ZMP/IP walk's step-frequency trunk
+    oscillation stays within 1.5 times the open-loop walk's (it was 3.2 times, reading the
+    legs' own multibody ZMP and the feet's landings as disturbances)."""
+    amplitude = {
+        controller: run_walk_trial(
+            WalkConfig(controller=controller, effects="none", figures=False)
+        ).summary.trunk_pitch_step_frequency_amplitude_rad
+        for controller in ("open", "zmpip")
+    }
+    assert amplitude["open"] is not None
+    assert amplitude["zmpip"] is not None
+    assert amplitude["zmpip"] <= 1.5 * amplitude["open"]
+
+
+@pytest.mark.slow
 @pytest.mark.parametrize(
     "change",
     [{"speed_mps": 0.25}, {"step_duration_s": 0.4}, {"speed_mps": 0.0, "lateral_speed_mps": 0.05}],

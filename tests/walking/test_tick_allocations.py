@@ -50,6 +50,7 @@ from zmpkit.robots.registry import DEFAULT_WALK_ROBOT, get_robot
 from zmpkit.walking import GaitParameters, PatternConfig, WalkCommand, generate_pattern
 from zmpkit.walking.ik import solve_walking_ik
 from zmpkit.walking.measurement import WalkMeasurement
+from zmpkit.walking.multibody_zmp import expected_zmp_offset
 from zmpkit.walking.step_adjustment import StepAdjustmentParameters
 from zmpkit.walking.walk_controllers import DcmWalk, ZmpIpWalk
 
@@ -98,11 +99,13 @@ def parts() -> dict[str, Tick]:
     # mink's and allocates; everything the step does around it is measured).
     walks = {}
     always = StepAdjustmentParameters(trigger_dcm_error_m=(0.0, 0.0))  # every step adjusted
+    expected = expected_zmp_offset(model, trajectory, pattern.com.zmp_in_world)  # as walks do
     for name, walk in (
-        ("zmpip step", ZmpIpWalk(pattern, model, settings, layout, sim.joint_names)),
+        ("zmpip step", ZmpIpWalk(pattern, model, settings, layout, sim.joint_names,
+                                 expected_zmp_offset_in_world=expected)),
         ("dcm step", DcmWalk(pattern, model, settings, layout, sim.joint_names)),
         ("zmpip stepping", ZmpIpWalk(pattern, model, settings, layout, sim.joint_names,
-                                     stepping=always)),
+                                     stepping=always, expected_zmp_offset_in_world=expected)),
         ("dcm stepping", DcmWalk(pattern, model, settings, layout, sim.joint_names,
                                  stepping=always)),
     ):  # fmt: skip

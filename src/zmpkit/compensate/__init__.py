@@ -1,6 +1,6 @@
 """zmpkit.compensate: compensating the model abstractions of a walk (paper B §III.C, §III.E).
 
-- :mod:`~zmpkit.compensate.multibody_zmp`: the ZMP of the whole floating-base robot by
+- :mod:`~zmpkit.walking.multibody_zmp`: the ZMP of the whole floating-base robot by
   inverse dynamics (``mj_inverse``), :class:`InverseDynamicsZmp`;
 - :mod:`~zmpkit.compensate.algorithm1`: Algorithm 1, the offline iteration that cancels the
   LIPM-vs-multibody ZMP error, :func:`compensate_abstraction`;
@@ -16,9 +16,9 @@ from __future__ import annotations
 
 from zmpkit.compensate.algorithm1 import Algorithm1Result, compensate_abstraction, zmp_rms
 from zmpkit.compensate.algorithm2 import Algorithm2Parameters, OnlineZmpCompensator
-from zmpkit.compensate.multibody_zmp import InverseDynamicsZmp, MultibodyZmp
 from zmpkit.compensate.offsets import OFFSET_SHAPES, OffsetParameters, offset_in_world
 from zmpkit.compensate.tuning import TuningResult, tune_offset
+from zmpkit.walking.multibody_zmp import InverseDynamicsZmp, MultibodyZmp
 
 __all__ = [
     "OFFSET_SHAPES",

@@ -11,7 +11,7 @@ produces the multibody ZMP ``p`` instead. Algorithm 1 iterates, for ``i = 1..n``
 
 with ``p_o = 0`` first, and applies ``p' = p_r + p_o`` as the new reference. ``pattern`` is the
 preview-control CoM plus the whole-body IK on the design model; the multibody ZMP is
-:class:`~zmpkit.compensate.multibody_zmp.InverseDynamicsZmp`. The RMS of ``p_r - p`` over both
+:class:`~zmpkit.walking.multibody_zmp.InverseDynamicsZmp`. The RMS of ``p_r - p`` over both
 axes and all samples is recorded at each iteration, before the update (the first value is the
 error of the uncompensated pattern).
 """
@@ -24,10 +24,10 @@ import mujoco
 import numpy as np
 from numpy.typing import NDArray
 
-from zmpkit.compensate.multibody_zmp import InverseDynamicsZmp
 from zmpkit.errors import ParameterError
 from zmpkit.walking import PatternConfig, generate_pattern
 from zmpkit.walking.ik import IkSettings, JointTrajectory, solve_walking_ik
+from zmpkit.walking.multibody_zmp import InverseDynamicsZmp
 from zmpkit.walking.pattern import WalkingPattern
 
 __all__ = ["DEFAULT_ITERATIONS", "Algorithm1Result", "compensate_abstraction", "zmp_rms"]

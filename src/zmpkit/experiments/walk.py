@@ -27,6 +27,7 @@ from zmpkit.walking import generate_pattern
 from zmpkit.walking.dcm_stabiliser import DcmParameters
 from zmpkit.walking.heading_feedback import HeadingFeedbackGains
 from zmpkit.walking.ik import IkSettings, JointTrajectory, solve_walking_ik
+from zmpkit.walking.multibody_zmp import expected_zmp_offset
 from zmpkit.walking.pattern import WalkingPattern
 from zmpkit.walking.servo_feedforward import servo_compliance_offsets
 from zmpkit.walking.step_adjustment import StepAdjustmentParameters
@@ -140,9 +141,10 @@ def make_controller(
         )
         stepping = StepAdjustmentParameters(enabled=step_adjustment)
         if name == "zmpip":
+            expected = expected_zmp_offset(model, trajectory, pattern.com.zmp_in_world)
             controller = ZmpIpWalk(pattern, model, settings, layout, joints, observer, heading,
-                                   reference_adapter=reference_adapter,
-                                   stepping=stepping)  # fmt: skip
+                                   reference_adapter=reference_adapter, stepping=stepping,
+                                   expected_zmp_offset_in_world=expected)  # fmt: skip
         else:
             dcm = DcmParameters(observer=observer)
             controller = DcmWalk(pattern, model, settings, layout, joints, dcm, heading, stepping)
