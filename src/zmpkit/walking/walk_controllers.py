@@ -11,8 +11,8 @@ a robot whose control loop runs at the motion-frame rate). Three are built in:
   robot estimates from its encoders and IMU and by the ZMP of its F-T sensors
   (:mod:`zmpkit.walking.state_estimator`), less the multibody ZMP the design model
   predicts of the plan (:func:`~zmpkit.walking.multibody_zmp.expected_zmp_offset`) and
-  low-passed (:data:`ZMP_FILTER_HZ`); the whole-body IK then realises the observed plan's
-  next CoM with the planned feet.
+  low-passed (:mod:`zmpkit.walking.zmp_prefilter`); the whole-body IK then realises the
+  observed plan's next CoM with the planned feet.
 - :class:`DcmWalk` (``dcm``): the divergent-component-of-motion stabiliser of today's walking
   controllers (Englsberger et al. 2015; Caron et al., lipm_walking_controller, 2019), in the
   form a position-controlled robot can use (:mod:`zmpkit.walking.dcm_stabiliser`): a CoM
@@ -55,10 +55,10 @@ from zmpkit.walking.step_adjustment import StepAdjustment, StepAdjustmentParamet
 from zmpkit.walking.step_events import StepEvent
 from zmpkit.walking.step_reach import step_reach
 from zmpkit.walking.zmp_observer import ObservedPreviewControl, ZmpObserverParameters
+from zmpkit.walking.zmp_prefilter import ZMP_FILTER_HZ, ZmpPrefilter
 
 __all__ = [
     "CONTROLLERS",
-    "ZMP_FILTER_HZ",
     "DcmParameters",
     "DcmWalk",
     "OffsetWalk",
@@ -281,20 +281,6 @@ class _OnlineWalk:
         return q_targets
 
 
-ZMP_FILTER_HZ = 10.0
-"""Cut-off of the low-pass on the ZMP the ZMP/IP observer reads [Hz].
-
-A rigid robot's F-T ZMP, less the multibody ZMP its plan predicts, still swings several
-centimetres from one 10 ms frame to the next (feet landing and rocking on stiff contacts):
-read raw, the observer passed it on to the CoM plan, and the rigid NAO's closed-loop walk
-shook 3.2 times its open-loop walk at the step frequency (0.0087 against 0.0027 rad, 0.2 m/s,
-0.5 s steps); with the expected multibody ZMP removed 1.85 times, with this filter too 0.67
-times. Chosen on that one walk (10 Hz, before 5 and 2 Hz were tried: 0.0016 and 0.0024
-rad); judged on the 116 cases of ``zmpkit walk sweep`` (all effects, seed 0), none of them
-used to choose it: falls 47 → 39 (10 N pushes 2 → 0 of 32, 20 N 16 → 10, 30 N 29 → 29),
-none unpushed before or after."""
-
-
 class ZmpIpWalk(_OnlineWalk):
     """Paper B's walk: preview control on the observed cart-table state (``zmpip``).
 
@@ -314,10 +300,11 @@ class ZmpIpWalk(_OnlineWalk):
             dynamics put beside the cart table's on the planned motion (its multibody ZMP
             minus the plan's cart-table ZMP) [m], shape (N, 2); the observer reads the
             measured ZMP less it, so it reacts to what the plan does not already explain,
-            not to the swinging legs every step (:func:`expected_zmp_offset`). None: the
-            measured ZMP as it is.
-        zmp_filter_hz: the cut-off of the first-order low-pass the observer reads the
-            measured ZMP through [Hz] (:data:`ZMP_FILTER_HZ`); None: unfiltered.
+            not to the swinging legs every step
+            (:func:`~zmpkit.walking.multibody_zmp.expected_zmp_offset`); None: nothing
+            subtracted (:mod:`zmpkit.walking.zmp_prefilter`).
+        zmp_filter_hz: the cut-off of the low-pass the observer reads the measured ZMP
+            through [Hz] (:data:`~zmpkit.walking.zmp_prefilter.ZMP_FILTER_HZ`); None: none.
     """
 
     name = "zmpip"
@@ -337,21 +324,10 @@ class ZmpIpWalk(_OnlineWalk):
         zmp_filter_hz: float | None = ZMP_FILTER_HZ,
     ) -> None:
         super().__init__(pattern, model, ik_settings, sensors, joint_names, heading_gains, stepping)
-        period = pattern.config.control_period_s
-        self._zmp_alpha = (
-            1.0
-            if zmp_filter_hz is None
-            else period / (period + 1.0 / (2.0 * math.pi * zmp_filter_hz))
-        )
-        self._filtered_zmp = np.full(2, np.nan)
         self.reference_adapter = reference_adapter
-        self._expected = (
-            None
-            if expected_zmp_offset_in_world is None
-            else np.nan_to_num(np.asarray(expected_zmp_offset_in_world, dtype=np.float64))
+        self.zmp_prefilter = ZmpPrefilter(
+            pattern.config.control_period_s, expected_zmp_offset_in_world, zmp_filter_hz
         )
-        self._last_expected = -1 if self._expected is None else self._expected.shape[0] - 1
-        self._observed_zmp = np.zeros(2)
         com = pattern.com
         initial = np.column_stack(
             [
@@ -373,26 +349,7 @@ class ZmpIpWalk(_OnlineWalk):
         if adapter is not None:
             adapter.adapt(frame - 1, est.zmp_in_world, self.control.reference_by_axis)
         k = self._before[frame]  # frame - 1 (the walk's frames are the plan's)
-        zmp = est.zmp_in_world
-        expected = self._expected
-        if expected is not None:
-            row = min(k, self._last_expected)
-            observed = self._observed_zmp
-            observed[0] = zmp.item(0) - expected.item(row, 0)
-            observed[1] = zmp.item(1) - expected.item(row, 1)
-            zmp = observed
-        alpha = self._zmp_alpha
-        if alpha < 1.0:
-            held = self._filtered_zmp
-            for axis in (0, 1):
-                new, old = zmp.item(axis), held.item(axis)
-                if not math.isfinite(new):
-                    held[axis] = math.nan
-                elif not math.isfinite(old):
-                    held[axis] = new
-                else:
-                    held[axis] = old + alpha * (new - old)
-            zmp = held
+        zmp = self.zmp_prefilter.read(k, est.zmp_in_world)
         com = self.control.update(k, est.com_in_world, zmp)
         offset, offsets = self.control.offset_in_world, self.offset_in_world
         offsets[k, 0], offsets[k, 1] = offset.item(0), offset.item(1)
