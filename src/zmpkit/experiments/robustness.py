@@ -24,6 +24,7 @@ from dataclasses import dataclass
 from zmpkit.experiments.walk import run_walk_trial
 from zmpkit.experiments.walk_config import WalkConfig
 from zmpkit.experiments.walk_trial import FAULTS, PUSH_DIRECTIONS, Push, SensorFault
+from zmpkit.robots.robot import Robot
 
 __all__ = [
     "NOMINAL_SPEED_MPS",
@@ -104,7 +105,7 @@ class RobustnessCase:
 
     def walk_config(
         self,
-        robot: str,
+        robot: Robot,
         effects: str,
         duration_s: float,
         seed: int,
@@ -206,7 +207,7 @@ def robustness_matrix(controllers: tuple[str, ...]) -> list[RobustnessCase]:
 
 def run_case(
     case: RobustnessCase,
-    robot: str,
+    robot: Robot,
     effects: str,
     duration_s: float,
     seed: int,

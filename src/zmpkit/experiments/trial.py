@@ -34,7 +34,6 @@ from zmpkit.experiments.hold import HoldMonitor
 from zmpkit.experiments.lean import Lean, design_lean_model, lean_angle
 from zmpkit.experiments.zmp_reading import ZmpReader
 from zmpkit.io import feet_from_mapping
-from zmpkit.robots.registry import get_robot
 from zmpkit.robots.robot import Robot
 from zmpkit.signals import PLANES
 from zmpkit.signals.time_series import Signal, TimeSeries
@@ -234,7 +233,7 @@ def run_step_trial(
     lean = design_lean_model(config.robot, config.plane)
     angle = lean_angle(target_m, lean.lean_length_m)
     seed = trial_seed(config.seed, config.plane, target_m)
-    robot = get_robot(config.robot)
+    robot = config.robot
     sim = robot.make_simulation(config.effects, config.truth, seed=seed)
     balance = robot.require_balance()
     reach = lean_angle(_MAX_REACH_FRACTION * lean.lean_length_m, lean.lean_length_m)

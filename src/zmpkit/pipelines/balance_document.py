@@ -36,7 +36,6 @@ from zmpkit.identify import TERMS
 from zmpkit.identify.error_model import COEFFICIENT_UNITS
 from zmpkit.identify.params import PlaneIdentification
 from zmpkit.pipelines.balance import BalanceConfig, BalanceResult, PlaneResult
-from zmpkit.robots.registry import get_robot
 
 __all__ = [
     "balance_checks",
@@ -66,7 +65,7 @@ def balance_document(
 ) -> ReportDocument:
     """The balance run's report: verdict, then one section per plane, then the data."""
     c = result.config
-    title = get_robot(c.robot).title
+    title = c.robot.title
     sections = [
         _plane_section(plane, [f for f in figures if f"_{plane.plane}" in f.path.name])
         for plane in result.planes.values()
@@ -100,7 +99,7 @@ def _summary(c: BalanceConfig, title: str) -> str:
     held_out = [x for x in c.targets_m if round(x, 6) not in fitted]
     return (
         f"Paper A's balance experiment on the virtual {title}, {_effects(c.effects)}"
-        f"{get_robot(c.robot).simulated_effects_note(c.effects, c.truth)}: LIPM "
+        f"{c.robot.simulated_effects_note(c.effects, c.truth)}: LIPM "
         "step trials; identification of the steady-state error model from the force–torque "
         f"ZMP, fitted on the LIPM steps at **{_targets(c.fit_targets_m)} m**; then every target "
         "under the gain-scheduled DLIPM (paper A eq. 7–11, ζ = "

@@ -17,7 +17,7 @@ import numpy as np
 
 from zmpkit._validate import shorten
 from zmpkit.analysis.balance_plots import plot_error_fit
-from zmpkit.analysis.provenance import capture
+from zmpkit.analysis.provenance import capture_described
 from zmpkit.analysis.report_document import Check, Figure, ReportDocument, Section, Text
 from zmpkit.analysis.report_files import write_report
 from zmpkit.errors import InputFileError, ParameterError, ZmpkitError
@@ -131,10 +131,9 @@ def identification_document(
             ),
             Section("Data", (Text("`params.yaml`: the identified DLIPM parameters."),)),
         ),
-        provenance=capture(
+        provenance=capture_described(
             robot="recorded data",
             started_s=started_s,
-            simulated=False,
             extra=(("data", str(source)),),
         ),
     )

@@ -58,7 +58,7 @@ from zmpkit.experiments.walk_config import (
     max_walk_speed_mps,
 )
 from zmpkit.robots.registry import DEFAULT_WALK_ROBOT, get_robot
-from zmpkit.robots.robot import DEFAULT_WALK_SPEED_MPS
+from zmpkit.robots.robot import DEFAULT_WALK_SPEED_MPS, Robot
 from zmpkit.robots.truth_variant import scaled_truth_file
 from zmpkit.sim.effect_set import EffectSet
 from zmpkit.walking import generate_pattern
@@ -111,7 +111,8 @@ class CompensateConfig:
 
     Attributes:
         method: one of :data:`METHODS`.
-        robot: the walking robot's registry name or ``robot.yaml`` path.
+        robot: the walking robot; a registry name or ``robot.yaml`` path is resolved once,
+            on creation.
         quick: short walks and a small tuning budget (< 5 min on 2 cores).
         speed_mps: speed of the tuning walk [m/s]; None: the robot's walking speed
             (:attr:`~zmpkit.robots.robot.WalkingDefaults.speed_mps`).
@@ -133,7 +134,7 @@ class CompensateConfig:
     """
 
     method: str = "auto"
-    robot: str = DEFAULT_WALK_ROBOT
+    robot: Robot = field(default_factory=lambda: get_robot(DEFAULT_WALK_ROBOT))
     quick: bool = False
     speed_mps: float | None = None
     step_duration_s: float = 0.5
@@ -151,7 +152,8 @@ class CompensateConfig:
     def __post_init__(self) -> None:
         if self.method not in METHODS:
             raise ParameterError(f"method must be one of {', '.join(METHODS)}; got {self.method!r}")
-        walking = get_robot(self.robot, needs="walking").require_walking()
+        object.__setattr__(self, "robot", get_robot(self.robot, needs="walking"))
+        walking = self.robot.require_walking()
         if self.speed_mps is None:
             object.__setattr__(self, "speed_mps", walking.speed_mps)
         _validate.in_range(
@@ -220,7 +222,7 @@ class CompensateConfig:
         It scales the speeds and speed changes of the tuning and validation walks (module
         docstring): 1 for a robot that walks at 0.2 m/s.
         """
-        walking = get_robot(self.robot, needs="walking").require_walking()
+        walking = self.robot.require_walking()
         return walking.speed_mps / DEFAULT_WALK_SPEED_MPS
 
     @property
@@ -253,11 +255,11 @@ class CompensateConfig:
             seed,
             self.duration_s,
             self.effects,
-            self.robot,
             step,
             self.controller,
             truth,
             truth_label,
+            robot=self.robot,
         )
 
     def tuning_walks(self) -> tuple[WalkSpec, ...]:
@@ -287,7 +289,7 @@ class CompensateConfig:
                 only); None: the shipped robot (for counting the walks).
         """
         if self.held_out:
-            robot = get_robot(self.robot, needs="walking")
+            robot = self.robot
             walks = []
             for k, (dv, dt, factor) in enumerate(self._held_out_cases()):
                 truth = None
@@ -303,11 +305,11 @@ class CompensateConfig:
         d, e, s, r = self.duration_s, self.effects, self.seed, self.robot
         t = self.step_duration_s
         speeds = [round(v * self.speed_scale, 6) for v in VALIDATION_SPEEDS_MPS]
-        other = [WalkSpec(v, s + 1, d, e, r, t) for v in speeds]
+        other = [WalkSpec(v, s + 1, d, e, t, robot=r) for v in speeds]
         if self.quick:
             return tuple(other)
         v = self.tuning_speed_mps
-        return (WalkSpec(v, s + 1, d, e, r, t), WalkSpec(v, s + 2, d, e, r, t), *other)
+        return (WalkSpec(v, s + 1, d, e, t, robot=r), WalkSpec(v, s + 2, d, e, t, robot=r), *other)
 
 
 @dataclass(frozen=True)
@@ -349,7 +351,7 @@ def _tune_shapes(config: CompensateConfig, cache: Path, report) -> dict[str, Tun
     shapes = OFFSET_SHAPES if config.method == "auto" else (config.method,)
     walk = config.tuning_walks()[0].walk_config()
     pattern = generate_pattern(walk.pattern_config())
-    robot = get_robot(config.robot, needs="walking")
+    robot = config.robot
     model_offset = compensate_abstraction(
         walk.pattern_config(), robot.ik_model(), config.iterations, ik_settings=robot.ik_settings
     )
