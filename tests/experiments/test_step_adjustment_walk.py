@@ -8,7 +8,7 @@ import pytest
 
 from zmpkit.experiments.robustness import RobustnessCase
 from zmpkit.experiments.walk import run_walk_trial
-from zmpkit.experiments.walk_trial import Push
+from zmpkit.experiments.walk_disturbances import Push
 from zmpkit.pipelines.walk_document import walk_checks
 from zmpkit.robots.registry import get_robot
 from zmpkit.walking.gait import StepLimits

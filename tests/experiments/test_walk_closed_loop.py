@@ -12,8 +12,8 @@ from zmpkit.errors import ParameterError
 from zmpkit.experiments import walk_trial
 from zmpkit.experiments.walk import run_walk_trial
 from zmpkit.experiments.walk_config import WalkConfig
+from zmpkit.experiments.walk_disturbances import Push
 from zmpkit.experiments.walk_summary import stall_time, summarise_walk
-from zmpkit.experiments.walk_trial import Push
 from zmpkit.robots.registry import get_robot
 
 NAO = get_robot("nao")

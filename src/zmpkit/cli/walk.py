@@ -12,7 +12,7 @@ from zmpkit.cli.progress import SimTimeProgress, StageProgress
 from zmpkit.cli.robot_option import robot_option
 from zmpkit.cli.video_option import video_option
 from zmpkit.experiments.walk_config import WalkConfig
-from zmpkit.experiments.walk_trial import Push
+from zmpkit.experiments.walk_disturbances import Push
 from zmpkit.pipelines.walk import run_walk, write_walk
 from zmpkit.pipelines.walk_compensate import CompensateConfig, run_walk_compensate
 from zmpkit.pipelines.walk_compensate_report import write_walk_compensate

@@ -6,7 +6,7 @@ from dataclasses import dataclass
 
 from zmpkit import _validate
 from zmpkit.errors import ParameterError
-from zmpkit.experiments.walk_trial import Push, SensorFault
+from zmpkit.experiments.walk_disturbances import Push, SensorFault
 from zmpkit.robots.robot import Robot
 from zmpkit.sim.effect_set import EffectSet
 from zmpkit.walking import GaitParameters, PatternConfig, WalkCommand

@@ -27,8 +27,10 @@ from zmpkit.analysis.report_document import (
     Video,
 )
 from zmpkit.models import Dlipm
-from zmpkit.pipelines.balance_document import balance_checks, balance_figures, table1_table
+from zmpkit.pipelines.balance_checks import balance_checks
+from zmpkit.pipelines.balance_document import balance_figures
 from zmpkit.pipelines.balance_report import BalanceArtifacts
+from zmpkit.pipelines.balance_sections import table1_table
 from zmpkit.pipelines.walk import WalkResult
 from zmpkit.pipelines.walk_compensate import CompensateResult
 from zmpkit.pipelines.walk_compensate_report import compensation_checks, compensation_sections

@@ -25,7 +25,7 @@ from zmpkit.experiments import read_step_dataset
 from zmpkit.identify import BalanceIdentification, identify_balance
 from zmpkit.io.step_manifest import read_step_manifest
 from zmpkit.pipelines.balance import dataset_trials
-from zmpkit.pipelines.balance_document import identification_blocks
+from zmpkit.pipelines.balance_sections import identification_blocks
 from zmpkit.robots.registry import get_robot
 from zmpkit.signals import StepTrial
 
