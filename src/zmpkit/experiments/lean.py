@@ -46,7 +46,7 @@ from scipy.optimize import brentq
 from zmpkit.errors import ParameterError
 from zmpkit.experiments.whole_body_lean import whole_body_lean
 from zmpkit.robots.robot import Robot
-from zmpkit.signals.steady_state import PLANES
+from zmpkit.signals.step_trial import PLANES
 from zmpkit.sim.world import Simulation
 
 __all__ = [
