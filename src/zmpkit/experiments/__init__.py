@@ -36,12 +36,8 @@ from zmpkit.experiments.response import (
     write_steady_state_csv,
 )
 from zmpkit.experiments.sweep import DEFAULT_WORKERS, MAX_WORKERS, run_step_sweep
-from zmpkit.experiments.trial import (
-    CONTROL_PERIOD_S,
-    LeanController,
-    StepTrialRecord,
-    run_step_trial,
-)
+from zmpkit.experiments.trial import CONTROL_PERIOD_S, LeanController, run_step_trial
+from zmpkit.experiments.trial_record import StepTrialRecord
 
 __all__ = [
     "CONTROL_PERIOD_S",

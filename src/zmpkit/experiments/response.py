@@ -31,7 +31,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from zmpkit.experiments.dataset import StepDataset
-from zmpkit.experiments.trial import StepTrialRecord
+from zmpkit.experiments.trial_record import StepTrialRecord
 from zmpkit.sensors import (
     CONTACT_FORCE_THRESHOLD_N,
     SensorMount,

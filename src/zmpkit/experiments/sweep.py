@@ -34,7 +34,8 @@ from zmpkit.experiments.lean import (
     lean_angle,
     lean_angle_joints,
 )
-from zmpkit.experiments.trial import LeanController, StepTrialRecord, run_step_trial
+from zmpkit.experiments.trial import LeanController, run_step_trial
+from zmpkit.experiments.trial_record import StepTrialRecord
 
 __all__ = [
     "DEFAULT_WORKERS",
