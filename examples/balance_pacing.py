@@ -32,10 +32,15 @@ import matplotlib.pyplot as plt
 
 from zmpkit.analysis.balance_validation import evaluate_trial
 from zmpkit.control import PAPER_A_TIME_SCALE
-from zmpkit.experiments import StepExperimentConfig, design_lean_model, run_step_sweep
+from zmpkit.experiments import (
+    StepExperimentConfig,
+    dataset_trials,
+    design_lean_model,
+    run_step_sweep,
+)
 from zmpkit.experiments.lean import lean_angle
 from zmpkit.identify import BalanceParams
-from zmpkit.pipelines.balance import BalanceConfig, dataset_trials, support_polygon
+from zmpkit.pipelines.balance import BalanceConfig, support_polygon
 from zmpkit.pipelines.balance_controllers import LeanControllerFactory
 
 TARGETS_M = (0.03, 0.04, 0.06, 0.08, 0.09, 0.1)

@@ -20,7 +20,6 @@ no finished trial. Nothing here reads the robot's truth: only recorded sensors a
 
 from __future__ import annotations
 
-import math
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, field, replace
@@ -31,12 +30,11 @@ from zmpkit.analysis.balance_validation import ControllerOutcome, evaluate_trial
 from zmpkit.analysis.table1 import Table1Row
 from zmpkit.errors import ParameterError, ZmpkitError
 from zmpkit.experiments import (
-    StepDataset,
     StepExperimentConfig,
+    dataset_trials,
     design_lean_model,
     lean_angle,
     run_step_sweep,
-    trial_response,
 )
 from zmpkit.experiments.ft_faults import FtFaults
 from zmpkit.experiments.sweep import check_sweep
@@ -56,7 +54,6 @@ __all__ = [
     "BalanceConfig",
     "BalanceResult",
     "PlaneResult",
-    "dataset_trials",
     "fit_targets_of",
     "run_balance",
     "step_experiment",
@@ -201,24 +198,6 @@ class BalanceResult:
     def params(self, plane: str) -> BalanceParams:
         """The identified parameters of ``plane`` (pendulum length: its lean length)."""
         return self.planes[plane].identification.params
-
-
-def dataset_trials(dataset: StepDataset) -> list[StepTrial]:
-    """A dataset's trials as :class:`~zmpkit.signals.StepTrial` (time from the step) [s, m]."""
-    trials = []
-    for k, record in enumerate(dataset.trials):
-        response = trial_response(dataset, k)
-        trials.append(
-            StepTrial(
-                time=response.time_since_step,
-                zmp_measured=response.zmp_measured,
-                zmp_ref=record.target_m,
-                t_step=0.0,
-                plane=record.plane,
-                zmp_commanded=record.lean_length_m * math.sin(record.lean_angle_rad),
-            )
-        )
-    return trials
 
 
 def run_balance(

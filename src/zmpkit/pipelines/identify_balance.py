@@ -21,10 +21,9 @@ from zmpkit.analysis.provenance import capture_described
 from zmpkit.analysis.report_document import Check, Figure, ReportDocument, Section, Text
 from zmpkit.analysis.report_files import write_report
 from zmpkit.errors import InputFileError, ParameterError, ZmpkitError
-from zmpkit.experiments import read_step_dataset
+from zmpkit.experiments import dataset_trials, read_step_dataset
 from zmpkit.identify import BalanceIdentification, identify_balance
 from zmpkit.io.step_manifest import read_step_manifest
-from zmpkit.pipelines.balance import dataset_trials
 from zmpkit.pipelines.balance_sections import identification_blocks
 from zmpkit.robots.registry import get_robot
 from zmpkit.signals import StepTrial
