@@ -104,7 +104,7 @@ def repeated_lipm_errors(name: str, out: Path, repeats: int, plane: str) -> list
         record = run_step_trial(config, SCATTER_TARGET_M)
         mounts = feet_from_mapping(config.robot.feet_mounts())
         startup = (record.t_step_s - config.startup_window_s, record.t_step_s)
-        zmp = measured_zmp(record, mounts, startup)
+        zmp = measured_zmp(record, mounts, startup, config.robot.contact_force_threshold_n)
         trial = StepTrial(
             time=record.time - record.t_step_s, zmp_measured=zmp, zmp_ref=SCATTER_TARGET_M,
             t_step=0.0, plane=plane,

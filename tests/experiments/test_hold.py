@@ -52,8 +52,9 @@ def _feed(monitor: HoldMonitor, plane: str, zmp, duration_s: float, seed: int = 
 def _monitor(plane: str, target: float, hold_s: float, max_hold_s: float | None) -> HoldMonitor:
     mounts = feet_from_mapping(FEET)
     return HoldMonitor(
-        plane, target, T_STEP_S, 0.4, hold_s, max_hold_s, mounts, support_polygon(plane)
-    )
+        plane, target, T_STEP_S, 0.4, hold_s, max_hold_s, mounts, support_polygon(plane),
+        get_robot("teo").contact_force_threshold_n,
+    )  # fmt: skip
 
 
 def _step(target: float, rate_m_s: float = 0.0):

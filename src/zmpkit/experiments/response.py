@@ -34,7 +34,6 @@ from numpy.typing import NDArray
 from zmpkit.experiments.dataset import StepDataset
 from zmpkit.experiments.trial_record import StepTrialRecord
 from zmpkit.sensors import (
-    CONTACT_FORCE_THRESHOLD_N,
     SensorMount,
     remove_zmp_offset,
     zmp_offset_from_standing_window,
@@ -112,7 +111,7 @@ def measured_zmp(
     trial: StepTrialRecord,
     mounts: Mapping[str, SensorMount],
     startup_window: tuple[float, float],
-    contact_threshold_n: float = CONTACT_FORCE_THRESHOLD_N,
+    contact_threshold_n: float,
 ) -> NDArray[np.float64]:
     """Measured ZMP of ``trial`` in its plane [m], start-up offset removed, NaN where undefined.
 

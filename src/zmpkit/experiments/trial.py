@@ -184,8 +184,8 @@ def run_step_trial(
         sim,
         config.plane,
         feet_from_mapping(robot.feet_mounts()),
+        robot.contact_force_threshold_n,
         FtFaults(config.faults) if config.faults else None,
-        contact_threshold_n=robot.contact_force_threshold_n,
     )
     command = _command(angle, target_m, controller, sim.dt, balance.control_period_s, reader)
     stream = make_stream() if command is not None else None
