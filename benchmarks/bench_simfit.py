@@ -48,6 +48,7 @@ from harness import base_parser, print_table, write_run
 from zmpkit.experiments.walk_config import WalkConfig
 from zmpkit.pipelines.walk import run_walk, write_walk
 from zmpkit.robots.nao import make_nao
+from zmpkit.robots.registry import get_robot
 from zmpkit.simfit.backends import LocalPoolEvaluator, SerialEvaluator
 from zmpkit.simfit.batch_backend import BatchEvaluator
 from zmpkit.simfit.batched import CHUNK_S, simulate_batch
@@ -62,7 +63,12 @@ __all__ = ["main"]
 
 def make_problem(folder: Path, duration_s: float) -> FitProblem:
     """Record one walk into ``folder`` and wrap it as a 2-parameter NAO fit problem."""
-    write_walk(run_walk(WalkConfig(duration_s=duration_s, effects="M,G,S", figures=False)), folder)
+    write_walk(
+        run_walk(
+            WalkConfig(get_robot("nao"), duration_s=duration_s, effects="M,G,S", figures=False)
+        ),
+        folder,
+    )
     params = default_parameters("nao", "M,G", ("pid_gain_scale", "gear_stiffness"))
     doc = load_truth_doc(base_truth_path("nao", None))
     return FitProblem("nao", "M,G,S", params, doc, tuple(read_experiments([folder], "nao")))

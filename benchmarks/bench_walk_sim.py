@@ -41,7 +41,7 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
     parser = base_parser(__doc__.splitlines()[0])
     parser.add_argument("--repeats", type=int, default=3, help="runs per case (best kept)")
     args = parser.parse_args(argv)
-    pattern = generate_pattern(WalkConfig().pattern_config())
+    pattern = generate_pattern(WalkConfig(get_robot("nao")).pattern_config())
     nao = get_robot("nao")
     trajectory = solve_walking_ik(pattern, nao.ik_model(), nao.ik_settings)
     cases = {}

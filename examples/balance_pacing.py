@@ -32,12 +32,16 @@ import matplotlib.pyplot as plt
 
 from zmpkit.analysis.balance_validation import evaluate_trial
 from zmpkit.control import PAPER_A_TIME_SCALE
-from zmpkit.experiments import StepExperimentConfig, design_lean_model, run_step_sweep
+from zmpkit.experiments import (
+    StepExperimentConfig,
+    dataset_trials,
+    design_lean_model,
+    run_step_sweep,
+)
 from zmpkit.experiments.lean import lean_angle
 from zmpkit.identify import BalanceParams
-from zmpkit.pipelines.balance import BalanceConfig, dataset_trials, support_polygon
+from zmpkit.pipelines.balance import BalanceConfig, support_polygon
 from zmpkit.pipelines.balance_controllers import LeanControllerFactory
-from zmpkit.robots.registry import get_robot
 
 TARGETS_M = (0.03, 0.04, 0.06, 0.08, 0.09, 0.1)
 CANDIDATES = (  # label, ζ, time scale (minimum when servo-paced), servo-paced
@@ -83,7 +87,7 @@ def main() -> None:
     out: Path = args.out
     out.mkdir(parents=True, exist_ok=True)
     quick = BalanceConfig.quick()
-    robot = get_robot(quick.robot, needs="balance")
+    robot = quick.robot
     limit = robot.servo_limits.max_acceleration
     with (args.run / "table1.csv").open(encoding="utf-8") as handle:
         lipm = {

@@ -30,7 +30,6 @@ from zmpkit.experiments.response import measured_zmp
 from zmpkit.io import feet_from_mapping
 from zmpkit.pipelines.balance import BalanceConfig, run_balance
 from zmpkit.pipelines.balance_report import write_balance_outputs
-from zmpkit.robots.registry import get_robot
 from zmpkit.robots.teo.truth_variants import TRUTH_VARIANTS, write_truth_variant
 from zmpkit.signals import StepTrial
 from zmpkit.signals.steady_state import steady_state
@@ -99,13 +98,13 @@ def repeated_lipm_errors(name: str, out: Path, repeats: int, plane: str) -> list
     errors: list[float | None] = []
     for seed in range(repeats):
         config = StepExperimentConfig(
-            targets_m=quick.targets_m, plane=plane, hold_s=quick.hold_s,
+            robot=quick.robot, targets_m=quick.targets_m, plane=plane, hold_s=quick.hold_s,
             max_hold_s=quick.max_hold_s, truth=truth, seed=seed,
         )  # fmt: skip
         record = run_step_trial(config, SCATTER_TARGET_M)
-        mounts = feet_from_mapping(get_robot(config.robot).feet_mounts())
+        mounts = feet_from_mapping(config.robot.feet_mounts())
         startup = (record.t_step_s - config.startup_window_s, record.t_step_s)
-        zmp = measured_zmp(record, mounts, startup)
+        zmp = measured_zmp(record, mounts, startup, config.robot.contact_force_threshold_n)
         trial = StepTrial(
             time=record.time - record.t_step_s, zmp_measured=zmp, zmp_ref=SCATTER_TARGET_M,
             t_step=0.0, plane=plane,

@@ -12,6 +12,7 @@ from pathlib import Path
 from zmpkit.analysis.walk_plots import plot_effect_comparison
 from zmpkit.experiments.walk_config import WalkConfig
 from zmpkit.pipelines.walk import run_walk, write_walk
+from zmpkit.robots.registry import get_robot
 
 EFFECT_SETS = ("none", "M", "M,I", "G", "F", "I,G,F", "M,G", "M,F", "M,G,F", "all")
 
@@ -24,7 +25,10 @@ def main(out: Path, controller: str) -> None:
     runs = {}
     for effects in EFFECT_SETS:
         config = WalkConfig(
-            effects=effects, controller=controller, figures=effects in ("none", "all")
+            get_robot("nao"),
+            effects=effects,
+            controller=controller,
+            figures=effects in ("none", "all"),
         )
         result = write_walk(run_walk(config), out / effects.replace(",", ""))
         s = result.summary

@@ -26,6 +26,7 @@ from zmpkit.analysis.report_document import (
 from zmpkit.analysis.report_files import write_report
 from zmpkit.analysis.report_html import render_html
 from zmpkit.analysis.report_markdown import render_markdown
+from zmpkit.robots.registry import get_robot
 
 
 def _png(path: Path) -> Path:
@@ -56,7 +57,9 @@ def _doc(tmp_path: Path) -> ReportDocument:
             ),
             Section("Second", (Table(("x [m]", "error [%]"), (("0.10", "2.1"),), "Errors."),)),
         ),
-        provenance=capture(robot="teo", started_s=time.time() - 2.0, effects="all", seed=3),
+        provenance=capture(
+            robot=get_robot("teo"), started_s=time.time() - 2.0, effects="all", seed=3
+        ),
     )
 
 

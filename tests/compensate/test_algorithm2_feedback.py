@@ -12,6 +12,7 @@ from zmpkit.compensate.evaluations import WalkSpec
 from zmpkit.compensate.methods import walk_with_algorithm2
 from zmpkit.errors import ParameterError
 from zmpkit.experiments.walk import make_controller
+from zmpkit.robots.registry import get_robot
 from zmpkit.walking import PatternConfig, generate_pattern
 
 PATTERN = generate_pattern(PatternConfig(duration_s=3.0, com_height_m=0.25))
@@ -94,7 +95,7 @@ def test_only_zmpip_takes_a_reference_adapter() -> None:
 
 def test_a_feedback_walk_with_algorithm_2_tracks_its_rewritten_reference() -> None:
     """All effects, 3 s at 0.2 m/s with zmpip: p' differs from p_r only inside the walk."""
-    walk = WalkSpec(duration_s=3.0, controller="zmpip")
+    walk = WalkSpec(duration_s=3.0, controller="zmpip", robot=get_robot("nao"))
     result = walk_with_algorithm2(walk, Algorithm2Parameters(0.99, 0.8))
     assert not result.fell
     learner = Algorithm2Offsets(PATTERN, Algorithm2Parameters())

@@ -12,6 +12,7 @@ from zmpkit.compensate.evaluate import simulate_with_offset
 from zmpkit.errors import ModelError, ParameterError
 from zmpkit.experiments.walk_config import WalkConfig
 from zmpkit.robots.nao import make_nao, nao_ik_model
+from zmpkit.robots.registry import get_robot
 from zmpkit.walking.multibody_zmp import InverseDynamicsZmp, finite_differences
 
 # Measured on the 3 s ideal walk (effects none, 10 ms frames): RMS 11.3 mm (x), 5.7 mm (y)
@@ -70,7 +71,9 @@ def test_bad_input_is_named() -> None:
 
 
 def test_matches_the_contact_force_zmp_on_an_ideal_walk() -> None:
-    outcome = simulate_with_offset(WalkConfig(duration_s=3.0, effects="none", figures=False))
+    outcome = simulate_with_offset(
+        WalkConfig(get_robot("nao"), duration_s=3.0, effects="none", figures=False)
+    )
     record = outcome.record
     assert record is not None
     assert not record.fell

@@ -21,7 +21,7 @@ from zmpkit.robots.nao import nao_ik_model
 from zmpkit.robots.registry import get_robot
 from zmpkit.walking import generate_pattern
 
-SHORT = WalkSpec(speed_mps=0.2, seed=0, duration_s=3.0)
+SHORT = WalkSpec(speed_mps=0.2, seed=0, duration_s=3.0, robot=get_robot("nao"))
 
 
 def test_tuning_improves_on_no_offset_and_resumes_from_its_cache(tmp_path) -> None:

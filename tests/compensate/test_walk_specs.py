@@ -16,6 +16,7 @@ from zmpkit.compensate.evaluations import WalkSpec
 from zmpkit.errors import ParameterError
 from zmpkit.pipelines.walk_compensate import METHODS, CompensateConfig
 from zmpkit.robots.op3 import preset
+from zmpkit.robots.registry import get_robot
 
 # (speed [m/s], step [s], seed, duration [s], truth label) of every walk, as the pipeline
 # built them for the NAO before the speed scaling (CompensateConfig at commit 5dee448)
@@ -71,7 +72,8 @@ def test_the_nao_walks_are_unchanged(controller: str, quick: bool) -> None:
     tuning, validation = NAO_WALKS[(controller, quick)]
     assert _rows(config.tuning_walks()) == tuning
     assert _rows(config.validation_walks()) == validation
-    assert all(w.robot == "nao" and w.controller == controller for w in config.tuning_walks())
+    nao = get_robot("nao")
+    assert all(w.robot is nao and w.controller == controller for w in config.tuning_walks())
 
 
 @pytest.mark.parametrize("controller", sorted(NAO_GIVEN_WALKS))
@@ -86,9 +88,10 @@ def test_the_nao_walks_at_a_given_speed_and_step_are_unchanged(controller: str) 
 
 
 def test_a_walk_spec_without_a_speed_walks_at_its_robots_speed(tmp_path: Path) -> None:
-    assert WalkSpec().speed_mps == 0.2
-    assert WalkSpec(speed_mps=0.2) == WalkSpec()
-    robot = _robot_walking_at(tmp_path, 0.12)
+    nao = get_robot("nao")
+    assert WalkSpec(robot=nao).speed_mps == 0.2
+    assert WalkSpec(speed_mps=0.2, robot=nao) == WalkSpec(robot=nao)
+    robot = get_robot(_robot_walking_at(tmp_path, 0.12))
     assert WalkSpec(robot=robot).speed_mps == 0.12
     assert WalkSpec(robot=robot).walk_config().speed_mps == 0.12
     assert WalkSpec(robot=robot, speed_mps=0.05).walk_config().speed_mps == 0.05
@@ -107,7 +110,7 @@ def test_the_op3_tunes_and_validates_at_half_the_speeds() -> None:
 
 
 def test_a_user_robot_tunes_and_validates_at_its_own_speed(tmp_path: Path) -> None:
-    robot = _robot_walking_at(tmp_path, 0.12)
+    robot = get_robot(_robot_walking_at(tmp_path, 0.12))
     open_loop = CompensateConfig(method="half-sine", robot=robot, controller="open")
     assert open_loop.speed_scale == pytest.approx(0.6)
     assert _speeds(open_loop) == ([0.12], [0.12, 0.12, 0.09, 0.15])
@@ -117,7 +120,7 @@ def test_a_user_robot_tunes_and_validates_at_its_own_speed(tmp_path: Path) -> No
 
 @pytest.mark.parametrize("method", METHODS)
 def test_a_given_speed_and_step_are_honoured_by_every_method(tmp_path: Path, method: str) -> None:
-    robot = _robot_walking_at(tmp_path, 0.12)
+    robot = get_robot(_robot_walking_at(tmp_path, 0.12))
     controller = "zmpip" if method == "alg2" else "open"
     config = CompensateConfig(
         method=method, robot=robot, controller=controller, quick=True, speed_mps=0.14,
@@ -131,7 +134,7 @@ def test_a_given_speed_and_step_are_honoured_by_every_method(tmp_path: Path, met
 
 
 def test_a_held_out_walk_too_slow_for_the_robot_is_named(tmp_path: Path) -> None:
-    robot = _robot_walking_at(tmp_path, 0.12)
+    robot = get_robot(_robot_walking_at(tmp_path, 0.12))
     with pytest.raises(ParameterError, match=r"must be >= 0\.078 m/s .* go 0\.048 m/s slower"):
         CompensateConfig(robot=robot, controller="zmpip", speed_mps=0.07)
     with pytest.raises(ParameterError, match=r"must be >= 0\.13 m/s .* go 0\.08 m/s slower"):

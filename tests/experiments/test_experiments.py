@@ -28,13 +28,16 @@ from zmpkit.experiments import (
 from zmpkit.experiments import sweep as sweep_module
 from zmpkit.experiments.lean import design_support_interval, lean_angle
 from zmpkit.pipelines.sim_push import run_sim_push
+from zmpkit.robots.registry import get_robot
+
+TEO = get_robot("teo")
 
 FAST = {"settle_s": 1.0, "startup_window_s": 0.3, "hold_s": 1.0}
 """A short timeline for tests that need data, not a settled response [s]."""
 
 
 def _config(**kw) -> StepExperimentConfig:
-    return StepExperimentConfig(**{"effects": "none", **FAST, **kw})
+    return StepExperimentConfig(**{"robot": TEO, "effects": "none", **FAST, **kw})
 
 
 def _files(folder: Path) -> dict[str, bytes]:
@@ -45,7 +48,7 @@ def _files(folder: Path) -> dict[str, bytes]:
 
 
 def test_sagittal_lean_length_is_the_rigid_model_lever_about_the_ankle() -> None:
-    lean = design_lean_model("teo", "sagittal")
+    lean = design_lean_model(TEO, "sagittal")
     # dx_com/dθ of the rigid model about the ankle axis, 0.123 m above the sole: ≈ 0.777 m,
     # well short of the 0.893 m CoM height measured from the ground (paper A §4.1).
     assert lean.lean_length_m == pytest.approx(0.7767, abs=0.002)
@@ -53,7 +56,7 @@ def test_sagittal_lean_length_is_the_rigid_model_lever_about_the_ankle() -> None
 
 
 def test_frontal_lean_closes_the_four_bar_and_keeps_the_feet_flat() -> None:
-    lean = design_lean_model("teo", "frontal")
+    lean = design_lean_model(TEO, "frontal")
     right, left, pelvis = lean.leg_tilts(0.15)
     assert (right + left) / 2 == pytest.approx(0.15, abs=1e-12)
     legs = lean.hips - lean.ankles
@@ -87,8 +90,8 @@ def test_target_out_of_reach_is_refused() -> None:
 
 def test_support_interval_is_teo_soles() -> None:
     # Soles 0.245 m long, the ankle 0.07 m from the heel; 0.140 m wide, ankles at y = ±0.1285 m.
-    assert design_support_interval("teo", "sagittal") == pytest.approx((-0.07, 0.175))
-    assert design_support_interval("teo", "frontal") == pytest.approx((-0.1985, 0.1985))
+    assert design_support_interval(TEO, "sagittal") == pytest.approx((-0.07, 0.175))
+    assert design_support_interval(TEO, "frontal") == pytest.approx((-0.1985, 0.1985))
 
 
 # --- config and parsing ----------------------------------------------------------------

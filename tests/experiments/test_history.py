@@ -9,6 +9,7 @@ import yaml
 from zmpkit.errors import InputFileError
 from zmpkit.experiments import StepExperimentConfig, run_step_trial
 from zmpkit.experiments.history import previous_target, stance_offsets
+from zmpkit.robots.registry import get_robot
 from zmpkit.robots.teo import teo_robot
 from zmpkit.robots.teo.truth import DEFAULT_TRUTH_PATH, truth_from_doc
 from zmpkit.robots.teo.truth_variants import truth_variant
@@ -60,8 +61,10 @@ def test_the_previous_lean_leaves_the_robot_elsewhere(tmp_path) -> None:
     path = tmp_path / "truth.yaml"
     path.write_text(yaml.safe_dump(doc))
     targets = (0.0, 0.08, 0.1)
-    fresh = StepExperimentConfig(targets_m=targets, plane="frontal", hold_s=0.5)
-    carried = StepExperimentConfig(targets_m=targets, plane="frontal", hold_s=0.5, truth=str(path))
+    fresh = StepExperimentConfig(get_robot("teo"), targets_m=targets, plane="frontal", hold_s=0.5)
+    carried = StepExperimentConfig(
+        get_robot("teo"), targets_m=targets, plane="frontal", hold_s=0.5, truth=str(path)
+    )
     a, b = run_step_trial(fresh, 0.1), run_step_trial(carried, 0.1)
     assert b.t_step_s == pytest.approx(a.t_step_s + 6.0)  # the previous lean, there and back
     before_a = a.time < a.t_step_s

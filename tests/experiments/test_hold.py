@@ -52,8 +52,9 @@ def _feed(monitor: HoldMonitor, plane: str, zmp, duration_s: float, seed: int = 
 def _monitor(plane: str, target: float, hold_s: float, max_hold_s: float | None) -> HoldMonitor:
     mounts = feet_from_mapping(FEET)
     return HoldMonitor(
-        plane, target, T_STEP_S, 0.4, hold_s, max_hold_s, mounts, support_polygon(plane)
-    )
+        plane, target, T_STEP_S, 0.4, hold_s, max_hold_s, mounts, support_polygon(plane),
+        get_robot("teo").contact_force_threshold_n,
+    )  # fmt: skip
 
 
 def _step(target: float, rate_m_s: float = 0.0):
@@ -103,11 +104,12 @@ def test_a_robot_standing_near_its_heel_edge_is_not_tipping() -> None:
     judged from the polygon's centre, 9 cm ahead of where the robot stands)."""
     polygon = (-0.012, 0.193)
     mounts = feet_from_mapping(FEET)
-    monitor = HoldMonitor("sagittal", 0.003, T_STEP_S, 0.4, 3.0, 20.0, mounts, polygon)
+    threshold = get_robot("teo").contact_force_threshold_n  # the feet fed are TEO's
+    monitor = HoldMonitor("sagittal", 0.003, T_STEP_S, 0.4, 3.0, 20.0, mounts, polygon, threshold)
     _feed(monitor, "sagittal", _step(0.003), 30.0)
     assert monitor.end is not None
     assert monitor.end.kind == "settled"
-    behind = HoldMonitor("sagittal", -0.011, T_STEP_S, 0.4, 3.0, 20.0, mounts, polygon)
+    behind = HoldMonitor("sagittal", -0.011, T_STEP_S, 0.4, 3.0, 20.0, mounts, polygon, threshold)
     _feed(behind, "sagittal", _step(-0.011), 30.0)
     assert behind.end is not None
     assert behind.end.kind == "tipping"  # 11 mm back: past 85 % of the 12 mm to the heel

@@ -8,8 +8,9 @@ import pytest
 
 from zmpkit.experiments.robustness import RobustnessCase
 from zmpkit.experiments.walk import run_walk_trial
-from zmpkit.experiments.walk_trial import Push
+from zmpkit.experiments.walk_disturbances import Push
 from zmpkit.pipelines.walk_document import walk_checks
+from zmpkit.robots.registry import get_robot
 from zmpkit.walking.gait import StepLimits
 from zmpkit.walking.step_events import NOT_CAPTURED
 
@@ -24,7 +25,7 @@ def outward_push():
     DCM runs to the right of the right foot, where no step of the left foot can go.
     """
     case = RobustnessCase("zmpip", push_n=20.0, push_dir="-y", push_phase=0.25)
-    config = case.walk_config("nao", "all", 6.0, 0, step_adjustment=True)
+    config = case.walk_config(get_robot("nao"), "all", 6.0, 0, step_adjustment=True)
     return config, run_walk_trial(config)
 
 
@@ -50,7 +51,7 @@ def test_a_step_that_cannot_capture_is_said_so_and_does_not_cross(outward_push) 
 
 def test_a_walk_that_is_not_pushed_moves_no_step() -> None:
     case = RobustnessCase("dcm")
-    config = case.walk_config("nao", "all", 3.0, 0, step_adjustment=True)
+    config = case.walk_config(get_robot("nao"), "all", 3.0, 0, step_adjustment=True)
     trial = run_walk_trial(config)
     assert not trial.summary.fell
     assert trial.record.step_events == ()

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from zmpkit.experiments.trial import StepTrialRecord
+from zmpkit.experiments.trial_record import StepTrialRecord
 
 
 def test_step_trial_record_as_time_series_keeps_every_sample() -> None:

@@ -12,9 +12,11 @@ from zmpkit.errors import ParameterError
 from zmpkit.experiments import walk_trial
 from zmpkit.experiments.walk import run_walk_trial
 from zmpkit.experiments.walk_config import WalkConfig
+from zmpkit.experiments.walk_disturbances import Push
 from zmpkit.experiments.walk_summary import stall_time, summarise_walk
-from zmpkit.experiments.walk_trial import Push
 from zmpkit.robots.registry import get_robot
+
+NAO = get_robot("nao")
 
 METRICS = (
     "mean_speed_mps", "planned_speed_mps", "trunk_pitch_peak_hz",
@@ -36,13 +38,14 @@ def test_a_push_is_read_from_the_command_line_form() -> None:
 
 def test_an_unknown_controller_is_refused() -> None:
     with pytest.raises(ParameterError, match="controller must be one of zmpip, dcm, open"):
-        WalkConfig(controller="mpc")
+        WalkConfig(NAO, controller="mpc")
 
 
 @pytest.fixture(scope="module")
 def pushed_over():
     """The rigid robot, open loop, pushed sideways by 40 N for 0.1 s."""
     config = WalkConfig(
+        NAO,
         effects="none", duration_s=3.0, controller="open", figures=False,
         pushes=(Push(40.0, 1.5, "y"),),
     )  # fmt: skip
@@ -62,13 +65,13 @@ def test_a_sideways_push_is_a_roll_fall_with_every_metric_null(pushed_over) -> N
 
 @pytest.fixture(scope="module")
 def rigid_walk():
-    return run_walk_trial(WalkConfig(effects="none", duration_s=4.0, controller="open"))
+    return run_walk_trial(WalkConfig(NAO, effects="none", duration_s=4.0, controller="open"))
 
 
 def test_the_fall_height_is_a_share_of_the_robot_s_own_starting_height(monkeypatch) -> None:
     """Not an absolute height: a rule at 101 % of the posed torso fires at once (``height``),
     the default 60 % never on a walk that stands, whatever the robot's size."""
-    config = WalkConfig(effects="none", duration_s=1.0, controller="open")
+    config = WalkConfig(NAO, effects="none", duration_s=1.0, controller="open")
     monkeypatch.setattr(walk_trial, "FALL_TORSO_HEIGHT_FRACTION", 1.01)
     record = run_walk_trial(config).record
     assert record.fall_kind == "height"
@@ -112,7 +115,7 @@ def test_zmpip_recovers_from_a_20_n_push_that_fells_the_open_loop_walk() -> None
     push = (Push(20.0, 2.2, "-x"),)
     outcomes = {
         controller: run_walk_trial(
-            WalkConfig(duration_s=4.0, controller=controller, figures=False, pushes=push)
+            WalkConfig(NAO, duration_s=4.0, controller=controller, figures=False, pushes=push)
         ).summary
         for controller in ("open", "zmpip")
     }
@@ -145,8 +148,8 @@ def test_feedback_does_not_shake_a_rigid_robot() -> None:
 )
 def test_zmpip_walks_where_the_open_loop_walk_falls(change) -> None:
     """Paper B's robot (all effects) outside the one tuned walk: 10 s each."""
-    open_loop = run_walk_trial(WalkConfig(controller="open", figures=False, **change)).summary
-    closed = run_walk_trial(WalkConfig(controller="zmpip", figures=False, **change)).summary
+    open_loop = run_walk_trial(WalkConfig(NAO, controller="open", figures=False, **change)).summary
+    closed = run_walk_trial(WalkConfig(NAO, controller="zmpip", figures=False, **change)).summary
     assert open_loop.fell
     assert not closed.fell
 
@@ -173,7 +176,7 @@ def test_with_feedback_the_robot_walks_on_motoflex_s_own_gains(tmp_path) -> None
         truth = _truth_with_gain_factor(tmp_path, factor)
         outcomes = {
             controller: run_walk_trial(
-                WalkConfig(controller=controller, truth=truth, figures=False)
+                WalkConfig(NAO, controller=controller, truth=truth, figures=False)
             ).summary
             for controller in ("open", "zmpip")
         }
@@ -187,8 +190,8 @@ def test_with_feedback_the_robot_walks_on_motoflex_s_own_gains(tmp_path) -> None
 def test_a_command_past_the_longest_step_is_walked_shorter_and_says_so() -> None:
     """0.3 m/s at 0.5 s steps asks 0.15 m steps of a robot whose limit is 0.12 m: accepted
     (up to twice the limit) with the clamp named; three times the limit is refused."""
-    plan = WalkConfig(speed_mps=0.3).pattern_config().plan()
+    plan = WalkConfig(NAO, speed_mps=0.3).pattern_config().plan()
     assert plan.clamped_limits == ("step_length",)
-    assert not WalkConfig(speed_mps=0.2).pattern_config().plan().clamped_limits
+    assert not WalkConfig(NAO, speed_mps=0.2).pattern_config().plan().clamped_limits
     with pytest.raises(ParameterError, match=r"must lie in \[0\.0, 0\.48\] m/s"):
-        WalkConfig(speed_mps=0.72)
+        WalkConfig(NAO, speed_mps=0.72)

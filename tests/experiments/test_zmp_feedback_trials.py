@@ -15,8 +15,7 @@ from zmpkit.experiments.zmp_reading import ZmpReader
 from zmpkit.identify import ErrorModel
 from zmpkit.io import feet_from_mapping
 from zmpkit.pipelines.balance import BalanceConfig, _factory
-from zmpkit.robots.registry import get_robot
-from zmpkit.sensors import SensorMount
+from zmpkit.sensors import CONTACT_FORCE_THRESHOLD_N, SensorMount
 
 PLANE, TARGET_M, HOLD_S = "sagittal", 0.06, 30.0  # 5 time constants of the PI rule
 # a schedule whose slope is 25 % too steep: the DLIPM alone lands ~20 % short
@@ -73,7 +72,9 @@ def test_reader_removes_the_offset_and_turns_faults_into_none(kind: str) -> None
         side: SensorMount.from_rpy((0.0, y, 0.01), (0.0, 0.0, 0.0), 0.01, side)
         for side, y in (("right", -0.1), ("left", 0.1))
     }
-    reader = ZmpReader(_Source(), PLANE, mounts, FtFaults((kind,), start_s=1.0))
+    reader = ZmpReader(
+        _Source(), PLANE, mounts, CONTACT_FORCE_THRESHOLD_N, FtFaults((kind,), start_s=1.0)
+    )
     for _ in range(10):
         reader.observe_startup()
     assert reader.read(0.5) == pytest.approx(0.0, abs=1e-12)  # 0.02 m offset removed
@@ -95,9 +96,9 @@ def _trial_zmp(kind: str, faults: tuple[str, ...] = ()) -> tuple[float, str]:
         robot=config.robot, targets_m=(TARGET_M,), plane=PLANE, hold_s=HOLD_S, faults=faults
     )
     record = run_step_trial(experiment, TARGET_M, factory)
-    mounts = feet_from_mapping(get_robot(config.robot).feet_mounts())
+    mounts = feet_from_mapping(config.robot.feet_mounts())
     startup = (experiment.t_step_s - experiment.startup_window_s, experiment.t_step_s)
-    zmp = measured_zmp(record, mounts, startup)
+    zmp = measured_zmp(record, mounts, startup, config.robot.contact_force_threshold_n)
     since = record.time - record.t_step_s
     last = zmp[since > since[-1] - 1.0]
     assert np.all(np.isfinite(last))

@@ -25,7 +25,7 @@ from zmpkit.pipelines.balance import (
     run_balance,
     step_experiment,
 )
-from zmpkit.pipelines.balance_document import balance_checks
+from zmpkit.pipelines.balance_checks import balance_checks
 from zmpkit.pipelines.balance_report import write_balance_outputs
 from zmpkit.pipelines.videos import BALANCE_VIDEO, STEP_TRIAL_AFTER_S
 

@@ -11,9 +11,10 @@ import pytest
 from helpers.gl import skip_without_gl
 from zmpkit.cli import main
 from zmpkit.experiments.walk_config import WalkConfig
-from zmpkit.experiments.walk_trial import Push
+from zmpkit.experiments.walk_disturbances import Push
 from zmpkit.pipelines.videos import WALK_VIDEO, effects_label, write_walks_side_by_side
 from zmpkit.pipelines.walk import run_walk
+from zmpkit.robots.registry import get_robot
 
 
 def frames_of(path: Path) -> tuple[tuple[int, int], list[np.ndarray]]:
@@ -55,9 +56,13 @@ def test_a_walk_has_no_video_unless_asked(tmp_path: Path) -> None:
 
 def test_rigid_and_fallen_walks_side_by_side(tmp_path: Path) -> None:
     skip_without_gl()
-    rigid = WalkConfig(duration_s=2.0, effects="none", figures=False)
+    rigid = WalkConfig(get_robot("nao"), duration_s=2.0, effects="none", figures=False)
     pushed = WalkConfig(
-        duration_s=2.0, effects="none", figures=False, pushes=(Push(60.0, 1.5, "y"),)
+        get_robot("nao"),
+        duration_s=2.0,
+        effects="none",
+        figures=False,
+        pushes=(Push(60.0, 1.5, "y"),),
     )
     walks = [(c, run_walk(c).record) for c in (rigid, pushed)]
     assert walks[1][1].fell  # the push throws it over

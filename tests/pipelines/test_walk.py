@@ -13,6 +13,7 @@ from zmpkit.errors import ParameterError
 from zmpkit.experiments.walk_config import WalkConfig
 from zmpkit.experiments.walk_dataset import SERIES_COLUMNS
 from zmpkit.pipelines.walk import run_walk, write_walk
+from zmpkit.robots.registry import get_robot
 from zmpkit.sensors.zmp import zmp_in_world
 from zmpkit.signals.contact_phases import foot_slip
 from zmpkit.signals.spectra import amplitude_spectrum
@@ -34,7 +35,10 @@ def rigid_walk(tmp_path_factory):
     out = tmp_path_factory.mktemp("walk")
     calls = []
     result = write_walk(
-        run_walk(WalkConfig(duration_s=3.0, effects="none"), lambda t, T: calls.append((t, T))),
+        run_walk(
+            WalkConfig(get_robot("nao"), duration_s=3.0, effects="none"),
+            lambda t, T: calls.append((t, T)),
+        ),
         out,
     )
     return out, result, calls
@@ -70,15 +74,18 @@ def test_series_and_figures_are_written(rigid_walk) -> None:
 
 @pytest.mark.parametrize(
     ("field", "value", "match"),
-    [("robot", "teo", "robot must be one of nao"), ("effects", "X", "unknown effect 'X'"),
+    [("robot", "teo", "robot 'teo' has no walking defaults"),
+     ("effects", "X", "unknown effect 'X'"),
      ("seed", -1, "seed must be an integer >= 0"),
      ("duration_s", 0.0, r"duration_s must lie in \[0.5, 3600.0\] s, got 0.0 s"),
      ("speed_mps", -1.0, r"speed_mps \(forward\) must lie in \[0.0, 0.48\] m/s, got -1.0 m/s"),
      ("step_duration_s", 0.05, r"step_duration_s must lie in \[0.2, 2.0\] s")],
 )  # fmt: skip
 def test_bad_config_is_named(field: str, value: object, match: str) -> None:
+    if field == "robot":
+        value = get_robot(str(value))
     with pytest.raises(ParameterError, match=match):
-        WalkConfig(**{field: value})
+        WalkConfig(**{"robot": get_robot("nao"), field: value})
 
 
 def test_spectrum_recovers_a_sinusoid() -> None:

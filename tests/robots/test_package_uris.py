@@ -95,7 +95,8 @@ def test_the_readme_robot_file_is_complete_and_reads(tmp_path: Path) -> None:
     """The README's "complete robot.yaml" gives every field and walking key, and reads (its
     model the test biped, its truth and package folder present)."""
     from helpers.biped import BIPED_MJCF
-    from zmpkit.robots.robot_file import FIELDS, WALKING_FIELDS, read_robot_file
+    from zmpkit.robots.robot_file import FIELDS, WALKING_FIELDS
+    from zmpkit.robots.robot_file_reader import read_robot_file
 
     readme = Path(__file__).parents[2] / "README.md"
     section = readme.read_text(encoding="utf-8").split("A complete `robot.yaml`", 1)[1]

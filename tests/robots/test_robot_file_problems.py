@@ -20,7 +20,7 @@ from helpers.biped import BIPED_URDF
 from zmpkit.cli import main
 from zmpkit.errors import InputFileError, InputFileProblemsError
 from zmpkit.robots.registry import get_robot
-from zmpkit.robots.robot_file import read_robot_file
+from zmpkit.robots.robot_file_reader import read_robot_file
 
 LEG_JOINTS = "r_hip_roll, r_hip_pitch, r_knee, r_ankle_pitch, r_ankle_roll and 5 more"
 """The biped's ten hinge joints as a message lists them (``_validate.list_some``)."""

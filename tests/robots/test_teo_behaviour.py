@@ -31,6 +31,7 @@ import pytest
 from zmpkit.errors import SimulationDivergedError
 from zmpkit.experiments import design_lean_model
 from zmpkit.io import feet_from_mapping
+from zmpkit.robots.registry import get_robot
 from zmpkit.robots.teo import (
     TEO_BALANCE_MASS_KG,
     TEO_SERVO_LIMITS,
@@ -56,7 +57,7 @@ STEADY_WINDOW_S = 1.0  # steady-state mean over the last second [s]
 
 def lean_joints(plane: str, angle: float) -> dict[str, float]:
     """Joint targets [rad] of a lean by ``angle`` [rad] in ``plane`` (positive = +x or +y)."""
-    return design_lean_model("teo", plane).joint_targets(angle)
+    return design_lean_model(get_robot("teo"), plane).joint_targets(angle)
 
 
 @cache

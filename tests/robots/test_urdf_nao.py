@@ -2,7 +2,7 @@
 
 The wheel ships ``qibullet/robot_data/nao.urdf`` without NAO's meshes (qibullet downloads them
 after a licence prompt), so the URDF names 78 mesh files that do not exist: the robot-file
-loader drops those geoms (:func:`~zmpkit.robots.user_model.drop_missing_meshes`) and keeps
+loader drops those geoms (:func:`~zmpkit.robots.user_model_file.drop_missing_meshes`) and keeps
 the links' ``<inertial>`` masses; each foot keeps its four FSR boxes as collision geoms.
 
 The built-in NAO's design model (its walking IK model) takes its link inertials from the same

@@ -155,8 +155,8 @@ def test_the_robot_file_gives_the_walk_speed_and_its_soft_servos(robot_yaml: Pat
     assert defaults.servo_stiffness_nm_per_rad == 30.0
     assert defaults.servo_damping_nm_s_per_rad == 0.5
     assert (defaults.observer_com_noise_m, defaults.observer_zmp_noise_m) == (0.1, 0.2)
-    assert WalkConfig(robot=str(soft)).speed_mps == 0.15
-    assert WalkConfig(robot=str(soft), speed_mps=0.05).speed_mps == 0.05
+    assert WalkConfig(robot=get_robot(soft)).speed_mps == 0.15
+    assert WalkConfig(robot=get_robot(soft), speed_mps=0.05).speed_mps == 0.05
     bad = robot_yaml.with_name("bad.yaml")
     bad.write_text(text + "walking: {servo_damping: 0.5}\n", encoding="utf-8")
     with pytest.raises(InputFileError, match=r"walking.servo_damping.*needs walking.servo_st"):

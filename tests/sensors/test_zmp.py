@@ -19,7 +19,8 @@ from zmpkit.sensors import (
     rpy_to_matrix,
     zmp_series,
 )
-from zmpkit.sensors.zmp import zmp_in_world, zmp_in_world_now
+from zmpkit.sensors.zmp import zmp_in_world
+from zmpkit.sensors.zmp_now import zmp_in_world_now
 
 TOL_M = 1e-12  # [m] for ZMPs within a few metres of the origin: ~1e4 ulp of headroom
 

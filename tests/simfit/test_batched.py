@@ -11,6 +11,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from helpers.simfit_data import record_walk, small_case
+from zmpkit.robots.registry import get_robot
 from zmpkit.sim.sensing import sample_series
 from zmpkit.simfit.batched import simulate_batch, simulate_batches
 from zmpkit.simfit.experiments import StepExperiment, WalkExperiment, read_experiments
@@ -47,7 +48,9 @@ def walk(tmp_path_factory: pytest.TempPathFactory) -> WalkExperiment:
 def step(tmp_path_factory: pytest.TempPathFactory) -> StepExperiment:
     from zmpkit.experiments import StepExperimentConfig, run_step_sweep
 
-    config = StepExperimentConfig(targets_m=(0.04,), effects="M,G,F,S", settle_s=2.0, hold_s=1.0)
+    config = StepExperimentConfig(
+        get_robot("teo"), targets_m=(0.04,), effects="M,G,F,S", settle_s=2.0, hold_s=1.0
+    )
     dataset = run_step_sweep(config, tmp_path_factory.mktemp("batched_step"), workers=1)
     (experiment,) = read_experiments([Path(dataset.path)], "teo")
     assert isinstance(experiment, StepExperiment)

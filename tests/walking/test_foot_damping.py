@@ -135,7 +135,7 @@ def _zmp_error_rms_x(admittance_x: float) -> float:
     is seen alone), and its DCM feedback acts only beyond a 3 cm dead band (without the
     admittance it needs one to stand: see :mod:`zmpkit.walking.dcm_stabiliser`).
     """
-    config = WalkConfig(controller="dcm", duration_s=3.0, figures=False)
+    config = WalkConfig(get_robot("nao"), controller="dcm", duration_s=3.0, figures=False)
     robot = get_robot(config.robot, needs="walking")
     pattern = generate_pattern(config.pattern_config())
     model, ik = robot.ik_model(), robot.ik_settings

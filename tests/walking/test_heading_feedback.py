@@ -12,6 +12,7 @@ from hypothesis import strategies as st
 from zmpkit.errors import ParameterError
 from zmpkit.experiments.walk import run_walk_trial
 from zmpkit.experiments.walk_config import WalkConfig
+from zmpkit.robots.registry import get_robot
 from zmpkit.walking.heading_feedback import HeadingFeedback, HeadingFeedbackGains
 from zmpkit.walking.swing import FeetTrajectories, FootTrajectory
 
@@ -126,12 +127,12 @@ def test_gains_out_of_range_are_refused() -> None:
 
 @pytest.mark.slow
 def test_a_straight_zmpip_walk_keeps_its_heading_within_0_05_rad_over_10_s() -> None:
-    config = WalkConfig(controller="zmpip", figures=False)
+    config = WalkConfig(get_robot("nao"), controller="zmpip", figures=False)
     with_feedback = run_walk_trial(config).summary
     assert not with_feedback.fell
     assert with_feedback.heading_error_max_rad is not None
     assert with_feedback.heading_error_max_rad <= 0.05
-    without = run_walk_trial(WalkConfig(controller="zmpip", figures=False,
+    without = run_walk_trial(WalkConfig(get_robot("nao"), controller="zmpip", figures=False,
                                         heading_feedback=False)).summary  # fmt: skip
     assert without.heading_error_max_rad is not None
     assert with_feedback.heading_error_max_rad < without.heading_error_max_rad

@@ -22,7 +22,8 @@ from numpy.typing import NDArray
 from tests.helpers.tick_reference import ReferenceEstimator, ReferenceHeading, ReferenceObserver
 
 from zmpkit.experiments.walk import sensor_layout
-from zmpkit.experiments.walk_trial import SensorFault, simulate_walk
+from zmpkit.experiments.walk_disturbances import SensorFault
+from zmpkit.experiments.walk_trial import simulate_walk
 from zmpkit.robots.registry import DEFAULT_WALK_ROBOT, get_robot
 from zmpkit.walking import GaitParameters, PatternConfig, WalkCommand, generate_pattern
 from zmpkit.walking.heading_feedback import HeadingFeedback

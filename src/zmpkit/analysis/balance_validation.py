@@ -25,7 +25,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from zmpkit.signals import SteadyState, StepTrial, steady_state
-from zmpkit.signals.steady_state import MAD_TO_SIGMA
+from zmpkit.signals.robust_statistics import MAD_TO_SIGMA
 from zmpkit.signals.step_metrics import step_metrics
 
 __all__ = [

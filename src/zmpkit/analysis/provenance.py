@@ -1,7 +1,8 @@
 """What made a run: zmpkit version, command line, robot, truth file and its hash, seed, time.
 
 A report a researcher can trust says how to make it again. :func:`capture` is called when a
-run ends, with the robot and settings it ran with and the time it started; it fills in the
+simulated run ends, with the robot and settings it ran with and the time it started
+(:func:`capture_described` when a run's robot is stated in words); it fills in the
 rest from the process (``sys.argv``, package versions, the git commit of a source checkout).
 The truth file is hashed (SHA-256 of its bytes), so two reports made from truth files of the
 same name but different contents can be told apart.
@@ -20,10 +21,9 @@ from importlib.metadata import PackageNotFoundError, version
 from pathlib import Path
 
 import zmpkit
-from zmpkit.errors import ZmpkitError
-from zmpkit.robots.registry import get_robot
+from zmpkit.robots.robot import Robot
 
-__all__ = ["Provenance", "capture", "file_sha256"]
+__all__ = ["Provenance", "capture", "capture_described", "file_sha256"]
 
 
 @dataclass(frozen=True)
@@ -33,7 +33,8 @@ class Provenance:
     Attributes:
         zmpkit_version: the installed version, and the git commit of a source checkout.
         command: the command line that ran, as a shell would take it.
-        robot: the robot's name or robot file.
+        robot: the robot's :attr:`~zmpkit.robots.robot.Robot.source`: a built-in robot's
+            name, a robot file's path.
         truth_file: the virtual robot's truth file (the shipped one when none was given),
             or "" for a run on recorded data.
         truth_sha256: SHA-256 of the truth file's bytes [hex], or "".
@@ -76,29 +77,59 @@ class Provenance:
 
 def capture(
     *,
-    robot: str,
+    robot: Robot,
     started_s: float,
     truth: str | Path | None = None,
-    simulated: bool = True,
     effects: str = "",
     seed: int | None = None,
     extra: tuple[tuple[str, str], ...] = (),
 ) -> Provenance:
-    """The provenance of a run that started at ``started_s`` (``time.time()``) and ends now.
+    """The provenance of a simulated run that started at ``started_s`` and ends now.
 
     Args:
-        robot: the robot's name or robot file.
-        started_s: the run's start [s since the epoch].
+        robot: the simulated robot (stated by its :attr:`~zmpkit.robots.robot.Robot.source`:
+            a built-in robot's name, a robot file's path).
+        started_s: the run's start (``time.time()``) [s since the epoch].
         truth: the truth file given, or None for the robot's shipped one.
-        simulated: False for a run on recorded data (no truth file is stated).
         effects: the simulator's effect set.
         seed: the random seed.
         extra: further (name, value) settings.
     """
-    truth_file = ""
-    if simulated:
-        truth_path = Path(truth) if truth is not None else _shipped_truth(robot)
-        truth_file = str(truth_path) if truth_path is not None else ""
+    truth_file = str(Path(truth) if truth is not None else robot.truth.default_path)
+    return _provenance(robot.source, truth_file, started_s, effects, seed, extra)
+
+
+def capture_described(
+    *,
+    robot: str,
+    started_s: float,
+    effects: str = "",
+    seed: int | None = None,
+    extra: tuple[tuple[str, str], ...] = (),
+) -> Provenance:
+    """The provenance of a run whose robot is stated in words, with no truth file stated.
+
+    For a run on recorded data (``robot``: where the data came from) or on several robots
+    with their shipped truths (``robot``: one robot for balance, another for walking).
+
+    Args:
+        robot: what the robot's row states.
+        started_s: the run's start (``time.time()``) [s since the epoch].
+        effects: the simulator's effect set, or "".
+        seed: the random seed, or None.
+        extra: further (name, value) settings, e.g. the log and its hash.
+    """
+    return _provenance(robot, "", started_s, effects, seed, extra)
+
+
+def _provenance(
+    robot: str,
+    truth_file: str,
+    started_s: float,
+    effects: str,
+    seed: int | None,
+    extra: tuple[tuple[str, str], ...],
+) -> Provenance:
     return Provenance(
         zmpkit_version=_zmpkit_version(),
         command=shlex.join(["zmpkit", *sys.argv[1:]]) if _is_cli() else shlex.join(sys.argv),
@@ -120,13 +151,6 @@ def file_sha256(path: Path) -> str:
         return hashlib.sha256(path.read_bytes()).hexdigest()
     except OSError:
         return ""
-
-
-def _shipped_truth(robot: str) -> Path | None:
-    try:
-        return get_robot(robot).truth.default_path
-    except ZmpkitError:  # a robot file that cannot be read here: nothing to state
-        return None
 
 
 def _is_cli() -> bool:

@@ -24,6 +24,7 @@ from zmpkit.pipelines.balance import (
 )
 from zmpkit.pipelines.balance_report import write_balance_outputs
 from zmpkit.robots.registry import DEFAULT_BALANCE_ROBOT
+from zmpkit.robots.robot import Robot
 
 __all__ = ["EXIT_BARS_NOT_MET", "balance_command"]
 
@@ -32,7 +33,7 @@ EXIT_BARS_NOT_MET = 1
 
 
 @click.command("balance")
-@robot_option(DEFAULT_BALANCE_ROBOT, needs="balance")
+@robot_option(DEFAULT_BALANCE_ROBOT, needs="balance", as_robot=True)
 @click.option(
     "--out",
     "out_dir",
@@ -110,7 +111,7 @@ EXIT_BARS_NOT_MET = 1
 @report_option
 @video_option(False, "one step trial (the DLIPM at the largest target, step_trial.mp4)")
 def balance_command(
-    robot: str,
+    robot: Robot,
     out_dir: Path,
     quick: bool,
     truth: Path | None,

@@ -8,6 +8,7 @@ from typing import Any, TypeVar
 import click
 
 from zmpkit.robots.registry import get_robot, robot_names, robots_that
+from zmpkit.robots.robot import Robot
 from zmpkit.robots.robot_check import require_passing_check
 
 __all__ = ["robot_option"]
@@ -22,9 +23,16 @@ _NEEDS_TEXT = {
 
 
 def robot_option(
-    default: str | None, needs: str | None = None, help_text: str = "Robot"
+    default: str | None,
+    needs: str | None = None,
+    help_text: str = "Robot",
+    *,
+    as_robot: bool = False,
 ) -> Callable[[_F], _F]:
     """The ``--robot NAME|PATH/robot.yaml`` option; its choices come from the registry.
+
+    With ``as_robot`` the command gets the :class:`~zmpkit.robots.robot.Robot` the option
+    resolved (once, here, at the boundary), else the text as typed.
 
     An unknown robot, or one without what the command ``needs`` (``"balance"``,
     ``"walking"``, ``"fit"``), ends the command with exit 2 and one line naming the valid ones.
@@ -34,12 +42,13 @@ def robot_option(
     """
     valid = robots_that(needs) if needs else robot_names()
 
-    def check(ctx: click.Context, param: click.Parameter, value: str | None) -> str | None:
-        if value is not None:
-            robot = get_robot(value, needs=needs)
-            if needs is not None and value not in robot_names():
-                require_passing_check(robot, value)
-        return value
+    def check(ctx: click.Context, param: click.Parameter, value: str | None) -> Robot | str | None:
+        if value is None:
+            return None
+        robot = get_robot(value, needs=needs)
+        if needs is not None and value not in robot_names():
+            require_passing_check(robot, value)
+        return robot if as_robot else value
 
     return click.option(
         "--robot",

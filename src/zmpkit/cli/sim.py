@@ -13,6 +13,7 @@ from zmpkit.experiments import MAX_HOLD_S, MAX_PUSH_DURATION_S, MAX_PUSH_FORCE_N
 from zmpkit.pipelines.sim_push import run_sim_push, sim_push_config
 from zmpkit.pipelines.sim_push_document import write_sim_push_report
 from zmpkit.robots.registry import DEFAULT_BALANCE_ROBOT
+from zmpkit.robots.robot import Robot
 
 __all__ = ["sim_group", "sim_push_command"]
 
@@ -23,7 +24,7 @@ def sim_group() -> None:
 
 
 @sim_group.command("push")
-@robot_option(DEFAULT_BALANCE_ROBOT, needs="balance")
+@robot_option(DEFAULT_BALANCE_ROBOT, needs="balance", as_robot=True)
 @click.option(
     "--targets",
     default="0:0.10:0.01",
@@ -69,7 +70,7 @@ def sim_group() -> None:
 @click.option("--workers", type=WORKERS, default=2, show_default=True, help="Parallel processes.")
 @report_option
 def sim_push_command(
-    robot: str,
+    robot: Robot,
     targets: str,
     plane: str,
     effects: str,

@@ -12,7 +12,7 @@ from zmpkit.cli.progress import SimTimeProgress, StageProgress
 from zmpkit.cli.robot_option import robot_option
 from zmpkit.cli.video_option import video_option
 from zmpkit.experiments.walk_config import WalkConfig
-from zmpkit.experiments.walk_trial import Push
+from zmpkit.experiments.walk_disturbances import Push
 from zmpkit.pipelines.walk import run_walk, write_walk
 from zmpkit.pipelines.walk_compensate import CompensateConfig, run_walk_compensate
 from zmpkit.pipelines.walk_compensate_report import write_walk_compensate
@@ -20,13 +20,14 @@ from zmpkit.pipelines.walk_document import write_walk_report
 from zmpkit.pipelines.walk_sweep import SweepConfig, run_walk_sweep, write_walk_sweep
 from zmpkit.pipelines.walk_sweep_document import write_walk_sweep_report
 from zmpkit.robots.registry import DEFAULT_WALK_ROBOT
+from zmpkit.robots.robot import Robot
 from zmpkit.walking.walk_controllers import CONTROLLERS
 
 __all__ = ["walk_compensate_command", "walk_group", "walk_sweep_command"]
 
 
 @click.group("walk", invoke_without_command=True)
-@robot_option(DEFAULT_WALK_ROBOT, needs="walking")
+@robot_option(DEFAULT_WALK_ROBOT, needs="walking", as_robot=True)
 @click.option(
     "--speed",
     type=float,
@@ -94,7 +95,7 @@ __all__ = ["walk_compensate_command", "walk_group", "walk_sweep_command"]
 @click.pass_context
 def walk_group(
     ctx: click.Context,
-    robot: str,
+    robot: Robot,
     speed: float | None,
     step_duration: float,
     duration: float,
@@ -179,7 +180,7 @@ the feedback already moves the measured ZMP that its offline model iteration cor
     help="alg1/alg2: paper B's Algorithms 1 and 2; half-sine, sawtooth, fourier: a tuned "
     "periodic offset on the desired ZMP; auto: tune every shape and keep the best.",
 )
-@robot_option(DEFAULT_WALK_ROBOT, needs="walking")
+@robot_option(DEFAULT_WALK_ROBOT, needs="walking", as_robot=True)
 @click.option("--quick", is_flag=True, help="Fewer tuning walks (under 5 min on 2 cores).")
 @click.option(
     "--speed",
@@ -211,7 +212,7 @@ the feedback already moves the measured ZMP that its offline model iteration cor
 @report_option
 def walk_compensate_command(
     method: str,
-    robot: str,
+    robot: Robot,
     quick: bool,
     speed: float | None,
     step_duration: float,
@@ -259,7 +260,7 @@ def walk_compensate_command(
 
 
 @walk_group.command("sweep")
-@robot_option(DEFAULT_WALK_ROBOT, needs="walking")
+@robot_option(DEFAULT_WALK_ROBOT, needs="walking", as_robot=True)
 @click.option(
     "--controllers",
     default=",".join(("zmpip", "dcm", "open")),
@@ -286,7 +287,7 @@ def walk_compensate_command(
 )
 @report_option
 def walk_sweep_command(
-    robot: str,
+    robot: Robot,
     controllers: str,
     effects: str,
     duration: float,

@@ -19,7 +19,6 @@ from zmpkit.experiments.walk import walk_controller
 from zmpkit.experiments.walk_config import WalkConfig
 from zmpkit.experiments.walk_summary import WalkSummary, summarise_walk
 from zmpkit.experiments.walk_trial import WalkRecord, simulate_walk
-from zmpkit.robots.registry import get_robot
 from zmpkit.walking import generate_pattern
 from zmpkit.walking.ik import JointTrajectory, solve_walking_ik
 from zmpkit.walking.pattern import WalkingPattern
@@ -74,7 +73,7 @@ def simulate_with_offset(
     The walk runs with ``config.controller``: with feedback, the offset moves the reference
     the controller tracks (paper B compensates its closed-loop walk this way).
     """
-    robot = get_robot(config.robot, needs="walking")
+    robot = config.robot
     pattern = generate_pattern(config.pattern_config(), zmp_offset)
     model, settings = robot.ik_model(), robot.ik_settings
     trajectory = solve_walking_ik(pattern, model, settings)

@@ -13,13 +13,14 @@ import json
 import multiprocessing
 from collections.abc import Sequence
 from concurrent.futures import ProcessPoolExecutor
-from dataclasses import asdict, dataclass
+from dataclasses import asdict, dataclass, field, fields
 from pathlib import Path
+from typing import Any
 
 from zmpkit.compensate.evaluate import simulate_with_offset
 from zmpkit.compensate.offsets import OffsetParameters, offset_in_world
 from zmpkit.experiments.walk_config import WalkConfig
-from zmpkit.robots.registry import DEFAULT_WALK_ROBOT, get_robot
+from zmpkit.robots.robot import Robot
 from zmpkit.walking import generate_pattern
 
 __all__ = ["DEFAULT_WORKERS", "Evaluation", "WalkSpec", "evaluate_all"]
@@ -38,7 +39,7 @@ class WalkSpec:
         seed: sensor-noise seed.
         duration_s: walking time [s].
         effects: effect letters of the simulated robot.
-        robot: the walking robot's registry name or ``robot.yaml`` path.
+        robot: the walking robot (keyword-only).
         step_duration_s: one step [s].
         controller: the walking controller.
         truth: a truth file for the simulated robot (another robot than the shipped one),
@@ -50,7 +51,7 @@ class WalkSpec:
     seed: int = 0
     duration_s: float = 10.0
     effects: str = "all"
-    robot: str = DEFAULT_WALK_ROBOT
+    robot: Robot = field(kw_only=True)
     step_duration_s: float = 0.5
     controller: str = "open"
     truth: str | None = None
@@ -58,8 +59,14 @@ class WalkSpec:
 
     def __post_init__(self) -> None:
         if self.speed_mps is None:
-            walking = get_robot(self.robot, needs="walking").require_walking()
+            walking = self.robot.require_walking()
             object.__setattr__(self, "speed_mps", walking.speed_mps)
+
+    def as_dict(self) -> dict[str, Any]:
+        """The walk as JSON-ready values, in field order; the robot is its source."""
+        out = {f.name: getattr(self, f.name) for f in fields(self)}
+        out["robot"] = self.robot.source
+        return out
 
     @property
     def commanded_speed_mps(self) -> float:
@@ -110,7 +117,7 @@ class Evaluation:
 
 
 def _key(walk: WalkSpec, offset: OffsetParameters | None) -> str:
-    payload = {"walk": asdict(walk), "offset": None if offset is None else offset.as_dict()}
+    payload = {"walk": walk.as_dict(), "offset": None if offset is None else offset.as_dict()}
     text = json.dumps(payload, sort_keys=True, default=lambda v: round(float(v), 10))
     return hashlib.sha1(text.encode()).hexdigest()[:20]
 
@@ -131,13 +138,16 @@ def _simulate(task: tuple[WalkSpec, OffsetParameters | None]) -> Evaluation:
 
 
 def _to_json(evaluation: Evaluation) -> str:
-    data = asdict(evaluation)
+    data = {f.name: getattr(evaluation, f.name) for f in fields(evaluation)}
+    data["walk"] = evaluation.walk.as_dict()
+    data["offset"] = None if evaluation.offset is None else asdict(evaluation.offset)
     return json.dumps(data, indent=1) + "\n"
 
 
-def _from_json(text: str) -> Evaluation:
+def _from_json(text: str, walk: WalkSpec) -> Evaluation:
+    """The evaluation cached as ``text`` of ``walk`` (the walk its key was made of)."""
     data = json.loads(text)
-    walk = WalkSpec(**data.pop("walk"))
+    data.pop("walk")
     offset = data.pop("offset")
     if offset is not None:
         offset = OffsetParameters(**{**offset, "fourier_m": tuple(offset["fourier_m"])})
@@ -155,7 +165,7 @@ def evaluate_all(
     for i, (walk, offset) in enumerate(tasks):
         path = None if cache_dir is None else Path(cache_dir) / f"{_key(walk, offset)}.json"
         if path is not None and path.is_file():
-            results[i] = _from_json(path.read_text(encoding="utf-8"))
+            results[i] = _from_json(path.read_text(encoding="utf-8"), walk)
         else:
             todo.append((i, path))
     if todo:

@@ -26,7 +26,6 @@ from zmpkit.errors import SimulationDivergedError
 from zmpkit.experiments.walk import walk_controller
 from zmpkit.experiments.walk_summary import summarise_walk
 from zmpkit.experiments.walk_trial import WalkRecord, simulate_walk
-from zmpkit.robots.registry import get_robot
 from zmpkit.walking import generate_pattern
 from zmpkit.walking.ik import solve_walking_ik
 from zmpkit.walking.pattern import WalkingPattern
@@ -94,7 +93,7 @@ def walk_with_offset(walk: WalkSpec, offset: OffsetParameters | None) -> Compens
 def walk_with_algorithm1(walk: WalkSpec, iterations: int = DEFAULT_ITERATIONS) -> CompensatedWalk:
     """``walk`` with Algorithm 1's offset, computed for this walk on the design model."""
     config = walk.walk_config()
-    robot = get_robot(config.robot, needs="walking")
+    robot = config.robot
     compensation = compensate_abstraction(
         config.pattern_config(), robot.ik_model(), iterations, ik_settings=robot.ik_settings
     )
@@ -114,7 +113,7 @@ def walk_with_algorithm2(walk: WalkSpec, parameters: Algorithm2Parameters) -> Co
     """
     config = walk.walk_config()
     pattern = generate_pattern(config.pattern_config())
-    robot = get_robot(config.robot, needs="walking")
+    robot = config.robot
     model, settings = robot.ik_model(), robot.ik_settings
     trajectory = solve_walking_ik(pattern, model, settings)
     sim = robot.make_simulation(config.effects, config.truth, seed=config.seed)

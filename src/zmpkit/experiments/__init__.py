@@ -30,18 +30,15 @@ from zmpkit.experiments.response import (
     STEADY_STATE_COLUMNS,
     STEADY_WINDOW_S,
     TrialResponse,
+    dataset_trials,
     measured_zmp,
     step_responses,
     trial_response,
     write_steady_state_csv,
 )
 from zmpkit.experiments.sweep import DEFAULT_WORKERS, MAX_WORKERS, run_step_sweep
-from zmpkit.experiments.trial import (
-    CONTROL_PERIOD_S,
-    LeanController,
-    StepTrialRecord,
-    run_step_trial,
-)
+from zmpkit.experiments.trial import CONTROL_PERIOD_S, LeanController, run_step_trial
+from zmpkit.experiments.trial_record import StepTrialRecord
 
 __all__ = [
     "CONTROL_PERIOD_S",
@@ -63,6 +60,7 @@ __all__ = [
     "StepExperimentConfig",
     "StepTrialRecord",
     "TrialResponse",
+    "dataset_trials",
     "design_lean_model",
     "lean_angle",
     "measured_zmp",

@@ -11,13 +11,13 @@ from __future__ import annotations
 import math
 import re
 from collections.abc import Iterable
-from dataclasses import asdict, dataclass
+from dataclasses import asdict, dataclass, fields
 from typing import Any
 
 from zmpkit._validate import finite, in_range, positive
 from zmpkit.errors import ParameterError
 from zmpkit.experiments.ft_faults import FtFaults
-from zmpkit.robots.registry import DEFAULT_BALANCE_ROBOT, get_robot, robot_reference
+from zmpkit.robots.robot import Robot
 from zmpkit.signals import PLANES
 from zmpkit.sim.effect_set import EffectSet
 
@@ -82,8 +82,8 @@ class StepExperimentConfig:
     """A sweep of ZMP-step (and push) trials.
 
     Attributes:
-        robot: the robot's registry name or ``robot.yaml`` path (made absolute, as the
-            dataset records it); it needs a balance model.
+        robot: the robot; it needs a balance model (the dataset records its
+            :attr:`~zmpkit.robots.robot.Robot.source`).
         targets_m: ZMP targets, one trial each, |target| < the lean length [m].
         plane: ``"sagittal"`` (ZMP x) or ``"frontal"`` (ZMP y).
         effects: ``"all"``, ``"none"`` or letters such as ``"M,G,S"`` (canonical form kept).
@@ -103,7 +103,7 @@ class StepExperimentConfig:
             recorded data stay clean.
     """
 
-    robot: str = DEFAULT_BALANCE_ROBOT
+    robot: Robot
     targets_m: tuple[float, ...] = DEFAULT_TARGETS_M
     plane: str = "sagittal"
     effects: str = "all"
@@ -117,8 +117,7 @@ class StepExperimentConfig:
     faults: tuple[str, ...] = ()
 
     def __post_init__(self) -> None:
-        get_robot(self.robot, needs="balance")
-        object.__setattr__(self, "robot", robot_reference(self.robot))
+        self.robot.require_balance()
         object.__setattr__(self, "faults", tuple(self.faults))
         if self.faults:
             FtFaults(self.faults)  # checks the kinds
@@ -153,9 +152,14 @@ class StepExperimentConfig:
         return self.t_step_s + self.hold_s
 
     def settings(self) -> dict[str, Any]:
-        """Everything that decides a trial's data except its target, as JSON-ready values."""
-        out = asdict(self)
-        out.pop("targets_m")
+        """Everything that decides a trial's data except its target, as JSON-ready values.
+
+        The robot is its :attr:`~zmpkit.robots.robot.Robot.source`.
+        """
+        out = {f.name: getattr(self, f.name) for f in fields(self) if f.name != "targets_m"}
+        out["robot"] = self.robot.source
+        if self.push is not None:
+            out["push"] = asdict(self.push)
         if not self.faults:
             out.pop("faults")  # as before faults existed: older datasets resume
         return out

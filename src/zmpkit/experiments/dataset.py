@@ -33,7 +33,7 @@ from typing import Any
 import numpy as np
 
 from zmpkit.errors import InputFileError, ParameterError
-from zmpkit.experiments.trial import StepTrialRecord
+from zmpkit.experiments.trial_record import StepTrialRecord
 from zmpkit.io import FT_LOG_COLUMNS, feet_from_mapping
 from zmpkit.sensors import CONTACT_FORCE_THRESHOLD_N, SensorMount, contact_threshold
 from zmpkit.signals import PLANES

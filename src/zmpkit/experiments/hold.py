@@ -32,7 +32,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from zmpkit.sensors import CONTACT_FORCE_THRESHOLD_N, SensorMount, zmp_series
+from zmpkit.sensors import SensorMount, zmp_series
 from zmpkit.signals import PLANES, SteadyState, StepTrial, steady_state
 from zmpkit.signals.steady_state import CREEP_MIN_M, CREEP_TOLERANCE_FRACTION
 
@@ -95,6 +95,8 @@ class HoldMonitor:
         max_hold_s: the longest hold [s]; None: the hold is fixed at ``hold_s``.
         mounts: the feet's F-T sensor mounts.
         polygon: the support extent in this plane (low, high) [m].
+        contact_threshold_n: a foot is in contact above this world F_z [N] (the robot's:
+            :attr:`~zmpkit.robots.robot.Robot.contact_force_threshold_n`).
     """
 
     def __init__(
@@ -107,7 +109,7 @@ class HoldMonitor:
         max_hold_s: float | None,
         mounts: Mapping[str, SensorMount],
         polygon: tuple[float, float],
-        contact_threshold_n: float = CONTACT_FORCE_THRESHOLD_N,
+        contact_threshold_n: float,
     ) -> None:
         self._contact_threshold_n = contact_threshold_n
         self._axis = PLANES.index(plane)

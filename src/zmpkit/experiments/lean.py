@@ -45,9 +45,8 @@ from scipy.optimize import brentq
 
 from zmpkit.errors import ParameterError
 from zmpkit.experiments.whole_body_lean import whole_body_lean
-from zmpkit.robots.registry import get_robot
 from zmpkit.robots.robot import Robot
-from zmpkit.signals.steady_state import PLANES
+from zmpkit.signals.step_trial import PLANES
 from zmpkit.sim.world import Simulation
 
 __all__ = [
@@ -246,7 +245,7 @@ def _anchors(sim: Simulation, joints: tuple[str, str], plane: str) -> NDArray[np
     return np.array([[d.xanchor[i, column], d.xanchor[i, 2]] for i in ids])
 
 
-def design_lean_model(robot: str | Robot, plane: str) -> Lean:
+def design_lean_model(robot: Robot, plane: str) -> Lean:
     """The lean of ``robot``'s design model in ``plane``: joints, linkage, lean length (cached).
 
     The design model is the rigid MJCF (effects ``"none"``, shipped parameters) standing upright.
@@ -254,21 +253,20 @@ def design_lean_model(robot: str | Robot, plane: str) -> Lean:
     :mod:`zmpkit.experiments.whole_body_lean`; the others the ankle strategy (:class:`LeanModel`).
 
     Args:
-        robot: a robot, or its name or ``robot.yaml`` path.
+        robot: the robot.
         plane: ``"sagittal"`` or ``"frontal"``.
 
     Raises:
-        ParameterError: on an unknown robot or plane, naming the valid ones, or a robot
-            without a balance model.
+        ParameterError: on an unknown plane, naming the valid ones, or a robot without a
+            balance model.
     """
     if plane not in PLANES:
         raise ParameterError(f"plane must be one of {', '.join(PLANES)}; got {plane!r}")
-    return _design_lean_model(get_robot(robot).source, plane)
+    return _design_lean_model(robot, plane)
 
 
 @cache
-def _design_lean_model(source: str, plane: str) -> Lean:
-    robot = get_robot(source)
+def _design_lean_model(robot: Robot, plane: str) -> Lean:
     balance = robot.require_balance()
     if balance.lean == "whole_body":
         return whole_body_lean(robot, plane)
@@ -287,13 +285,13 @@ def _design_lean_model(source: str, plane: str) -> Lean:
     return LeanModel(plane, lever, signs, ankles, hips, pivots, hip_rolls)
 
 
-def lean_angle_joints(robot: str | Robot, plane: str) -> dict[str, float]:
+def lean_angle_joints(robot: Robot, plane: str) -> dict[str, float]:
     """:meth:`LeanModel.angle_joints` of ``robot``'s design model in ``plane``."""
     return design_lean_model(robot, plane).angle_joints()
 
 
 @cache
-def design_support_interval(robot: str, plane: str) -> tuple[float, float]:
+def design_support_interval(robot: Robot, plane: str) -> tuple[float, float]:
     """The support polygon of ``robot``'s design model standing, along ``plane``'s axis [m].
 
     The extent of the soles (the box geoms that touch the floor, below the foot F-T sensors)
@@ -301,11 +299,13 @@ def design_support_interval(robot: str, plane: str) -> tuple[float, float]:
     the robot off its feet.
 
     Raises:
-        ParameterError: on an unknown robot or plane, naming the valid ones.
+        ParameterError: on an unknown plane, naming the valid ones, or a robot without a
+            balance model.
     """
     if plane not in PLANES:
         raise ParameterError(f"plane must be one of {', '.join(PLANES)}; got {plane!r}")
-    sim = get_robot(robot, needs="balance").make_simulation("none")
+    robot.require_balance()
+    sim = robot.make_simulation("none")
     m, d = sim.model, sim.data
     column = 0 if plane == "sagittal" else 1
     feet = set().union(

@@ -23,6 +23,7 @@ window (peak-to-peak beyond :data:`SETTLED_SPREAD_FRACTION` of the target) keeps
 from __future__ import annotations
 
 import csv
+import math
 from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
@@ -31,20 +32,21 @@ import numpy as np
 from numpy.typing import NDArray
 
 from zmpkit.experiments.dataset import StepDataset
-from zmpkit.experiments.trial import StepTrialRecord
+from zmpkit.experiments.trial_record import StepTrialRecord
 from zmpkit.sensors import (
-    CONTACT_FORCE_THRESHOLD_N,
     SensorMount,
     remove_zmp_offset,
     zmp_offset_from_standing_window,
     zmp_series,
 )
 from zmpkit.signals.step_metrics import step_metrics
+from zmpkit.signals.step_trial import StepTrial
 
 __all__ = [
     "STEADY_STATE_COLUMNS",
     "STEADY_WINDOW_S",
     "TrialResponse",
+    "dataset_trials",
     "expected_zmp",
     "measured_zmp",
     "step_responses",
@@ -109,7 +111,7 @@ def measured_zmp(
     trial: StepTrialRecord,
     mounts: Mapping[str, SensorMount],
     startup_window: tuple[float, float],
-    contact_threshold_n: float = CONTACT_FORCE_THRESHOLD_N,
+    contact_threshold_n: float,
 ) -> NDArray[np.float64]:
     """Measured ZMP of ``trial`` in its plane [m], start-up offset removed, NaN where undefined.
 
@@ -230,3 +232,21 @@ def write_steady_state_csv(responses: tuple[TrialResponse, ...], path: str | Pat
                 ]
             )
     return path
+
+
+def dataset_trials(dataset: StepDataset) -> list[StepTrial]:
+    """A dataset's trials as :class:`~zmpkit.signals.StepTrial` (time from the step) [s, m]."""
+    trials = []
+    for k, record in enumerate(dataset.trials):
+        response = trial_response(dataset, k)
+        trials.append(
+            StepTrial(
+                time=response.time_since_step,
+                zmp_measured=response.zmp_measured,
+                zmp_ref=record.target_m,
+                t_step=0.0,
+                plane=record.plane,
+                zmp_commanded=record.lean_length_m * math.sin(record.lean_angle_rad),
+            )
+        )
+    return trials

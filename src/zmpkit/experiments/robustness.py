@@ -10,7 +10,7 @@ One :class:`RobustnessCase` is one walk that differs from the nominal one (0.2 m
 - a push of 10, 20 or 30 N for 0.1 s on the torso, in eight directions (±x, ±y and the
   diagonals between them), at four phases of a step (0, ¼, ½, ¾ of the step after the start
   of the seventh step);
-- a sensor fault in the middle of the walk (:data:`~zmpkit.experiments.walk_trial.FAULTS`).
+- a sensor fault in the middle of the walk (:data:`~zmpkit.experiments.walk_disturbances.FAULTS`).
 
 :func:`run_case` walks it and reduces it to one :class:`RobustnessRow` (the columns of
 ``robustness.csv``). A fall is a fall: its metrics are None, never averaged.
@@ -23,7 +23,8 @@ from dataclasses import dataclass
 
 from zmpkit.experiments.walk import run_walk_trial
 from zmpkit.experiments.walk_config import WalkConfig
-from zmpkit.experiments.walk_trial import FAULTS, PUSH_DIRECTIONS, Push, SensorFault
+from zmpkit.experiments.walk_disturbances import FAULTS, PUSH_DIRECTIONS, Push, SensorFault
+from zmpkit.robots.robot import Robot
 
 __all__ = [
     "NOMINAL_SPEED_MPS",
@@ -69,7 +70,7 @@ class RobustnessCase:
         step_duration_s: [s].
         push_n: push force [N] (0: none).
         push_dir: push direction (one of
-            :data:`~zmpkit.experiments.walk_trial.PUSH_DIRECTIONS`; empty without a push).
+            :data:`~zmpkit.experiments.walk_disturbances.PUSH_DIRECTIONS`; empty without a push).
         push_phase: phase of the step at which the push starts [-].
         fault: sensor fault (empty: none).
     """
@@ -104,7 +105,7 @@ class RobustnessCase:
 
     def walk_config(
         self,
-        robot: str,
+        robot: Robot,
         effects: str,
         duration_s: float,
         seed: int,
@@ -206,7 +207,7 @@ def robustness_matrix(controllers: tuple[str, ...]) -> list[RobustnessCase]:
 
 def run_case(
     case: RobustnessCase,
-    robot: str,
+    robot: Robot,
     effects: str,
     duration_s: float,
     seed: int,

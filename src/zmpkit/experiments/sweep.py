@@ -34,8 +34,8 @@ from zmpkit.experiments.lean import (
     lean_angle,
     lean_angle_joints,
 )
-from zmpkit.experiments.trial import LeanController, StepTrialRecord, run_step_trial
-from zmpkit.robots.registry import get_robot
+from zmpkit.experiments.trial import LeanController, run_step_trial
+from zmpkit.experiments.trial_record import StepTrialRecord
 
 __all__ = [
     "DEFAULT_WORKERS",
@@ -66,11 +66,11 @@ def new_meta(
     ``controller`` (the lean controller's factory, if any) is recorded by its ``settings()``
     when it has one, else by its repr, under the key ``"controller"`` (None: LIPM step).
     """
-    robot = get_robot(config.robot)
+    robot = config.robot
     joints = tuple(robot.driven_joints)
     return {
         "format": DATASET_FORMAT,
-        "robot": config.robot,
+        "robot": robot.source,
         "plane": config.plane,
         "effects": config.effects,
         "seed": config.seed,
@@ -147,16 +147,17 @@ def check_sweep(config: StepExperimentConfig) -> None:
         ParameterError: naming the first target out of reach and the reachable range.
         InputFileError: on an unreadable truth file.
     """
-    length = design_lean_model(config.robot, config.plane).lean_length_m
-    low, high = design_support_interval(config.robot, config.plane)
+    robot, plane = config.robot, config.plane
+    length = design_lean_model(robot, plane).lean_length_m
+    low, high = design_support_interval(robot, plane)
     for target in config.targets_m:
         if not low < target < high:
             raise ParameterError(
-                f"ZMP target {target:g} m lies outside {config.robot}'s support polygon in the "
-                f"{config.plane} plane; reachable targets lie in ({low:g}, {high:g}) m"
+                f"ZMP target {target:g} m lies outside {robot.source}'s support polygon in the "
+                f"{plane} plane; reachable targets lie in ({low:g}, {high:g}) m"
             )
         lean_angle(target, length)
-    get_robot(config.robot).description(config.effects, config.truth)
+    robot.description(config.effects, config.truth)
 
 
 def _pool(workers: int) -> ProcessPoolExecutor:

@@ -13,15 +13,15 @@ and acceleration, :class:`~zmpkit.sim.servo.TrajectoryLimiter`), scaled so no le
 exceeds them, and the joint setpoints are streamed every servo tick. A push, if any, acts
 from ``t_step`` for its duration.
 
-Recorded, at the F-T sensor rate: both feet's wrenches (what the sensors measure), the joint
-encoders, the streamed joint setpoints (the commanded angles) and the IMU. Nothing else of the
-simulation is read for the record.
+Recorded, at the F-T sensor rate (:class:`~zmpkit.experiments.trial_record.StepTrialRecord`):
+both feet's wrenches (what the sensors measure), the joint encoders, the streamed joint
+setpoints (the commanded angles) and the IMU. Nothing else of the simulation is read for the
+record.
 """
 
 from __future__ import annotations
 
 from collections.abc import Callable, Mapping
-from dataclasses import dataclass
 from typing import Protocol, cast
 
 import numpy as np
@@ -32,19 +32,17 @@ from zmpkit.experiments.ft_faults import FtFaults
 from zmpkit.experiments.history import previous_target, replay_previous_lean, stance_offsets
 from zmpkit.experiments.hold import HoldMonitor
 from zmpkit.experiments.lean import Lean, design_lean_model, lean_angle
+from zmpkit.experiments.trial_record import StepTrialRecord
 from zmpkit.experiments.zmp_reading import ZmpReader
 from zmpkit.io import feet_from_mapping
-from zmpkit.robots.registry import get_robot
 from zmpkit.robots.robot import Robot
 from zmpkit.signals import PLANES
-from zmpkit.signals.time_series import Signal, TimeSeries
 from zmpkit.sim.servo import ServoLimits, TrajectoryLimiter
 from zmpkit.sim.world import Simulation
 
 __all__ = [
     "CONTROL_PERIOD_S",
     "LeanController",
-    "StepTrialRecord",
     "run_step_trial",
     "trial_seed",
 ]
@@ -67,68 +65,6 @@ CONTROL_PERIOD_S = 0.01
 """Default period at which a lean controller is stepped [s]; a robot's balance model gives its
 own (:attr:`~zmpkit.robots.robot.BalanceModel.control_period_s`)."""
 _MAX_REACH_FRACTION = 0.3  # lean table covers ZMPs up to this fraction of l_lean [-]
-
-
-@dataclass(frozen=True, eq=False)
-class StepTrialRecord:
-    r"""What one trial recorded; arrays have one row per F-T sample.
-
-    Attributes:
-        plane: ``"sagittal"`` or ``"frontal"``.
-        target_m: the ZMP target :math:`x_{ref}` [m].
-        t_step_s: time the lean (and push) starts [s].
-        lean_angle_rad: the commanded lean :math:`\arcsin(x_{ref}/l_{lean})` [rad].
-        lean_length_m: the design lean length :math:`l_{lean}` [m].
-        joint_names: the driven joints, order of ``encoders`` and ``commanded``.
-        time: sample times [s], shape (N,).
-        right_wrench: right F-T sensor (F_x, F_y, F_z, τ_x, τ_y, τ_z), sensor frame
-            [N, N·m], shape (N, 6).
-        left_wrench: left F-T sensor, same layout, (N, 6).
-        encoders: joint encoders [rad], (N, J).
-        commanded: commanded joint setpoints [rad], (N, J).
-        imu: gyro x, y, z [rad/s], accelerometer x, y, z [m/s²], quaternion w, x, y, z [-], (N, 10).
-        hold_end: how the hold ended, one of :data:`~zmpkit.experiments.hold.HOLD_ENDS`.
-        hold_note: what the hold monitor saw, in words; empty for a fixed hold.
-        qpos: the simulator's whole configuration (MuJoCo ``qpos``) per sample, shape
-            (N, nq), only when the trial was asked to record it (``record_qpos``, e.g. for a
-            video); not something a real robot reports, never written to a dataset.
-    """
-
-    plane: str
-    target_m: float
-    t_step_s: float
-    lean_angle_rad: float
-    lean_length_m: float
-    joint_names: tuple[str, ...]
-    time: NDArray[np.float64]
-    right_wrench: NDArray[np.float64]
-    left_wrench: NDArray[np.float64]
-    encoders: NDArray[np.float64]
-    commanded: NDArray[np.float64]
-    imu: NDArray[np.float64]
-    hold_end: str = "hold"
-    hold_note: str = ""
-    qpos: NDArray[np.float64] | None = None
-
-    def as_time_series(self) -> TimeSeries:
-        """The trial's samples as one time series (sensor-frame wrenches, joints, IMU)."""
-        wrench = ("fx", "fy", "fz", "tx", "ty", "tz")
-        units = ("N", "N", "N", "N·m", "N·m", "N·m")
-        imu = [("gyro_x", "rad/s"), ("gyro_y", "rad/s"), ("gyro_z", "rad/s"),
-               ("accel_x", "m/s^2"), ("accel_y", "m/s^2"), ("accel_z", "m/s^2"),
-               ("quat_w", "-"), ("quat_x", "-"), ("quat_y", "-"), ("quat_z", "-")]  # fmt: skip
-        columns = [
-            (Signal(f"{side}_{axis}", unit, "sensor"), values[:, k])
-            for side, values in (("right", self.right_wrench), ("left", self.left_wrench))
-            for k, (axis, unit) in enumerate(zip(wrench, units, strict=True))
-        ]
-        for k, joint in enumerate(self.joint_names):
-            columns.append((Signal(f"{joint}_meas", "rad", "joint"), self.encoders[:, k]))
-            columns.append((Signal(f"{joint}_cmd", "rad", "joint"), self.commanded[:, k]))
-        columns += [
-            (Signal(name, unit, "base"), self.imu[:, k]) for k, (name, unit) in enumerate(imu)
-        ]
-        return TimeSeries.from_columns(self.time, columns)
 
 
 def trial_seed(seed: int, plane: str, target_m: float) -> int:
@@ -234,7 +170,7 @@ def run_step_trial(
     lean = design_lean_model(config.robot, config.plane)
     angle = lean_angle(target_m, lean.lean_length_m)
     seed = trial_seed(config.seed, config.plane, target_m)
-    robot = get_robot(config.robot)
+    robot = config.robot
     sim = robot.make_simulation(config.effects, config.truth, seed=seed)
     balance = robot.require_balance()
     reach = lean_angle(_MAX_REACH_FRACTION * lean.lean_length_m, lean.lean_length_m)
@@ -248,8 +184,8 @@ def run_step_trial(
         sim,
         config.plane,
         feet_from_mapping(robot.feet_mounts()),
+        robot.contact_force_threshold_n,
         FtFaults(config.faults) if config.faults else None,
-        contact_threshold_n=robot.contact_force_threshold_n,
     )
     command = _command(angle, target_m, controller, sim.dt, balance.control_period_s, reader)
     stream = make_stream() if command is not None else None

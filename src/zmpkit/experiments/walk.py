@@ -19,7 +19,6 @@ from zmpkit.errors import ParameterError
 from zmpkit.experiments.walk_config import WalkConfig
 from zmpkit.experiments.walk_summary import WalkSummary, summarise_walk
 from zmpkit.experiments.walk_trial import ProgressCallback, WalkRecord, simulate_walk
-from zmpkit.robots.registry import get_robot
 from zmpkit.robots.robot import Robot, WalkingDefaults
 from zmpkit.sim.effect_set import EffectSet
 from zmpkit.sim.world import Simulation
@@ -261,7 +260,7 @@ def run_walk_trial(
         realisable_only: refuse, before simulating, a plan the IK cannot follow
             (:func:`check_realisable`); else simulate it (the summary keeps the IK's errors).
     """
-    robot = get_robot(config.robot, needs="walking")
+    robot = config.robot
     pattern = generate_pattern(config.pattern_config())
     model, settings = robot.ik_model(), robot.ik_settings
     trajectory = solve_walking_ik(pattern, model, settings)

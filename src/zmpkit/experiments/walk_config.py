@@ -6,8 +6,8 @@ from dataclasses import dataclass
 
 from zmpkit import _validate
 from zmpkit.errors import ParameterError
-from zmpkit.experiments.walk_trial import Push, SensorFault
-from zmpkit.robots.registry import DEFAULT_WALK_ROBOT, get_robot
+from zmpkit.experiments.walk_disturbances import Push, SensorFault
+from zmpkit.robots.robot import Robot
 from zmpkit.sim.effect_set import EffectSet
 from zmpkit.walking import GaitParameters, PatternConfig, WalkCommand
 from zmpkit.walking.gait import FootShape, StepLimits
@@ -45,7 +45,7 @@ class WalkConfig:
     """One walk, as ``zmpkit walk`` takes it.
 
     Attributes:
-        robot: the robot's registry name or ``robot.yaml`` path (it needs walking defaults).
+        robot: the robot (it needs walking defaults).
         speed_mps: commanded forward speed [m/s], from 0 to :data:`CLAMPED_SPEED_FACTOR` times
             :func:`max_walk_speed_mps` (beyond it once, steps are shortened: a warning); None:
             the robot's walking default (:attr:`~zmpkit.robots.robot.WalkingDefaults.speed_mps`,
@@ -72,7 +72,7 @@ class WalkConfig:
             push (:mod:`zmpkit.walking.step_adjustment`).
     """
 
-    robot: str = DEFAULT_WALK_ROBOT
+    robot: Robot
     speed_mps: float | None = None
     step_duration_s: float = 0.5
     duration_s: float = 10.0
@@ -91,7 +91,7 @@ class WalkConfig:
     step_adjustment: bool = False
 
     def __post_init__(self) -> None:
-        walking = get_robot(self.robot, needs="walking").require_walking()
+        walking = self.robot.require_walking()
         if self.com_height_m is None:
             object.__setattr__(self, "com_height_m", walking.com_height_m)
         speed = walking.speed_mps if self.speed_mps is None else self.speed_mps
@@ -126,7 +126,7 @@ class WalkConfig:
         The robot gives the foot separation, the step length limit, the sole and the motion
         frame (:class:`~zmpkit.robots.robot.WalkingDefaults`).
         """
-        walking = get_robot(self.robot, needs="walking").require_walking()
+        walking = self.robot.require_walking()
         length, width = walking.sole_size_m
         return PatternConfig(
             command=WalkCommand(

@@ -17,7 +17,7 @@ from collections.abc import Iterable, Mapping
 from typing import Protocol
 
 from zmpkit.experiments.ft_faults import FtFaults
-from zmpkit.sensors import CONTACT_FORCE_THRESHOLD_N, DoubleSupportZmp, SensorMount
+from zmpkit.sensors import DoubleSupportZmp, SensorMount
 from zmpkit.sensors.plausibility import PlausibilityGate, PlausibilityLimits
 from zmpkit.signals import PLANES
 
@@ -39,9 +39,10 @@ class ZmpReader:
         source: gives the latest F-T samples (``ft("right")``, ``ft("left")``).
         plane: ``"sagittal"`` or ``"frontal"``.
         mounts: the feet's F-T sensor mounts, ``{"right": ..., "left": ...}``.
+        contact_threshold_n: a foot is in contact above this world F_z [N] (the robot's:
+            :attr:`~zmpkit.robots.robot.Robot.contact_force_threshold_n`).
         faults: faults injected into the readings after the step; None: none.
         limits: what the plausibility gate accepts; None: its defaults.
-        contact_threshold_n: a foot is in contact above this world F_z [N] (the robot's).
     """
 
     def __init__(
@@ -49,9 +50,9 @@ class ZmpReader:
         source: FtSource,
         plane: str,
         mounts: Mapping[str, SensorMount],
+        contact_threshold_n: float,
         faults: FtFaults | None = None,
         limits: PlausibilityLimits | None = None,
-        contact_threshold_n: float = CONTACT_FORCE_THRESHOLD_N,
     ) -> None:
         self._source = source
         self._faults = faults

@@ -33,7 +33,8 @@ from zmpkit.identify.error_model import EQUATIONS, MODEL_KINDS, TERMS, ErrorMode
 from zmpkit.identify.transient import TransientFit, fit_transient
 from zmpkit.io.yaml_file import read_yaml_mapping, require_number
 from zmpkit.models.pendulum import STANDARD_GRAVITY_MPS2
-from zmpkit.signals.steady_state import PLANES, SteadyState, StepTrial, steady_state
+from zmpkit.signals.steady_state import SteadyState, steady_state
+from zmpkit.signals.step_trial import PLANES, StepTrial
 
 __all__ = [
     "BalanceIdentification",

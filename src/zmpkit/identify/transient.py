@@ -13,7 +13,7 @@ where :math:`s` is the unit step response (:math:`s = 0` for negative time), by
 from a few starts (the best kept). Standard errors are
 :math:`\sqrt{\operatorname{diag}(\hat s^2 (J^T J)^{-1})}`, inflated by
 :math:`n / n_{eff}` for autocorrelated residuals
-(:func:`~zmpkit.signals.steady_state.effective_sample_size`). The static gain is
+(:func:`~zmpkit.signals.robust_statistics.effective_sample_size`). The static gain is
 :math:`\Delta / (x_{cmd} - x_{cmd,before})` [-].
 
 A fit that fails — no step above the noise, a parameter stuck on its bound, a singular
@@ -30,14 +30,10 @@ from numpy.typing import ArrayLike, NDArray
 from scipy.optimize import OptimizeResult, least_squares
 
 from zmpkit._validate import positive
-from zmpkit.signals.steady_state import (
-    MAD_TO_SIGMA,
-    SteadyState,
-    StepTrial,
-    effective_sample_size,
-    steady_state,
-)
+from zmpkit.signals.robust_statistics import MAD_TO_SIGMA, effective_sample_size
+from zmpkit.signals.steady_state import SteadyState, steady_state
 from zmpkit.signals.step_metrics import StepMetrics, step_metrics
+from zmpkit.signals.step_trial import StepTrial
 
 __all__ = [
     "PARAMETER_NAMES",

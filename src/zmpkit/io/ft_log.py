@@ -26,7 +26,9 @@ from numpy.typing import NDArray
 from zmpkit._validate import list_some, shorten
 from zmpkit.errors import InputFileError
 from zmpkit.io.yaml_file import read_yaml_mapping
+from zmpkit.sensors.mount import SensorMount
 from zmpkit.sensors.plausibility import MAX_PLAUSIBLE_FORCE_N, MAX_PLAUSIBLE_MOMENT_NM
+from zmpkit.sensors.zmp import ZmpSeries, zmp_series
 
 __all__ = [
     "FT_LOG_COLUMNS",
@@ -67,10 +69,43 @@ class FtLog:
     left_wrench: NDArray[np.float64]
     source: str = ""
 
+    @classmethod
+    def from_columns(cls, values: NDArray[np.float64], source: str) -> FtLog:
+        """A log from its columns, time then the right and left wrenches, copied.
+
+        Args:
+            values: time [s], right (F_x … τ_z), left (F_x … τ_z) [N, N·m], shape (N, 13).
+            source: where the log came from.
+        """
+        return cls(
+            time=values[:, 0].copy(),
+            right_wrench=values[:, 1:7].copy(),
+            left_wrench=values[:, 7:13].copy(),
+            source=source,
+        )
+
     @property
     def n_samples(self) -> int:
         """Number of samples N."""
         return int(self.time.shape[0])
+
+    def zmp_series(
+        self, mounts: Mapping[str, SensorMount], contact_threshold_n: float
+    ) -> ZmpSeries:
+        """The log's ZMP through the feet's sensor mounts (:func:`~zmpkit.sensors.zmp_series`).
+
+        Args:
+            mounts: ``{"right": ..., "left": ...}`` sensor mounts.
+            contact_threshold_n: a foot is in contact above this world F_z [N].
+        """
+        return zmp_series(
+            self.time,
+            self.right_wrench,
+            self.left_wrench,
+            mounts["right"],
+            mounts["left"],
+            contact_threshold_n=contact_threshold_n,
+        )
 
 
 def check_plausible(log: FtLog) -> FtLog:
@@ -164,12 +199,7 @@ def read_ft_log_csv(path: str | Path, column_map: Mapping[str, str] | None = Non
     index = _column_indices(path, header, names)
     values = _load_numeric(path, header, index)
     _check_time(path, values[:, 0], names["time"])
-    return FtLog(
-        time=values[:, 0].copy(),
-        right_wrench=values[:, 1:7].copy(),
-        left_wrench=values[:, 7:13].copy(),
-        source=str(path),
-    )
+    return FtLog.from_columns(values, str(path))
 
 
 def _read_header(path: Path) -> list[str]:

@@ -45,12 +45,7 @@ def read_ft_log_parquet(path: str | Path, column_map: Mapping[str, str] | None =
     if values.shape[0] == 0:
         raise InputFileError(path, "no data rows; expected at least one sample")
     _check_time(path, values[:, 0], names["time"])
-    return FtLog(
-        time=values[:, 0].copy(),
-        right_wrench=values[:, 1:7].copy(),
-        left_wrench=values[:, 7:13].copy(),
-        source=str(path),
-    )
+    return FtLog.from_columns(values, str(path))
 
 
 def _read_table(path: Path) -> pa.Table:

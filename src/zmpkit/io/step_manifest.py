@@ -38,7 +38,6 @@ from zmpkit.sensors import (
     contact_threshold,
     remove_zmp_offset,
     zmp_offset_from_standing_window,
-    zmp_series,
 )
 from zmpkit.signals import PLANES, StepTrial
 
@@ -147,14 +146,7 @@ def _trial(
         left_topic=entry.get("left_topic"),
         units=units,
     )
-    series = zmp_series(
-        log.time,
-        log.right_wrench,
-        log.left_wrench,
-        mounts["right"],
-        mounts["left"],
-        contact_threshold_n=contact_threshold_n,
-    )
+    series = log.zmp_series(mounts, contact_threshold_n)
     offset = zmp_offset_from_standing_window(series, None, (t_step - window_s, t_step))
     zmp = remove_zmp_offset(series, offset).zmp[:, 0 if plane == "sagittal" else 1]
     return StepTrial(

@@ -20,7 +20,6 @@ no finished trial. Nothing here reads the robot's truth: only recorded sensors a
 
 from __future__ import annotations
 
-import math
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, field, replace
@@ -31,12 +30,11 @@ from zmpkit.analysis.balance_validation import ControllerOutcome, evaluate_trial
 from zmpkit.analysis.table1 import Table1Row
 from zmpkit.errors import ParameterError, ZmpkitError
 from zmpkit.experiments import (
-    StepDataset,
     StepExperimentConfig,
+    dataset_trials,
     design_lean_model,
     lean_angle,
     run_step_sweep,
-    trial_response,
 )
 from zmpkit.experiments.ft_faults import FtFaults
 from zmpkit.experiments.sweep import check_sweep
@@ -56,7 +54,6 @@ __all__ = [
     "BalanceConfig",
     "BalanceResult",
     "PlaneResult",
-    "dataset_trials",
     "fit_targets_of",
     "run_balance",
     "step_experiment",
@@ -86,7 +83,8 @@ class BalanceConfig:
     """Settings of one balance run.
 
     Attributes:
-        robot: the robot's registry name or ``robot.yaml`` path (it needs a balance model).
+        robot: the robot (it needs a balance model); a registry name or ``robot.yaml`` path
+            is resolved once, on creation.
         planes: planes to run, ``"sagittal"`` and/or ``"frontal"``; empty: every plane the
             robot can lean in (:attr:`~zmpkit.robots.robot.BalanceModel.planes`).
         targets_m: validation targets [m]; the fit uses those in ``fit_targets_m``; empty:
@@ -115,7 +113,7 @@ class BalanceConfig:
             (:data:`~zmpkit.experiments.ft_faults.FAULT_KINDS`); needs ``dlipm_feedback``.
     """
 
-    robot: str = DEFAULT_BALANCE_ROBOT
+    robot: Robot = field(default_factory=lambda: get_robot(DEFAULT_BALANCE_ROBOT))
     planes: tuple[str, ...] = ()
     targets_m: tuple[float, ...] = ()
     fit_targets_m: tuple[float, ...] = ()
@@ -133,7 +131,9 @@ class BalanceConfig:
     faults: tuple[str, ...] = ()
 
     def __post_init__(self) -> None:
-        balance = get_robot(self.robot, needs="balance").require_balance()
+        robot = get_robot(self.robot, needs="balance")
+        object.__setattr__(self, "robot", robot)
+        balance = robot.require_balance()
         if not self.planes:
             object.__setattr__(self, "planes", balance.planes)
         for plane in self.planes:
@@ -200,24 +200,6 @@ class BalanceResult:
         return self.planes[plane].identification.params
 
 
-def dataset_trials(dataset: StepDataset) -> list[StepTrial]:
-    """A dataset's trials as :class:`~zmpkit.signals.StepTrial` (time from the step) [s, m]."""
-    trials = []
-    for k, record in enumerate(dataset.trials):
-        response = trial_response(dataset, k)
-        trials.append(
-            StepTrial(
-                time=response.time_since_step,
-                zmp_measured=response.zmp_measured,
-                zmp_ref=record.target_m,
-                t_step=0.0,
-                plane=record.plane,
-                zmp_commanded=record.lean_length_m * math.sin(record.lean_angle_rad),
-            )
-        )
-    return trials
-
-
 def run_balance(
     config: BalanceConfig,
     out_dir: str | Path,
@@ -241,7 +223,7 @@ def run_balance(
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     planes = {}
-    for plane, why in get_robot(config.robot).require_balance().missing_planes.items():
+    for plane, why in config.robot.require_balance().missing_planes.items():
         echo(f"{plane} plane: not run, the robot cannot lean in it ({why})")
     failed: dict[str, str] = {}
     first_error: ZmpkitError | None = None
@@ -280,7 +262,7 @@ def _run_plane(
     lipm, lipm_ends = _outcomes(config, experiment, plane, "lipm", out, progress, None)
     fit_set = {round(x, 6) for x in config.fit_targets_m}
     fit_trials = [t for t in lipm if round(t.zmp_ref, 6) in fit_set]
-    mass = get_robot(config.robot, needs="balance").require_balance().mass_kg
+    mass = config.robot.require_balance().mass_kg
     identification = identify_balance(fit_trials, mass=mass, com_height=lean_length)
     model = identification.params.plane(plane).error_model
     fit_range = identification.planes[plane].error_fit.fitted_range
@@ -374,7 +356,7 @@ def target_ladder(shares: tuple[float, ...], span_m: float) -> tuple[float, ...]
     return tuple(round(share * span_m, 6) for share in shares)
 
 
-def support_polygon(plane: str, robot: str | Robot = DEFAULT_BALANCE_ROBOT) -> tuple[float, float]:
+def support_polygon(plane: str, robot: Robot | str = DEFAULT_BALANCE_ROBOT) -> tuple[float, float]:
     """Double-support extent of ``robot``'s soles in ``plane``, from the design [m]."""
     low, high = get_robot(robot, needs="balance").require_balance().support_polygon_m[plane]
     return (low, high)
@@ -388,7 +370,7 @@ def _factory(
     config: BalanceConfig,
     fit_range: tuple[float, float],
 ) -> LeanControllerFactory:
-    robot = get_robot(config.robot, needs="balance")
+    robot = config.robot
     return LeanControllerFactory(
         kind=kind,
         error_model=model,

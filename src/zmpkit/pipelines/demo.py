@@ -51,7 +51,7 @@ from zmpkit.pipelines.walk_compensate_report import write_walk_compensate
 from zmpkit.pipelines.walk_document import write_walk_report
 from zmpkit.pipelines.walk_report import COMPARISON_FILE, write_effects_comparison
 from zmpkit.robots.registry import DEFAULT_BALANCE_ROBOT, DEFAULT_WALK_ROBOT, get_robot
-from zmpkit.robots.robot import BalanceModel
+from zmpkit.robots.robot import BalanceModel, Robot
 from zmpkit.signals.step_metrics import StepMetrics, step_metrics
 
 __all__ = ["DEMO_STEP_M", "DemoConfig", "DemoResult", "run_demo"]
@@ -79,10 +79,15 @@ class DemoConfig:
     balance: bool = True
     walking: bool = True
     compensation: bool = True
-    balance_robot: str = DEFAULT_BALANCE_ROBOT
-    walk_robot: str = DEFAULT_WALK_ROBOT
+    balance_robot: Robot = field(default_factory=lambda: get_robot(DEFAULT_BALANCE_ROBOT))
+    walk_robot: Robot = field(default_factory=lambda: get_robot(DEFAULT_WALK_ROBOT))
     report_format: str = "html"
     video: bool = True
+
+    def __post_init__(self) -> None:
+        # a registry name or robot.yaml path, from Python, is resolved once, here
+        object.__setattr__(self, "balance_robot", get_robot(self.balance_robot))
+        object.__setattr__(self, "walk_robot", get_robot(self.walk_robot))
 
 
 @dataclass(frozen=True)
@@ -200,7 +205,7 @@ def _run_walks(
 ) -> tuple[dict[str, WalkResult], tuple[Path, ...]]:
     """The walks by effect set, and their side-by-side video if asked for."""
     walks, records = {}, []
-    title = get_robot(config.walk_robot).title
+    title = config.walk_robot.title
     for effects in ("none", "all"):
         echo(f"virtual {title}: zmpkit walk --effects {effects} (10 s at 0.2 m/s)")
         with displays.simulation(f"walk, effects {effects}") as progress:
@@ -239,7 +244,7 @@ def _run_balance(
     config: DemoConfig, out: Path, echo: Callable[[str], None], displays: Displays
 ) -> tuple[BalanceArtifacts, BalanceResult]:
 
-    title = get_robot(config.balance_robot).title
+    title = config.balance_robot.title
     echo(f"virtual {title}: zmpkit balance --quick (LIPM steps, DLIPM identification, Table 1)")
     with displays.sweeps() as progress:
         balance = BalanceConfig.quick(robot=config.balance_robot, video=config.video)

@@ -15,7 +15,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from zmpkit.analysis.provenance import capture
+from zmpkit.analysis.provenance import capture_described
 from zmpkit.analysis.report_document import (
     Block,
     Check,
@@ -27,13 +27,14 @@ from zmpkit.analysis.report_document import (
     Video,
 )
 from zmpkit.models import Dlipm
-from zmpkit.pipelines.balance_document import balance_checks, balance_figures, table1_table
+from zmpkit.pipelines.balance_checks import balance_checks
+from zmpkit.pipelines.balance_document import balance_figures
 from zmpkit.pipelines.balance_report import BalanceArtifacts
+from zmpkit.pipelines.balance_sections import table1_table
 from zmpkit.pipelines.walk import WalkResult
 from zmpkit.pipelines.walk_compensate import CompensateResult
 from zmpkit.pipelines.walk_compensate_report import compensation_checks, compensation_sections
 from zmpkit.pipelines.walk_document import effects_name, walk_checks, walk_metrics_table
-from zmpkit.robots.registry import get_robot
 from zmpkit.signals.step_metrics import StepMetrics
 
 __all__ = [
@@ -149,8 +150,8 @@ def demo_document(out: Path, config: Any, parts: DemoParts) -> ReportDocument:
         summary=_summary(config),
         checks=tuple(checks),
         sections=tuple(sections),
-        provenance=capture(
-            robot=f"{config.balance_robot} (balance), {config.walk_robot} (walking)",
+        provenance=capture_described(
+            robot=f"{config.balance_robot.source} (balance), {config.walk_robot.source} (walking)",
             started_s=parts.started_s,
             effects="none and all",
             seed=0,
@@ -160,8 +161,8 @@ def demo_document(out: Path, config: Any, parts: DemoParts) -> ReportDocument:
 
 
 def _summary(config: Any) -> str:
-    balance = get_robot(config.balance_robot).title
-    walking = get_robot(config.walk_robot).title
+    balance = config.balance_robot.title
+    walking = config.walk_robot.title
     return (
         f"The main job on the built-in virtual robots: the LIPM and the Dynamic LIPM as models "
         f"(paper A §4.4), then paper A's balance experiment on the virtual {balance} (LIPM "
@@ -251,7 +252,7 @@ def _opt(value: float | None, spec: str) -> str:
 def _balance_section(
     config: Any, artifacts: BalanceArtifacts, result: Any, videos: tuple[Video, ...]
 ) -> Section:
-    title = get_robot(config.balance_robot).title
+    title = config.balance_robot.title
     blocks: list[Block] = [
         Text(
             f"`zmpkit balance --quick` on the virtual {title} with every effect on: LIPM step "
@@ -273,7 +274,7 @@ def _balance_section(
 
 
 def _walk_section(config: Any, parts: DemoParts) -> Section:
-    title = get_robot(config.walk_robot).title
+    title = config.walk_robot.title
     walks = parts.walks
     summaries = {effects_name(k): w.summary for k, w in walks.items()}
     blocks: list[Block] = [

@@ -17,15 +17,14 @@ import numpy as np
 
 from zmpkit._validate import shorten
 from zmpkit.analysis.balance_plots import plot_error_fit
-from zmpkit.analysis.provenance import capture
+from zmpkit.analysis.provenance import capture_described
 from zmpkit.analysis.report_document import Check, Figure, ReportDocument, Section, Text
 from zmpkit.analysis.report_files import write_report
 from zmpkit.errors import InputFileError, ParameterError, ZmpkitError
-from zmpkit.experiments import read_step_dataset
+from zmpkit.experiments import dataset_trials, read_step_dataset
 from zmpkit.identify import BalanceIdentification, identify_balance
 from zmpkit.io.step_manifest import read_step_manifest
-from zmpkit.pipelines.balance import dataset_trials
-from zmpkit.pipelines.balance_document import identification_blocks
+from zmpkit.pipelines.balance_sections import identification_blocks
 from zmpkit.robots.registry import get_robot
 from zmpkit.signals import StepTrial
 
@@ -131,10 +130,9 @@ def identification_document(
             ),
             Section("Data", (Text("`params.yaml`: the identified DLIPM parameters."),)),
         ),
-        provenance=capture(
+        provenance=capture_described(
             robot="recorded data",
             started_s=started_s,
-            simulated=False,
             extra=(("data", str(source)),),
         ),
     )

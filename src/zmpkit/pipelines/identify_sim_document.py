@@ -126,7 +126,7 @@ def identify_sim_document(result: IdentifySimResult) -> ReportDocument:
             ),
         ),
         provenance=capture(
-            robot=c.robot,
+            robot=get_robot(c.robot),
             started_s=result.started_s,
             truth=c.truth,
             effects=c.effects,

@@ -31,6 +31,7 @@ from zmpkit.experiments import (
 )
 from zmpkit.experiments.sweep import ProgressCallback, check_sweep
 from zmpkit.robots.registry import DEFAULT_BALANCE_ROBOT, get_robot, robots_that
+from zmpkit.robots.robot import Robot
 from zmpkit.signals import PLANES
 from zmpkit.sim.effect_set import EFFECT_LETTERS, EffectSet
 
@@ -89,15 +90,14 @@ def _choice(option: str, value: str, valid: tuple[str, ...]) -> str:
     return value
 
 
-def _robot(text: str) -> str:
+def _robot(text: Robot | str) -> Robot:
     try:
-        get_robot(text, needs="balance")
+        return get_robot(text, needs="balance")
     except ParameterError as exc:
         raise ParameterError(
             f"--robot expects one of {', '.join(robots_that('balance'))} or a robot.yaml file "
             f"with a balance model; {exc}"
         ) from None
-    return text
 
 
 def _effects(text: str) -> str:
@@ -133,7 +133,7 @@ def _push(force: float | None, duration: float | None) -> PushConfig | None:
 
 def sim_push_config(
     *,
-    robot: str = DEFAULT_BALANCE_ROBOT,
+    robot: Robot | str = DEFAULT_BALANCE_ROBOT,
     targets: str = "0:0.10:0.01",
     plane: str = "sagittal",
     effects: str = "all",
@@ -172,7 +172,7 @@ def _title(config: StepExperimentConfig) -> str:
     if config.push is not None:
         push = f", push {config.push.force_n:g} N for {config.push.duration_s:g} s"
     return (
-        f"{get_robot(config.robot).title} {config.plane} ZMP steps, effects {config.effects}, "
+        f"{config.robot.title} {config.plane} ZMP steps, effects {config.effects}, "
         f"seed {config.seed}{push}"
     )
 

@@ -14,7 +14,6 @@ from zmpkit.analysis.report_document import Check, Figure, ReportDocument, Secti
 from zmpkit.analysis.report_files import write_report
 from zmpkit.experiments import StepExperimentConfig
 from zmpkit.pipelines.sim_push import SimPushResult
-from zmpkit.robots.registry import get_robot
 
 __all__ = ["sim_push_document", "write_sim_push_report"]
 
@@ -25,7 +24,7 @@ def _cell(value: float | None, spec: str) -> str:
 
 def sim_push_document(result: SimPushResult, config: StepExperimentConfig) -> ReportDocument:
     """The step sweep's report: one check per trial (settled or not), a table, the figure."""
-    title = get_robot(config.robot).title
+    title = config.robot.title
     checks = []
     rows = []
     for r in result.responses:

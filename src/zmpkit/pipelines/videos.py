@@ -27,7 +27,6 @@ from zmpkit.experiments import StepExperimentConfig, run_step_trial
 from zmpkit.experiments.walk_config import WalkConfig
 from zmpkit.experiments.walk_trial import WalkRecord
 from zmpkit.pipelines.balance import BalanceResult, step_experiment
-from zmpkit.robots.registry import get_robot
 from zmpkit.sim.effect_set import EffectSet
 
 __all__ = [
@@ -65,7 +64,7 @@ def walk_clip(config: WalkConfig, record: WalkRecord, label: str) -> MotionClip:
     """A walk as a clip: its recorded ``qpos`` on the simulated robot's model with its effects."""
     if record.qpos is None:
         raise ZmpkitError("the walk record has no qpos to draw")
-    sim = get_robot(config.robot).make_simulation(config.effects, config.truth, seed=config.seed)
+    sim = config.robot.make_simulation(config.effects, config.truth, seed=config.seed)
     return MotionClip(
         sim.model, record.qpos, record.time_s, label, record.fall_time_s, record.fall_kind
     )
@@ -117,5 +116,5 @@ def write_step_trial_video(result: BalanceResult, out_dir: Path) -> VideoResult 
 
 
 def _model(experiment: StepExperimentConfig) -> mujoco.MjModel:
-    robot = get_robot(experiment.robot)
+    robot = experiment.robot
     return robot.make_simulation(experiment.effects, experiment.truth).model

@@ -31,7 +31,6 @@ from zmpkit.analysis.report_files import write_report
 from zmpkit.compensate.methods import CompensatedWalk
 from zmpkit.compensate.summary import ValidationWalkOutcome
 from zmpkit.pipelines.walk_compensate import CompensateResult
-from zmpkit.robots.registry import get_robot
 from zmpkit.signals.spectra import amplitude_spectrum
 
 __all__ = [
@@ -184,7 +183,7 @@ def compensation_sections(
 def compensation_document(result: CompensateResult, figures: dict[str, Path]) -> ReportDocument:
     """The report of a compensation run."""
     c = result.config
-    title = get_robot(c.robot).title
+    title = c.robot.title
     how = (
         "open-loop walks (paper B's simulation); the validation walks were not used for tuning."
         if c.controller == "open"

@@ -30,7 +30,6 @@ from zmpkit.experiments.walk_config import WalkConfig
 from zmpkit.experiments.walk_summary import HEADING_TOLERANCE_RAD, WalkSummary
 from zmpkit.pipelines.walk import WalkResult
 from zmpkit.pipelines.walk_report import JOINT_PLOT_STEPS
-from zmpkit.robots.registry import get_robot
 
 __all__ = [
     "EFFECT_NAMES",
@@ -250,14 +249,14 @@ def walk_label(config: WalkConfig) -> str:
 def walk_document(result: WalkResult) -> ReportDocument:
     """The report of one walk."""
     c, s = result.config, result.summary
-    title = get_robot(c.robot).title
+    title = c.robot.title
     label = walk_label(c)
     summary = (
         f"The virtual {title} walked {c.duration_s:g} s at a commanded {c.speed_mps:g} m/s "
         f"(lateral {c.lateral_speed_mps:g} m/s, turning {c.turn_rate_rps:g} rad/s) with "
         f"{c.step_duration_s:g} s steps: 3D-LIPM preview-control pattern, whole-body IK, "
         f"controller `{c.controller}`, {effects_name(c.effects)}"
-        f"{get_robot(c.robot).simulated_effects_note(c.effects, c.truth)}."
+        f"{c.robot.simulated_effects_note(c.effects, c.truth)}."
         + (f" Pushes: {', '.join(s.pushes)}." if s.pushes else "")
     )
     body: list[Block] = [

@@ -17,7 +17,6 @@ from zmpkit.experiments.walk_summary import (
     planned_double_support_distance,
 )
 from zmpkit.experiments.walk_trial import FALL_TILT_RAD, WalkRecord
-from zmpkit.robots.registry import get_robot
 from zmpkit.signals.spectra import amplitude_spectrum
 from zmpkit.walking.pattern import WalkingPattern
 
@@ -37,7 +36,7 @@ that errors of a few hundredths of a radian stay visible."""
 
 def series_joints(config: WalkConfig) -> tuple[str, ...]:
     """The walking robot's hip, knee and ankle pitch joints, left leg then right leg."""
-    return get_robot(config.robot, needs="walking").require_walking().series_joints
+    return config.robot.require_walking().series_joints
 
 
 def joint_plot_span(
@@ -68,7 +67,7 @@ def write_figures(
     Angles are in [rad]. The spectrum is taken over the summary's steady window, so its
     peak is the one in ``summary.json``; time plots shade that window and mark a fall.
     """
-    title = get_robot(config.robot).title
+    title = config.robot.title
     label = (
         f"{title} {config.speed_mps:g} m/s, {config.step_duration_s:g} s steps, "
         f"{effects_name(config.effects)}, {config.controller}"
@@ -157,7 +156,7 @@ def write_effects_comparison(walks: Mapping[str, tuple[WalkConfig, WalkSummary, 
         for effects, (_, summary, record) in walks.items()
     }
     title = (
-        f"{get_robot(first.robot).title}, {first.speed_mps:g} m/s, {first.step_duration_s:g} s "
+        f"{first.robot.title}, {first.speed_mps:g} m/s, {first.step_duration_s:g} s "
         f"steps, {first.controller}: trunk pitch by effect set (paper B Fig. 6)"
     )
     return plot_walk_comparison(traces, first.step_duration_s, path, title)

@@ -17,7 +17,7 @@ import multiprocessing
 import time
 from collections.abc import Iterator
 from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
-from dataclasses import asdict, dataclass, field
+from dataclasses import dataclass, field, fields
 from pathlib import Path
 
 from zmpkit import _validate
@@ -32,6 +32,7 @@ from zmpkit.experiments.robustness import (
 )
 from zmpkit.pipelines.progress import StageCallback
 from zmpkit.robots.registry import DEFAULT_WALK_ROBOT, get_robot
+from zmpkit.robots.robot import Robot
 from zmpkit.sim.effect_set import EffectSet
 from zmpkit.walking.walk_controllers import CONTROLLERS
 
@@ -46,7 +47,8 @@ class SweepConfig:
     """A robustness sweep.
 
     Attributes:
-        robot: the robot, one of the walking robots.
+        robot: the robot (it walks); a registry name or ``robot.yaml`` path is resolved
+            once, on creation.
         controllers: the controllers to sweep.
         effects: the simulated effects.
         duration_s: walking time of each case [s].
@@ -57,7 +59,7 @@ class SweepConfig:
             ``push 30`` (:attr:`~zmpkit.experiments.robustness.RobustnessCase.label`).
     """
 
-    robot: str = DEFAULT_WALK_ROBOT
+    robot: Robot = field(default_factory=lambda: get_robot(DEFAULT_WALK_ROBOT))
     controllers: tuple[str, ...] = ("zmpip", "dcm", "open")
     effects: str = "all"
     duration_s: float = 10.0
@@ -67,7 +69,7 @@ class SweepConfig:
     cases: str = ""
 
     def __post_init__(self) -> None:
-        get_robot(self.robot, needs="walking")
+        object.__setattr__(self, "robot", get_robot(self.robot, needs="walking"))
         unknown = [c for c in self.controllers if c not in CONTROLLERS]
         if unknown or not self.controllers:
             raise ParameterError(
@@ -84,9 +86,13 @@ class SweepConfig:
         object.__setattr__(self, "effects", EffectSet.parse(self.effects).letters)
 
     def identity(self) -> dict[str, object]:
-        """What must match for rows to be resumed (not the controllers, workers or cases)."""
+        """What must match for rows to be resumed (not the controllers, workers or cases).
+
+        The robot is its :attr:`~zmpkit.robots.robot.Robot.source`.
+        """
         skip = ("controllers", "workers", "cases")
-        return {k: v for k, v in asdict(self).items() if k not in skip}
+        out = {f.name: getattr(self, f.name) for f in fields(self) if f.name not in skip}
+        return {**out, "robot": self.robot.source}
 
     def matrix(self) -> list[RobustnessCase]:
         """The cases this sweep walks: the matrix, or those whose label holds ``cases``."""
@@ -157,7 +163,7 @@ def _finished(cases: list[RobustnessCase], config: SweepConfig) -> Iterator[Robu
                 yield future.result()
 
 
-def _trial(config: SweepConfig) -> tuple[str, str, float, int, bool]:
+def _trial(config: SweepConfig) -> tuple[Robot, str, float, int, bool]:
     """What :func:`run_case` takes besides the case."""
     return config.robot, config.effects, config.duration_s, config.seed, config.step_adjustment
 
@@ -212,9 +218,8 @@ def write_walk_sweep(result: SweepResult, out: Path) -> SweepResult:
     config = result.config
     for controller in config.controllers:
         rows = [r for r in result.rows if r[0] == controller]
-        title = (
-            f"{get_robot(config.robot).title}, effects {config.effects or 'none'}: {controller}"
-            + (" with step adjustment" if config.step_adjustment else "")
+        title = f"{config.robot.title}, effects {config.effects or 'none'}: {controller}" + (
+            " with step adjustment" if config.step_adjustment else ""
         )
         files[f"figure_{controller}"] = plot_robustness(
             rows, ROBUSTNESS_COLUMNS, out / f"robustness_{controller}.png", title

@@ -17,7 +17,6 @@ from zmpkit.analysis.report_files import write_report
 from zmpkit.analysis.robustness_plot import case_label
 from zmpkit.experiments.robustness import ROBUSTNESS_COLUMNS
 from zmpkit.pipelines.walk_sweep import SweepResult
-from zmpkit.robots.registry import get_robot
 
 __all__ = ["case_kind", "walk_sweep_document", "write_walk_sweep_report"]
 
@@ -104,7 +103,7 @@ def walk_sweep_document(result: SweepResult) -> ReportDocument:
         for role, path in result.files.items()
         if role.startswith("matrix_")
     ]
-    title = get_robot(c.robot).title
+    title = c.robot.title
     return ReportDocument(
         title=f"zmpkit walk sweep: robustness of the virtual {title}'s walking controllers",
         summary=(

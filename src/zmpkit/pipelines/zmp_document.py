@@ -12,7 +12,7 @@ from pathlib import Path
 
 import numpy as np
 
-from zmpkit.analysis.provenance import capture, file_sha256
+from zmpkit.analysis.provenance import capture_described, file_sha256
 from zmpkit.analysis.report_document import Check, Figure, ReportDocument, Section, Table, Text
 from zmpkit.analysis.report_files import write_report
 from zmpkit.pipelines.zmp_log import ZmpRunResult
@@ -83,10 +83,9 @@ def zmp_document(
             ),
             Section("Data", (Text("`zmp.csv`: time [s], ZMP x and y [m], contact flags."),)),
         ),
-        provenance=capture(
+        provenance=capture_described(
             robot=feet_source,
             started_s=started_s,
-            simulated=False,
             extra=(("log", str(log_path)), ("log SHA-256", file_sha256(log_path) or "–")),
         ),
     )

@@ -8,7 +8,7 @@ from pathlib import Path
 
 from zmpkit.analysis.zmp_plot import plot_zmp_series
 from zmpkit.io import check_zmp_finite, read_feet_yaml, read_ft_source, write_zmp_csv
-from zmpkit.sensors import CONTACT_FORCE_THRESHOLD_N, SensorMount, ZmpSeries, zmp_series
+from zmpkit.sensors import CONTACT_FORCE_THRESHOLD_N, SensorMount, ZmpSeries
 
 __all__ = ["ZmpRunResult", "run_zmp_log"]
 
@@ -78,14 +78,7 @@ def run_zmp_log(
         units=units_path,
         time_source=time_source,
     )
-    series = zmp_series(
-        log.time,
-        log.right_wrench,
-        log.left_wrench,
-        mounts["right"],
-        mounts["left"],
-        contact_threshold_n=contact_threshold_n,
-    )
+    series = log.zmp_series(mounts, contact_threshold_n)
     check_zmp_finite(series)
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)

@@ -6,10 +6,16 @@ Each built-in robot lives in its own folder (``robots/<name>/``: model, truth, p
 registered as a :class:`RegistryEntry`: what it can run is known without loading it, and a
 robot whose model comes from an optional package says so (:func:`missing_reason`) instead of
 failing when the registry is listed.
+
+A robot is a value that code below the pipelines takes as it is; it crosses into a worker
+process as its :attr:`~zmpkit.robots.robot.Robot.source` (the registry registers this with
+:mod:`copyreg`), and the worker resolves it once: :func:`get_robot` gives each built-in robot
+and each robot file once per process.
 """
 
 from __future__ import annotations
 
+import copyreg
 from collections.abc import Callable
 from dataclasses import dataclass
 from functools import cache
@@ -160,3 +166,11 @@ def robot_reference(name_or_path: str | Path) -> str:
 @cache
 def _robot_file(path: str) -> Robot:
     return load_robot_file(path)
+
+
+def _by_source(robot: Robot) -> tuple[Callable[[str], Robot], tuple[str]]:
+    """How a robot is pickled: as its source, which :func:`get_robot` resolves again."""
+    return get_robot, (robot.source,)
+
+
+copyreg.pickle(Robot, _by_source)

@@ -234,7 +234,8 @@ class Robot:
         title: the name written in reports and messages.
         summary: one line for ``zmpkit robot list``.
         source: what :func:`~zmpkit.robots.registry.get_robot` takes to give this robot again
-            (the registry name, or the ``robot.yaml`` path).
+            (the registry name, or the ``robot.yaml`` path): what a dataset records, and how
+            the robot is pickled into a worker process, which resolves it once.
         describe: ``describe(effects, truth)`` → the simulator's robot description.
         driven_joints: the joints with a servo, in the robot's order.
         feet_mounts: the foot F-T sensor mounts in the world frame at the standing pose

@@ -3,11 +3,11 @@
 The checks run in the order a user fixes them, each collecting all it finds
 (:mod:`zmpkit.robots.problems`):
 
-1. the layout (:func:`~zmpkit.robots.robot_file.draft_robot_file`): unknown or missing
+1. the layout (:func:`~zmpkit.robots.robot_file_reader.draft_robot_file`): unknown or missing
    keys, types, numbers, the model's, truth's and package folders' paths;
 2. the model loads and compiles (a missing or broken model file, an unknown ``package://``
    package): when it does not, no name can be checked, and the checks stop there;
-3. the names (:func:`~zmpkit.robots.user_model.name_problems`): feet, legs, IMU, torso,
+3. the names (:func:`~zmpkit.robots.user_model_names.name_problems`): feet, legs, IMU, torso,
    ``walking.posture``, each unknown one listing the model's valid names;
 4. the truth file (``truth:``): its values (:func:`~zmpkit.robots.servo_truth.read_servo_truth`)
    and the bodies of its flexible links.
@@ -24,7 +24,8 @@ from zmpkit.errors import InputFileError
 from zmpkit.robots.problems import Problems
 from zmpkit.robots.robot_file import RobotFileDraft
 from zmpkit.robots.servo_truth import ServoTruth, read_servo_truth
-from zmpkit.robots.user_model import body_names, compile_model, name_problems
+from zmpkit.robots.user_model_file import body_names, compile_model
+from zmpkit.robots.user_model_names import name_problems
 
 __all__ = ["flex_problems", "robot_file_problems"]
 

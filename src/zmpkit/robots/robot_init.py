@@ -34,7 +34,8 @@ import yaml
 
 from zmpkit.errors import InputFileError
 from zmpkit.robots.facing import FacingVote, decide, facing_votes
-from zmpkit.robots.user_model import collision_geoms, geom_corners, load_spec
+from zmpkit.robots.user_feet import collision_geoms, geom_corners
+from zmpkit.robots.user_model_file import load_spec
 
 __all__ = ["RobotGuess", "guess_robot", "guess_robot_file", "write_robot_file"]
 
@@ -63,7 +64,7 @@ class RobotGuess:
 def _lowest_z(model: mujoco.MjModel, data: mujoco.MjData) -> dict[int, float]:
     """Each body's lowest collision-geom point at the initial pose [m] (bodies with geoms).
 
-    Collision geoms as :func:`~zmpkit.robots.user_model.collision_geoms` finds them.
+    Collision geoms as :func:`~zmpkit.robots.user_feet.collision_geoms` finds them.
     """
     low: dict[int, float] = {}
     colliding = collision_geoms(model)

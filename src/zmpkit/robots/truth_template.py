@@ -35,8 +35,10 @@ from pathlib import Path
 import mujoco
 import numpy as np
 
-from zmpkit.robots.robot_file import RobotFile, read_robot_file
-from zmpkit.robots.user_model import UserModel, load_spec, user_model
+from zmpkit.robots.robot_file import RobotFile
+from zmpkit.robots.robot_file_reader import read_robot_file
+from zmpkit.robots.user_model import UserModel, user_model
+from zmpkit.robots.user_model_file import load_spec
 from zmpkit.robots.user_walking import leg_length_m
 
 __all__ = ["ASSUMED", "TruthTemplate", "truth_template", "write_truth_template"]

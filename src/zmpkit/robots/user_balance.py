@@ -3,7 +3,7 @@
 - **mass**: the whole robot's mass (sole plates included) [kg];
 - **CoM height**: the standing CoM above the soles [m];
 - **support polygon**: the double-support extent of the two soles (their rectangles around
-  the sole centres, :attr:`~zmpkit.robots.user_model.FootPrint` size), per plane [m];
+  the sole centres, :attr:`~zmpkit.robots.user_feet.FootPrint` size), per plane [m];
 - **lean**: the whole-body IK lean (:mod:`zmpkit.experiments.whole_body_lean`); its pivots
   measure the lean angle: each leg's ankle pitch joint (sagittal) and ankle roll joint
   (frontal): its last joint about that axis (world y, x), when that joint's anchor lies
@@ -25,7 +25,8 @@ import numpy as np
 
 from zmpkit.robots.robot import BalanceModel
 from zmpkit.robots.robot_file import SIDES, RobotFile
-from zmpkit.robots.user_model import UserModel, root_body
+from zmpkit.robots.user_model import UserModel
+from zmpkit.robots.user_model_file import root_body
 from zmpkit.robots.user_walking import axis_joints
 from zmpkit.sim.names import sole_site
 from zmpkit.sim.servo import ServoLimits

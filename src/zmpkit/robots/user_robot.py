@@ -23,8 +23,9 @@ import mujoco
 from zmpkit.errors import ParameterError
 from zmpkit.robots.problems import Problems
 from zmpkit.robots.robot import FitSpec, Robot, TruthSpec
-from zmpkit.robots.robot_file import SIDES, RobotFile, draft_robot_file
+from zmpkit.robots.robot_file import SIDES, RobotFile
 from zmpkit.robots.robot_file_problems import robot_file_problems
+from zmpkit.robots.robot_file_reader import draft_robot_file
 from zmpkit.robots.servo_fit import SERVO_QUICK_PARAMETERS, servo_fit_catalogue
 from zmpkit.robots.servo_truth import (
     ServoTruth,

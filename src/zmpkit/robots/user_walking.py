@@ -38,7 +38,8 @@ from numpy.typing import NDArray
 from zmpkit.robots.ik_settings import IkSettings
 from zmpkit.robots.robot import DEFAULT_WALK_SPEED_MPS, WalkingDefaults
 from zmpkit.robots.robot_file import SIDES, RobotFile
-from zmpkit.robots.user_model import UserModel, root_body
+from zmpkit.robots.user_model import UserModel
+from zmpkit.robots.user_model_file import root_body
 from zmpkit.sim.names import sole_site
 
 __all__ = [
@@ -193,7 +194,7 @@ def user_walking(file: RobotFile, built: UserModel) -> WalkingDefaults | None:
     """The walking defaults of a user's robot (module docstring), or None if it cannot walk.
 
     ``walking.posture``'s joints are leg joints (checked with the model's names:
-    :func:`~zmpkit.robots.user_model.name_problems`).
+    :func:`~zmpkit.robots.user_model_names.name_problems`).
     """
     if walking_problem(file, built) is not None:
         return None

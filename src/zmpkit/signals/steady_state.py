@@ -1,7 +1,8 @@
-r"""Step trials and the steady-state value of their measured ZMP (paper A §4.1, Fig. 14).
+r"""The steady-state value of a step trial's measured ZMP (paper A §4.1, Fig. 14).
 
-A :class:`StepTrial` is one push-recovery / ZMP-step experiment: the ZMP measured by the
-ankle F-T sensors while the robot answers a step of its ZMP target at :math:`t_{step}`.
+A :class:`~zmpkit.signals.step_trial.StepTrial` is one push-recovery / ZMP-step experiment:
+the ZMP measured by the ankle F-T sensors while the robot answers a step of its ZMP target at
+:math:`t_{step}`.
 
 :func:`steady_state` finds the settled window from the signal alone:
 
@@ -37,7 +38,7 @@ creep or ramp, whose rate :attr:`SteadyState.drift_rate` is that of the last
 (too little of the record inside the band, and neither of the two).
 
 The value is the window mean; its standard error uses the effective sample size of the
-autocorrelated residuals (:func:`effective_sample_size`),
+autocorrelated residuals (:func:`~zmpkit.signals.robust_statistics.effective_sample_size`),
 :math:`SE = s / \sqrt{n_{eff}}`, :math:`n_{eff} = n / (1 + 2\sum_k \rho_k)`.
 """
 
@@ -48,33 +49,26 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from numpy.typing import ArrayLike, NDArray
+from numpy.typing import NDArray
 from scipy.ndimage import median_filter
 
-from zmpkit._validate import finite, finite_array, in_range, positive
+from zmpkit._validate import in_range, positive
 from zmpkit.errors import ParameterError
-from zmpkit.models.lti import _increasing_times
+from zmpkit.signals.robust_statistics import effective_sample_size, robust_sigma
+from zmpkit.signals.step_trial import StepTrial
 
 __all__ = [
     "CREEP_HORIZON_S",
     "CREEP_MIN_M",
     "CREEP_TOLERANCE_FRACTION",
     "DRIFT_WINDOW_S",
-    "PLANES",
     "STATUSES",
     "SteadyState",
-    "StepTrial",
-    "effective_sample_size",
     "steady_state",
 ]
 
 FloatArray = NDArray[np.float64]
 
-PLANES = ("sagittal", "frontal")
-"""Valid values of :attr:`StepTrial.plane`: sagittal (x–z, ZMP x) and frontal (y–z, ZMP y)."""
-
-MAD_TO_SIGMA = 1.4826
-"""Scale from the median absolute deviation to the standard deviation of a Gaussian [-]."""
 
 STATUSES = ("settled", "drifting", "oscillating", "short")
 """Values of :attr:`SteadyState.status`."""
@@ -87,56 +81,6 @@ CREEP_MIN_M = 2e-4
 DRIFT_WINDOW_S = 5.0
 """Length of the end of the record whose line gives the end drift rate [s]."""
 _SIGNIFICANT_SLOPE_SE = 3.0  # a drift rate counts only beyond this many standard errors
-
-
-@dataclass(frozen=True, eq=False)
-class StepTrial:
-    r"""One ZMP-step trial in one plane.
-
-    Attributes:
-        time: sample times [s], strictly increasing, shape (N,).
-        zmp_measured: ZMP from the F-T sensors in this plane [m], shape (N,).
-        zmp_ref: the ZMP target after the step [m].
-        t_step: time of the step [s], within ``[time[0], time[-1])``.
-        plane: ``"sagittal"`` or ``"frontal"``.
-        zmp_commanded: the LIPM-expected ZMP :math:`l\sin\theta` of the commanded angle [m];
-            ``None`` means ``zmp_ref`` (the classic open-loop experiment, θ = asin(x_ref/l)).
-        zmp_commanded_before: the same before the step [m]; 0 for a robot starting upright.
-    """
-
-    time: FloatArray
-    zmp_measured: FloatArray
-    zmp_ref: float
-    t_step: float
-    plane: str = "sagittal"
-    zmp_commanded: float | None = None
-    zmp_commanded_before: float = 0.0
-
-    def __post_init__(self) -> None:
-        time = _increasing_times("time", self.time)
-        zmp = finite_array("zmp_measured", self.zmp_measured, (time.size,))
-        for array in (time, zmp):
-            array.setflags(write=False)
-        object.__setattr__(self, "time", time)
-        object.__setattr__(self, "zmp_measured", zmp)
-        object.__setattr__(self, "zmp_ref", finite("zmp_ref", self.zmp_ref))
-        t0 = finite("t_step", self.t_step)
-        if not time[0] <= t0 < time[-1]:
-            raise ParameterError(
-                f"t_step must lie in [time[0], time[-1]) = [{time[0]}, {time[-1]}) s, got {t0} s"
-            )
-        object.__setattr__(self, "t_step", t0)
-        if self.plane not in PLANES:
-            raise ParameterError(f"plane must be one of {PLANES}, got {self.plane!r}")
-        if self.zmp_commanded is not None:
-            object.__setattr__(self, "zmp_commanded", finite("zmp_commanded", self.zmp_commanded))
-        before = finite("zmp_commanded_before", self.zmp_commanded_before)
-        object.__setattr__(self, "zmp_commanded_before", before)
-
-    @property
-    def x_cmd(self) -> float:
-        """The commanded (LIPM-expected) ZMP after the step [m]: the error model's input."""
-        return self.zmp_ref if self.zmp_commanded is None else self.zmp_commanded
 
 
 @dataclass(frozen=True)
@@ -177,46 +121,12 @@ class SteadyState:
         return 1e3 * self.drift_rate
 
 
-def effective_sample_size(residuals: ArrayLike) -> float:
-    r"""Effective number of independent samples in an autocorrelated series.
-
-    .. math:: n_{eff} = \frac{n}{1 + 2\sum_{k=1}^{K}\rho_k}
-
-    with the sample autocorrelation :math:`\rho_k` summed up to the last lag before the
-    first non-positive one (initial positive sequence), clipped to [1, n].
-
-    Args:
-        residuals: the series minus its mean (or model) [any unit], shape (n,).
-    """
-    r = finite_array("residuals", residuals, (None,))
-    n = r.size
-    if n < 3:
-        return float(n)
-    r = r - r.mean()
-    spectrum = np.fft.rfft(r, 2 * n)
-    acov = np.fft.irfft(spectrum * np.conj(spectrum))[:n]
-    if acov[0] <= 0.0:
-        return float(n)
-    rho = acov[1:] / acov[0]
-    stop = np.flatnonzero(rho <= 0.0)
-    tau = 1.0 + 2.0 * float(np.sum(rho[: stop[0] if stop.size else rho.size]))
-    return float(min(max(n / tau, 1.0), n))
-
-
-def _robust_sigma(t: FloatArray, y: FloatArray) -> float:
-    """1.4826 MAD of ``y`` about its least-squares line: the noise, not the drift [m]."""
-    if y.size < 3:
-        return 0.0
-    residual = y - np.polyval(np.polyfit(t, y, 1), t)
-    return MAD_TO_SIGMA * float(np.median(np.abs(residual - np.median(residual))))
-
-
 def _pre_step_sigma(trial: StepTrial, min_samples: int) -> float | None:
     """Robust noise of the samples before the step [m]; None if fewer than ``min_samples``."""
     before = trial.time < trial.t_step
     if np.count_nonzero(before) < min_samples:
         return None
-    return _robust_sigma(trial.time[before], trial.zmp_measured[before])
+    return robust_sigma(trial.time[before], trial.zmp_measured[before])
 
 
 def steady_state(
@@ -281,7 +191,7 @@ def steady_state(
     y0 = float(np.median(before)) if before.size else float(values[0])
     n_tail = max(3, math.ceil(fraction * values.size))
     centre = float(np.median(values[-n_tail:]))
-    sigma = _robust_sigma(times[-n_tail:], values[-n_tail:])
+    sigma = robust_sigma(times[-n_tail:], values[-n_tail:])
     step_band = max(step_fraction * abs(centre - y0), floor)
     band = max(k_sigma * sigma, step_band)
     smooth = median_filter(values, size=spike_samples, mode="nearest")

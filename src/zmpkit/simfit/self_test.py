@@ -121,7 +121,7 @@ def _walks(robot: str, specs: tuple, truth: Path, effects: str, seed: int, out: 
     for k, (speed, duration) in enumerate(specs):
         folder = out / f"walk_{speed:g}mps_{duration:g}s"
         config = WalkConfig(
-            robot=robot,
+            robot=get_robot(robot),
             speed_mps=speed,
             duration_s=duration,
             effects=effects,
@@ -143,7 +143,7 @@ def _steps(
 ) -> Path:
 
     config = StepExperimentConfig(
-        robot=robot,
+        robot=get_robot(robot),
         targets_m=tuple(targets),
         effects=effects,
         seed=seed,

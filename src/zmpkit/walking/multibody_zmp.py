@@ -232,9 +232,10 @@ def expected_zmp_offset(
 
     :math:`\Delta_k = p^{mb}_k - p^{ct}_k`: the multibody ZMP of the IK's motion on the design
     model (:class:`InverseDynamicsZmp`) minus the cart-table ZMP of the planned CoM,
-    :math:`c - (z_c/g)\ddot c`; 0 where the multibody ZMP is undefined. On a NAO walking at
-    0.2 m/s it swings ±4 cm along x every step: the legs' own inertia, which the cart table
-    leaves out and an observer of the measured ZMP would otherwise take for a disturbance.
+    :math:`c - (z_c/g)\ddot c`; 0 where the multibody ZMP is undefined. On the default
+    walking robot at 0.2 m/s it swings ±4 cm along x every step: the legs' own inertia,
+    which the cart table leaves out and an observer of the measured ZMP would otherwise take
+    for a disturbance.
 
     Args:
         model: the design model (a free joint first), the IK's.

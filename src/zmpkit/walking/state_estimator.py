@@ -16,7 +16,7 @@ contact-weighted anchor offset
 over the feet in contact (world ``F_z`` at least the contact threshold; weighting by force
 makes the estimate continuous through double support). The ZMP follows from the wrenches
 rotated into the world, ``R_i f_i`` and ``R_i τ_i``, about ``\hat o_i``
-(:func:`zmpkit.sensors.zmp.zmp_in_world_now`). The CoM velocity is the finite difference of
+(:func:`zmpkit.sensors.zmp_now.zmp_in_world_now`). The CoM velocity is the finite difference of
 ``\hat c`` low-passed with time constant ``τ_v``:
 
 .. math:: \hat v \leftarrow \hat v + \frac{T}{τ_v + T}\left(\frac{\hat c_k - \hat c_{k-1}}{T}
@@ -55,7 +55,7 @@ from numpy.typing import NDArray
 
 from zmpkit import _validate
 from zmpkit.errors import ModelError
-from zmpkit.sensors.zmp import zmp_in_world_now
+from zmpkit.sensors.zmp_now import zmp_in_world_now
 from zmpkit.walking.measurement import WalkMeasurement
 
 __all__ = ["KinematicStateEstimator"]

@@ -47,18 +47,8 @@ humanoid robot Atlas", IROS 2017). Every control tick of a single support:
 The state estimator places the robot by the feet in contact, so it is given the adjusted
 feet.
 
-**How the defaults were chosen, and what they give** (the walking robot, all effects, seed 0).
-Tuning set: ``zmpip``'s 32 pushes of 10 and 20 N along ±x and ±y (10 fall without the
-adjustment). Falls of 32 with: the references re-planned every tick, 15 to 28; the exact
-LIPM capture (no ankle margin), 31; CoP margins (0.04, 0.015) m, 20–21, (0.06, 0.035) m, 12;
-the references re-planned at touchdown (kept), 10–11; the earliest capturing touchdown
-preferred to the latest, 32; the shortest swing 0.5, 0.7 or 1.0 of the planned one, 11 each;
-the swing's acceleration limited at 5 to 20 m/s², no net change on the seven pushes it
-moved. The trigger along the feet, 0.04 m, is set above the unpushed walk's rocking, not
-by pushes. Judged on the cases not used to choose (``zmpkit walk sweep --step-adjustment``):
-``zmpip``'s 30 N pushes 29 of 32 fall with and without it, its 20 N diagonal pushes 8 of 16
-without, 11 with; ``dcm`` (none of its cases chose) 54 of 116 without, 52 with. It is not on
-by default: it does not reduce the falls.
+The trigger, margins and timing limits are :class:`StepAdjustmentParameters`
+(:mod:`zmpkit.walking.step_adjustment_parameters`, with how their defaults were chosen).
 
 A tick allocates nothing: plan tables, reference views and buffers are made with the
 walk, a tick writes floats and runs ufuncs into them.
@@ -67,12 +57,10 @@ walk, a tick writes floats and runs ufuncs into them.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import NDArray
 
-from zmpkit import _validate
 from zmpkit.models.pendulum import STANDARD_GRAVITY_MPS2
 from zmpkit.walking.adjusted_swing import AdjustedSwing
 from zmpkit.walking.capture_step import double_support_factor, solve_capture
@@ -80,69 +68,13 @@ from zmpkit.walking.pattern import WalkingPattern
 from zmpkit.walking.planned_steps import PlannedStep, planned_steps
 from zmpkit.walking.replanned_dcm import ReplannedDcmReference
 from zmpkit.walking.replanned_zmp import ReplannedZmpReference
+from zmpkit.walking.step_adjustment_parameters import StepAdjustmentParameters
 from zmpkit.walking.step_events import NOT_CAPTURED, StepEvent
-from zmpkit.walking.step_reach import DEFAULT_REACH_MARGIN, StepReach
+from zmpkit.walking.step_reach import StepReach
 
 __all__ = ["NOT_CAPTURED", "StepAdjustment", "StepAdjustmentParameters", "StepEvent"]
 
 _MOVED_M = 1e-5  # a landing that moves less than this is not re-planned [m]
-
-
-@dataclass(frozen=True)
-class StepAdjustmentParameters:
-    """When and how far a feedback walk adjusts its steps (module docstring).
-
-    Attributes:
-        enabled: False walks the planned footsteps.
-        trigger_dcm_error_m: the DCM error (along, across the stance sole) beyond which a
-            step is adjusted [m].
-        cop_margin_m: m, the CoP shift left to the stance ankle (along, across) [m].
-        landing_margin_m: how far off its centre the new sole may take the DCM at the end of
-            the transfer (along, across) [m].
-        min_swing_fraction: the shortest swing, as a share of the planned one [-].
-        latest_trigger_fraction: a step is adjusted only if the DCM error passes the trigger
-            before this share of its swing (later, the next step is adjusted) [-].
-        min_remaining_s: a touchdown is never moved nearer than this, nor changed within
-            it [s].
-        reach_margin: ρ of :func:`~zmpkit.walking.step_reach.step_reach` [-].
-        max_swing_acceleration_mps2: a re-planned landing moves at most ``a D² / 5.77`` from
-            the current one, D the time left to touchdown (a quintic's peak acceleration: a
-            swing leg accelerated harder pushes the body the other way) [m/s²].
-        habit_rate: α, how fast the walk's own repeated DCM deviation is learned [-]; 0: not
-            learned.
-    """
-
-    enabled: bool = True
-    trigger_dcm_error_m: tuple[float, float] = (0.04, 0.02)
-    cop_margin_m: tuple[float, float] = (0.06, 0.035)
-    landing_margin_m: tuple[float, float] = (0.0, 0.0)
-    min_swing_fraction: float = 0.7
-    latest_trigger_fraction: float = 0.6
-    min_remaining_s: float = 0.05
-    reach_margin: float = DEFAULT_REACH_MARGIN
-    habit_rate: float = 0.25
-    max_swing_acceleration_mps2: float = 5.0
-
-    def __post_init__(self) -> None:
-        for name in ("trigger_dcm_error_m", "cop_margin_m", "landing_margin_m"):
-            for value in getattr(self, name):
-                _validate.non_negative(f"StepAdjustmentParameters.{name}", value, "m")
-        _validate.in_range(
-            "StepAdjustmentParameters.min_swing_fraction", self.min_swing_fraction, 0.05, 1.0
-        )
-        _validate.in_range(
-            "StepAdjustmentParameters.latest_trigger_fraction", self.latest_trigger_fraction,
-            0.0, 1.0,
-        )  # fmt: skip
-        _validate.non_negative(
-            "StepAdjustmentParameters.min_remaining_s", self.min_remaining_s, "s"
-        )
-        _validate.in_range("StepAdjustmentParameters.reach_margin", self.reach_margin, 1e-3, 1.0)
-        _validate.in_range("StepAdjustmentParameters.habit_rate", self.habit_rate, 0.0, 1.0)
-        _validate.positive(
-            "StepAdjustmentParameters.max_swing_acceleration_mps2",
-            self.max_swing_acceleration_mps2, "m/s²",
-        )  # fmt: skip
 
 
 def _clip(value: float, lo: float, hi: float) -> float:

@@ -5,8 +5,8 @@ measured ZMP. Two things in that measurement are not disturbances for it to figh
 
 - **the legs' own dynamics**: the multibody robot's ZMP differs from the cart table's on the
   planned motion itself (:func:`~zmpkit.walking.multibody_zmp.expected_zmp_offset`,
-  :math:`\Delta_k`; ±4 cm along x every step on a NAO at 0.2 m/s), which the design model
-  predicts before the walk starts;
+  :math:`\Delta_k`; ±4 cm along x every step on the default walking robot at 0.2 m/s),
+  which the design model predicts before the walk starts;
 - **landings**: a foot landing and rocking on stiff contacts moves the F-T ZMP by
   centimetres from one 10 ms frame to the next, faster than the CoM can answer.
 
@@ -16,13 +16,15 @@ low-pass at :data:`ZMP_FILTER_HZ`,
 :math:`\alpha = T / (T + 1 / (2\pi f_c))`, restarted at the first reading after a frame
 without contact (NaN, which it passes on).
 
-Measured on the rigid NAO (every effect off, 0.2 m/s, 0.5 s steps, 10 s), the closed-loop
-walk's step-frequency trunk oscillation against the open-loop walk's 0.0027 rad: 3.2 times
-reading the raw ZMP, 1.85 times less :math:`\Delta`, 1.04 times low-passed only, 0.67 times
-both. The cut-off was chosen on that one walk (10 Hz, before 5 and 2 Hz were tried: 0.0016
-and 0.0024 rad) and judged on the 116 cases of ``zmpkit walk sweep`` (all effects, seed 0),
-none of them used to choose it: the ZMP/IP walk's falls 47 → 39 (10 N pushes 2 → 0 of 32,
-20 N 16 → 10, 30 N 29 → 29), none unpushed before or after; less :math:`\Delta` alone, 43.
+Measured on the default walking robot, rigid (every effect off, 0.2 m/s, 0.5 s steps,
+10 s), the closed-loop walk's step-frequency trunk oscillation against the open-loop
+walk's 0.0027 rad: 3.2 times reading the raw ZMP, 1.85 times less :math:`\Delta`, 1.04
+times low-passed only, 0.67 times both. The cut-off was chosen on that one walk (10 Hz,
+before 5 and 2 Hz were tried: 0.0016 and 0.0024 rad) and judged on the 116 cases of
+``zmpkit walk sweep`` (all effects, seed 0), none of them used to choose it: the ZMP/IP
+walk's falls 47 → 39 (10 N pushes 2 → 0 of 32, 20 N 16 → 10, 30 N 29 → 29), none
+unpushed before or after; less :math:`\Delta` alone, 43. The same reading in the DCM walk's
+observer made 5 of its first 16 (unpushed) cases fall sideways: it reads the raw ZMP.
 """
 
 from __future__ import annotations

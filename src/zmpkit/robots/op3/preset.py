@@ -18,7 +18,7 @@ from pathlib import Path
 from zmpkit.errors import ParameterError
 from zmpkit.robots.op3 import fit_catalogue
 from zmpkit.robots.robot import FitSpec, Robot
-from zmpkit.robots.robot_file import read_robot_file
+from zmpkit.robots.robot_file_reader import read_robot_file
 from zmpkit.robots.user_robot import build_user_robot
 
 __all__ = [
