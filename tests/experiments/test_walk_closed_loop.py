@@ -132,7 +132,7 @@ def test_feedback_does_not_shake_a_rigid_robot() -> None:
     legs' own multibody ZMP and the feet's landings as disturbances)."""
     amplitude = {
         controller: run_walk_trial(
-            WalkConfig(controller=controller, effects="none", figures=False)
+            WalkConfig(NAO, controller=controller, effects="none", figures=False)
         ).summary.trunk_pitch_step_frequency_amplitude_rad
         for controller in ("open", "zmpip")
     }
