@@ -12,6 +12,12 @@ One :class:`RobustnessCase` is one walk that differs from the nominal one (0.2 m
   of the seventh step);
 - a sensor fault in the middle of the walk (:data:`~zmpkit.experiments.walk_disturbances.FAULTS`).
 
+Those are the figures for paper B's robot. On another robot the matrix is scaled
+(:func:`robustness_matrix`): every forward and sideways speed by the robot's walking speed
+over 0.2 m/s, every push by its mass over paper B's robot's (the same push per kilogram:
+the same change of CoM velocity), so that a small robot is not judged on walks and pushes
+beyond its size.
+
 :func:`run_case` walks it and reduces it to one :class:`RobustnessRow` (the columns of
 ``robustness.csv``). A fall is a fall: its metrics are None, never averaged.
 """
@@ -185,23 +191,38 @@ def _cell(value: object) -> str:
     return str(value)
 
 
-def robustness_matrix(controllers: tuple[str, ...]) -> list[RobustnessCase]:
-    """Every case of the module docstring for each controller (116 per controller)."""
+def robustness_matrix(
+    controllers: tuple[str, ...], speed_scale: float = 1.0, push_scale: float = 1.0
+) -> list[RobustnessCase]:
+    """Every case of the module docstring for each controller (116 per controller).
+
+    Args:
+        controllers: the walking controllers.
+        speed_scale: the robot's walking speed over :data:`NOMINAL_SPEED_MPS` [-]; it scales
+            every forward and sideways speed (rounded to 0.1 mm/s).
+        push_scale: the robot's mass over paper B's robot's [-]; it scales every push
+            (rounded to 0.01 N).
+    """
+    speed = [round(v * speed_scale, 4) for v in (0.05, 0.10, 0.15, 0.20, 0.25, 0.30)]
+    nominal = round(NOMINAL_SPEED_MPS * speed_scale, 4)
+    sideways = round(0.05 * speed_scale, 4)
+    forces = [round(f * push_scale, 2) for f in PUSH_FORCES_N]
     cases: list[RobustnessCase] = []
     for c in controllers:
-        cases += [RobustnessCase(c, speed_mps=v) for v in (0.05, 0.10, 0.15, 0.20, 0.25, 0.30)]
+        cases += [RobustnessCase(c, speed_mps=v) for v in speed]
         cases += [
-            RobustnessCase(c, step_duration_s=s) for s in (0.35, 0.40, 0.45, 0.55, 0.60, 0.70)
+            RobustnessCase(c, speed_mps=nominal, step_duration_s=s)
+            for s in (0.35, 0.40, 0.45, 0.55, 0.60, 0.70)
         ]
-        cases += [RobustnessCase(c, speed_mps=0.0, lateral_mps=v) for v in (0.05, -0.05)]
-        cases += [RobustnessCase(c, turn_rad_s=w) for w in (0.3, -0.3)]
+        cases += [RobustnessCase(c, speed_mps=0.0, lateral_mps=v) for v in (sideways, -sideways)]
+        cases += [RobustnessCase(c, speed_mps=nominal, turn_rad_s=w) for w in (0.3, -0.3)]
         cases += [
-            RobustnessCase(c, push_n=f, push_dir=d, push_phase=p)
-            for f in PUSH_FORCES_N
+            RobustnessCase(c, speed_mps=nominal, push_n=f, push_dir=d, push_phase=p)
+            for f in forces
             for d in PUSH_DIRECTIONS
             for p in PUSH_PHASES
         ]
-        cases += [RobustnessCase(c, fault=fault) for fault in FAULTS]
+        cases += [RobustnessCase(c, speed_mps=nominal, fault=fault) for fault in FAULTS]
     return cases
 
 

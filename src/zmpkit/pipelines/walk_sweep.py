@@ -32,7 +32,7 @@ from zmpkit.experiments.robustness import (
 )
 from zmpkit.pipelines.progress import StageCallback
 from zmpkit.robots.registry import DEFAULT_WALK_ROBOT, get_robot
-from zmpkit.robots.robot import Robot
+from zmpkit.robots.robot import DEFAULT_WALK_SPEED_MPS, Robot
 from zmpkit.sim.effect_set import EffectSet
 from zmpkit.walking.walk_controllers import CONTROLLERS
 
@@ -40,6 +40,11 @@ __all__ = ["SweepConfig", "SweepResult", "run_walk_sweep", "write_walk_sweep"]
 
 CSV_FILE = "robustness.csv"
 CONFIG_FILE = "sweep.json"
+
+
+def _mass_kg(robot: Robot) -> float:
+    """The robot's mass, its design model's [kg]."""
+    return float(robot.ik_model().body_subtreemass[0])
 
 
 @dataclass(frozen=True)
@@ -94,10 +99,19 @@ class SweepConfig:
         out = {f.name: getattr(self, f.name) for f in fields(self) if f.name not in skip}
         return {**out, "robot": self.robot.source}
 
+    def full_matrix(self) -> list[RobustnessCase]:
+        """The whole matrix, scaled to the robot's walking speed and mass.
+
+        Both against paper B's robot's (:func:`~zmpkit.experiments.robustness.robustness_matrix`).
+        """
+        reference = get_robot(DEFAULT_WALK_ROBOT, needs="walking")
+        speed_scale = self.robot.require_walking().speed_mps / DEFAULT_WALK_SPEED_MPS
+        push_scale = _mass_kg(self.robot) / _mass_kg(reference)
+        return robustness_matrix(self.controllers, speed_scale, push_scale)
+
     def matrix(self) -> list[RobustnessCase]:
         """The cases this sweep walks: the matrix, or those whose label holds ``cases``."""
-        cases = robustness_matrix(self.controllers)
-        return [c for c in cases if self.cases in c.label]
+        return [c for c in self.full_matrix() if self.cases in c.label]
 
 
 @dataclass(frozen=True)
@@ -202,7 +216,7 @@ def run_walk_sweep(
             finished += 1
             if progress is not None:
                 progress("walks", finished, len(cases))
-    every = robustness_matrix(config.controllers)  # the report shows every finished case
+    every = config.full_matrix()  # the report shows every finished case
     rows = tuple(done[c.key] for c in every if c.key in done)
     return SweepResult(config, rows, {"robustness": path}, started_s)
 
