@@ -195,6 +195,8 @@ def identify_sim_command(
         raise click.exceptions.Exit(130) from None
     for name, value in result.fitted.items():
         click.echo(f"{name} = {value:.6g}")
+    if result.adequacy is not None:
+        click.echo(result.adequacy.verdict)
     if "recovery" in result.files:
         click.echo(f"recovery: {result.files['recovery']}")
     click.echo(f"fitted truth: {Path(out_dir) / 'fitted_truth.yaml'} (best cost {result.cost:.4g})")

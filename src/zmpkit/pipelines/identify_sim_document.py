@@ -58,6 +58,15 @@ def identify_sim_document(result: IdentifySimResult) -> ReportDocument:
         )
         for i in result.identifiability
     ]
+    adequacy = result.adequacy
+    if adequacy is not None:
+        explains = adequacy.explains
+        name = "the model explains the data"
+        if explains is None:
+            checks.append(Check(name, "undefined", adequacy.verdict))
+        else:
+            checks.append(Check(name, "met" if explains else "missed", adequacy.verdict))
+    precise = adequacy is None or adequacy.explains is not False
     units = {p.name: p.unit for p in result.parameters}
     parameters = Table(
         ("parameter", "fitted", "unit", "bounds", "identifiable"),
@@ -71,7 +80,13 @@ def identify_sim_document(result: IdentifySimResult) -> ReportDocument:
             )
             for p, i in zip(result.parameters, result.identifiability, strict=True)
         ),
-        f"The fitted parameters (best cost {result.cost:.4g}).",
+        f"The fitted parameters (best cost {result.cost:.4g})."
+        + (
+            ""
+            if precise
+            else " The model does not explain the data: the resolutions say how the misfit "
+            "moves, not how precisely the robot's values are known."
+        ),
     )
     blocks: list = [parameters]
     if result.sloppy_directions:
@@ -106,7 +121,9 @@ def identify_sim_document(result: IdentifySimResult) -> ReportDocument:
         summary=(
             f"CMA-ES fit of the {c.effects} effects' parameters (paper B §II) to {data}, "
             f"reading only commanded angles, encoders, F-T ZMP and IMU; held out: "
-            f"{', '.join(c.held_out) or 'none'}."
+            f"{', '.join(c.held_out) or 'none'}; simulated effects "
+            f"{result.sim_effects or c.sim_effects}."
+            + ("" if adequacy is None else f" Verdict: {adequacy.verdict}.")
         ),
         checks=tuple(checks),
         sections=(
