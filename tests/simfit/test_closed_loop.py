@@ -210,3 +210,27 @@ def test_simulated_effects_add_what_the_walks_ran(zmpip_walk: Path) -> None:
     assert simulated_effects("M,S", experiments) == "M,G,S"
     assert simulated_effects("M,I,G,F,S", experiments) == "all"
     assert simulated_effects("M,G", []) == "M,G"
+
+
+@pytest.mark.slow
+def test_identify_sim_fits_a_zmpip_walk_with_no_flag_and_states_its_verdict(
+    zmpip_walk: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """The default walk, fitted with the default backend: intervals and a verdict written."""
+    import yaml
+
+    from zmpkit.cli.app import main
+
+    out = tmp_path / "fit"
+    argv = ["identify", "sim", str(zmpip_walk), "--robot", "nao", "--quick"]
+    code = main([*argv, "--generations", "2", "--out", str(out), "--report", "md"])
+    assert code == 0
+    printed = capsys.readouterr().out
+    assert "the model explains the data" in printed or "does not explain" in printed
+    doc = yaml.safe_load((out / "fitted_parameters.yaml").read_text())
+    assert doc["effects"] == "M,G,S"
+    assert set(doc["adequacy"]) >= {"explains_data", "noise_floor", "best_cost", "verdict"}
+    for entry in doc["parameters"].values():
+        assert "interval_95" in entry
+        assert "resolution_is_precision" in entry
+    assert "the model explains the data" in (out / "report.md").read_text()

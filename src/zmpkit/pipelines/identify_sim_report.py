@@ -17,6 +17,7 @@ from zmpkit.simfit import outputs
 from zmpkit.simfit.adequacy import Adequacy
 from zmpkit.simfit.experiments import Experiment
 from zmpkit.simfit.identifiability import Identifiability
+from zmpkit.simfit.noise_intervals import NoiseInterval
 from zmpkit.simfit.optimizer import CmaResult
 from zmpkit.simfit.problem import FitProblem, simulate
 from zmpkit.simfit.validation import ReproductionCheck, reproduction_check
@@ -57,6 +58,7 @@ def write_fit_files(
     out: Path,
     figures: bool = True,
     adequacy: Adequacy | None = None,
+    intervals: tuple[NoiseInterval, ...] = (),
 ) -> dict[str, Path]:
     """Write the fit's files into ``out`` and return them by role.
 
@@ -77,6 +79,7 @@ def write_fit_files(
             params,
             judged.parameters,
             adequacy,
+            intervals,
         ),
         "history": outputs.write_history_csv(out / outputs.HISTORY_CSV, cma_result.history, params),
         "identifiability": outputs.write_identifiability_csv(

@@ -53,6 +53,7 @@ __all__ = [
     "Adequacy",
     "lag1_autocorrelation",
     "model_adequacy",
+    "replica_recordings",
 ]
 
 ADEQUACY_REPLICAS = 4
@@ -165,32 +166,52 @@ def _lag1(recorded: list[RecordedSignals], fitted: list[RecordedSignals]) -> flo
     return float(np.mean(finite)) if finite else math.nan
 
 
-def model_adequacy(
+def replica_recordings(
     problem: FitProblem, values: NDArray[np.float64], replicas: int = ADEQUACY_REPLICAS
-) -> Adequacy:
-    """The model-adequacy check of the fit at ``values`` [units] (module docstring).
+) -> list[list[RecordedSignals]]:
+    """The fitted model's replicas of every experiment (module docstring, step 2).
 
-    Runs ``1 + replicas`` rollouts of every experiment, in this process.
+    Returns:
+        Per replica that completed every experiment, its signals per experiment (a replica
+        that fell or diverged in one is left out).
     """
     vals = np.asarray(values, dtype=float).tolist()
-    n = len(problem.experiments)
-    fitted = [simulate(problem, vals, e) for e in range(n)]
-    recorded = [x.signals for x in problem.experiments]
-    best = _mean_cost(problem, recorded, fitted)
-    doc = truth_doc_with(problem.base_doc, problem.parameters, vals)
-    truth = load_robot_truth(problem.robot, doc)
-    costs, lags = [], []
+    truth = load_robot_truth(
+        problem.robot, truth_doc_with(problem.base_doc, problem.parameters, vals)
+    )
+    out = []
     for k in range(replicas):
         replica = [
             simulate_experiment(x, truth, problem.sim_effects, noise_seed=REPLICA_SEED + k)
             for x in problem.experiments
         ]
-        short = [r.time_s.size < x.time_s.size for r, x in zip(replica, recorded, strict=True)]
-        if any(short):
-            continue  # this replica fell or diverged: no repetition of the experiment
-        costs.append(_mean_cost(problem, replica, fitted))
-        lags.append(_lag1(replica, fitted))
+        recorded = [x.signals for x in problem.experiments]
+        if all(r.time_s.size >= x.time_s.size for r, x in zip(replica, recorded, strict=True)):
+            out.append(replica)
+    return out
+
+
+def model_adequacy(
+    problem: FitProblem,
+    values: NDArray[np.float64],
+    replicas: int = ADEQUACY_REPLICAS,
+    recordings: list[list[RecordedSignals]] | None = None,
+) -> Adequacy:
+    """The model-adequacy check of the fit at ``values`` [units] (module docstring).
+
+    Runs ``1 + replicas`` rollouts of every experiment in this process (1 with
+    ``recordings``: the replicas of :func:`replica_recordings`, already made).
+    """
+    vals = np.asarray(values, dtype=float).tolist()
+    fitted = [simulate(problem, vals, e) for e in range(len(problem.experiments))]
+    recorded = [x.signals for x in problem.experiments]
+    best = _mean_cost(problem, recorded, fitted)
+    if recordings is None:
+        recordings = replica_recordings(problem, values, replicas)
+    costs = [_mean_cost(problem, replica, fitted) for replica in recordings]
+    lags = [_lag1(replica, fitted) for replica in recordings]
     floor = float(np.mean(costs)) if costs else math.nan
     spread = float(np.std(costs, ddof=1)) if len(costs) > 1 else math.nan
-    floor_lag = float(np.nanmean(lags)) if lags and not np.all(np.isnan(lags)) else math.nan
+    finite = [v for v in lags if math.isfinite(v)]
+    floor_lag = float(np.mean(finite)) if finite else math.nan
     return Adequacy(best, floor, spread, len(costs), _lag1(recorded, fitted), floor_lag)
