@@ -28,3 +28,36 @@ def record_walk(out: Path) -> Path:
     plan = SelfTestPlan((WALK,), ())
     fit, _ = record_experiments("nao", plan, doc, params, truth, "M,G", SEED, out)
     return fit[0]
+
+
+def record_feedback_walk(
+    out: Path, controller: str = "zmpip", speed_mps: float = 0.2, seed: int = 3
+) -> Path:
+    """Record one short walk of the shipped virtual NAO (M, G, S) with a feedback controller.
+
+    Written as ``zmpkit walk`` writes it (``summary.json`` + ``timeseries.csv``).
+    """
+    from zmpkit.experiments.walk import run_walk_trial
+    from zmpkit.experiments.walk_config import WalkConfig
+    from zmpkit.experiments.walk_dataset import (
+        SERIES_FILE,
+        SUMMARY_FILE,
+        write_series,
+        write_summary,
+    )
+    from zmpkit.robots.registry import get_robot
+
+    config = WalkConfig(
+        robot=get_robot("nao"),
+        speed_mps=speed_mps,
+        duration_s=WALK[1],
+        effects="M,G,S",
+        seed=seed,
+        figures=False,
+        controller=controller,
+    )
+    trial = run_walk_trial(config)
+    out.mkdir(parents=True, exist_ok=True)
+    write_summary(out / SUMMARY_FILE, trial.summary)
+    write_series(out / SERIES_FILE, trial.pattern, trial.record)
+    return out

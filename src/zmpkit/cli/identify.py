@@ -193,8 +193,18 @@ def identify_sim_command(
     except FitInterruptedError as exc:  # Ctrl-C: every finished generation is checkpointed
         click.echo(f"zmpkit: {exc}", err=True)
         raise click.exceptions.Exit(130) from None
+    intervals = {i.name: i for i in result.intervals}
     for name, value in result.fitted.items():
-        click.echo(f"{name} = {value:.6g}")
+        interval = intervals.get(name)
+        if interval is None or interval.half_width != interval.half_width:  # NaN: unmeasured
+            click.echo(f"{name} = {value:.6g}")
+        else:
+            click.echo(
+                f"{name} = {value:.6g}, 95 % interval [{interval.lower:.6g}, "
+                f"{interval.upper:.6g}] (±{100 * interval.half_width:.2g} %)"
+            )
+    if result.adequacy is not None:
+        click.echo(result.adequacy.verdict)
     if "recovery" in result.files:
         click.echo(f"recovery: {result.files['recovery']}")
     click.echo(f"fitted truth: {Path(out_dir) / 'fitted_truth.yaml'} (best cost {result.cost:.4g})")

@@ -25,12 +25,14 @@ import numpy as np
 from zmpkit.errors import ParameterError
 from zmpkit.pipelines.identify_sim_report import reproduction_checks, write_fit_files
 from zmpkit.robots.registry import DEFAULT_FIT_ROBOT, get_robot
+from zmpkit.simfit.adequacy import Adequacy, model_adequacy, replica_recordings
 from zmpkit.simfit.backends import BACKENDS, DEFAULT_WORKERS, make_evaluator
 from zmpkit.simfit.checkpoint import load_checkpoint
 from zmpkit.simfit.cost import CostWeights
 from zmpkit.simfit.cost_hessian import CostDirection
-from zmpkit.simfit.experiments import Experiment, read_experiments
+from zmpkit.simfit.experiments import Experiment, read_experiments, simulated_effects
 from zmpkit.simfit.identifiability import ParameterIdentifiability, identifiability
+from zmpkit.simfit.noise_intervals import NoiseInterval, noise_intervals
 from zmpkit.simfit.optimizer import (
     MAX_POPSIZE,
     MAX_RESTARTS,
@@ -227,6 +229,13 @@ class IdentifySimResult:
         started_s: when the run started [s since the epoch].
         sloppy_directions: combinations of parameters the data leave loose (coarser than
             :data:`~zmpkit.simfit.identifiability.IDENTIFIABLE_WITHIN`), loosest first.
+        adequacy: whether the fitted model explains the data (best cost against the noise
+            floor, residual structure: :mod:`~zmpkit.simfit.adequacy`); None if not checked.
+        intervals: per parameter, the 95 % interval the data's noise leaves
+            (:mod:`~zmpkit.simfit.noise_intervals`); a precision only when the model
+            explains the data.
+        sim_effects: the effects the simulator ran: the fitted ones and those the recorded
+            walks ran with (:func:`~zmpkit.simfit.experiments.simulated_effects`).
     """
 
     config: IdentifySimConfig
@@ -241,6 +250,9 @@ class IdentifySimResult:
     files: dict[str, Path] = field(default_factory=dict)
     started_s: float = field(default_factory=time.time)
     sloppy_directions: tuple[CostDirection, ...] = ()
+    adequacy: Adequacy | None = None
+    sim_effects: str = ""
+    intervals: tuple[NoiseInterval, ...] = ()
 
 
 def _experiments(
@@ -300,7 +312,7 @@ def run_identify_sim(
     fit_exps, held_exps, truth = recorded or _experiments(config, base_doc, params, out)
     problem = FitProblem(
         config.robot,
-        config.sim_effects,
+        simulated_effects(config.sim_effects, [*fit_exps, *held_exps]),
         params,
         base_doc,
         tuple(fit_exps),
@@ -318,6 +330,9 @@ def run_identify_sim(
         )
     finally:
         evaluator.close()
+    replicas = replica_recordings(problem, cma_result.best_values)
+    adequacy = model_adequacy(problem, cma_result.best_values, recordings=replicas)
+    intervals = noise_intervals(problem, cma_result.best_values, judged.hessian, replicas)
     figures = out if config.figures else None
     fit_checks, fit_files = reproduction_checks(problem, fit_exps, cma_result.best_values, figures)
     held_checks, held_files = reproduction_checks(
@@ -325,7 +340,14 @@ def run_identify_sim(
     )
     ident = judged.parameters
     files = write_fit_files(
-        problem, cma_result, judged, (fit_checks, held_checks), out, config.figures
+        problem,
+        cma_result,
+        judged,
+        (fit_checks, held_checks),
+        out,
+        config.figures,
+        adequacy,
+        intervals,
     )
     files |= fit_files | held_files
     recovery: tuple[RecoveryRow, ...] = ()
@@ -348,4 +370,7 @@ def run_identify_sim(
         files,
         started_s,
         judged.sloppy,
+        adequacy,
+        problem.sim_effects,
+        intervals,
     )

@@ -25,6 +25,7 @@ from zmpkit.analysis.report_document import (
 from zmpkit.analysis.report_files import write_report
 from zmpkit.pipelines.identify_sim import IdentifySimResult
 from zmpkit.robots.registry import get_robot
+from zmpkit.simfit.noise_intervals import NoiseInterval
 from zmpkit.simfit.validation import AMPLITUDE_TOLERANCE, FREQUENCY_TOLERANCE_HZ, ReproductionCheck
 
 __all__ = ["identify_sim_document", "write_identify_sim_report"]
@@ -58,20 +59,37 @@ def identify_sim_document(result: IdentifySimResult) -> ReportDocument:
         )
         for i in result.identifiability
     ]
+    adequacy = result.adequacy
+    if adequacy is not None:
+        explains = adequacy.explains
+        name = "the model explains the data"
+        if explains is None:
+            checks.append(Check(name, "undefined", adequacy.verdict))
+        else:
+            checks.append(Check(name, "met" if explains else "missed", adequacy.verdict))
+    precise = adequacy is None or adequacy.explains is not False
     units = {p.name: p.unit for p in result.parameters}
+    intervals = {i.name: i for i in result.intervals}
     parameters = Table(
-        ("parameter", "fitted", "unit", "bounds", "identifiable"),
+        ("parameter", "fitted", "unit", "95 % interval (noise)", "bounds", "identifiable"),
         tuple(
             (
                 p.name,
                 f"{result.fitted[p.name]:.5g}",
                 p.unit,
+                _interval(intervals.get(p.name)),
                 f"{p.lower:.4g} … {p.upper:.4g}",
                 "yes" if i.identifiable else "no",
             )
             for p, i in zip(result.parameters, result.identifiability, strict=True)
         ),
-        f"The fitted parameters (best cost {result.cost:.4g}).",
+        f"The fitted parameters (best cost {result.cost:.4g})."
+        + (
+            ""
+            if precise
+            else " The model does not explain the data: the intervals and resolutions say how "
+            "the misfit moves, not how precisely the robot's values are known."
+        ),
     )
     blocks: list = [parameters]
     if result.sloppy_directions:
@@ -106,7 +124,9 @@ def identify_sim_document(result: IdentifySimResult) -> ReportDocument:
         summary=(
             f"CMA-ES fit of the {c.effects} effects' parameters (paper B §II) to {data}, "
             f"reading only commanded angles, encoders, F-T ZMP and IMU; held out: "
-            f"{', '.join(c.held_out) or 'none'}."
+            f"{', '.join(c.held_out) or 'none'}; simulated effects "
+            f"{result.sim_effects or c.sim_effects}."
+            + ("" if adequacy is None else f" Verdict: {adequacy.verdict}.")
         ),
         checks=tuple(checks),
         sections=(
@@ -134,6 +154,12 @@ def identify_sim_document(result: IdentifySimResult) -> ReportDocument:
             extra=(("backend", c.backend), ("generations", str(len(result.cma.history)))),
         ),
     )
+
+
+def _interval(interval: NoiseInterval | None) -> str:
+    if interval is None or not math.isfinite(interval.half_width):
+        return "not measured"
+    return f"{interval.lower:.5g} … {interval.upper:.5g} (±{_pct(interval.half_width)})"
 
 
 def _pct(fraction: float) -> str:

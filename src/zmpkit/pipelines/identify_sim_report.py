@@ -14,8 +14,10 @@ import numpy as np
 
 from zmpkit.analysis.simfit_plots import plot_cost_history, plot_signal_fit
 from zmpkit.simfit import outputs
+from zmpkit.simfit.adequacy import Adequacy
 from zmpkit.simfit.experiments import Experiment
 from zmpkit.simfit.identifiability import Identifiability
+from zmpkit.simfit.noise_intervals import NoiseInterval
 from zmpkit.simfit.optimizer import CmaResult
 from zmpkit.simfit.problem import FitProblem, simulate
 from zmpkit.simfit.validation import ReproductionCheck, reproduction_check
@@ -34,6 +36,7 @@ def reproduction_checks(
         problem.base_doc,
         tuple(experiments),
         problem.weights,
+        problem.sensor_readings,
     )
     checks, files = [], {}
     for i, experiment in enumerate(experiments):
@@ -54,11 +57,13 @@ def write_fit_files(
     checks: tuple,
     out: Path,
     figures: bool = True,
+    adequacy: Adequacy | None = None,
+    intervals: tuple[NoiseInterval, ...] = (),
 ) -> dict[str, Path]:
     """Write the fit's files into ``out`` and return them by role.
 
-    The files are the fitted truth, parameters, history, identifiability, loose directions
-    and reproduction tables and the cost-history figure.
+    The files are the fitted truth, parameters (with the model-adequacy check), history,
+    identifiability, loose directions and reproduction tables and the cost-history figure.
     """
     params, best = problem.parameters, cma_result.best_values
     source = ", ".join(e.name for e in problem.experiments)
@@ -73,6 +78,8 @@ def write_fit_files(
             cma_result.best_cost,
             params,
             judged.parameters,
+            adequacy,
+            intervals,
         ),
         "history": outputs.write_history_csv(out / outputs.HISTORY_CSV, cma_result.history, params),
         "identifiability": outputs.write_identifiability_csv(

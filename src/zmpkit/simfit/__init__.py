@@ -7,11 +7,14 @@ physical robot." One concept per module:
   robot and effect letter;
 - :mod:`~zmpkit.simfit.truth_doc`: the truth YAML edited by path, written back;
 - :mod:`~zmpkit.simfit.experiments`: recorded experiments and their folders;
-- :mod:`~zmpkit.simfit.walk_plan`: a walk's commanded trajectory, re-planned;
+- :mod:`~zmpkit.simfit.walk_plan`: a walk's commanded trajectory, re-planned (a fallen
+  walk's up to its fall);
+- :mod:`~zmpkit.simfit.closed_loop`: a walk of a feedback controller, re-simulated with it;
 - :mod:`~zmpkit.simfit.rollout`: replay an experiment on the simulator;
 - :mod:`~zmpkit.simfit.cost`: the normalised cost terms;
 - :mod:`~zmpkit.simfit.problem`: the problem as data, one evaluation;
-- :mod:`~zmpkit.simfit.backends`: serial, local process pool, Ray;
+- :mod:`~zmpkit.simfit.backends`: serial, local batches, process pool
+  (:mod:`~zmpkit.simfit.pool_backend`), Ray, Warp;
 - :mod:`~zmpkit.simfit.checkpoint`: CMA-ES state and history on disk, as data (JSON and
   ``.npz``, no pickle): :mod:`~zmpkit.simfit.checkpoint_data` (arrays, random generators),
   :mod:`~zmpkit.simfit.checkpoint_history` (the generations),
@@ -20,6 +23,9 @@ physical robot." One concept per module:
 - :mod:`~zmpkit.simfit.optimizer`: the CMA-ES loop with resume;
 - :mod:`~zmpkit.simfit.cost_hessian`: the cost's Hessian, marginal resolutions, loose directions;
 - :mod:`~zmpkit.simfit.identifiability`: profile, marginal resolution and CMA-ES spread;
+- :mod:`~zmpkit.simfit.adequacy`: does the model explain the data (best cost against the
+  noise floor, residual structure);
+- :mod:`~zmpkit.simfit.noise_intervals`: 95 % intervals the data's noise leaves;
 - :mod:`~zmpkit.simfit.validation`: trunk oscillation and joint error checks;
 - :mod:`~zmpkit.simfit.self_test`: hidden perturbed truth, recording, recovery;
 - :mod:`~zmpkit.simfit.outputs`: the files of a fit.

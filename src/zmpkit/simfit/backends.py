@@ -4,16 +4,21 @@ Every backend takes a list of candidate parameter vectors and returns, per candi
 :class:`~zmpkit.simfit.cost.CostTerms` of every experiment; the work is split into
 one task per (candidate, experiment) pair.
 
-- ``"local"`` (default): this machine, ``workers`` cores. Every experiment is open loop, so
-  a generation runs as MuJoCo thread-pool batches in this process
+- ``"local"`` (default): this machine, ``workers`` cores. The open-loop experiments of a
+  generation run as MuJoCo thread-pool batches in this process
   (:class:`~zmpkit.simfit.batch_backend.BatchEvaluator`): all candidates of an
-  experiment in one batch, no Python per physics step.
+  experiment in one batch, no Python per physics step. Walks re-simulated with their
+  feedback controller (:mod:`~zmpkit.simfit.closed_loop`: Python at every motion frame)
+  run on a process pool of ``workers`` processes beside them
+  (:class:`~zmpkit.simfit.pool_backend.RoutedEvaluator`).
 - ``"pool"``: a ``spawn`` process pool of ``workers`` processes, one rollout per task on the
   serial path; each worker gets the problem once, ignores Ctrl-C (the parent handles it and
   shuts the pool down).
 - ``"serial"``: this process, one rollout at a time (benchmarks, debugging).
 - ``"warp"``: the local batches on MuJoCo Warp, on its default device (a GPU where there is
-  one; ``pip install 'zmpkit[gpu]'``): float32 physics, models with the M effect on.
+  one; ``pip install 'zmpkit[gpu]'``): float32 physics, models with the M effect on;
+  open-loop experiments only — it refuses a walk re-simulated in closed loop (the GPU would
+  wait on Python controllers: use ``local``).
 - ``"ray"``: tasks on a Ray cluster (``pip install zmpkit[ray]``). Start the head node on
   one machine and let the others join it::
 
@@ -40,19 +45,24 @@ one task per (candidate, experiment) pair.
 from __future__ import annotations
 
 import logging
-import multiprocessing
-import signal
 import socket
 from collections.abc import Sequence
-from concurrent.futures import ProcessPoolExecutor
 from typing import Protocol
 
 import numpy as np
 
 from zmpkit.errors import ParameterError
 from zmpkit.simfit.batch_backend import BatchEvaluator
-from zmpkit.simfit.cost import CostTerms
+from zmpkit.simfit.open_loop import is_open_loop
 from zmpkit.simfit.parameters import ParameterValues
+from zmpkit.simfit.pool_backend import (
+    DEFAULT_WORKERS,
+    Costs,
+    LocalPoolEvaluator,
+    RoutedEvaluator,
+    pairs,
+    regroup,
+)
 from zmpkit.simfit.problem import FitProblem, evaluate
 
 __all__ = [
@@ -68,10 +78,6 @@ __all__ = [
 
 BACKENDS: tuple[str, ...] = ("local", "pool", "serial", "ray", "warp")
 """Valid backend names."""
-DEFAULT_WORKERS = 2
-"""Threads of the local batch, or processes of the pool."""
-
-Costs = list[list[CostTerms]]
 
 
 class Evaluator(Protocol):
@@ -86,15 +92,6 @@ class Evaluator(Protocol):
         ...
 
 
-def _pairs(problem: FitProblem, candidates: Sequence[ParameterValues]) -> list[tuple[int, int]]:
-    return [(c, e) for c in range(len(candidates)) for e in range(len(problem.experiments))]
-
-
-def _regroup(flat: Sequence[CostTerms], n_candidates: int) -> Costs:
-    per = len(flat) // max(n_candidates, 1)
-    return [list(flat[c * per : (c + 1) * per]) for c in range(n_candidates)]
-
-
 class SerialEvaluator:
     """Runs every rollout in this process."""
 
@@ -104,52 +101,12 @@ class SerialEvaluator:
     def costs(self, candidates: Sequence[ParameterValues]) -> Costs:
         """Cost terms per candidate and experiment."""
         flat = [
-            evaluate(self.problem, candidates[c], e) for c, e in _pairs(self.problem, candidates)
+            evaluate(self.problem, candidates[c], e) for c, e in pairs(self.problem, candidates)
         ]
-        return _regroup(flat, len(candidates))
+        return regroup(flat, len(candidates))
 
     def close(self) -> None:
         """Nothing to release."""
-
-
-_WORKER_PROBLEM: FitProblem | None = None
-
-
-def _init_worker(problem: FitProblem) -> None:
-    global _WORKER_PROBLEM
-    _WORKER_PROBLEM = problem
-    signal.signal(signal.SIGINT, signal.SIG_IGN)
-
-
-def _worker_task(values: list[float], index: int) -> CostTerms:
-    assert _WORKER_PROBLEM is not None
-    return evaluate(_WORKER_PROBLEM, values, index)
-
-
-class LocalPoolEvaluator:
-    """A ``spawn`` process pool; each worker holds the problem."""
-
-    def __init__(self, problem: FitProblem, workers: int = DEFAULT_WORKERS) -> None:
-        if isinstance(workers, bool) or not isinstance(workers, int) or workers < 1:
-            raise ParameterError(f"workers must be an integer >= 1, got {workers!r}")
-        self.problem = problem
-        context = multiprocessing.get_context("spawn")
-        self._pool = ProcessPoolExecutor(
-            workers, mp_context=context, initializer=_init_worker, initargs=(problem,)
-        )
-
-    def costs(self, candidates: Sequence[ParameterValues]) -> Costs:
-        """Cost terms per candidate and experiment."""
-        pairs = _pairs(self.problem, candidates)
-        futures = [
-            self._pool.submit(_worker_task, np.asarray(candidates[c], float).tolist(), e)
-            for c, e in pairs
-        ]
-        return _regroup([f.result() for f in futures], len(candidates))
-
-    def close(self) -> None:
-        """Stop the workers (pending tasks are cancelled)."""
-        self._pool.shutdown(wait=True, cancel_futures=True)
 
 
 def _ray_module():
@@ -230,10 +187,10 @@ class RayEvaluator:
             raise ParameterError("this RayEvaluator is closed; make a new one")
         refs = [
             self._task.remote(self._problem_ref, np.asarray(candidates[c], float).tolist(), e)
-            for c, e in _pairs(self.problem, candidates)
+            for c, e in pairs(self.problem, candidates)
         ]
         try:
-            return _regroup(self._ray.get(refs), len(candidates))
+            return regroup(self._ray.get(refs), len(candidates))
         except KeyboardInterrupt:
             for ref in refs:
                 self._ray.cancel(ref)
@@ -252,6 +209,15 @@ class RayEvaluator:
         self._owns_ray = False
 
 
+def _refuse_closed_loop(problem: FitProblem) -> None:
+    closed = [e.name for e in problem.experiments if not is_open_loop(e)]
+    if closed:
+        raise ParameterError(
+            f"backend 'warp' replays open-loop experiments only; {closed[0]} walked with a "
+            "feedback controller, re-simulated in closed loop on the CPU: use --backend local"
+        )
+
+
 def make_evaluator(
     problem: FitProblem, backend: str, workers: int = DEFAULT_WORKERS, address: str | None = None
 ) -> Evaluator:
@@ -263,7 +229,9 @@ def make_evaluator(
     if backend == "serial":
         return SerialEvaluator(problem)
     if backend == "local":
-        return BatchEvaluator(problem, workers)
+        if all(is_open_loop(e) for e in problem.experiments):
+            return BatchEvaluator(problem, workers)
+        return RoutedEvaluator(problem, workers)
     if backend == "pool":
         return LocalPoolEvaluator(problem, workers)
     if backend == "warp":
@@ -274,6 +242,7 @@ def make_evaluator(
                 "backend 'warp' needs MuJoCo Warp, which is not installed: "
                 "pip install 'zmpkit[gpu]' (or use backend 'local', MuJoCo's CPU threads)"
             ) from None
+        _refuse_closed_loop(problem)
         return BatchEvaluator(problem, workers, warp_device="")
     if backend == "ray":
         return RayEvaluator(problem, address)

@@ -8,8 +8,12 @@ from the IMU. Every experiment names its robot. Two kinds of experiment:
   (:mod:`zmpkit.experiments.walk_dataset`): ``summary.json`` and ``timeseries.csv``. The
   CSV holds the commanded angles of the six pitch joints only; the whole commanded
   trajectory is re-planned from the walk's command (speed, step duration, duration, CoM
-  height), which a user knows because they commanded it, and checked against the recorded
-  commanded angles. A walk that fell is refused.
+  height), which a user knows because they commanded it (:mod:`~zmpkit.simfit.walk_plan`).
+  A walk played open loop is checked against its recorded commanded angles and replayed
+  from the plan; a walk with one of zmpkit's feedback controllers (the default ``zmpip``,
+  ``dcm``) is checked against its recorded plan (ZMP reference and CoM) and re-simulated
+  with its controller in closed loop (:mod:`~zmpkit.simfit.closed_loop`). A walk that fell
+  is kept up to shortly before the fall (:data:`~zmpkit.simfit.walk_plan.FALL_MARGIN_S`).
 - :class:`StepExperiment` — one trial of a step dataset
   (:func:`~zmpkit.experiments.read_step_dataset`): the commanded setpoints of every joint are
   in the trial CSV; the robot stands ``settle_s`` before the recording starts.
@@ -22,20 +26,23 @@ from __future__ import annotations
 
 import json
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import astuple, dataclass, replace
 from pathlib import Path
 
 import numpy as np
 from numpy.typing import NDArray
 
-from zmpkit.errors import InputFileError, ZmpkitError
+from zmpkit.errors import InputFileError, ParameterError, ZmpkitError
 from zmpkit.experiments import read_step_dataset
 from zmpkit.experiments.walk_dataset import PITCH_JOINTS, SERIES_FILE, SUMMARY_FILE, read_series
 from zmpkit.robots.registry import get_robot
 from zmpkit.sensors import CONTACT_FORCE_THRESHOLD_N, zmp_series
 from zmpkit.sensors.imu import tilt_from_quaternions
+from zmpkit.sim.effect_set import EffectSet
+from zmpkit.simfit.closed_loop import WalkSettings
 from zmpkit.simfit.recorded import RecordedSignals
-from zmpkit.simfit.walk_plan import match_walk_plan
+from zmpkit.simfit.walk_plan import match_closed_loop_plan, match_walk_plan
+from zmpkit.walking.walk_controllers import CONTROLLERS
 
 __all__ = [
     "Experiment",
@@ -43,6 +50,7 @@ __all__ = [
     "WalkExperiment",
     "read_experiments",
     "read_walk_folder",
+    "simulated_effects",
 ]
 
 
@@ -56,8 +64,12 @@ class WalkExperiment:
         step_duration_s: step duration [s].
         duration_s: walking time of the pattern [s].
         com_height_m: CoM height of the pattern [m].
-        signals: the recording.
+        signals: the recording (a fallen walk's up to shortly before the fall).
         robot: the robot that walked (registry name or ``robot.yaml`` path).
+        closed_loop: what the walk ran when a feedback controller walked it (re-simulated
+            in closed loop); None for a walk played open loop.
+        fall_time_s: when the recorded walk fell [s], or None.
+        effects: the effects the walk ran with (``summary.json``), or None if unknown.
     """
 
     name: str
@@ -67,6 +79,9 @@ class WalkExperiment:
     com_height_m: float
     signals: RecordedSignals
     robot: str
+    closed_loop: WalkSettings | None = None
+    fall_time_s: float | None = None
+    effects: str | None = None
 
 
 @dataclass(frozen=True, eq=False)
@@ -106,11 +121,38 @@ def _read_summary(folder: Path) -> dict:
     for key in ("fell", "commanded_speed_mps", "step_frequency_hz"):
         if key not in summary:
             raise InputFileError(path, f"missing field '{key}' of a zmpkit walk summary")
-    if summary["fell"]:
-        fall_s = summary.get("fall_time_s")
-        when = f" at {fall_s:.2f} s" if isinstance(fall_s, int | float) else ""
-        raise InputFileError(path, f"the walk fell{when}; fit to complete walks only")
+    controller = summary.get("controller", "open")
+    if controller not in CONTROLLERS:
+        raise InputFileError(
+            path,
+            f"controller {controller!r} is not one of zmpkit's ({', '.join(CONTROLLERS)})",
+            column="controller",
+        )
     return summary
+
+
+def _walk_settings(
+    summary: dict, robot: str, speed: float, step_s: float, effects: str
+) -> WalkSettings:
+    """What a walk with feedback ran, from its summary (``duration_s`` found later)."""
+    height = get_robot(robot, needs="walking").require_walking().com_height_m
+    return WalkSettings(
+        robot,
+        speed,
+        step_s,
+        0.0,
+        height,
+        controller=str(summary["controller"]),
+        effects=effects,
+        seed=int(summary.get("seed", 0)),
+        lateral_speed_mps=float(summary.get("commanded_lateral_speed_mps", 0.0)),
+        turn_rate_rps=float(summary.get("commanded_turn_rate_rps", 0.0)),
+        pushes=tuple(str(p) for p in summary.get("pushes", ())),
+        step_adjustment=int(summary.get("adjusted_steps", 0)) > 0,
+    )
+
+
+_REFERENCE_COLUMNS = ("zmp_ref_x_m", "zmp_ref_y_m", "com_ref_x_m", "com_ref_y_m")
 
 
 def _walk_signals(
@@ -140,18 +182,74 @@ def read_walk_folder(folder: str | Path, robot: str) -> WalkExperiment:
     """Read a ``zmpkit walk`` output folder of ``robot`` as a :class:`WalkExperiment`.
 
     Raises:
-        InputFileError: on a missing or malformed file, a fallen walk, or commanded angles
-            that the re-planned walk does not reproduce.
+        InputFileError: on a missing or malformed file, an unknown controller, a recording
+            the re-planned walk does not reproduce, or a walk that fell too soon to fit.
     """
     folder = Path(folder)
     summary = _read_summary(folder)
     path = folder / SERIES_FILE
     joints = get_robot(robot, needs="walking").require_walking().series_joints or PITCH_JOINTS
-    signals = _walk_signals(path, *read_series(path), tuple(joints))
+    header, table = read_series(path)
+    signals = _walk_signals(path, header, table, tuple(joints))
     speed = float(summary["commanded_speed_mps"])
     step_s = 1.0 / float(summary["step_frequency_hz"])
-    duration, height = match_walk_plan(robot, path, speed, step_s, signals)
-    return WalkExperiment(folder.name, speed, step_s, duration, height, signals, robot)
+    fell = bool(summary["fell"])
+    effects = _recorded_effects(folder / SUMMARY_FILE, summary)
+    settings = None
+    if summary.get("controller", "open") == "open":
+        match = match_walk_plan(robot, path, speed, step_s, signals, fell)
+    else:
+        settings = _walk_settings(summary, robot, speed, step_s, effects or "all")
+        references = table[:, [header.index(c) for c in _REFERENCE_COLUMNS]]
+        try:
+            match = match_closed_loop_plan(path, settings, signals.time_s, references, fell)
+        except ParameterError as exc:  # a summary no zmpkit walk writes
+            raise InputFileError(folder / SUMMARY_FILE, str(exc)) from None
+        settings = replace(settings, duration_s=match.duration_s)
+    recorded_fall = summary.get("fall_time_s")
+    fall_s = float(recorded_fall) if isinstance(recorded_fall, int | float) else None
+    if fell and fall_s is None:
+        fall_s = float(signals.time_s[-1])
+    return WalkExperiment(
+        folder.name,
+        speed,
+        step_s,
+        match.duration_s,
+        match.com_height_m,
+        signals.head(match.rows),
+        robot,
+        settings,
+        fall_s,
+        effects,
+    )
+
+
+def _recorded_effects(path: Path, summary: dict) -> str | None:
+    if "effects" not in summary:
+        return None
+    try:
+        return EffectSet.parse(str(summary["effects"])).letters
+    except ParameterError as exc:
+        raise InputFileError(path, str(exc), column="effects") from None
+
+
+def simulated_effects(fitted: str, experiments: Sequence[Experiment]) -> str:
+    """The effects the fit simulates: ``fitted`` and every effect a recorded walk ran with.
+
+    A walk folder says which effects its robot ran (``summary.json``); a candidate runs them
+    too, the unfitted ones at the base truth's values: a simulator without them would
+    explain their footprint by moving the fitted parameters.
+
+    Args:
+        fitted: the fit's effect letters, e.g. ``"M,G,S"``.
+        experiments: the recorded experiments.
+    """
+    on = EffectSet.parse(fitted)
+    for x in experiments:
+        if isinstance(x, WalkExperiment) and x.effects is not None:
+            ran = EffectSet.parse(x.effects)
+            on = EffectSet(*(a or b for a, b in zip(astuple(on), astuple(ran), strict=True)))
+    return on.letters
 
 
 def _step_experiments(folder: Path, robot: str) -> list[StepExperiment]:

@@ -1,9 +1,12 @@
 """An experiment as open-loop input: what every candidate's servos get, step by step.
 
-Both kinds of experiment are open loop. A walk plays its planned frames through the servo
-(no controller reads a sensor), a step trial plays its recorded setpoints; so the servo
+A step trial and a walk played open loop are open loop: the walk plays its planned frames
+through the servo (no controller reads a sensor), the step trial its recorded setpoints; so the
+servo
 setpoints of every physics step are known before the rollout starts, and they are the same
-for every candidate (candidates differ in the model, not in the command). A candidate's
+for every candidate (candidates differ in the model, not in the command). A walk with a
+feedback controller (:mod:`~zmpkit.simfit.closed_loop`) has no schedule: its commands follow
+each candidate's motion (:func:`is_open_loop`). A candidate's
 rollout starts from its :class:`~zmpkit.sim.world.Simulation` built and posed exactly as the
 serial path (:mod:`~zmpkit.simfit.rollout`) starts its loop.
 """
@@ -28,7 +31,18 @@ from zmpkit.simfit.rollout import setpoint_table
 from zmpkit.simfit.truth_doc import RobotTruth
 from zmpkit.simfit.walk_plan import walk_trajectory
 
-__all__ = ["OpenLoopSchedule", "open_loop_schedule", "posed_simulation", "posed_simulations"]
+__all__ = [
+    "OpenLoopSchedule",
+    "is_open_loop",
+    "open_loop_schedule",
+    "posed_simulation",
+    "posed_simulations",
+]
+
+
+def is_open_loop(experiment: Experiment) -> bool:
+    """Whether ``experiment``'s servo setpoints are known before its rollout (a schedule)."""
+    return not isinstance(experiment, WalkExperiment) or experiment.closed_loop is None
 
 
 @dataclass(frozen=True)
@@ -128,7 +142,20 @@ def _walk_schedule(experiment: WalkExperiment, sim: Simulation) -> OpenLoopSched
         if len(_WALK_SCHEDULES) >= _MAX_WALK_SCHEDULES:
             _WALK_SCHEDULES.clear()
         _WALK_SCHEDULES[key] = _plan_walk_schedule(experiment, sim)
-    return _WALK_SCHEDULES[key]
+    return _recorded_rows(_WALK_SCHEDULES[key], experiment.signals.time_s.size)
+
+
+def _recorded_rows(schedule: OpenLoopSchedule, rows: int) -> OpenLoopSchedule:
+    """``schedule`` up to its ``rows``-th row (a fallen walk's recording ends before its plan)."""
+    if rows >= len(schedule.record_steps):
+        return schedule
+    steps = schedule.record_steps[:rows]
+    return OpenLoopSchedule(
+        schedule.setpoints_rad[: int(steps[-1]) - schedule.start_step],
+        schedule.start_step,
+        steps,
+        schedule.q_cmd_rad[:rows],
+    )
 
 
 def _plan_walk_schedule(experiment: WalkExperiment, sim: Simulation) -> OpenLoopSchedule:

@@ -16,15 +16,18 @@
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
 from pathlib import Path
 
 import numpy as np
 import yaml
 
+from zmpkit.simfit.adequacy import Adequacy
 from zmpkit.simfit.checkpoint import GenerationRecord
 from zmpkit.simfit.cost_hessian import CostDirection
 from zmpkit.simfit.identifiability import ParameterIdentifiability
+from zmpkit.simfit.noise_intervals import NoiseInterval
 from zmpkit.simfit.parameters import FitParameter, ParameterValues
 from zmpkit.simfit.truth_doc import truth_doc_with, write_truth_doc
 from zmpkit.simfit.validation import ReproductionCheck
@@ -36,6 +39,7 @@ __all__ = [
     "IDENTIFIABILITY_FILE",
     "REPRODUCTION_FILE",
     "SLOPPY_DIRECTIONS_FILE",
+    "adequacy_entry",
     "write_fitted_parameters",
     "write_fitted_truth",
     "write_history_csv",
@@ -90,8 +94,20 @@ def write_fitted_parameters(
     cost: float,
     parameters: Sequence[FitParameter],
     ident: Sequence[ParameterIdentifiability],
+    adequacy: Adequacy | None = None,
+    intervals: Sequence[NoiseInterval] = (),
 ) -> Path:
-    """Per parameter: value, unit, nominal, bounds, truth path, identifiability."""
+    """Per parameter: value, unit, nominal, bounds, truth path, identifiability.
+
+    With ``intervals``, per parameter ``interval_95`` (``[lower, upper]`` [unit], None when
+    not measured) and ``interval_95_half_width_pct``.
+
+    With ``adequacy``, the check's numbers and verdict (key ``adequacy``), and per parameter
+    ``resolution_is_precision``: false when the model does not explain the data (then the
+    resolutions say how the misfit moves, not how precisely the value is known).
+    """
+    precision = None if adequacy is None else adequacy.explains is not False
+    by_name = {i.name: i for i in intervals}
     entries = {
         p.name: {
             "value": float(i.value),
@@ -105,11 +121,45 @@ def write_fitted_parameters(
             "marginal_resolution_pct": _pct_or_none(i.marginal_resolution),
             "cma_relative_std": float(i.cma_relative_std),
         }
+        | ({} if precision is None else {"resolution_is_precision": precision})
+        | _interval_entry(by_name.get(p.name))
         for p, i in zip(parameters, ident, strict=True)
     }
     doc = {"robot": robot, "effects": effects, "cost": float(cost), "parameters": entries}
+    if adequacy is not None:
+        doc["adequacy"] = adequacy_entry(adequacy)
     path.write_text(yaml.safe_dump(doc, sort_keys=False, allow_unicode=True), encoding="utf-8")
     return path
+
+
+def _interval_entry(interval: NoiseInterval | None) -> dict:
+    if interval is None:
+        return {}
+    measured = math.isfinite(interval.half_width)
+    return {
+        "interval_95": [interval.lower, interval.upper] if measured else None,
+        "interval_95_half_width_pct": 100 * interval.half_width if measured else None,
+    }
+
+
+def _number(x: float) -> float | None:
+    return float(x) if math.isfinite(x) else None
+
+
+def adequacy_entry(adequacy: Adequacy) -> dict:
+    """The model-adequacy check as plain data (numbers; None where undefined)."""
+    return {
+        "explains_data": adequacy.explains,
+        "verdict": adequacy.verdict,
+        "best_cost": _number(adequacy.best_cost),
+        "noise_floor": _number(adequacy.noise_floor),
+        "noise_floor_std": _number(adequacy.floor_std),
+        "cost_to_floor_ratio": _number(adequacy.ratio),
+        "explained_up_to": _number(adequacy.limit),
+        "replicas": adequacy.replicas,
+        "residual_lag1": _number(adequacy.residual_lag1),
+        "noise_floor_residual_lag1": _number(adequacy.floor_residual_lag1),
+    }
 
 
 def write_history_csv(

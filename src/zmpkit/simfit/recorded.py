@@ -37,6 +37,19 @@ class RecordedSignals:
     zmp_m: NDArray[np.float64]
     trunk_tilt_rad: NDArray[np.float64]
 
+    def head(self, rows: int) -> RecordedSignals:
+        """The first ``rows`` samples (all of them when ``rows`` is their number)."""
+        if rows >= self.time_s.size:
+            return self
+        return RecordedSignals(
+            self.time_s[:rows],
+            self.joint_names,
+            self.q_cmd_rad[:rows],
+            self.q_meas_rad[:rows],
+            self.zmp_m[:rows],
+            self.trunk_tilt_rad[:rows],
+        )
+
     @property
     def dt_s(self) -> float:
         """Median sample period [s]."""

@@ -2,7 +2,9 @@
 
 - A walk: the re-planned commanded trajectory (:mod:`~zmpkit.simfit.walk_plan`)
   is played by :func:`~zmpkit.experiments.walk_trial.simulate_walk`, exactly as ``zmpkit walk``
-  does, and the pitch joints, the F-T ZMP and the IMU pitch are kept.
+  does — open loop, or, for a walk with feedback, with its controller in closed loop
+  (:mod:`~zmpkit.simfit.closed_loop`) — and the pitch joints, the F-T ZMP and the IMU pitch
+  of the recorded rows are kept (a fallen walk's recording is shorter than its plan).
 - A step trial: the robot stands ``settle_s`` and then its servos get the recorded
   commanded setpoints, linearly interpolated to every servo tick (the drive streams them at
   the physics rate); the F-T sensors, encoders and IMU are sampled at the recorded times.
@@ -21,6 +23,7 @@ from zmpkit.robots.registry import get_robot
 from zmpkit.sensors import zmp_series
 from zmpkit.sensors.imu import tilt_from_quaternions
 from zmpkit.sim.world import Simulation
+from zmpkit.simfit.closed_loop import NOISE_SEED_OFFSET, simulate_closed_loop
 from zmpkit.simfit.experiments import Experiment, StepExperiment, WalkExperiment
 from zmpkit.simfit.recorded import RecordedSignals
 from zmpkit.simfit.truth_doc import RobotTruth
@@ -35,46 +38,59 @@ __all__ = [
 ]
 
 
-def simulate_experiment(experiment: Experiment, truth: RobotTruth, effects: str) -> RecordedSignals:
+def simulate_experiment(
+    experiment: Experiment, truth: RobotTruth, effects: str, noise_seed: int | None = None
+) -> RecordedSignals:
     """The signals the simulator with ``truth`` and ``effects`` records in ``experiment``.
 
     Args:
         experiment: the recorded experiment to replay.
         truth: the truth object of the experiment's robot.
         effects: effect letters switched on, e.g. ``"M,G"``.
+        noise_seed: seed of the sensor noise; None: the fit's (0 open loop; the recorded
+            walk's plus :data:`~zmpkit.simfit.closed_loop.NOISE_SEED_OFFSET` closed loop).
 
     Returns:
         Signals on the recorded time grid, shorter if the robot fell or the simulation diverged.
     """
     if isinstance(experiment, WalkExperiment):
-        return _walk(experiment, truth, effects)
-    return _step(experiment, truth, effects)
+        return _walk(experiment, truth, effects, noise_seed)
+    return _step(experiment, truth, effects, noise_seed)
 
 
-def _walk(experiment: WalkExperiment, truth: RobotTruth, effects: str) -> RecordedSignals:
+def _walk(
+    experiment: WalkExperiment, truth: RobotTruth, effects: str, noise_seed: int | None
+) -> RecordedSignals:
 
-    trajectory = walk_trajectory(
-        experiment.robot,
-        experiment.speed_mps,
-        experiment.step_duration_s,
-        experiment.duration_s,
-        experiment.com_height_m,
-    )
-    sim = get_robot(experiment.robot).make_simulation(effects, truth, seed=0)
+    robot = get_robot(experiment.robot)
+    settings = experiment.closed_loop
     try:
-        record = simulate_walk(sim, trajectory)
+        if settings is None:
+            trajectory = walk_trajectory(
+                experiment.robot,
+                experiment.speed_mps,
+                experiment.step_duration_s,
+                experiment.duration_s,
+                experiment.com_height_m,
+            )
+            sim = robot.make_simulation(effects, truth, seed=noise_seed or 0)
+            record = simulate_walk(sim, trajectory)
+        else:
+            seed = settings.seed + NOISE_SEED_OFFSET if noise_seed is None else noise_seed
+            sim = robot.make_simulation(effects, truth, seed=seed)
+            record = simulate_closed_loop(settings, sim)
     except SimulationDivergedError:
         return empty_signals(experiment.signals)
     names = experiment.signals.joint_names
     columns = [record.joint(j) for j in names]
-    zmp = record.zmp_in_world()
+    n = experiment.signals.time_s.size
     return RecordedSignals(
-        record.time_s,
+        record.time_s[:n],
         names,
-        record.q_cmd_rad[:, columns],
-        record.q_meas_rad[:, columns],
-        zmp,
-        record.trunk_pitch_rad,
+        record.q_cmd_rad[:n, columns],
+        record.q_meas_rad[:n, columns],
+        record.zmp_in_world()[:n],
+        record.trunk_pitch_rad[:n],
     )
 
 
@@ -94,11 +110,13 @@ def setpoint_table(signals: RecordedSignals, n_ticks: int, dt: float) -> NDArray
     return np.column_stack([np.interp(t, signals.time_s, cmd[:, j]) for j in range(cmd.shape[1])])
 
 
-def _step(experiment: StepExperiment, truth: RobotTruth, effects: str) -> RecordedSignals:
+def _step(
+    experiment: StepExperiment, truth: RobotTruth, effects: str, noise_seed: int | None
+) -> RecordedSignals:
 
     signals = experiment.signals
     robot = get_robot(experiment.robot)
-    sim = robot.make_simulation(effects, truth, seed=0)
+    sim = robot.make_simulation(effects, truth, seed=noise_seed or 0)
     if tuple(sim.joint_names) != tuple(signals.joint_names):
         raise SimulationDivergedError(
             0.0, "the joint list", f"recorded joints differ from {robot.title}'s"
