@@ -103,9 +103,18 @@ def nao_ik_model() -> mujoco.MjModel:
 
 
 def nao_robot(
-    effects: EffectSet | str = "all", truth: NaoTruth | str | Path | None = None
+    effects: EffectSet | str,
+    truth: NaoTruth | str | Path | None,
+    contact_force_threshold_n: float,
 ) -> RobotDescription:
-    """The virtual NAO as a robot description, ready for :class:`Simulation`."""
+    """The virtual NAO as a robot description, ready for :class:`Simulation`.
+
+    Args:
+        effects: which effects are on (see :class:`~zmpkit.sim.effect_set.EffectSet`).
+        truth: truth parameters, a truth file, or ``None`` for the shipped truth.
+        contact_force_threshold_n: the robot's contact threshold [N]
+            (:attr:`~zmpkit.robots.robot.Robot.contact_force_threshold_n`).
+    """
     on = EffectSet.parse(effects)
     params = _resolve_truth(truth)
     feet = tuple(FootSensor.named(side, SOLE_PLATE_M) for side in NAO_SIDES)
@@ -118,7 +127,7 @@ def nao_robot(
         servo_limits=NAO_SERVO_LIMITS,
         sensor_params=params.sensors,
         ft_offsets=params.ft_offsets,
-        contact_force_threshold_n=NAO_CONTACT_FORCE_THRESHOLD_N,
+        contact_force_threshold_n=contact_force_threshold_n,
     )
 
 
@@ -134,4 +143,4 @@ def make_nao(
         truth: truth parameters, a truth file, or ``None`` for the shipped truth.
         seed: seed of the sensor noise.
     """
-    return Simulation(nao_robot(effects, truth), seed=seed)
+    return Simulation(nao_robot(effects, truth, NAO_CONTACT_FORCE_THRESHOLD_N), seed=seed)

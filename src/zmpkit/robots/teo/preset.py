@@ -17,9 +17,8 @@ from zmpkit.robots.teo.model import (
     TEO_DRIVEN_JOINTS,
     teo_feet_mounts,
 )
-from zmpkit.robots.teo.robot import TEO_SERVO_LIMITS, teo_robot
+from zmpkit.robots.teo.robot import TEO_CONTACT_FORCE_THRESHOLD_N, TEO_SERVO_LIMITS, teo_robot
 from zmpkit.robots.teo.truth import DEFAULT_TRUTH_PATH, TeoTruth, load_truth, truth_from_doc
-from zmpkit.sensors.zmp import CONTACT_FORCE_THRESHOLD_N
 
 __all__ = ["TEO"]
 
@@ -43,7 +42,7 @@ TEO = Robot(
     feet_mounts=teo_feet_mounts,
     truth=TruthSpec(DEFAULT_TRUTH_PATH, load_truth, truth_from_doc, TeoTruth),
     servo_limits=TEO_SERVO_LIMITS,
-    contact_force_threshold_n=CONTACT_FORCE_THRESHOLD_N,
+    contact_force_threshold_n=TEO_CONTACT_FORCE_THRESHOLD_N,
     balance=BalanceModel(
         mass_kg=TEO_BALANCE_MASS_KG,
         com_height_m=TEO_COM_HEIGHT_M,

@@ -14,6 +14,7 @@ from pathlib import Path
 from zmpkit.robots.teo import geometry as geo
 from zmpkit.robots.teo.model import TEO_DRIVEN_JOINTS, TEO_SIDES, base_mjcf
 from zmpkit.robots.teo.truth import TeoTruth, load_truth
+from zmpkit.sensors.zmp import CONTACT_FORCE_THRESHOLD_N
 from zmpkit.sim.builder import (
     add_flex_joint,
     add_gear_compliance,
@@ -26,7 +27,17 @@ from zmpkit.sim.effects import IdealServoParams
 from zmpkit.sim.servo import ServoLimits
 from zmpkit.sim.world import Simulation
 
-__all__ = ["TEO_SERVO_LIMITS", "make_teo", "teo_mjcf", "teo_robot"]
+__all__ = [
+    "TEO_CONTACT_FORCE_THRESHOLD_N",
+    "TEO_SERVO_LIMITS",
+    "make_teo",
+    "teo_mjcf",
+    "teo_robot",
+]
+
+TEO_CONTACT_FORCE_THRESHOLD_N = CONTACT_FORCE_THRESHOLD_N
+"""A TEO foot touches the floor while its vertical force is at least this [N]: the ZMP's
+default 10 N (:mod:`zmpkit.sensors.zmp`), about 1.6 % of TEO's weight."""
 
 TEO_SERVO_LIMITS = ServoLimits(max_velocity=0.35, max_acceleration=0.1, synchronized=True)
 """Setpoint trajectory limits of TEO's drives (20 °/s, 5.7 °/s²; assumed, not in the
@@ -65,9 +76,18 @@ def teo_mjcf(effects: EffectSet | str = "all", truth: TeoTruth | str | Path | No
 
 
 def teo_robot(
-    effects: EffectSet | str = "all", truth: TeoTruth | str | Path | None = None
+    effects: EffectSet | str,
+    truth: TeoTruth | str | Path | None,
+    contact_force_threshold_n: float,
 ) -> RobotDescription:
-    """The virtual TEO as a robot description, ready for :class:`Simulation`."""
+    """The virtual TEO as a robot description, ready for :class:`Simulation`.
+
+    Args:
+        effects: which effects are on (see :class:`~zmpkit.sim.effect_set.EffectSet`).
+        truth: truth parameters, a truth file, or ``None`` for the shipped truth.
+        contact_force_threshold_n: the robot's contact threshold [N]
+            (:attr:`~zmpkit.robots.robot.Robot.contact_force_threshold_n`).
+    """
     on = EffectSet.parse(effects)
     params = _resolve_truth(truth)
     feet = tuple(FootSensor.named(side, geo.FT_HEIGHT_ABOVE_SOLE_M) for side in TEO_SIDES)
@@ -77,6 +97,7 @@ def teo_robot(
         driven_joints=TEO_DRIVEN_JOINTS,
         feet=feet,
         effects=on,
+        contact_force_threshold_n=contact_force_threshold_n,
         servo_limits=TEO_SERVO_LIMITS,
         sensor_params=params.sensors,
         ft_offsets=params.ft_offsets,
@@ -101,4 +122,4 @@ def make_teo(
         truth: truth parameters, a truth file, or ``None`` for the shipped truth.
         seed: seed of the sensor noise.
     """
-    return Simulation(teo_robot(effects, truth), seed=seed)
+    return Simulation(teo_robot(effects, truth, TEO_CONTACT_FORCE_THRESHOLD_N), seed=seed)
