@@ -8,6 +8,8 @@ walk in zmpkit (no walking defaults).
 
 from __future__ import annotations
 
+from pathlib import Path
+
 from zmpkit.robots.robot import BalanceModel, FitSpec, Robot, TruthSpec
 from zmpkit.robots.teo import fit_catalogue
 from zmpkit.robots.teo import geometry as geo
@@ -17,10 +19,13 @@ from zmpkit.robots.teo.model import (
     TEO_DRIVEN_JOINTS,
     teo_feet_mounts,
 )
-from zmpkit.robots.teo.robot import TEO_CONTACT_FORCE_THRESHOLD_N, TEO_SERVO_LIMITS, teo_robot
+from zmpkit.robots.teo.robot import TEO_SERVO_LIMITS, teo_robot
 from zmpkit.robots.teo.truth import DEFAULT_TRUTH_PATH, TeoTruth, load_truth, truth_from_doc
+from zmpkit.sensors.zmp import CONTACT_FORCE_THRESHOLD_N
+from zmpkit.sim.effect_set import EffectSet
+from zmpkit.sim.world import Simulation
 
-__all__ = ["TEO"]
+__all__ = ["TEO", "make_teo"]
 
 
 def _support_polygon() -> dict[str, tuple[float, float]]:
@@ -42,7 +47,7 @@ TEO = Robot(
     feet_mounts=teo_feet_mounts,
     truth=TruthSpec(DEFAULT_TRUTH_PATH, load_truth, truth_from_doc, TeoTruth),
     servo_limits=TEO_SERVO_LIMITS,
-    contact_force_threshold_n=TEO_CONTACT_FORCE_THRESHOLD_N,
+    contact_force_threshold_n=CONTACT_FORCE_THRESHOLD_N,
     balance=BalanceModel(
         mass_kg=TEO_BALANCE_MASS_KG,
         com_height_m=TEO_COM_HEIGHT_M,
@@ -59,3 +64,17 @@ TEO = Robot(
     fit=FitSpec(fit_catalogue.FIT_CATALOGUE, fit_catalogue.QUICK_FIT_PARAMETERS, "step"),
 )
 """The virtual TEO."""
+
+
+def make_teo(
+    effects: EffectSet | str = "all",
+    truth: TeoTruth | str | Path | None = None,
+    seed: int = 0,
+) -> Simulation:
+    """:data:`TEO`'s :meth:`~zmpkit.robots.robot.Robot.make_simulation`, standing in its zero pose.
+
+    The robot starts with unloaded springs and settles within about 2 s with all effects
+    on (the lean mode is lightly damped on purpose); with gear compliance but the ideal
+    servo (``"G"``, ``"G,F"``) allow about 6 s. Measure the start-up offset after that.
+    """
+    return TEO.make_simulation(effects, truth, seed)

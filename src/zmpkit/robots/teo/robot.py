@@ -1,9 +1,9 @@
 """Assemble the virtual TEO: its rigid MJCF, the switched-on effects, and a simulation.
 
 :func:`teo_robot` gives the :class:`~zmpkit.sim.description.RobotDescription` (MJCF with the
-effects applied, driven joints, foot sensors, IMU, servo limits); :func:`make_teo` starts a
-:class:`~zmpkit.sim.world.Simulation` of it. The truth parameters come from
-:func:`~zmpkit.robots.teo.truth.load_truth` (the shipped file unless one is given).
+effects applied, driven joints, foot sensors, IMU, servo limits); a simulation of it is
+:meth:`TEO.make_simulation <zmpkit.robots.robot.Robot.make_simulation>`. The truth parameters
+come from :func:`~zmpkit.robots.teo.truth.load_truth` (the shipped file unless one is given).
 """
 
 from __future__ import annotations
@@ -14,7 +14,6 @@ from pathlib import Path
 from zmpkit.robots.teo import geometry as geo
 from zmpkit.robots.teo.model import TEO_DRIVEN_JOINTS, TEO_SIDES, base_mjcf
 from zmpkit.robots.teo.truth import TeoTruth, load_truth
-from zmpkit.sensors.zmp import CONTACT_FORCE_THRESHOLD_N
 from zmpkit.sim.builder import (
     add_flex_joint,
     add_gear_compliance,
@@ -25,19 +24,8 @@ from zmpkit.sim.description import FootSensor, RobotDescription
 from zmpkit.sim.effect_set import EffectSet
 from zmpkit.sim.effects import IdealServoParams
 from zmpkit.sim.servo import ServoLimits
-from zmpkit.sim.world import Simulation
 
-__all__ = [
-    "TEO_CONTACT_FORCE_THRESHOLD_N",
-    "TEO_SERVO_LIMITS",
-    "make_teo",
-    "teo_mjcf",
-    "teo_robot",
-]
-
-TEO_CONTACT_FORCE_THRESHOLD_N = CONTACT_FORCE_THRESHOLD_N
-"""A TEO foot touches the floor while its vertical force is at least this [N]: the ZMP's
-default 10 N (:mod:`zmpkit.sensors.zmp`), about 1.6 % of TEO's weight."""
+__all__ = ["TEO_SERVO_LIMITS", "teo_mjcf", "teo_robot"]
 
 TEO_SERVO_LIMITS = ServoLimits(max_velocity=0.35, max_acceleration=0.1, synchronized=True)
 """Setpoint trajectory limits of TEO's drives (20 °/s, 5.7 °/s²; assumed, not in the
@@ -80,7 +68,7 @@ def teo_robot(
     truth: TeoTruth | str | Path | None,
     contact_force_threshold_n: float,
 ) -> RobotDescription:
-    """The virtual TEO as a robot description, ready for :class:`Simulation`.
+    """The virtual TEO as a robot description, ready for :class:`~zmpkit.sim.world.Simulation`.
 
     Args:
         effects: which effects are on (see :class:`~zmpkit.sim.effect_set.EffectSet`).
@@ -104,22 +92,3 @@ def teo_robot(
         ft_gain_errors=params.ft_gain_errors,
         variability=params.variability,
     )
-
-
-def make_teo(
-    effects: EffectSet | str = "all",
-    truth: TeoTruth | str | Path | None = None,
-    seed: int = 0,
-) -> Simulation:
-    """Start a simulation of the virtual TEO standing in its zero pose.
-
-    The robot starts with unloaded springs and settles within about 2 s with all effects
-    on (the lean mode is lightly damped on purpose); with gear compliance but the ideal
-    servo (``"G"``, ``"G,F"``) allow about 6 s. Measure the start-up offset after that.
-
-    Args:
-        effects: which effects are on (see :class:`~zmpkit.sim.effect_set.EffectSet`).
-        truth: truth parameters, a truth file, or ``None`` for the shipped truth.
-        seed: seed of the sensor noise.
-    """
-    return Simulation(teo_robot(effects, truth, TEO_CONTACT_FORCE_THRESHOLD_N), seed=seed)
