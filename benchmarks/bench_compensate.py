@@ -23,7 +23,7 @@ import mujoco
 import numpy as np
 
 from harness import base_parser, best_of, environment, print_table, write_json
-from zmpkit.robots.nao import nao_ik_model
+from zmpkit.robots.registry import DEFAULT_WALK_ROBOT, get_robot
 from zmpkit.walking import GaitParameters, PatternConfig, WalkCommand, generate_pattern
 from zmpkit.walking.ik import solve_walking_ik
 from zmpkit.walking.multibody_zmp import InverseDynamicsZmp, trajectory_qpos
@@ -39,9 +39,10 @@ def measure(duration_s: float) -> dict[str, Any]:
     """Times of every case for a walk of ``duration_s`` seconds."""
     config = PatternConfig(command=WalkCommand(0.2), duration_s=duration_s,
                            gait=GaitParameters(step_duration_s=0.5), com_height_m=0.25)  # fmt: skip
-    model = nao_ik_model()
+    robot = get_robot(DEFAULT_WALK_ROBOT, needs="walking")
+    model, settings = robot.ik_model(), robot.ik_settings
     pattern = generate_pattern(config)
-    trajectory = solve_walking_ik(pattern, model)
+    trajectory = solve_walking_ik(pattern, model, settings)
     zmp = InverseDynamicsZmp(model)
     n = trajectory.time_s.size
     qpos = trajectory_qpos(model, trajectory)
@@ -56,7 +57,7 @@ def measure(duration_s: float) -> dict[str, Any]:
 
     def iteration() -> None:
         p = generate_pattern(config, offset, gains=pattern.gains)
-        zmp.from_trajectory(solve_walking_ik(p, model))
+        zmp.from_trajectory(solve_walking_ik(p, model, settings))
 
     bare_s = best_of(bare, 1, REPEATS) / n
     full_s = best_of(lambda: zmp.from_trajectory(trajectory), 1, REPEATS) / n

@@ -37,12 +37,13 @@ def test_stance_offsets_only_on_leaning_joints_seeded_and_off_by_default() -> No
 def test_truth_gives_per_sensor_per_axis_gains_and_variability() -> None:
     doc = truth_variant("variability")
     truth = truth_from_doc(doc)
-    robot = teo_robot("all", truth)
+    threshold = get_robot("teo").contact_force_threshold_n
+    robot = teo_robot("all", truth, threshold)
     assert robot.ft_gain_error("right") == tuple(doc["sensors"]["ft_gain_error"]["right"])
     assert robot.ft_gain_error("left") != robot.ft_gain_error("right")
     assert robot.variability.sequence
     assert robot.variability.stance_std_rad > 0.0
-    shipped = teo_robot("all")
+    shipped = teo_robot("all", None, threshold)
     assert shipped.variability == TrialVariability()
     assert shipped.ft_gain_error("right") == (shipped.sensor_params.ft_gain_error,) * 6
 

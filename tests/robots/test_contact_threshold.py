@@ -8,6 +8,7 @@ it. A dataset written before it was recorded reads as the 10 N it was measured w
 
 from __future__ import annotations
 
+import dataclasses
 import json
 from pathlib import Path
 
@@ -68,3 +69,14 @@ def test_an_older_dataset_reads_as_measured_with_10_n(dataset: Path, tmp_path: P
     (old / "meta.json").write_text(json.dumps(meta), encoding="utf-8")
     with pytest.raises(InputFileError, match=r"meta\.json.*contact_threshold_n must lie in"):
         read_step_dataset(old)
+
+
+@pytest.mark.parametrize("name", ["teo", "nao", "biped"])
+def test_the_robot_states_the_threshold_and_its_simulation_reads_that_one(
+    name: str, tmp_path: Path
+) -> None:
+    """The description's threshold is the robot value's: change the robot, the sim follows."""
+    robot = get_robot(str(write_biped_robot(tmp_path)) if name == "biped" else name)
+    assert robot.description("none").contact_force_threshold_n == robot.contact_force_threshold_n
+    other = dataclasses.replace(robot, contact_force_threshold_n=7.25)
+    assert other.make_simulation("none").robot.contact_force_threshold_n == 7.25

@@ -86,7 +86,7 @@ class StepDataset:
     meta: Mapping[str, Any]
     mounts: Mapping[str, SensorMount]
     trials: tuple[StepTrialRecord, ...]
-    contact_threshold_n: float = CONTACT_FORCE_THRESHOLD_N
+    contact_threshold_n: float
 
     @property
     def plane(self) -> str:

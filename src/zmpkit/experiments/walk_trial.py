@@ -40,7 +40,7 @@ from numpy.typing import NDArray
 from zmpkit.experiments.walk_disturbances import Push, SensorFault, TorsoPusher
 from zmpkit.sensors.imu import quaternion_pitch_roll, quaternion_yaw
 from zmpkit.sensors.mount import wrench_in_world
-from zmpkit.sensors.zmp import CONTACT_FORCE_THRESHOLD_N, zmp_in_world
+from zmpkit.sensors.zmp import zmp_in_world
 from zmpkit.sim.names import sole_site
 from zmpkit.sim.world import Simulation
 from zmpkit.walking.ik import JointTrajectory
@@ -90,7 +90,7 @@ class FrameReading:
     force_in_world: NDArray[np.float64]
     moment_in_world: NDArray[np.float64]
     sensor_in_world: NDArray[np.float64]
-    contact_threshold_n: float = CONTACT_FORCE_THRESHOLD_N
+    contact_threshold_n: float
 
     def zmp_in_world(self) -> NDArray[np.float64]:
         """The measured ZMP of this frame [m], shape (2,); NaN without contact."""
@@ -149,8 +149,8 @@ class WalkRecord:
     torso_in_world: NDArray[np.float64]
     fell: bool
     fall_time_s: float | None
-    qpos: NDArray[np.float64] | None = None
-    contact_threshold_n: float = CONTACT_FORCE_THRESHOLD_N
+    qpos: NDArray[np.float64] | None
+    contact_threshold_n: float
     fall_kind: str | None = None
     controller: str = "open"
     trunk_yaw_rad: NDArray[np.float64] | None = None

@@ -1,4 +1,4 @@
-r"""The balance lean of any robot: whole-body IK with mink, both soles fixed, the CoM moved.
+r"""The balance lean of any robot: whole-body IK, both soles fixed, the CoM moved.
 
 Statically the ZMP is the ground projection of the CoM, so a robot standing on both feet
 brings its ZMP to a target :math:`x_{ref}` by moving its CoM there. With :math:`l` the
@@ -10,9 +10,10 @@ the ankle roll joints for the frontal plane) and :math:`c_0` the standing CoM, t
 
 (:math:`e` the plane's horizontal axis), the path of a rigid pendulum of length :math:`l` about
 the pivots, so :math:`x_{exp}(\theta) = l \sin\theta` as for the ankle strategy
-(:mod:`zmpkit.experiments.lean`). Tasks: both sole-centre sites at their standing poses, the
-whole-body CoM at :math:`c(\theta)`, and a small pull to the standing posture (which picks the
-ankle-led solution among the redundant ones). The joint angles are solved once on a grid of
+(:mod:`zmpkit.experiments.lean`). The IK (:mod:`zmpkit.sim.whole_body_ik`) has these tasks:
+both sole-centre sites at their standing poses, the whole-body CoM at :math:`c(\theta)`, and a
+small pull to the standing posture (which picks the ankle-led solution among the redundant
+ones). The joint angles are solved once on a grid of
 :math:`\theta` and interpolated linearly.
 
 :meth:`WholeBodyLean.angle_joints` gives the pivot joints with :math:`s_j = 1 / (\partial q_j /
@@ -27,13 +28,13 @@ from __future__ import annotations
 from collections.abc import Mapping
 from dataclasses import dataclass
 
-import mink
 import numpy as np
 from numpy.typing import NDArray
 
 from zmpkit.errors import ModelError
 from zmpkit.robots.robot import Robot
 from zmpkit.sim.names import sole_site
+from zmpkit.sim.whole_body_ik import IkCosts, IkStop, WholeBodyIk
 from zmpkit.sim.world import Simulation
 
 __all__ = ["LEAN_RANGE_RAD", "WholeBodyLean", "whole_body_lean"]
@@ -42,11 +43,8 @@ LEAN_RANGE_RAD = 0.4
 """The lean is solved for :math:`|\\theta| \\le` this [rad] (a ZMP up to 39 % of ``l``)."""
 _GRID_POINTS = 21  # per side of zero
 _IK_DT_S = 0.01
-_IK_ITERATIONS = 300
-_IK_TOLERANCE_M = 1e-6
-_FOOT_COST = 10.0
-_COM_COST = 10.0
-_POSTURE_COST = 1e-2
+_COSTS = IkCosts(foot=10.0, com=10.0, posture=1e-2)
+_STOP = IkStop(tolerance_m=1e-6, max_iterations=300)
 _AXIS = {"sagittal": 0, "frontal": 1}
 
 
@@ -90,21 +88,6 @@ class WholeBodyLean:
         return out
 
 
-def _solve(
-    config: mink.Configuration, tasks: list, com: mink.ComTask, target: NDArray[np.float64]
-) -> float:
-    com.set_target(target)
-    limits = [mink.ConfigurationLimit(config.model)]
-    error = np.inf
-    for _ in range(_IK_ITERATIONS):
-        velocity = mink.solve_ik(config, tasks, _IK_DT_S, "daqp", 1e-6, limits=limits)
-        config.integrate_inplace(velocity, _IK_DT_S)
-        error = float(np.linalg.norm(com.compute_error(config)))
-        if error < _IK_TOLERANCE_M:
-            break
-    return error
-
-
 def _lean_length(sim: Simulation, pivots: tuple[str, str]) -> float:
     m, d = sim.model, sim.data
     pivot_z = np.mean([d.xanchor[m.joint(j).id][2] for j in pivots])
@@ -123,16 +106,9 @@ def whole_body_lean(robot: Robot, plane: str) -> WholeBodyLean:
     model, standing = sim.model, sim.data.qpos.copy()
     length = _lean_length(sim, pivots)
     c0 = np.array(sim.data.subtree_com[0])
-    config = mink.Configuration(model, standing)
-    feet = []
-    for foot in sim.robot.feet:
-        task = mink.FrameTask(sole_site(foot.foot), "site", _FOOT_COST, _FOOT_COST)
-        task.set_target(config.get_transform_frame_to_world(sole_site(foot.foot), "site"))
-        feet.append(task)
-    com = mink.ComTask(_COM_COST)
-    posture = mink.PostureTask(model, _POSTURE_COST)
-    posture.set_target(standing)
-    tasks = [*feet, com, posture]
+    soles = {foot.foot: sole_site(foot.foot) for foot in sim.robot.feet}
+    ik = WholeBodyIk(model, standing, soles, _COSTS)
+    ik.hold_frames()
     axis = np.zeros(3)
     axis[_AXIS[plane]] = 1.0
     half = np.linspace(0.0, LEAN_RANGE_RAD, _GRID_POINTS + 1)
@@ -141,11 +117,12 @@ def whole_body_lean(robot: Robot, plane: str) -> WholeBodyLean:
     rows: dict[float, NDArray[np.float64]] = {}
     worst = 0.0
     for sign in (1.0, -1.0):
-        config.update(standing)
+        ik.restart(standing)
         for theta in sign * half:
             target = c0 + length * (np.sin(theta) * axis + (np.cos(theta) - 1.0) * np.eye(3)[2])
-            worst = max(worst, _solve(config, tasks, com, target))
-            rows[float(theta)] = config.q[adr].copy()
+            ik.com.set_target(target)
+            worst = max(worst, ik.solve(_IK_DT_S, _STOP).com_m)
+            rows[float(theta)] = ik.configuration.q[adr].copy()
     grid = np.array(sorted(rows))
     table = np.array([rows[float(t)] for t in grid])
     angles = {j: table[:, k] for k, j in enumerate(joints)}

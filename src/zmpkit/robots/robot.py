@@ -236,7 +236,9 @@ class Robot:
         source: what :func:`~zmpkit.robots.registry.get_robot` takes to give this robot again
             (the registry name, or the ``robot.yaml`` path): what a dataset records, and how
             the robot is pickled into a worker process, which resolves it once.
-        describe: ``describe(effects, truth)`` → the simulator's robot description.
+        describe: ``describe(effects, truth, contact_force_threshold_n)`` → the simulator's
+            robot description (:meth:`description` passes the robot's threshold: the
+            description carries a copy, this robot states it).
         driven_joints: the joints with a servo, in the robot's order.
         feet_mounts: the foot F-T sensor mounts in the world frame at the standing pose
             (the ``FEET.yaml`` layout).
@@ -253,7 +255,7 @@ class Robot:
     title: str
     summary: str
     source: str
-    describe: Callable[[EffectSet | str, Truth | str | Path | None], RobotDescription]
+    describe: Callable[[EffectSet | str, Truth | str | Path | None, float], RobotDescription]
     driven_joints: tuple[str, ...]
     feet_mounts: Callable[[], dict[str, FootMountEntry]]
     truth: TruthSpec
@@ -267,7 +269,7 @@ class Robot:
         self, effects: EffectSet | str = "all", truth: Truth | str | Path | None = None
     ) -> RobotDescription:
         """The simulator's description with ``effects`` on and ``truth`` (None: shipped)."""
-        return self.describe(effects, truth)
+        return self.describe(effects, truth, self.contact_force_threshold_n)
 
     def simulated_effects_note(
         self, effects: EffectSet | str, truth: Truth | str | Path | None = None
@@ -279,7 +281,7 @@ class Robot:
         motor, gear or link values, and ``all`` then runs its sensor errors only.
         """
         asked = EffectSet.parse(effects)
-        simulated = self.describe(effects, truth).effects
+        simulated = self.description(effects, truth).effects
         if simulated == asked:
             return ""
         flags = ("motor", "inductance", "gear", "flex", "sensors")

@@ -117,11 +117,11 @@ def _feet_mounts(mjcf: str, height: float) -> dict[str, FootMountEntry]:
 
 
 def _description(
-    file: RobotFile, built: UserModel, threshold: float, servo: TruthSpec | None
+    file: RobotFile, built: UserModel, servo: TruthSpec | None
 ) -> Any:  # the Robot's ``describe``
     mass = built.mass_kg
 
-    def describe(effects: EffectSet | str, truth: Any) -> RobotDescription:
+    def describe(effects: EffectSet | str, truth: Any, threshold: float) -> RobotDescription:
         if servo is None:
             on = _check_effects(file.name, effects)
             sensors = truth.sensors if isinstance(truth, UserTruth) else scaled_sensor_params(mass)
@@ -220,7 +220,7 @@ def build_user_robot(
             path=file.path, model=file.model.name, mass_kg=built.mass_kg
         ),
         source=source or str(file.path),
-        describe=_description(file, built, threshold, servo),
+        describe=_description(file, built, servo),
         driven_joints=file.leg_joints,
         feet_mounts=lambda: copy.deepcopy(mounts),
         truth=servo or _user_truth_spec(file, built),

@@ -7,10 +7,10 @@ What the walk of :mod:`zmpkit.experiments.walk` needs of a robot, from the model
   mean of both legs [m];
 - **crouch**: walking needs bent knees. The knee is the leg's pitch joint (axis along the
   world y) between the first and the last pitch joint nearest the middle of the leg; it is
-  bent the way that moves the foot backward (a human knee), then a whole-body IK with mink
-  (both soles held where they stand, the torso upright, a small pull to the seed) lowers the
-  CoM by :data:`CROUCH_FRACTION` :math:`\times L`. Its leg joint angles are the IK's posture
-  and its CoM height (above the soles) the walk's CoM height;
+  bent the way that moves the foot backward (a human knee), then a whole-body IK
+  (:mod:`zmpkit.sim.whole_body_ik`: both soles held where they stand, the torso upright, a
+  small pull to the seed) lowers the CoM by :data:`CROUCH_FRACTION` :math:`\times L`. Its leg
+  joint angles are the IK's posture and its CoM height (above the soles) the walk's CoM height;
 - **foot separation**: the lateral distance between the sole centres [m];
 - **step length limit**: :data:`STEP_LENGTH_FRACTION` :math:`\times L` [m];
 - **sole**: the feet's footprint (or the file's ``sole``); **sole sites** ``zmpkit/{side}_sole``;
@@ -30,7 +30,6 @@ from __future__ import annotations
 from collections.abc import Mapping
 from dataclasses import dataclass
 
-import mink
 import mujoco
 import numpy as np
 from numpy.typing import NDArray
@@ -41,6 +40,7 @@ from zmpkit.robots.robot_file import SIDES, RobotFile
 from zmpkit.robots.user_model import UserModel
 from zmpkit.robots.user_model_file import root_body
 from zmpkit.sim.names import sole_site
+from zmpkit.sim.whole_body_ik import IkCosts, IkStop, WholeBodyIk
 
 __all__ = [
     "CONTROL_PERIOD_S",
@@ -64,8 +64,8 @@ PITCH_AXIS_COSINE = 0.9
 """A joint is a pitch (roll) joint when its world axis is within acos(0.9) ≈ 26° of y (x)."""
 _KNEE_SEED_RAD = 0.3
 _IK_DT_S = 0.01
-_IK_ITERATIONS = 400
-_IK_TOLERANCE_M = 1e-5
+_CROUCH_COSTS = IkCosts(foot=10.0, com=10.0, posture=1e-3, torso=1.0)
+_CROUCH_STOP = IkStop(tolerance_m=1e-5, max_iterations=400)
 
 
 def _joint_axis(model: mujoco.MjModel, data: mujoco.MjData, name: str) -> NDArray[np.float64]:
@@ -164,27 +164,14 @@ def crouch(model: mujoco.MjModel, file: RobotFile, depth_m: float) -> Crouch:
     """
     data = mujoco.MjData(model)
     mujoco.mj_forward(model, data)
+    sole_sites = {side: sole_site(side) for side in SIDES}
     torso = file.torso or root_body(model)
-    config = mink.Configuration(model, model.qpos0.copy())
-    feet = []
-    for side in SIDES:
-        task = mink.FrameTask(sole_site(side), "site", 10.0, 10.0)
-        task.set_target(config.get_transform_frame_to_world(sole_site(side), "site"))
-        feet.append(task)
-    upright = mink.FrameTask(torso, "body", 0.0, 1.0)
-    upright.set_target(config.get_transform_frame_to_world(torso, "body"))
-    com = mink.ComTask(10.0)
-    com.set_target(np.asarray(data.subtree_com[0]) - np.array([0.0, 0.0, depth_m]))
-    config.update(_seed(model, file))
-    posture = mink.PostureTask(model, 1e-3)
-    posture.set_target(config.q.copy())
-    tasks = [*feet, upright, com, posture]
-    limits = [mink.ConfigurationLimit(model)]
-    for _ in range(_IK_ITERATIONS):
-        velocity = mink.solve_ik(config, tasks, _IK_DT_S, "daqp", 1e-6, limits=limits)
-        config.integrate_inplace(velocity, _IK_DT_S)
-        if np.linalg.norm(com.compute_error(config)) < _IK_TOLERANCE_M:
-            break
+    ik = WholeBodyIk(model, model.qpos0.copy(), sole_sites, _CROUCH_COSTS, torso_body=torso)
+    ik.hold_frames()
+    ik.com.set_target(np.asarray(data.subtree_com[0]) - np.array([0.0, 0.0, depth_m]))
+    ik.restart(_seed(model, file))
+    ik.solve(_IK_DT_S, _CROUCH_STOP)
+    config = ik.configuration
     sole_z = np.mean([config.data.site(sole_site(s)).xpos[2] for s in SIDES])
     angles = {j: float(config.q[int(model.joint(j).qposadr[0])]) for j in file.leg_joints}
     return Crouch(angles, float(config.data.subtree_com[0][2] - sole_z))

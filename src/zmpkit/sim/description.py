@@ -11,7 +11,6 @@ from __future__ import annotations
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 
-from zmpkit.sensors.zmp import CONTACT_FORCE_THRESHOLD_N
 from zmpkit.sim.effect_set import EffectSet
 from zmpkit.sim.effects import SensorParams, TrialVariability
 from zmpkit.sim.names import ft_site
@@ -68,6 +67,11 @@ class RobotDescription:
             the same name whose control is ``gear * q_ref``.
         feet: the foot F-T sensors.
         effects: which effects the MJCF and the readings include.
+        contact_force_threshold_n: a foot touches the floor while its world-frame vertical
+            force is at least this [N] (the ZMP's contact rule, :mod:`zmpkit.sensors.zmp`).
+            Required: it is the robot's (:attr:`zmpkit.robots.robot.Robot.\
+            contact_force_threshold_n` states it; ``Robot.description`` copies it here for
+            the simulator's readers).
         servo_limits: setpoint trajectory limits.
         imu: the IMU's sensor names.
         sensor_params: sensor errors (used when ``effects.sensors``).
@@ -76,8 +80,6 @@ class RobotDescription:
         ft_gain_errors: foot → relative gain error per axis (6,) [-]; defaults to
             ``sensor_params.ft_gain_error`` on every axis for feet not listed.
         variability: what makes one trial differ from the next.
-        contact_force_threshold_n: a foot touches the floor while its world-frame vertical
-            force is at least this [N] (the ZMP's contact rule, :mod:`zmpkit.sensors.zmp`).
     """
 
     name: str
@@ -85,11 +87,11 @@ class RobotDescription:
     driven_joints: tuple[str, ...]
     feet: tuple[FootSensor, ...]
     effects: EffectSet
+    contact_force_threshold_n: float
     servo_limits: ServoLimits = field(default_factory=ServoLimits)
     imu: ImuSensors = field(default_factory=ImuSensors)
     sensor_params: SensorParams = field(default_factory=SensorParams)
     ft_offsets: Mapping[str, tuple[float, ...]] = field(default_factory=dict)
-    contact_force_threshold_n: float = CONTACT_FORCE_THRESHOLD_N
     ft_gain_errors: Mapping[str, tuple[float, ...]] = field(default_factory=dict)
     variability: TrialVariability = field(default_factory=TrialVariability)
 

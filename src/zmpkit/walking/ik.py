@@ -1,4 +1,4 @@
-"""Whole-body inverse kinematics of a walking pattern with mink (differential IK on MuJoCo).
+"""Whole-body inverse kinematics of a walking pattern (differential IK on MuJoCo, with mink).
 
 At every sample of the pattern (every motion frame, e.g. 10 ms) the IK drives the robot model to
 
@@ -9,6 +9,7 @@ At every sample of the pattern (every motion frame, e.g. 10 ms) the IK drives th
 
 subject to the joint limits and to the model's joint equalities (e.g. two hip joints driven by
 one motor).
+The solver is :class:`~zmpkit.sim.whole_body_ik.WholeBodyIk`, zmpkit's one mink set-up.
 Each sample is warm-started from the previous solution and iterated until the CoM and feet
 errors fall below :attr:`IkSettings.tolerance_m` or :attr:`IkSettings.max_iterations` is
 spent. The footstep planner's foot point is the *sole centre*; the model must carry a site
@@ -17,16 +18,16 @@ there (an ankle may lie behind it), so the ankle offset is the model's geometry.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Protocol
 
-import mink
 import mujoco
 import numpy as np
 from numpy.typing import NDArray
 
 from zmpkit.errors import ModelError
 from zmpkit.robots.ik_settings import IkSettings
+from zmpkit.sim.whole_body_ik import IkCosts, IkStop, WholeBodyIk, yaw_pose
 from zmpkit.walking.pattern import WalkingPattern
 from zmpkit.walking.swing import FeetTrajectories
 
@@ -77,11 +78,6 @@ class JointTrajectory:
         return self.q_rad[:, self.joint_names.index(name)]
 
 
-def _pose(x: float, y: float, z: float, yaw: float) -> mink.SE3:
-    rotation = mink.SO3.from_rpy_radians(0.0, 0.0, yaw)
-    return mink.SE3.from_rotation_and_translation(rotation, np.array([x, y, z]))
-
-
 class IkTargets(Protocol):
     """What :meth:`WalkingIk.set_targets` reads: a :class:`WalkingPattern`, or online targets."""
 
@@ -95,44 +91,48 @@ class IkTargets(Protocol):
 class WalkingIk:
     """The whole-body IK of one model, re-targeted sample after sample.
 
-    For online use, e.g. a compensation that changes the CoM plan while walking.
+    For online use, e.g. a compensation that changes the CoM plan while walking. The solver
+    is :class:`~zmpkit.sim.whole_body_ik.WholeBodyIk` with the settings' weights; this class
+    adds the walk's targets and reports its joints.
     """
 
     def __init__(self, model: mujoco.MjModel, settings: IkSettings) -> None:
         self.settings = settings
         self.model = model
-        self.configuration = mink.Configuration(model, _start_q(model, settings))
-        self.feet = {
-            side: mink.FrameTask(site, "site", settings.foot_cost, settings.foot_cost)
-            for side, site in settings.sole_sites.items()
-        }
-        self.torso = mink.FrameTask(settings.torso_body, "body", 0.0, settings.torso_cost)
-        self.com = mink.ComTask(settings.com_cost)
-        posture = mink.PostureTask(model, settings.posture_cost)
-        posture.set_target(self.configuration.q.copy())
-        self.tasks: list[mink.Task] = [*self.feet.values(), self.torso, self.com, posture]
-        if model.neq > 0:
-            self.tasks.append(mink.EqualityConstraintTask(model, settings.equality_cost))
-        self.limits = [mink.ConfigurationLimit(model)]
+        self.body = WholeBodyIk(
+            model,
+            _start_q(model, settings),
+            settings.sole_sites,
+            IkCosts(
+                foot=settings.foot_cost,
+                com=settings.com_cost,
+                posture=settings.posture_cost,
+                torso=settings.torso_cost,
+                equality=settings.equality_cost,
+            ),
+            torso_body=settings.torso_body,
+            solver=settings.solver,
+            damping=settings.damping,
+        )
+        self.configuration = self.body.configuration
+        self._stop = IkStop(settings.tolerance_m, settings.max_iterations, watch_feet=True)
         self.qadr = [_qpos_address(model, name) for name in settings.joint_names]
 
     def set_targets(self, pattern: IkTargets, k: int) -> None:
         """Aim the tasks at sample ``k`` of ``pattern``: feet [m, rad], torso yaw [rad], CoM [m]."""
-        feet = pattern.feet
-        for side, task in self.feet.items():
+        feet, body = pattern.feet, self.body
+        for side, task in body.feet.items():
             trajectory = feet.left if side == "left" else feet.right
             x, y, z = trajectory.position_in_world[k]
-            task.set_target(_pose(x, y, z, trajectory.yaw_in_world[k]))
-        self.torso.set_target(_pose(0.0, 0.0, 0.0, feet.torso_yaw_in_world[k]))
-        self.com.set_target(pattern.com_position_in_world[k])
+            task.set_target(yaw_pose(x, y, z, trajectory.yaw_in_world[k]))
+        assert body.torso is not None  # IkCosts.torso is always given
+        body.torso.set_target(yaw_pose(0.0, 0.0, 0.0, feet.torso_yaw_in_world[k]))
+        body.com.set_target(pattern.com_position_in_world[k])
 
     def errors(self) -> tuple[float, float, float]:
         """CoM [m], largest foot position [m] and torso orientation [rad] errors."""
-        c = self.configuration
-        com = float(np.linalg.norm(self.com.compute_error(c)))
-        foot = max(float(np.linalg.norm(t.compute_error(c)[:3])) for t in self.feet.values())
-        torso = float(np.linalg.norm(self.torso.compute_error(c)[3:]))
-        return com, foot, torso
+        e = self.body.errors()
+        return e.com_m, e.foot_m, e.torso_rad
 
     def solve(self, iterations: int, dt: float) -> tuple[float, float, float]:
         """Integrate up to ``iterations`` IK steps of ``dt`` [s] and return the errors.
@@ -140,16 +140,11 @@ class WalkingIk:
         Stops early once the CoM and foot errors are below the tolerance [m]; the errors are
         those of :meth:`errors`: CoM [m], largest foot position [m], torso orientation [rad].
         """
-        s = self.settings
-        for _ in range(iterations):
-            velocity = mink.solve_ik(
-                self.configuration, self.tasks, dt, s.solver, s.damping, limits=self.limits
-            )
-            self.configuration.integrate_inplace(velocity, dt)
-            errors = self.errors()
-            if max(errors[:2]) < s.tolerance_m:
-                break
-        return errors
+        stop = self._stop
+        if iterations != stop.max_iterations:
+            stop = replace(stop, max_iterations=iterations)
+        e = self.body.solve(dt, stop)
+        return e.com_m, e.foot_m, e.torso_rad
 
 
 def _qpos_address(model: mujoco.MjModel, name: str) -> int:

@@ -14,9 +14,9 @@ from zmpkit.robots.nao.model import (
     NAO_WALKING_COM_HEIGHT_M,
     nao_feet_mounts,
 )
+from zmpkit.robots.nao.preset import make_nao
 from zmpkit.robots.nao.robot import (
     NAO_SERVO_LIMITS,
-    make_nao,
     nao_ik_mjcf,
     nao_ik_model,
     nao_mjcf,

@@ -9,6 +9,7 @@ nao-parameters.md §1). NAO has no standing-balance model in zmpkit.
 from __future__ import annotations
 
 from collections.abc import Mapping
+from pathlib import Path
 
 from zmpkit.robots.ik_settings import IkSettings
 from zmpkit.robots.nao import fit_catalogue
@@ -27,8 +28,16 @@ from zmpkit.robots.nao.robot import (
 )
 from zmpkit.robots.nao.truth import DEFAULT_TRUTH_PATH, NaoTruth, load_truth, truth_from_doc
 from zmpkit.robots.robot import FitSpec, Robot, TruthSpec, WalkingDefaults
+from zmpkit.sim.effect_set import EffectSet
+from zmpkit.sim.world import Simulation
 
-__all__ = ["NAO", "NAO_CONTROL_PERIOD_S", "NAO_CROUCH_POSTURE_RAD", "NAO_PLANNER_SOLE_M"]
+__all__ = [
+    "NAO",
+    "NAO_CONTROL_PERIOD_S",
+    "NAO_CROUCH_POSTURE_RAD",
+    "NAO_PLANNER_SOLE_M",
+    "make_nao",
+]
 
 NAO_CROUCH_POSTURE_RAD: Mapping[str, float] = {
     f"{side}{joint}": angle
@@ -71,3 +80,12 @@ NAO = Robot(
     fit=FitSpec(fit_catalogue.FIT_CATALOGUE, fit_catalogue.QUICK_FIT_PARAMETERS, "walk"),
 )
 """The virtual NAO."""
+
+
+def make_nao(
+    effects: EffectSet | str = "all",
+    truth: NaoTruth | str | Path | None = None,
+    seed: int = 0,
+) -> Simulation:
+    """:data:`NAO`'s :meth:`~zmpkit.robots.robot.Robot.make_simulation`: standing, legs straight."""
+    return NAO.make_simulation(effects, truth, seed)

@@ -1,7 +1,7 @@
 """Assemble the virtual NAO: its rigid MJCF, the switched-on effects, and a simulation.
 
-:func:`nao_robot` gives the :class:`~zmpkit.sim.description.RobotDescription`;
-:func:`make_nao` starts a :class:`~zmpkit.sim.world.Simulation` of it; :func:`nao_ik_mjcf`
+:func:`nao_robot` gives the :class:`~zmpkit.sim.description.RobotDescription` (a simulation
+of it: :meth:`NAO.make_simulation <zmpkit.robots.robot.Robot.make_simulation>`); :func:`nao_ik_mjcf`
 is the rigid kinematic model a controller (the IK) may use — the design, not the truth: it
 has the URDF's torso mass and CoM, while the truth robot has its truth file's (effect C).
 
@@ -29,12 +29,10 @@ from zmpkit.sim.builder import (
 from zmpkit.sim.description import FootSensor, RobotDescription
 from zmpkit.sim.effect_set import EffectSet
 from zmpkit.sim.servo import ServoLimits
-from zmpkit.sim.world import Simulation
 
 __all__ = [
     "NAO_CONTACT_FORCE_THRESHOLD_N",
     "NAO_SERVO_LIMITS",
-    "make_nao",
     "nao_ik_mjcf",
     "nao_ik_model",
     "nao_mjcf",
@@ -103,9 +101,18 @@ def nao_ik_model() -> mujoco.MjModel:
 
 
 def nao_robot(
-    effects: EffectSet | str = "all", truth: NaoTruth | str | Path | None = None
+    effects: EffectSet | str,
+    truth: NaoTruth | str | Path | None,
+    contact_force_threshold_n: float,
 ) -> RobotDescription:
-    """The virtual NAO as a robot description, ready for :class:`Simulation`."""
+    """The virtual NAO as a robot description, ready for :class:`~zmpkit.sim.world.Simulation`.
+
+    Args:
+        effects: which effects are on (see :class:`~zmpkit.sim.effect_set.EffectSet`).
+        truth: truth parameters, a truth file, or ``None`` for the shipped truth.
+        contact_force_threshold_n: the robot's contact threshold [N]
+            (:attr:`~zmpkit.robots.robot.Robot.contact_force_threshold_n`).
+    """
     on = EffectSet.parse(effects)
     params = _resolve_truth(truth)
     feet = tuple(FootSensor.named(side, SOLE_PLATE_M) for side in NAO_SIDES)
@@ -118,20 +125,5 @@ def nao_robot(
         servo_limits=NAO_SERVO_LIMITS,
         sensor_params=params.sensors,
         ft_offsets=params.ft_offsets,
-        contact_force_threshold_n=NAO_CONTACT_FORCE_THRESHOLD_N,
+        contact_force_threshold_n=contact_force_threshold_n,
     )
-
-
-def make_nao(
-    effects: EffectSet | str = "all",
-    truth: NaoTruth | str | Path | None = None,
-    seed: int = 0,
-) -> Simulation:
-    """Start a simulation of the virtual NAO standing in its zero pose (legs straight).
-
-    Args:
-        effects: which effects are on (see :class:`~zmpkit.sim.effect_set.EffectSet`).
-        truth: truth parameters, a truth file, or ``None`` for the shipped truth.
-        seed: seed of the sensor noise.
-    """
-    return Simulation(nao_robot(effects, truth), seed=seed)

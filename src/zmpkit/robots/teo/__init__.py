@@ -11,7 +11,8 @@ from zmpkit.robots.teo.model import (
     TEO_DRIVEN_JOINTS,
     teo_feet_mounts,
 )
-from zmpkit.robots.teo.robot import TEO_SERVO_LIMITS, make_teo, teo_mjcf, teo_robot
+from zmpkit.robots.teo.preset import make_teo
+from zmpkit.robots.teo.robot import TEO_SERVO_LIMITS, teo_mjcf, teo_robot
 from zmpkit.robots.teo.truth import DEFAULT_TRUTH_PATH, TeoTruth, load_truth
 
 __all__ = [

@@ -8,6 +8,8 @@ walk in zmpkit (no walking defaults).
 
 from __future__ import annotations
 
+from pathlib import Path
+
 from zmpkit.robots.robot import BalanceModel, FitSpec, Robot, TruthSpec
 from zmpkit.robots.teo import fit_catalogue
 from zmpkit.robots.teo import geometry as geo
@@ -20,8 +22,10 @@ from zmpkit.robots.teo.model import (
 from zmpkit.robots.teo.robot import TEO_SERVO_LIMITS, teo_robot
 from zmpkit.robots.teo.truth import DEFAULT_TRUTH_PATH, TeoTruth, load_truth, truth_from_doc
 from zmpkit.sensors.zmp import CONTACT_FORCE_THRESHOLD_N
+from zmpkit.sim.effect_set import EffectSet
+from zmpkit.sim.world import Simulation
 
-__all__ = ["TEO"]
+__all__ = ["TEO", "make_teo"]
 
 
 def _support_polygon() -> dict[str, tuple[float, float]]:
@@ -60,3 +64,17 @@ TEO = Robot(
     fit=FitSpec(fit_catalogue.FIT_CATALOGUE, fit_catalogue.QUICK_FIT_PARAMETERS, "step"),
 )
 """The virtual TEO."""
+
+
+def make_teo(
+    effects: EffectSet | str = "all",
+    truth: TeoTruth | str | Path | None = None,
+    seed: int = 0,
+) -> Simulation:
+    """:data:`TEO`'s :meth:`~zmpkit.robots.robot.Robot.make_simulation`, standing in its zero pose.
+
+    The robot starts with unloaded springs and settles within about 2 s with all effects
+    on (the lean mode is lightly damped on purpose); with gear compliance but the ideal
+    servo (``"G"``, ``"G,F"``) allow about 6 s. Measure the start-up offset after that.
+    """
+    return TEO.make_simulation(effects, truth, seed)

@@ -1,9 +1,9 @@
 """Assemble the virtual TEO: its rigid MJCF, the switched-on effects, and a simulation.
 
 :func:`teo_robot` gives the :class:`~zmpkit.sim.description.RobotDescription` (MJCF with the
-effects applied, driven joints, foot sensors, IMU, servo limits); :func:`make_teo` starts a
-:class:`~zmpkit.sim.world.Simulation` of it. The truth parameters come from
-:func:`~zmpkit.robots.teo.truth.load_truth` (the shipped file unless one is given).
+effects applied, driven joints, foot sensors, IMU, servo limits); a simulation of it is
+:meth:`TEO.make_simulation <zmpkit.robots.robot.Robot.make_simulation>`. The truth parameters
+come from :func:`~zmpkit.robots.teo.truth.load_truth` (the shipped file unless one is given).
 """
 
 from __future__ import annotations
@@ -24,9 +24,8 @@ from zmpkit.sim.description import FootSensor, RobotDescription
 from zmpkit.sim.effect_set import EffectSet
 from zmpkit.sim.effects import IdealServoParams
 from zmpkit.sim.servo import ServoLimits
-from zmpkit.sim.world import Simulation
 
-__all__ = ["TEO_SERVO_LIMITS", "make_teo", "teo_mjcf", "teo_robot"]
+__all__ = ["TEO_SERVO_LIMITS", "teo_mjcf", "teo_robot"]
 
 TEO_SERVO_LIMITS = ServoLimits(max_velocity=0.35, max_acceleration=0.1, synchronized=True)
 """Setpoint trajectory limits of TEO's drives (20 °/s, 5.7 °/s²; assumed, not in the
@@ -65,9 +64,18 @@ def teo_mjcf(effects: EffectSet | str = "all", truth: TeoTruth | str | Path | No
 
 
 def teo_robot(
-    effects: EffectSet | str = "all", truth: TeoTruth | str | Path | None = None
+    effects: EffectSet | str,
+    truth: TeoTruth | str | Path | None,
+    contact_force_threshold_n: float,
 ) -> RobotDescription:
-    """The virtual TEO as a robot description, ready for :class:`Simulation`."""
+    """The virtual TEO as a robot description, ready for :class:`~zmpkit.sim.world.Simulation`.
+
+    Args:
+        effects: which effects are on (see :class:`~zmpkit.sim.effect_set.EffectSet`).
+        truth: truth parameters, a truth file, or ``None`` for the shipped truth.
+        contact_force_threshold_n: the robot's contact threshold [N]
+            (:attr:`~zmpkit.robots.robot.Robot.contact_force_threshold_n`).
+    """
     on = EffectSet.parse(effects)
     params = _resolve_truth(truth)
     feet = tuple(FootSensor.named(side, geo.FT_HEIGHT_ABOVE_SOLE_M) for side in TEO_SIDES)
@@ -77,28 +85,10 @@ def teo_robot(
         driven_joints=TEO_DRIVEN_JOINTS,
         feet=feet,
         effects=on,
+        contact_force_threshold_n=contact_force_threshold_n,
         servo_limits=TEO_SERVO_LIMITS,
         sensor_params=params.sensors,
         ft_offsets=params.ft_offsets,
         ft_gain_errors=params.ft_gain_errors,
         variability=params.variability,
     )
-
-
-def make_teo(
-    effects: EffectSet | str = "all",
-    truth: TeoTruth | str | Path | None = None,
-    seed: int = 0,
-) -> Simulation:
-    """Start a simulation of the virtual TEO standing in its zero pose.
-
-    The robot starts with unloaded springs and settles within about 2 s with all effects
-    on (the lean mode is lightly damped on purpose); with gear compliance but the ideal
-    servo (``"G"``, ``"G,F"``) allow about 6 s. Measure the start-up offset after that.
-
-    Args:
-        effects: which effects are on (see :class:`~zmpkit.sim.effect_set.EffectSet`).
-        truth: truth parameters, a truth file, or ``None`` for the shipped truth.
-        seed: seed of the sensor noise.
-    """
-    return Simulation(teo_robot(effects, truth), seed=seed)
