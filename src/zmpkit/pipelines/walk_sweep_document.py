@@ -104,13 +104,19 @@ def walk_sweep_document(result: SweepResult) -> ReportDocument:
         if role.startswith("matrix_")
     ]
     title = c.robot.title
+    matrix = c.full_matrix()
+    forward = sorted({x.speed_mps for x in matrix if not (x.lateral_mps or x.push_n or x.fault)})
+    sideways = max(abs(x.lateral_mps) for x in matrix)
+    forces = ", ".join(f"{f:g}" for f in sorted({x.push_n for x in matrix if x.push_n}))
     return ReportDocument(
         title=f"zmpkit walk sweep: robustness of the virtual {title}'s walking controllers",
         summary=(
             f"Each controller walked every case of the robustness matrix for {c.duration_s:g} s "
-            f"with effects {c.effects or 'none (rigid)'}: forward 0.05–0.30 m/s, steps of "
-            "0.35–0.70 s, sideways ±0.05 m/s, turning ±0.3 rad/s, pushes of 10, 20 and 30 N × "
-            "0.1 s in eight directions at four phases of the step, and sensor faults"
+            f"with effects {c.effects or 'none (rigid)'}: forward {forward[0]:g}–{forward[-1]:g} "
+            f"m/s, steps of 0.35–0.70 s, sideways ±{sideways:g} m/s, turning ±0.3 rad/s, pushes "
+            f"of {forces} N × 0.1 s in eight directions at four phases of the step, and sensor "
+            "faults (speeds scaled by the robot's walking speed over 0.2 m/s, pushes by its mass "
+            "over paper B's robot's)"
             + (
                 "; the feedback walks moved their steps to capture the DCM"
                 if c.step_adjustment
