@@ -82,7 +82,7 @@ def best_wall(run: Any, repeats: int) -> float:
 
 
 COST_RECORDS = ("qpos", "sensordata", "site_xpos", "site_xmat")
-"""What the fit's signals read of each row (``zmpkit.simfit.batched``)."""
+"""What the fit's signals read of each row (``zmpkit.simfit.warp_batched``)."""
 
 
 def measure(

@@ -410,9 +410,10 @@ def test_all_experiments_and_candidates_in_one_batch(tmp_path) -> None:
     import dataclasses
 
     from helpers.simfit_data import SEED, small_case
-    from zmpkit.simfit.batched import simulate_batch, simulate_batches_warp
+    from zmpkit.simfit.batched import simulate_batch
     from zmpkit.simfit.experiments import read_experiments
     from zmpkit.simfit.self_test import SelfTestPlan, record_experiments
+    from zmpkit.simfit.warp_batched import simulate_batches_warp
 
     params, doc, truth = small_case()
     plan = SelfTestPlan(((0.2, 1.5), (0.1, 1.0)), ())

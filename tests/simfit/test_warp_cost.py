@@ -70,11 +70,11 @@ def test_device_cost_is_the_host_cost_of_the_same_rollouts(tmp_path) -> None:
     term's sum differs only in the order of its float64 additions (rtol 1e-12, far inside
     float32's 6e-8; the completed fraction and the fall are equal).
     """
-    from zmpkit.simfit.batched import costs_batches_warp, simulate_batches_warp
     from zmpkit.simfit.cost import experiment_cost
     from zmpkit.simfit.experiments import read_experiments
     from zmpkit.simfit.problem import FitProblem
     from zmpkit.simfit.self_test import SelfTestPlan, record_experiments
+    from zmpkit.simfit.warp_batched import costs_batches_warp, simulate_batches_warp
 
     params, doc, truth = small_case()
     plan = SelfTestPlan(((0.2, 1.5), (0.1, 1.0)), ())

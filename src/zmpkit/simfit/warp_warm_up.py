@@ -19,7 +19,7 @@ import numpy as np
 from zmpkit.errors import ParameterError
 from zmpkit.robots.robot import Robot
 from zmpkit.sim.warp_cache import cache_file_count
-from zmpkit.simfit.batched import WARP_RECORDS
+from zmpkit.simfit.warp_batched import WARP_RECORDS
 
 __all__ = ["WARM_UP_STEPS", "WarmUpResult", "WarmedRobot", "warm_up_warp"]
 
