@@ -44,14 +44,17 @@ EFFECTS = "M,I,G,F,S"
 def measure(ncandidates: int, nexperiments: int, repeats: int) -> dict[str, Any]:
     """Best wall time of each way [s] and the counts."""
     from helpers.simfit_data import record_walk, small_case
+    from zmpkit.robots.registry import get_robot
     from zmpkit.simfit.experiments import read_experiments
     from zmpkit.simfit.open_loop import posed_simulation, posed_simulations
     from zmpkit.simfit.problem import FitProblem
 
     params, doc, truth = small_case()
     with tempfile.TemporaryDirectory() as tmp:
-        experiments = tuple(read_experiments([record_walk(Path(tmp))], "nao")) * nexperiments
-    problem = FitProblem("nao", EFFECTS, params, doc, experiments)
+        experiments = (
+            tuple(read_experiments([record_walk(Path(tmp))], get_robot("nao"))) * nexperiments
+        )
+    problem = FitProblem(get_robot("nao"), EFFECTS, params, doc, experiments)
     rng = np.random.default_rng(0)
     values = [
         np.asarray(truth) * np.exp(rng.normal(0.0, 0.05, len(truth))) for _ in range(ncandidates)

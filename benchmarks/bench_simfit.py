@@ -69,9 +69,10 @@ def make_problem(folder: Path, duration_s: float) -> FitProblem:
         ),
         folder,
     )
-    params = default_parameters("nao", "M,G", ("pid_gain_scale", "gear_stiffness"))
-    doc = load_truth_doc(base_truth_path("nao", None))
-    return FitProblem("nao", "M,G,S", params, doc, tuple(read_experiments([folder], "nao")))
+    nao = get_robot("nao")
+    params = default_parameters(nao, "M,G", ("pid_gain_scale", "gear_stiffness"))
+    doc = load_truth_doc(base_truth_path(nao, None))
+    return FitProblem(nao, "M,G,S", params, doc, tuple(read_experiments([folder], nao)))
 
 
 def candidates(n: int) -> list[list[float]]:

@@ -38,6 +38,7 @@ from mujoco import rollout
 
 from harness import base_parser, print_table, write_run
 from zmpkit.robots.nao import make_nao
+from zmpkit.robots.registry import get_robot
 from zmpkit.simfit.parameters import default_parameters
 from zmpkit.simfit.truth_doc import (
     base_truth_path,
@@ -54,13 +55,13 @@ FULL = mujoco.mjtState.mjSTATE_FULLPHYSICS
 
 def batch(nbatch: int, nstep: int) -> tuple[list[mujoco.MjModel], np.ndarray, np.ndarray]:
     """``nbatch`` candidate models, the standing state and ``nstep`` steps of setpoints."""
-    params = default_parameters("nao", "M,G", ("pid_gain_scale", "gear_stiffness"))
-    doc = load_truth_doc(base_truth_path("nao", None))
+    params = default_parameters(get_robot("nao"), "M,G", ("pid_gain_scale", "gear_stiffness"))
+    doc = load_truth_doc(base_truth_path(get_robot("nao"), None))
     rng = np.random.default_rng(0)
     models = []
     for _ in range(nbatch):
         values = [p.from_unit(float(rng.uniform(0.1, 0.9))) for p in params]
-        truth = load_robot_truth("nao", truth_doc_with(doc, params, values))
+        truth = load_robot_truth(get_robot("nao"), truth_doc_with(doc, params, values))
         models.append(make_nao(EFFECTS, truth, seed=0).model)
     sim = make_nao(EFFECTS, None, seed=0)
     state = np.empty(mujoco.mj_stateSize(sim.model, FULL))
@@ -81,7 +82,7 @@ def best_wall(run: Any, repeats: int) -> float:
 
 
 COST_RECORDS = ("qpos", "sensordata", "site_xpos", "site_xmat")
-"""What the fit's signals read of each row (``zmpkit.simfit.batched``)."""
+"""What the fit's signals read of each row (``zmpkit.simfit.warp_batched``)."""
 
 
 def measure(

@@ -33,6 +33,7 @@ import numpy as np
 
 from harness import base_parser, print_table, write_run
 from zmpkit.robots.nao import make_nao
+from zmpkit.robots.registry import get_robot
 from zmpkit.sim.warp_model import _differing_fields, _model_arrays, per_world_values
 from zmpkit.simfit.parameters import default_parameters
 from zmpkit.simfit.truth_doc import (
@@ -52,13 +53,13 @@ EFFECTS = "M,G,S"
 
 def candidates(distinct: int, size: int) -> list[mujoco.MjModel]:
     """``size`` candidate models: ``distinct`` built as the fit builds them, then copies."""
-    params = default_parameters("nao", "M,G", ("pid_gain_scale", "gear_stiffness"))
-    doc = load_truth_doc(base_truth_path("nao", None))
+    params = default_parameters(get_robot("nao"), "M,G", ("pid_gain_scale", "gear_stiffness"))
+    doc = load_truth_doc(base_truth_path(get_robot("nao"), None))
     rng = np.random.default_rng(0)
     built = []
     for _ in range(min(distinct, size)):
         values = [p.from_unit(float(rng.uniform(0.1, 0.9))) for p in params]
-        truth = load_robot_truth("nao", truth_doc_with(doc, params, values))
+        truth = load_robot_truth(get_robot("nao"), truth_doc_with(doc, params, values))
         built.append(make_nao(EFFECTS, truth, seed=0).model)
     return [
         built[i] if i < len(built) else copy.deepcopy(built[i % len(built)]) for i in range(size)

@@ -96,8 +96,9 @@ def _drift(cpu: Any, warp: Any) -> list[dict[str, float]]:
 
 def measure(device: str, duration_s: float, threads: int) -> dict[str, Any]:
     """Both runs' costs per candidate, their relative differences, and the truth's drift."""
-    from zmpkit.simfit.batched import simulate_batch, simulate_batches_warp
+    from zmpkit.simfit.batched import simulate_batch
     from zmpkit.simfit.cost import experiment_cost
+    from zmpkit.simfit.warp_batched import simulate_batches_warp
 
     with tempfile.TemporaryDirectory() as tmp:
         case = long_walk(Path(tmp), duration_s)

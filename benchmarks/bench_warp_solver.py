@@ -50,8 +50,8 @@ def _max_abs(a: np.ndarray, b: np.ndarray) -> float:
 def measure(device: str, duration_s: float) -> dict[str, Any]:
     """Per setting: cost changes, signal changes and time per step against the default."""
     from zmpkit.sim.solver_settings import SolverSettings
-    from zmpkit.simfit.batched import simulate_batches_warp
     from zmpkit.simfit.cost import experiment_cost
+    from zmpkit.simfit.warp_batched import simulate_batches_warp
 
     with tempfile.TemporaryDirectory() as tmp:
         case = long_walk(Path(tmp), duration_s)

@@ -46,11 +46,12 @@ class LongWalk:
 def long_walk(out: Path, duration_s: float = 10.0, speed_mps: float = 0.2) -> LongWalk:
     """Record the walk into ``out`` and build the problem and candidates."""
     from helpers.simfit_data import SEED, small_case
+    from zmpkit.robots.registry import get_robot
     from zmpkit.simfit.experiments import read_experiments
     from zmpkit.simfit.problem import FitProblem
     from zmpkit.simfit.self_test import SelfTestPlan, record_experiments
 
-    robot = ROBOT
+    robot = get_robot(ROBOT)
     params, doc, truth = small_case()
     plan = SelfTestPlan(((speed_mps, duration_s),), ())
     recorded = EFFECTS.replace(",S", "")

@@ -73,20 +73,19 @@ def main() -> None:
     config = IdentifySimConfig(
         robot=args.robot, effects=args.effects, self_test=True, seed=args.seed
     )
+    robot = config.robot  # resolved once, by the config
     params = config.fit_parameters()  # the whole catalogue of these effects (not --quick's)
-    doc = load_truth_doc(base_truth_path(args.robot, None))
+    doc = load_truth_doc(base_truth_path(robot, None))
     truth = perturbed_values(params, args.seed)
-    plan = SelfTestPlan(self_test_plan(args.robot, args.quick).fit, ())
+    plan = SelfTestPlan(self_test_plan(robot, args.quick).fit, ())
     start = time.perf_counter()
     fit_dirs, _ = record_experiments(
-        args.robot, plan, doc, params, truth, config.physics_effects, args.seed, args.out
+        robot, plan, doc, params, truth, config.physics_effects, args.seed, args.out
     )
-    experiments = tuple(read_experiments(fit_dirs, args.robot))
+    experiments = tuple(read_experiments(fit_dirs, robot))
     weights = CostWeights(*(float(x) for x in args.weights.split(",")))
     readings = "expected" if args.expected_readings else "sampled"
-    problem = FitProblem(
-        args.robot, config.sim_effects, params, doc, experiments, weights, readings
-    )
+    problem = FitProblem(robot, config.sim_effects, params, doc, experiments, weights, readings)
     evaluator = BatchEvaluator(problem, threads=args.workers)
     at_truth = evaluator.costs([truth])[0]
     cost0 = float(np.mean([t.total(problem.weights) for t in at_truth]))

@@ -22,6 +22,7 @@ import numpy as np
 from hypothesis import strategies as st
 
 from zmpkit.robots.fit_parameter import FitParameter
+from zmpkit.robots.registry import get_robot
 from zmpkit.simfit.checkpoint import ARRAYS_FILE, CHECKPOINT_FILE
 from zmpkit.simfit.cost import CostTerms
 from zmpkit.simfit.optimizer import CmaOptions, CmaResult, run_cma
@@ -46,7 +47,7 @@ class SphereEvaluator:
 def sphere_problem(n: int = 3) -> FitProblem:
     """n parameters in [0, 1] starting at 0.3, no experiments (the evaluator is the cost)."""
     params = tuple(FitParameter(f"x{i}", f"x{i}", 0.3, 0.0, 1.0, "-") for i in range(n))
-    return FitProblem("nao", "M", params, {}, ())
+    return FitProblem(get_robot("nao"), "M", params, {}, ())
 
 
 def write_fit(folder: Path, n: int = 3, resume: Path | None = None, **options: Any) -> CmaResult:

@@ -52,7 +52,7 @@ def test_the_fit_measures_a_step_with_the_datasets_threshold(tmp_path: Path) -> 
     assert threshold == pytest.approx(
         0.05 * get_robot("op3").require_balance().mass_kg * 9.81, rel=0.01
     )
-    experiments = read_experiments([out], "op3")
+    experiments = read_experiments([out], get_robot("op3"))
     assert {e.contact_threshold_n for e in experiments} == {threshold}
 
 

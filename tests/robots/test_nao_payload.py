@@ -27,6 +27,7 @@ from zmpkit.robots.nao import (
 )
 from zmpkit.robots.nao.geometry import TORSO
 from zmpkit.robots.nao.model import SOLE_PLATE_M
+from zmpkit.robots.registry import get_robot
 from zmpkit.simfit.outputs import write_fitted_truth
 from zmpkit.simfit.parameters import default_parameters
 from zmpkit.simfit.truth_doc import (
@@ -122,11 +123,11 @@ def test_design_model_keeps_the_urdf_torso() -> None:
 
 
 def test_catalogue_c_starts_from_the_design_and_brackets_the_shipped_truth() -> None:
-    params = default_parameters("nao", "C")
+    params = default_parameters(get_robot("nao"), "C")
     assert [p.name for p in params] == ["torso_mass", "torso_com_x"]
     assert [p.nominal for p in params] == pytest.approx([TORSO.mass, TORSO.com[0]])
     assert [p.unit for p in params] == ["kg", "m"]
-    doc = load_truth_doc(base_truth_path("nao", None))
+    doc = load_truth_doc(base_truth_path(get_robot("nao"), None))
     for p in params:
         (value,) = get_path(doc, p.path)
         assert p.lower < value < p.upper, p.name
@@ -134,7 +135,7 @@ def test_catalogue_c_starts_from_the_design_and_brackets_the_shipped_truth() -> 
 
 
 def test_fitted_torso_round_trips_through_the_truth_document(tmp_path: Path) -> None:
-    params = default_parameters("nao", "C")
+    params = default_parameters(get_robot("nao"), "C")
     doc = load_truth_doc(DEFAULT_TRUTH_PATH)
     values = [1.2, -0.0125]
     fitted = write_fitted_truth(tmp_path / "fitted.yaml", doc, params, values, "fit C")

@@ -112,6 +112,6 @@ def test_a_fit_candidate_of_a_voltage_drive_robot_keeps_the_drive(tmp_path) -> N
     doc = truth_doc_with(
         load_truth_doc(tmp_path / "truth.yaml"), [catalogue["winding_resistance"]], [2.5]
     )
-    truth = load_robot_truth(str(robot_file), doc)
+    truth = load_robot_truth(robot, doc)
     assert truth.motor.voltage_drive
     assert truth.motor.resistance == 2.5

@@ -24,6 +24,7 @@ from mujoco import rollout
 
 from zmpkit.errors import ParameterError
 from zmpkit.robots.nao import make_nao
+from zmpkit.robots.registry import get_robot
 from zmpkit.sim.warp_batch import rollout_warp
 
 FULL = mujoco.mjtState.mjSTATE_FULLPHYSICS
@@ -217,8 +218,8 @@ def test_warp_backend_costs_follow_the_cpu_batch(tmp_path) -> None:
     from zmpkit.simfit.problem import FitProblem
 
     params, doc, truth = small_case()
-    experiments = tuple(read_experiments([record_walk(tmp_path)], "nao"))
-    problem = FitProblem("nao", "M,G,S", params, doc, experiments)
+    experiments = tuple(read_experiments([record_walk(tmp_path)], get_robot("nao")))
+    problem = FitProblem(get_robot("nao"), "M,G,S", params, doc, experiments)
     candidates = [[p.nominal for p in params], list(truth), [0.36, 310.0]]
     cpu = make_evaluator(problem, "local").costs(candidates)
     warp = make_evaluator(problem, "warp").costs(candidates)
@@ -409,17 +410,18 @@ def test_all_experiments_and_candidates_in_one_batch(tmp_path) -> None:
     import dataclasses
 
     from helpers.simfit_data import SEED, small_case
-    from zmpkit.simfit.batched import simulate_batch, simulate_batches_warp
+    from zmpkit.simfit.batched import simulate_batch
     from zmpkit.simfit.experiments import read_experiments
     from zmpkit.simfit.self_test import SelfTestPlan, record_experiments
+    from zmpkit.simfit.warp_batched import simulate_batches_warp
 
     params, doc, truth = small_case()
     plan = SelfTestPlan(((0.2, 1.5), (0.1, 1.0)), ())
-    paths, _ = record_experiments("nao", plan, doc, params, truth, "M,G", SEED, tmp_path)
-    experiments = read_experiments(paths, "nao")
+    paths, _ = record_experiments(get_robot("nao"), plan, doc, params, truth, "M,G", SEED, tmp_path)
+    experiments = read_experiments(paths, get_robot("nao"))
     from zmpkit.simfit.problem import FitProblem
 
-    problem = FitProblem("nao", "M,G,S", params, doc, tuple(experiments))
+    problem = FitProblem(get_robot("nao"), "M,G,S", params, doc, tuple(experiments))
     truths = [problem.truth([p.nominal for p in params]), problem.truth(list(truth))]
     together = simulate_batches_warp(experiments, truths, "M,G,S", "cpu")
     assert len(together) == 2

@@ -96,8 +96,9 @@ def test_warm_up_without_warp_exits_2_naming_the_extra(monkeypatch, capsys) -> N
 
 WARM_UP = """
 import json, sys
+from zmpkit.robots.registry import get_robot
 from zmpkit.simfit.warp_warm_up import warm_up_warp
-r = warm_up_warp(["nao"], "M,G,S", "cpu")
+r = warm_up_warp([get_robot("nao")], "M,G,S", "cpu")
 print(json.dumps({"dir": r.cache_dir, "before": r.files_before, "after": r.files_after,
                   "skipped": [w.skipped for w in r.robots]}))
 """

@@ -10,6 +10,7 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
+from zmpkit.robots.registry import get_robot
 from zmpkit.simfit.adequacy import (
     ADEQUATE_RATIO,
     Adequacy,
@@ -21,6 +22,8 @@ from zmpkit.simfit.outputs import adequacy_entry
 from zmpkit.simfit.parameters import default_parameters
 from zmpkit.simfit.problem import FitProblem
 from zmpkit.simfit.truth_doc import base_truth_path, load_truth_doc
+
+NAO = get_robot("nao")
 
 
 def test_lag1_autocorrelation_closed_forms() -> None:
@@ -75,9 +78,9 @@ def zmpip_problem(tmp_path_factory: pytest.TempPathFactory) -> FitProblem:
     from helpers.simfit_data import record_feedback_walk
 
     folder: Path = record_feedback_walk(tmp_path_factory.mktemp("adequacy_walk"))
-    params = default_parameters("nao", "M,G", ("pid_gain_scale", "gear_stiffness"))
-    doc = load_truth_doc(base_truth_path("nao", None))
-    return FitProblem("nao", "M,G,S", params, doc, tuple(read_experiments([folder], "nao")))
+    params = default_parameters(NAO, "M,G", ("pid_gain_scale", "gear_stiffness"))
+    doc = load_truth_doc(base_truth_path(NAO, None))
+    return FitProblem(NAO, "M,G,S", params, doc, tuple(read_experiments([folder], NAO)))
 
 
 def test_the_recording_truth_explains_its_walk_and_a_wrong_model_does_not(

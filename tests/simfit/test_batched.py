@@ -26,6 +26,8 @@ from zmpkit.simfit.truth_doc import (
     truth_doc_with,
 )
 
+NAO = get_robot("nao")
+TEO = get_robot("teo")
 _FIELDS = ("time_s", "q_cmd_rad", "q_meas_rad", "zmp_m", "trunk_tilt_rad")
 
 
@@ -39,7 +41,7 @@ def _assert_same(batched: RecordedSignals, serial: RecordedSignals) -> None:
 @pytest.fixture(scope="module")
 def walk(tmp_path_factory: pytest.TempPathFactory) -> WalkExperiment:
     folder = record_walk(tmp_path_factory.mktemp("batched_walk"))
-    (experiment,) = read_experiments([folder], "nao")
+    (experiment,) = read_experiments([folder], NAO)
     assert isinstance(experiment, WalkExperiment)
     return experiment
 
@@ -49,10 +51,10 @@ def step(tmp_path_factory: pytest.TempPathFactory) -> StepExperiment:
     from zmpkit.experiments import StepExperimentConfig, run_step_sweep
 
     config = StepExperimentConfig(
-        get_robot("teo"), targets_m=(0.04,), effects="M,G,F,S", settle_s=2.0, hold_s=1.0
+        TEO, targets_m=(0.04,), effects="M,G,F,S", settle_s=2.0, hold_s=1.0
     )
     dataset = run_step_sweep(config, tmp_path_factory.mktemp("batched_step"), workers=1)
-    (experiment,) = read_experiments([Path(dataset.path)], "teo")
+    (experiment,) = read_experiments([Path(dataset.path)], TEO)
     assert isinstance(experiment, StepExperiment)
     return experiment
 
@@ -62,7 +64,7 @@ def test_walks_equal_the_serial_path(walk: WalkExperiment, effects: str) -> None
     params, doc, truth = small_case()
     # nominal, the hidden truth, a candidate that falls, one that diverges at once
     values = [[p.nominal for p in params], list(truth), [0.36, 310.0], [0.7, 1.0e7]]
-    truths = [load_robot_truth("nao", truth_doc_with(doc, params, v)) for v in values]
+    truths = [load_robot_truth(NAO, truth_doc_with(doc, params, v)) for v in values]
     batched = simulate_batch(walk, truths, effects, nthread=2)
     serial = [simulate_experiment(walk, t, effects) for t in truths]
     lengths = [len(s.time_s) for s in serial]
@@ -74,10 +76,10 @@ def test_walks_equal_the_serial_path(walk: WalkExperiment, effects: str) -> None
 
 
 def test_step_trials_equal_the_serial_path(step: StepExperiment) -> None:
-    params = default_parameters("teo", "M,G", ("pid_kp", "gear_stiffness"))
-    doc = load_truth_doc(base_truth_path("teo", None))
+    params = default_parameters(TEO, "M,G", ("pid_kp", "gear_stiffness"))
+    doc = load_truth_doc(base_truth_path(TEO, None))
     values = [[30000.0, 40000.0], [5000.0, 8000.0], [150000.0, 200000.0], [30000.0, 1.0e12]]
-    truths = [load_robot_truth("teo", truth_doc_with(doc, params, v)) for v in values]
+    truths = [load_robot_truth(TEO, truth_doc_with(doc, params, v)) for v in values]
     batched = simulate_batch(step, truths, "M,G,F,S", nthread=2)
     serial = [simulate_experiment(step, t, "M,G,F,S") for t in truths]
     assert len(serial[0].time_s) == len(step.signals.time_s)
@@ -95,7 +97,7 @@ def test_experiments_sharing_a_compiled_model_equal_the_serial_path(walk: WalkEx
     """A candidate's second experiment starts from a copy of its first one's model."""
     params, doc, truth = small_case()
     values = [list(truth), [0.36, 310.0]]  # one that walks, one that falls
-    truths = [load_robot_truth("nao", truth_doc_with(doc, params, v)) for v in values]
+    truths = [load_robot_truth(NAO, truth_doc_with(doc, params, v)) for v in values]
     batched = simulate_batches([walk, walk], truths, "M,G,S", nthread=2)
     serial = [simulate_experiment(walk, t, "M,G,S") for t in truths]
     for per_experiment in batched:
@@ -105,7 +107,7 @@ def test_experiments_sharing_a_compiled_model_equal_the_serial_path(walk: WalkEx
 
 def test_posed_simulations_own_their_models(walk: WalkExperiment) -> None:
     params, doc, truth = small_case()
-    truths = [load_robot_truth("nao", truth_doc_with(doc, params, list(truth)))]
+    truths = [load_robot_truth(NAO, truth_doc_with(doc, params, list(truth)))]
     (first,), (second,) = posed_simulations([walk, walk], truths, "M,G,S")
     alone = posed_simulation(walk, truths[0], "M,G,S")
     assert first.model is not second.model

@@ -388,6 +388,19 @@ def test_another_fit_is_refused_naming_what_differs(fit_folder: Path, tmp_path: 
         write_fit(tmp_path / "out", resume=folder, **{**OPTIONS, "seed": 9})
 
 
+def test_a_robot_file_typed_relative_still_resumes(
+    monkeypatch: pytest.MonkeyPatch, tmp_path: Path
+) -> None:
+    """A checkpoint that recorded ``robot.yaml`` as typed resumes with the file's source."""
+    monkeypatch.chdir(tmp_path)
+    source = str(tmp_path / "robot.yaml")  # a robot file's Robot.source: its absolute path
+    check_fingerprint({"robot": "robot.yaml", "seed": 1}, {"robot": source, "seed": 1}, tmp_path)
+    with pytest.raises(ParameterError, match=r"another fit \(different robot\)"):
+        check_fingerprint({"robot": "other.yaml"}, {"robot": source}, tmp_path)
+    with pytest.raises(ParameterError, match=r"robot: 'robot\.yaml' there, 'nao' now"):
+        check_fingerprint({"robot": "robot.yaml"}, {"robot": "nao"}, tmp_path)
+
+
 def test_identify_sim_refuses_a_damaged_resume_before_writing(folder: Path, tmp_path: Path) -> None:
     doc, arrays = read_pair(folder)
     arrays["strategy.sm.D"][0] = np.nan

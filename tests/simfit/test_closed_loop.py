@@ -17,6 +17,7 @@ import numpy as np
 import pytest
 
 from zmpkit.errors import InputFileError, ParameterError
+from zmpkit.robots.registry import get_robot
 from zmpkit.simfit.closed_loop import NOISE_SEED_OFFSET
 from zmpkit.simfit.cost import experiment_cost
 from zmpkit.simfit.experiments import WalkExperiment, read_experiments, simulated_effects
@@ -27,6 +28,7 @@ from zmpkit.simfit.rollout import simulate_experiment
 from zmpkit.simfit.truth_doc import base_truth_path, load_robot_truth, load_truth_doc
 from zmpkit.simfit.walk_plan import FALL_MARGIN_S
 
+NAO = get_robot("nao")
 SEED = 3
 
 
@@ -45,11 +47,11 @@ def open_walk(tmp_path_factory: pytest.TempPathFactory) -> Path:
 
 
 def _shipped_truth():
-    return load_robot_truth("nao", load_truth_doc(base_truth_path("nao", None)))
+    return load_robot_truth(NAO, load_truth_doc(base_truth_path(NAO, None)))
 
 
 def _walk(folder: Path) -> WalkExperiment:
-    (experiment,) = read_experiments([folder], "nao")
+    (experiment,) = read_experiments([folder], NAO)
     assert isinstance(experiment, WalkExperiment)
     return experiment
 
@@ -96,7 +98,11 @@ def test_an_open_loop_replay_of_a_zmpip_walk_would_not_reproduce_it(zmpip_walk: 
     experiment = _walk(zmpip_walk)
     with pytest.raises(InputFileError, match="differs from the recorded command"):
         match_walk_plan(
-            "nao", zmpip_walk, experiment.speed_mps, experiment.step_duration_s, experiment.signals
+            NAO,
+            zmpip_walk,
+            experiment.speed_mps,
+            experiment.step_duration_s,
+            experiment.signals,
         )
 
 
@@ -106,10 +112,10 @@ def test_the_local_backend_routes_closed_loop_walks_and_matches_serial(
     from zmpkit.simfit.backends import make_evaluator
     from zmpkit.simfit.pool_backend import RoutedEvaluator
 
-    experiments = tuple(read_experiments([zmpip_walk, open_walk], "nao"))
-    params = default_parameters("nao", "M,G", ("pid_gain_scale", "gear_stiffness"))
-    doc = load_truth_doc(base_truth_path("nao", None))
-    problem = FitProblem("nao", "M,G,S", params, doc, experiments)
+    experiments = tuple(read_experiments([zmpip_walk, open_walk], NAO))
+    params = default_parameters(NAO, "M,G", ("pid_gain_scale", "gear_stiffness"))
+    doc = load_truth_doc(base_truth_path(NAO, None))
+    problem = FitProblem(NAO, "M,G,S", params, doc, experiments)
     candidates = [[0.7, 1200.0], [0.6, 900.0]]
     serial = make_evaluator(problem, "serial").costs(candidates)
     routed = make_evaluator(problem, "local", workers=1)
@@ -126,9 +132,9 @@ def test_the_warp_backend_refuses_closed_loop_walks_in_one_line(
     from zmpkit.simfit.backends import make_evaluator
 
     monkeypatch.setitem(sys.modules, "mujoco_warp", types.ModuleType("mujoco_warp"))
-    experiments = tuple(read_experiments([zmpip_walk], "nao"))
-    params = default_parameters("nao", "M,G", ("pid_gain_scale", "gear_stiffness"))
-    problem = FitProblem("nao", "M,G,S", params, {}, experiments)
+    experiments = tuple(read_experiments([zmpip_walk], NAO))
+    params = default_parameters(NAO, "M,G", ("pid_gain_scale", "gear_stiffness"))
+    problem = FitProblem(NAO, "M,G,S", params, {}, experiments)
     with pytest.raises(ParameterError, match=r"^backend 'warp' replays open-loop experiments "
                        r"only; .* use --backend local$"):  # fmt: skip
         make_evaluator(problem, "warp")
@@ -185,7 +191,7 @@ def test_a_walk_that_fell_at_once_says_there_is_nothing_to_fit(
     _cut_series(folder, 40)
     _edit_summary(folder, fell=True, fall_time_s=0.39)
     with pytest.raises(InputFileError, match=r"the walk fell at 0\.39 s: .* nothing to fit"):
-        read_experiments([folder], "nao")
+        read_experiments([folder], NAO)
 
 
 def test_walk_folder_errors_of_a_feedback_walk(zmpip_walk: Path, tmp_path: Path) -> None:
@@ -193,20 +199,20 @@ def test_walk_folder_errors_of_a_feedback_walk(zmpip_walk: Path, tmp_path: Path)
     shutil.copytree(zmpip_walk, folder)
     _edit_summary(folder, controller="mpc")
     with pytest.raises(InputFileError, match=r"controller 'mpc' is not one of zmpkit's"):
-        read_experiments([folder], "nao")
+        read_experiments([folder], NAO)
     _edit_summary(folder, controller="zmpip", effects="M,Q")
     with pytest.raises(InputFileError, match=r"summary\.json, column 'effects': unknown effect"):
-        read_experiments([folder], "nao")
+        read_experiments([folder], NAO)
     _edit_summary(folder, effects="M,G,S", commanded_speed_mps=0.15)
     with pytest.raises(
         InputFileError,
         match=r"column 'com_ref_x_m': the re-planned zmpip walk .* differs from the recorded plan",
     ):
-        read_experiments([folder], "nao")
+        read_experiments([folder], NAO)
 
 
 def test_simulated_effects_add_what_the_walks_ran(zmpip_walk: Path) -> None:
-    experiments = read_experiments([zmpip_walk], "nao")
+    experiments = read_experiments([zmpip_walk], NAO)
     assert simulated_effects("M,S", experiments) == "M,G,S"
     assert simulated_effects("M,I,G,F,S", experiments) == "all"
     assert simulated_effects("M,G", []) == "M,G"

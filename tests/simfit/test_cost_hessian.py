@@ -13,6 +13,7 @@ from hypothesis import strategies as st
 from numpy.typing import NDArray
 from scipy.optimize import brentq, minimize
 
+from zmpkit.robots.registry import get_robot
 from zmpkit.simfit.cost import CostTerms
 from zmpkit.simfit.cost_hessian import (
     conditional_resolutions,
@@ -32,6 +33,8 @@ from zmpkit.simfit.identifiability import (
 )
 from zmpkit.simfit.parameters import FitParameter
 from zmpkit.simfit.problem import FitProblem
+
+NAO = get_robot("nao")
 
 
 def _quadratic(c0: float, gradient: NDArray, hessian: NDArray, values: NDArray):
@@ -221,7 +224,7 @@ def test_identifiability_judges_on_the_marginal_resolution() -> None:
     )
     truth = np.array([1200.0, 1800.0, 0.7])
     cost = _valley_cost
-    problem = FitProblem("nao", "M,G,F", parameters, {}, ())
+    problem = FitProblem(NAO, "M,G,F", parameters, {}, ())
     evaluator = _QuadraticEvaluator(cost)
     judged = identifiability(problem, evaluator, truth, cost(truth), np.full(3, 0.01))
     assert evaluator.batches == [n_hessian_candidates(3) + ROUGHNESS_PROBES]  # one batch
@@ -243,7 +246,7 @@ def _problem() -> FitProblem:
         FitParameter("link", "flex.stiffness", 1800.0, 400.0, 8000.0, "N·m/rad", True, "F"),
         FitParameter("pid", "stiffness", 0.7, 0.35, 1.0, "-", True, "M"),
     )
-    return FitProblem("nao", "M,G,F", parameters, {}, ())
+    return FitProblem(NAO, "M,G,F", parameters, {}, ())
 
 
 def _separable_cost(v: NDArray) -> float:

@@ -10,6 +10,7 @@ import pytest
 
 from zmpkit.errors import ParameterError
 from zmpkit.pipelines.identify_sim import IdentifySimConfig
+from zmpkit.robots.registry import get_robot
 from zmpkit.simfit.experiments import read_experiments
 from zmpkit.simfit.optimizer import CmaOptions, fingerprint
 from zmpkit.simfit.parameters import default_parameters
@@ -22,6 +23,8 @@ from zmpkit.simfit.truth_doc import (
     load_truth_doc,
 )
 
+NAO = get_robot("nao")
+
 
 @pytest.fixture(scope="module")
 def nao_walk_folder(tmp_path_factory: pytest.TempPathFactory) -> Path:
@@ -32,29 +35,31 @@ def nao_walk_folder(tmp_path_factory: pytest.TempPathFactory) -> Path:
 
 @pytest.mark.parametrize("robot", ["nao", "teo", "op3"])
 def test_only_the_random_and_quantising_parts_are_zeroed(robot: str) -> None:
-    doc = load_truth_doc(base_truth_path(robot, None))
+    doc = load_truth_doc(base_truth_path(get_robot(robot), None))
     out = expected_readings(doc)
     for key, value in doc.get("sensors", {}).items():
         if key not in EXPECTED_READINGS_ZEROED:
             assert out["sensors"][key] == value, key  # offsets, gain, filter, rate kept
-    sensors = load_robot_truth(robot, out).sensors  # the op3's file has no sensors section
+    sensors = load_robot_truth(
+        get_robot(robot), out
+    ).sensors  # the op3's file has no sensors section
     for key in EXPECTED_READINGS_ZEROED:
         assert np.all(np.asarray(getattr(sensors, key)) == 0.0), key
     assert {k: v for k, v in out.items() if k != "sensors"} == {
         k: v for k, v in doc.items() if k != "sensors"
     }
-    assert doc == load_truth_doc(base_truth_path(robot, None))  # the input is untouched
+    assert doc == load_truth_doc(base_truth_path(get_robot(robot), None))  # the input is untouched
 
 
 def test_expected_encoders_are_not_quantised(nao_walk_folder: Path) -> None:
-    experiments = tuple(read_experiments([nao_walk_folder], "nao"))
-    params = default_parameters("nao", "M")
-    doc = load_truth_doc(base_truth_path("nao", None))
+    experiments = tuple(read_experiments([nao_walk_folder], NAO))
+    params = default_parameters(NAO, "M")
+    doc = load_truth_doc(base_truth_path(NAO, None))
     resolution = float(doc["sensors"]["encoder_resolution"])
     values = [p.nominal for p in params]
     runs = {}
     for readings in ("sampled", "expected"):
-        problem = FitProblem("nao", "M,S", params, doc, experiments, sensor_readings=readings)
+        problem = FitProblem(NAO, "M,S", params, doc, experiments, sensor_readings=readings)
         runs[readings] = simulate(problem, values, 0).q_meas_rad
     quanta = runs["sampled"] / resolution
     np.testing.assert_allclose(quanta, np.round(quanta), atol=1e-6)  # whole quanta
@@ -65,10 +70,10 @@ def test_expected_encoders_are_not_quantised(nao_walk_folder: Path) -> None:
 
 
 def test_the_fit_knows_which_readings_it_ran_with() -> None:
-    params = default_parameters("nao", "M")
-    doc = load_truth_doc(base_truth_path("nao", None))
-    sampled = FitProblem("nao", "M,S", params, doc, ())
-    expected = FitProblem("nao", "M,S", params, doc, (), sensor_readings="expected")
+    params = default_parameters(NAO, "M")
+    doc = load_truth_doc(base_truth_path(NAO, None))
+    sampled = FitProblem(NAO, "M,S", params, doc, ())
+    expected = FitProblem(NAO, "M,S", params, doc, (), sensor_readings="expected")
     options = CmaOptions()
     assert "sensor_readings" not in fingerprint(sampled, options)  # old checkpoints resume
     assert fingerprint(expected, options)["sensor_readings"] == "expected"
@@ -78,7 +83,7 @@ def test_bad_sensor_readings_name_the_valid_ones(tmp_path: Path, capsys) -> None
     with pytest.raises(ParameterError, match="sensor readings must be one of sampled, expected"):
         IdentifySimConfig(self_test=True, sensor_readings="mean")
     with pytest.raises(ParameterError, match="got 'mean'"):
-        FitProblem("nao", "M", (), {}, (), sensor_readings="mean")
+        FitProblem(NAO, "M", (), {}, (), sensor_readings="mean")
     from zmpkit.cli import main
 
     code = main(

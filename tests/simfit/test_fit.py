@@ -10,10 +10,13 @@ import numpy as np
 import pytest
 
 from helpers.simfit_data import record_walk, small_case
+from zmpkit.robots.registry import get_robot
 from zmpkit.simfit.backends import make_evaluator
 from zmpkit.simfit.experiments import read_experiments
 from zmpkit.simfit.optimizer import CmaOptions, FitInterruptedError, FitProgress, run_cma
 from zmpkit.simfit.problem import FitProblem
+
+NAO = get_robot("nao")
 
 
 @pytest.fixture(scope="module")
@@ -24,8 +27,8 @@ def walk_folder(tmp_path_factory: pytest.TempPathFactory) -> Path:
 @pytest.fixture(scope="module")
 def problem(walk_folder: Path) -> FitProblem:
     params, doc, _ = small_case()
-    experiments = tuple(read_experiments([walk_folder], "nao"))
-    return FitProblem("nao", "M,G,S", params, doc, experiments)
+    experiments = tuple(read_experiments([walk_folder], NAO))
+    return FitProblem(NAO, "M,G,S", params, doc, experiments)
 
 
 def test_cost_falls_and_parameters_approach_the_truth(problem: FitProblem, tmp_path: Path) -> None:

@@ -18,6 +18,7 @@ import numpy as np
 import pytest
 
 from zmpkit.robots.fit_parameter import FitParameter
+from zmpkit.robots.registry import get_robot
 from zmpkit.simfit.checkpoint import HISTORY_FILE, load_checkpoint
 from zmpkit.simfit.cost import CostTerms
 from zmpkit.simfit.optimizer import (
@@ -54,7 +55,7 @@ class RastriginEvaluator:
 def problem() -> FitProblem:
     b = RASTRIGIN_BOUND
     params = tuple(FitParameter(f"x{i}", f"x{i}", START, -b, b, "-") for i in range(3))
-    return FitProblem("nao", "M", params, {}, ())
+    return FitProblem(get_robot("nao"), "M", params, {}, ())
 
 
 def _fit(problem: FitProblem, out: Path, **options: int) -> CmaResult:

@@ -10,6 +10,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy.stats import t as student_t
 
+from zmpkit.robots.registry import get_robot
 from zmpkit.simfit import noise_intervals as module
 from zmpkit.simfit.noise_intervals import NoiseInterval, linearised_shifts, noise_intervals
 from zmpkit.simfit.parameters import FitParameter
@@ -70,7 +71,7 @@ def test_the_intervals_match_the_exact_refits_of_a_linear_model(
     replicas = [[_signals(v_hat * x + eps)] for eps in noise]
     parameter = FitParameter("gain", "stiffness", 2.0, 0.1, 10.0, "-", effect="M")
     experiment = SimpleNamespace(signals=_signals(v_hat * x))
-    problem = FitProblem("nao", "M", (parameter,), {}, (experiment,))  # type: ignore[arg-type]
+    problem = FitProblem(get_robot("nao"), "M", (parameter,), {}, (experiment,))  # type: ignore[arg-type]
     hessian = np.array([[2.0 * v_hat**2 * float(np.mean(x**2))]])
     (interval,) = noise_intervals(problem, np.array([v_hat]), hessian, replicas)
     exact = np.array([float(x.ravel() @ eps.ravel()) / (v_hat * float(x.ravel() @ x.ravel()))

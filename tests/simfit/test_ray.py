@@ -14,9 +14,12 @@ ray = pytest.importorskip("ray")
 
 from helpers.simfit_data import record_walk, small_case  # noqa: E402
 from zmpkit.errors import ParameterError  # noqa: E402
+from zmpkit.robots.registry import get_robot  # noqa: E402
 from zmpkit.simfit.backends import RayEvaluator, make_evaluator  # noqa: E402
 from zmpkit.simfit.experiments import read_experiments  # noqa: E402
 from zmpkit.simfit.problem import FitProblem  # noqa: E402
+
+NAO = get_robot("nao")
 
 CANDIDATES = [[0.7, 1200.0], [0.8, 1500.0], [0.36, 310.0]]
 """pid_gain_scale [-], gear_stiffness [N·m/rad] of the small case."""
@@ -26,7 +29,7 @@ CANDIDATES = [[0.7, 1200.0], [0.8, 1500.0], [0.36, 310.0]]
 def problem(tmp_path_factory: pytest.TempPathFactory) -> FitProblem:
     params, doc, _ = small_case()
     folder = record_walk(tmp_path_factory.mktemp("simfit_ray"))
-    return FitProblem("nao", "M,G,S", params, doc, tuple(read_experiments([folder], "nao")))
+    return FitProblem(NAO, "M,G,S", params, doc, tuple(read_experiments([folder], NAO)))
 
 
 @pytest.fixture

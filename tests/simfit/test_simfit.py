@@ -14,6 +14,7 @@ from hypothesis import strategies as st
 
 from zmpkit.errors import InputFileError, ParameterError
 from zmpkit.pipelines.identify_sim import IdentifySimConfig
+from zmpkit.robots.registry import get_robot
 from zmpkit.simfit import parameters as catalogue
 from zmpkit.simfit.checkpoint import check_fingerprint, load_checkpoint
 from zmpkit.simfit.cost import FAILED_COST, CostWeights, experiment_cost
@@ -37,6 +38,9 @@ from zmpkit.simfit.truth_doc import (
 )
 from zmpkit.simfit.walk_plan import FALL_MARGIN_S
 
+NAO = get_robot("nao")
+TEO = get_robot("teo")
+
 
 @given(u=st.floats(0.0, 1.0), log=st.booleans())
 def test_normalised_coordinates_round_trip(u: float, log: bool) -> None:
@@ -58,22 +62,22 @@ def test_fit_parameter_rejects_nominal_outside_bounds() -> None:
 
 def test_catalogue_names_valid_letters_and_robot_gaps(monkeypatch: pytest.MonkeyPatch) -> None:
     with pytest.raises(ParameterError, match=r"letters from: M .*C \(mass and CoM"):
-        default_parameters("nao", "M,X")
-    no_c = default_parameters("nao", "M,I,G,F,S")
+        default_parameters(NAO, "M,X")
+    no_c = default_parameters(NAO, "M,I,G,F,S")
     monkeypatch.setattr(catalogue, "robot_catalogue", lambda robot: no_c)
     with pytest.raises(ParameterError, match="nao has no fit parameters for effect C"):
-        default_parameters("nao", "C")
+        default_parameters(NAO, "C")
     with pytest.raises(ParameterError, match="valid: \\['gear_backlash'"):
-        default_parameters("nao", "G", ("nope",))
+        default_parameters(NAO, "G", ("nope",))
 
 
 @pytest.mark.parametrize("robot", ["nao", "teo"])
 def test_every_catalogue_path_exists_in_the_shipped_truth(robot: str) -> None:
-    doc = load_truth_doc(base_truth_path(robot, None))
+    doc = load_truth_doc(base_truth_path(get_robot(robot), None))
     # NAO's C starts from the design (the URDF torso), not the shipped truth: see
     # tests/robots/test_nao_payload.py.
     letters = "M,I,G,F,S" + (",C" if robot == "teo" else "")
-    for p in default_parameters(robot, letters):
+    for p in default_parameters(get_robot(robot), letters):
         values = get_path(doc, p.path)
         assert values == pytest.approx([p.nominal] * len(values)), p.name
 
@@ -92,8 +96,8 @@ def test_set_path_sets_every_indexed_item_and_names_bad_keys() -> None:
 
 @pytest.mark.parametrize("robot", ["nao", "teo"])
 def test_fitted_truth_is_loadable_as_truth(robot: str, tmp_path: Path) -> None:
-    params = default_parameters(robot, "G")
-    doc = load_truth_doc(base_truth_path(robot, None))
+    params = default_parameters(get_robot(robot), "G")
+    doc = load_truth_doc(base_truth_path(get_robot(robot), None))
     values = [p.from_unit(0.3) for p in params]
     path = write_fitted_truth(tmp_path / "fitted.yaml", doc, params, values, "test")
     if robot == "nao":
@@ -106,7 +110,7 @@ def test_fitted_truth_is_loadable_as_truth(robot: str, tmp_path: Path) -> None:
 
 
 def test_recovery_csv_has_exactly_the_columns(tmp_path: Path) -> None:
-    params = default_parameters("nao", "M,G", ("pid_gain_scale", "gear_stiffness"))
+    params = default_parameters(NAO, "M,G", ("pid_gain_scale", "gear_stiffness"))
     truth = perturbed_values(params, 3)
     for p, t in zip(params, truth, strict=True):
         assert 0.079 < abs(np.log(t / p.nominal)) < 0.224  # 8-25 % off nominal
@@ -153,7 +157,7 @@ def test_a_constant_zmp_shift_costs_only_when_the_mean_is_kept() -> None:
 def test_the_zmp_mean_is_kept_when_offsets_or_mass_are_fitted() -> None:
     doc: dict = {}
     for effects, kept in (("M,G", False), ("S", True), ("C", True), ("M,C", True)):
-        problem = FitProblem("nao", "M,G,S", default_parameters("nao", effects), doc, ())
+        problem = FitProblem(NAO, "M,G,S", default_parameters(NAO, effects), doc, ())
         assert problem.keeps_zmp_mean is kept
 
 
@@ -212,13 +216,13 @@ def test_warp_backend_without_mujoco_warp_names_the_extra(monkeypatch: pytest.Mo
 
 def test_data_folder_errors_name_the_file(tmp_path: Path) -> None:
     with pytest.raises(InputFileError, match="expected an experiment folder"):
-        read_experiments([tmp_path / "missing"], "nao")
+        read_experiments([tmp_path / "missing"], NAO)
     with pytest.raises(InputFileError, match="no experiment folders given"):
-        read_experiments([], "nao")
+        read_experiments([], NAO)
     with pytest.raises(InputFileError, match=r"summary\.json: cannot read the walk summary"):
-        read_experiments([tmp_path], "nao")
+        read_experiments([tmp_path], NAO)
     with pytest.raises(InputFileError, match=r"meta\.json"):
-        read_experiments([tmp_path], "teo")
+        read_experiments([tmp_path], TEO)
 
 
 def test_walk_folder_errors(nao_walk_folder: Path, tmp_path: Path) -> None:
@@ -230,16 +234,16 @@ def test_walk_folder_errors(nao_walk_folder: Path, tmp_path: Path) -> None:
     cells[1] = "abc"
     series.write_text("\n".join([*lines[:2], ",".join(cells), *lines[3:]]) + "\n")
     with pytest.raises(InputFileError, match=r"timeseries.csv, line 3: expected numbers"):
-        read_experiments([folder], "nao")
+        read_experiments([folder], NAO)
     cells[1] = str(float(lines[2].split(",")[1]) + 0.01)
     series.write_text("\n".join([*lines[:2], ",".join(cells), *lines[3:]]) + "\n")
     with pytest.raises(InputFileError, match=r"differs from the recorded command by 0\.01 rad"):
-        read_experiments([folder], "nao")
+        read_experiments([folder], NAO)
     series.write_text("\n".join(lines) + "\n")
     summary = json.loads((folder / "summary.json").read_text())
     summary["fell"], summary["fall_time_s"] = True, 4.830999999999948
     (folder / "summary.json").write_text(json.dumps(summary))
-    (fallen,) = read_experiments([folder], "nao")  # fitted up to the fall, less the margin
+    (fallen,) = read_experiments([folder], NAO)  # fitted up to the fall, less the margin
     assert fallen.fall_time_s == pytest.approx(4.831)
     assert fallen.signals.time_s[-1] <= float(lines[-1].split(",")[0]) - FALL_MARGIN_S + 1e-9
 
@@ -259,7 +263,7 @@ def nao_walk_folder(tmp_path_factory: pytest.TempPathFactory) -> Path:
 
 
 def test_walk_folder_reads_back_as_recorded(nao_walk_folder: Path) -> None:
-    (experiment,) = read_experiments([nao_walk_folder], "nao")
+    (experiment,) = read_experiments([nao_walk_folder], NAO)
     assert experiment.speed_mps == 0.2
     assert experiment.step_duration_s == 0.5
     assert experiment.duration_s == pytest.approx(1.5)
@@ -307,12 +311,12 @@ def test_a_repeated_teo_self_test_recording_finds_its_datasets(tmp_path: Path) -
     settings match on a second run (a resumed fit records nothing twice)."""
     from zmpkit.simfit.self_test import SelfTestPlan, record_experiments
 
-    params = default_parameters("teo", "G", ("gear_stiffness",))
-    doc = load_truth_doc(base_truth_path("teo", None))
+    params = default_parameters(TEO, "G", ("gear_stiffness",))
+    doc = load_truth_doc(base_truth_path(TEO, None))
     plan = SelfTestPlan((0.02,), (0.03,), hold_s=0.5, held_out_hold_s=0.5)
-    first = record_experiments("teo", plan, doc, params, np.array([45000.0]), "G", 1, tmp_path)
+    first = record_experiments(TEO, plan, doc, params, np.array([45000.0]), "G", 1, tmp_path)
     (trial,) = first[0][0].glob("trial_*.csv")
     stamp = trial.stat().st_mtime_ns
-    again = record_experiments("teo", plan, doc, params, np.array([45000.0]), "G", 1, tmp_path)
+    again = record_experiments(TEO, plan, doc, params, np.array([45000.0]), "G", 1, tmp_path)
     assert again == first
     assert trial.stat().st_mtime_ns == stamp  # resumed: the finished trial was kept

@@ -15,7 +15,10 @@ import pytest
 
 from helpers.simfit_data import SEED, small_case
 from zmpkit.robots.nao import make_nao
+from zmpkit.robots.registry import get_robot
 from zmpkit.simfit.cost_columns import HEIGHT_QPOS, cost_columns, joint_square_error
+
+NAO = get_robot("nao")
 
 
 def test_cost_columns_are_the_feet_wrenches_the_imu_and_the_height() -> None:
@@ -67,17 +70,17 @@ def test_device_cost_is_the_host_cost_of_the_same_rollouts(tmp_path) -> None:
     term's sum differs only in the order of its float64 additions (rtol 1e-12, far inside
     float32's 6e-8; the completed fraction and the fall are equal).
     """
-    from zmpkit.simfit.batched import costs_batches_warp, simulate_batches_warp
     from zmpkit.simfit.cost import experiment_cost
     from zmpkit.simfit.experiments import read_experiments
     from zmpkit.simfit.problem import FitProblem
     from zmpkit.simfit.self_test import SelfTestPlan, record_experiments
+    from zmpkit.simfit.warp_batched import costs_batches_warp, simulate_batches_warp
 
     params, doc, truth = small_case()
     plan = SelfTestPlan(((0.2, 1.5), (0.1, 1.0)), ())
-    paths, _ = record_experiments("nao", plan, doc, params, truth, "M,G", SEED, tmp_path)
-    experiments = tuple(read_experiments(paths, "nao"))
-    problem = FitProblem("nao", "M,G,S", params, doc, experiments)
+    paths, _ = record_experiments(NAO, plan, doc, params, truth, "M,G", SEED, tmp_path)
+    experiments = tuple(read_experiments(paths, NAO))
+    problem = FitProblem(NAO, "M,G,S", params, doc, experiments)
     candidates = [[p.nominal for p in params], list(truth), [0.36, 310.0]]
     truths = [problem.truth(c) for c in candidates]
     host = simulate_batches_warp(experiments, truths, "M,G,S", "cpu")

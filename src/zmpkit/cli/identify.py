@@ -13,6 +13,7 @@ from zmpkit.pipelines.identify_balance import run_identify_balance
 from zmpkit.pipelines.identify_sim import IdentifySimConfig, run_identify_sim
 from zmpkit.pipelines.identify_sim_document import write_identify_sim_report
 from zmpkit.robots.registry import DEFAULT_FIT_ROBOT
+from zmpkit.robots.robot import Robot
 from zmpkit.simfit.optimizer import MAX_POPSIZE, MAX_RESTARTS, FitInterruptedError
 
 __all__ = [
@@ -80,7 +81,7 @@ def identify_balance_command(
 
 @identify_group.command("sim")
 @click.argument("data", nargs=-1, type=click.Path(path_type=Path))
-@robot_option(DEFAULT_FIT_ROBOT, needs="fit")
+@robot_option(DEFAULT_FIT_ROBOT, needs="fit", as_robot=True)
 @click.option(
     "--effects",
     default="M,G",
@@ -152,7 +153,7 @@ def identify_balance_command(
 @report_option
 def identify_sim_command(
     data: tuple[Path, ...],
-    robot: str,
+    robot: Robot,
     effects: str,
     out_dir: Path,
     backend: str,

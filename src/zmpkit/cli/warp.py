@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import click
 
-from zmpkit.robots.registry import missing_reason, robots_that
+from zmpkit.robots.registry import get_robot, missing_reason, robots_that
 from zmpkit.sim.warp_cache import CACHE_ENV, warp_cache_base
 
 __all__ = ["warp_cache_command", "warp_group", "warp_warm_up_command"]
@@ -45,7 +45,7 @@ def warp_warm_up_command(robots: tuple[str, ...], effects: str, device: str | No
     from zmpkit.simfit.warp_warm_up import warm_up_warp
 
     names = robots or tuple(r for r in robots_that("fit") if missing_reason(r) is None)
-    result = warm_up_warp(names, effects, device)
+    result = warm_up_warp([get_robot(n, needs="fit") for n in names], effects, device)
     for robot in result.robots:
         if robot.skipped is None:
             click.echo(f"{robot.robot}: {robot.seconds:.1f} s")

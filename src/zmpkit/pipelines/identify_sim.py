@@ -25,6 +25,7 @@ import numpy as np
 from zmpkit.errors import ParameterError
 from zmpkit.pipelines.identify_sim_report import reproduction_checks, write_fit_files
 from zmpkit.robots.registry import DEFAULT_FIT_ROBOT, get_robot
+from zmpkit.robots.robot import Robot
 from zmpkit.simfit.adequacy import Adequacy, model_adequacy, replica_recordings
 from zmpkit.simfit.backends import BACKENDS, DEFAULT_WORKERS, make_evaluator
 from zmpkit.simfit.checkpoint import load_checkpoint
@@ -75,7 +76,9 @@ class IdentifySimConfig:
     Attributes:
         data: recorded experiment folders (walk folders or step datasets); empty
             with ``self_test``.
-        robot: the robot's registry name or ``robot.yaml`` path (it needs a fit catalogue).
+        robot: the robot (it needs a fit catalogue); a registry name or ``robot.yaml`` path
+            given from Python is resolved once, here. Files record its
+            :attr:`~zmpkit.robots.robot.Robot.source`.
         effects: letters of the effects whose parameters are fitted (``M,I,G,F,S,C``); the
             simulator runs with these effects on (C is not a switch).
         parameters: fit only these catalogue names; None = all of the effects (quick: the
@@ -111,7 +114,7 @@ class IdentifySimConfig:
     """
 
     data: tuple[str, ...] = ()
-    robot: str = DEFAULT_FIT_ROBOT
+    robot: Robot = field(default_factory=lambda: get_robot(DEFAULT_FIT_ROBOT, needs="fit"))
     effects: str = "M,G"
     parameters: tuple[str, ...] | None = None
     truth: str | None = None
@@ -133,7 +136,7 @@ class IdentifySimConfig:
     sensor_readings: str = "sampled"
 
     def __post_init__(self) -> None:
-        get_robot(self.robot, needs="fit")
+        object.__setattr__(self, "robot", get_robot(self.robot, needs="fit"))
         object.__setattr__(self, "effects", ",".join(parse_fit_effects(self.effects)))
         object.__setattr__(self, "data", tuple(str(d) for d in self.data))
         if self.backend not in BACKENDS:
@@ -145,7 +148,7 @@ class IdentifySimConfig:
         if self.self_test and self.data:
             raise ParameterError("--self-test records its own experiments; give no DATA with it")
         if not self.self_test and not self.data:
-            kind = get_robot(self.robot, needs="fit").require_fit().experiment
+            kind = self.robot.require_fit().experiment
             what = "a walk folder" if kind == "walk" else "a step dataset"
             raise ParameterError(f"give at least one DATA folder ({what}), or --self-test")
         _positive_int("generations", self.generations, allow_none=True)
@@ -186,7 +189,7 @@ class IdentifySimConfig:
         chosen = default_parameters(self.robot, self.effects, self.parameters)
         if self.parameters is not None or not self.quick:
             return chosen
-        names = get_robot(self.robot, needs="fit").require_fit().quick_parameters
+        names = self.robot.require_fit().quick_parameters
         quick = [p for p in chosen if p.name in names]
         return tuple(quick) if len(quick) >= 2 else chosen[:3]
 

@@ -24,7 +24,6 @@ from zmpkit.analysis.report_document import (
 )
 from zmpkit.analysis.report_files import write_report
 from zmpkit.pipelines.identify_sim import IdentifySimResult
-from zmpkit.robots.registry import get_robot
 from zmpkit.simfit.noise_intervals import NoiseInterval
 from zmpkit.simfit.validation import AMPLITUDE_TOLERANCE, FREQUENCY_TOLERANCE_HZ, ReproductionCheck
 
@@ -117,7 +116,7 @@ def identify_sim_document(result: IdentifySimResult) -> ReportDocument:
         for role, path in result.files.items()
         if path.suffix.lower() == ".png"
     ]
-    title = get_robot(c.robot).title
+    title = c.robot.title
     data = ", ".join(c.data) or "experiments recorded by the self-test"
     return ReportDocument(
         title=f"zmpkit identify sim: the virtual {title}'s simulator fitted to recorded data",
@@ -146,7 +145,7 @@ def identify_sim_document(result: IdentifySimResult) -> ReportDocument:
             ),
         ),
         provenance=capture(
-            robot=get_robot(c.robot),
+            robot=c.robot,
             started_s=result.started_s,
             truth=c.truth,
             effects=c.effects,

@@ -73,7 +73,7 @@ def write_fit_files(
         ),
         "parameters": outputs.write_fitted_parameters(
             out / outputs.FITTED_PARAMETERS_FILE,
-            problem.robot,
+            problem.robot.source,
             problem.sim_effects,
             cma_result.best_cost,
             params,
@@ -95,6 +95,6 @@ def write_fit_files(
         files["cost_plot"] = plot_cost_history(
             cma_result.history,
             out / "cost_history.png",
-            f"{problem.robot} effects {problem.sim_effects}",
+            f"{problem.robot.source} effects {problem.sim_effects}",
         )
     return files

@@ -7,7 +7,7 @@ physics step. The costs are those of the serial backend, bit for bit (tested).
 
 With ``warp_device`` the batch runs on MuJoCo Warp instead (``pip install 'zmpkit[gpu]'``;
 backend ``"warp"``): all experiments x candidates of a generation stepped together in one
-batch on a GPU (:func:`~zmpkit.simfit.batched.costs_batches_warp`), many steps per graph
+batch on a GPU (:func:`~zmpkit.simfit.warp_batched.costs_batches_warp`), many steps per graph
 launch, only the rows and columns the cost reads recorded on the device and the joint term
 summed there, the Warp model kept between generations (:mod:`zmpkit.sim.warp_batch`);
 float32 physics, so the costs approximate the
@@ -22,10 +22,11 @@ from collections.abc import Sequence
 import numpy as np
 
 from zmpkit.errors import ParameterError
-from zmpkit.simfit.batched import costs_batches_warp, simulate_batches
+from zmpkit.simfit.batched import simulate_batches
 from zmpkit.simfit.cost import CostTerms, experiment_cost
 from zmpkit.simfit.parameters import ParameterValues
 from zmpkit.simfit.problem import FitProblem
+from zmpkit.simfit.warp_batched import costs_batches_warp
 
 __all__ = ["BatchEvaluator"]
 

@@ -299,6 +299,18 @@ def _depth(value: object, limit: int) -> bool:
     return False
 
 
+def _same_robot_file(saved: object, current: object) -> bool:
+    """Whether a saved robot reference is a relative path to the robot file ``current`` names.
+
+    A fit records its robot's :attr:`~zmpkit.robots.robot.Robot.source` (a robot file's
+    absolute path); checkpoints from before recorded the path as typed, which is found
+    again from the folder the fit ran in.
+    """
+    if not isinstance(saved, str) or not isinstance(current, str) or not saved:
+        return False
+    return Path(current).is_absolute() and Path(saved).resolve() == Path(current)
+
+
 def check_fingerprint(saved: dict[str, Any], current: dict[str, Any], folder: Path) -> None:
     """Refuse to resume a checkpoint of another fit.
 
@@ -310,6 +322,8 @@ def check_fingerprint(saved: dict[str, Any], current: dict[str, Any], folder: Pa
     current = json.loads(json.dumps(current))
     keys = sorted(set(saved) | set(current))
     differ = [k for k in keys if saved.get(k) != current.get(k)]
+    if "robot" in differ and _same_robot_file(saved.get("robot"), current.get("robot")):
+        differ.remove("robot")
     if differ:
         parts = []
         for k in differ[:3]:

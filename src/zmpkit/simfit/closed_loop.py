@@ -41,7 +41,7 @@ from numpy.typing import NDArray
 from zmpkit.experiments.walk import walk_controller
 from zmpkit.experiments.walk_config import WalkConfig
 from zmpkit.experiments.walk_trial import Push, WalkRecord, simulate_walk
-from zmpkit.robots.registry import get_robot
+from zmpkit.robots.robot import Robot
 from zmpkit.sim.world import Simulation
 from zmpkit.walking import generate_pattern
 from zmpkit.walking.ik import JointTrajectory, solve_walking_ik
@@ -64,7 +64,7 @@ class WalkSettings:
     """What a recorded walk ran: its command and its controller (``summary.json``).
 
     Attributes:
-        robot: the robot's registry name or ``robot.yaml`` path.
+        robot: the robot that walked.
         speed_mps: commanded forward speed [m/s].
         step_duration_s: step duration [s].
         duration_s: walking time of the pattern [s].
@@ -79,7 +79,7 @@ class WalkSettings:
         step_adjustment: whether the controller moved steps.
     """
 
-    robot: str
+    robot: Robot
     speed_mps: float
     step_duration_s: float
     duration_s: float
@@ -95,7 +95,7 @@ class WalkSettings:
     def walk_config(self) -> WalkConfig:
         """The :class:`WalkConfig` that ``zmpkit walk`` ran (no figures)."""
         return WalkConfig(
-            robot=get_robot(self.robot, needs="walking"),
+            robot=self.robot,
             speed_mps=self.speed_mps,
             step_duration_s=self.step_duration_s,
             duration_s=self.duration_s,
@@ -122,7 +122,7 @@ def closed_loop_plan(settings: WalkSettings) -> tuple[WalkingPattern, JointTraje
 
     Cached per process: each worker plans a walk once.
     """
-    robot = get_robot(settings.robot, needs="walking")
+    robot = settings.robot
     pattern = _pattern(settings)
     return pattern, solve_walking_ik(pattern, robot.ik_model(), robot.ik_settings)
 
@@ -144,7 +144,7 @@ def simulate_closed_loop(settings: WalkSettings, sim: Simulation) -> WalkRecord:
         The record, ending at the fall if the candidate fell.
     """
     config = settings.walk_config()
-    robot = get_robot(config.robot, needs="walking")
+    robot = config.robot
     pattern, trajectory = closed_loop_plan(settings)
     controller = walk_controller(config, robot, pattern, trajectory, robot.ik_model(), sim)
     return simulate_walk(sim, trajectory, controller=controller, pushes=config.pushes)

@@ -35,7 +35,7 @@ from numpy.typing import NDArray
 from zmpkit.errors import InputFileError, ParameterError, ZmpkitError
 from zmpkit.experiments import read_step_dataset
 from zmpkit.experiments.walk_dataset import PITCH_JOINTS, SERIES_FILE, SUMMARY_FILE, read_series
-from zmpkit.robots.registry import get_robot
+from zmpkit.robots.robot import Robot
 from zmpkit.sensors import CONTACT_FORCE_THRESHOLD_N, zmp_series
 from zmpkit.sensors.imu import tilt_from_quaternions
 from zmpkit.sim.effect_set import EffectSet
@@ -65,7 +65,7 @@ class WalkExperiment:
         duration_s: walking time of the pattern [s].
         com_height_m: CoM height of the pattern [m].
         signals: the recording (a fallen walk's up to shortly before the fall).
-        robot: the robot that walked (registry name or ``robot.yaml`` path).
+        robot: the robot that walked.
         closed_loop: what the walk ran when a feedback controller walked it (re-simulated
             in closed loop); None for a walk played open loop.
         fall_time_s: when the recorded walk fell [s], or None.
@@ -78,7 +78,7 @@ class WalkExperiment:
     duration_s: float
     com_height_m: float
     signals: RecordedSignals
-    robot: str
+    robot: Robot
     closed_loop: WalkSettings | None = None
     fall_time_s: float | None = None
     effects: str | None = None
@@ -94,7 +94,7 @@ class StepExperiment:
         settle_s: standing time before the recording starts [s].
         mounts: the F-T sensor mounts, ``{"right": ..., "left": ...}``.
         signals: the recording; ``q_cmd_rad`` holds every driven joint.
-        robot: the robot that stepped (registry name or ``robot.yaml`` path).
+        robot: the robot that stepped.
         contact_threshold_n: the dataset's contact threshold, recorded and simulated ZMP
             alike [N].
     """
@@ -104,7 +104,7 @@ class StepExperiment:
     settle_s: float
     mounts: dict
     signals: RecordedSignals
-    robot: str
+    robot: Robot
     contact_threshold_n: float = CONTACT_FORCE_THRESHOLD_N
 
 
@@ -132,10 +132,10 @@ def _read_summary(folder: Path) -> dict:
 
 
 def _walk_settings(
-    summary: dict, robot: str, speed: float, step_s: float, effects: str
+    summary: dict, robot: Robot, speed: float, step_s: float, effects: str
 ) -> WalkSettings:
     """What a walk with feedback ran, from its summary (``duration_s`` found later)."""
-    height = get_robot(robot, needs="walking").require_walking().com_height_m
+    height = robot.require_walking().com_height_m
     return WalkSettings(
         robot,
         speed,
@@ -178,7 +178,7 @@ def _walk_signals(
     )
 
 
-def read_walk_folder(folder: str | Path, robot: str) -> WalkExperiment:
+def read_walk_folder(folder: str | Path, robot: Robot) -> WalkExperiment:
     """Read a ``zmpkit walk`` output folder of ``robot`` as a :class:`WalkExperiment`.
 
     Raises:
@@ -188,7 +188,7 @@ def read_walk_folder(folder: str | Path, robot: str) -> WalkExperiment:
     folder = Path(folder)
     summary = _read_summary(folder)
     path = folder / SERIES_FILE
-    joints = get_robot(robot, needs="walking").require_walking().series_joints or PITCH_JOINTS
+    joints = robot.require_walking().series_joints or PITCH_JOINTS
     header, table = read_series(path)
     signals = _walk_signals(path, header, table, tuple(joints))
     speed = float(summary["commanded_speed_mps"])
@@ -252,7 +252,7 @@ def simulated_effects(fitted: str, experiments: Sequence[Experiment]) -> str:
     return on.letters
 
 
-def _step_experiments(folder: Path, robot: str) -> list[StepExperiment]:
+def _step_experiments(folder: Path, robot: Robot) -> list[StepExperiment]:
 
     dataset = read_step_dataset(folder)
     settings = dataset.meta.get("settings", {})
@@ -288,7 +288,7 @@ def _step_experiments(folder: Path, robot: str) -> list[StepExperiment]:
     return out
 
 
-def read_experiments(folders: Sequence[str | Path], robot: str) -> list[Experiment]:
+def read_experiments(folders: Sequence[str | Path], robot: Robot) -> list[Experiment]:
     """Read recorded experiment folders of ``robot``; each experiment names it.
 
     The robot's fit says what it replays (:attr:`~zmpkit.robots.robot.FitSpec.experiment`):
@@ -300,7 +300,7 @@ def read_experiments(folders: Sequence[str | Path], robot: str) -> list[Experime
     """
     if not folders:
         raise InputFileError("DATA", "no experiment folders given; expected at least one")
-    kind = get_robot(robot, needs="fit").require_fit().experiment
+    kind = robot.require_fit().experiment
     out: list[Experiment] = []
     for item in folders:
         folder = Path(item)

@@ -23,7 +23,7 @@ from numpy.typing import NDArray
 
 from zmpkit.errors import SimulationDivergedError
 from zmpkit.experiments.walk_trial import start_pose
-from zmpkit.robots.registry import get_robot
+from zmpkit.robots.robot import Robot
 from zmpkit.sim.description import RobotDescription
 from zmpkit.sim.world import Simulation
 from zmpkit.simfit.experiments import Experiment, StepExperiment, WalkExperiment
@@ -68,7 +68,7 @@ class OpenLoopSchedule:
 
 def posed_simulation(experiment: Experiment, truth: RobotTruth, effects: str) -> Simulation:
     """A candidate's simulation where the serial path starts its loop."""
-    sim = get_robot(experiment.robot).make_simulation(effects, truth, seed=0)
+    sim = experiment.robot.make_simulation(effects, truth, seed=0)
     _pose(experiment, sim)
     return sim
 
@@ -85,13 +85,13 @@ def posed_simulations(
     """
     out: list[list[Simulation]] = [[] for _ in experiments]
     for truth in truths:
-        built: dict[str, tuple[RobotDescription, mujoco.MjModel]] = {}
+        built: dict[Robot, tuple[RobotDescription, mujoco.MjModel]] = {}
         for e, experiment in enumerate(experiments):
             if experiment.robot in built:  # the first one's model, untouched by posing
                 description, model = built[experiment.robot]
                 sim = Simulation(description, seed=0, model=copy.copy(model))
             else:
-                description = get_robot(experiment.robot).description(effects, truth)
+                description = experiment.robot.description(effects, truth)
                 sim = Simulation(description, seed=0)
                 built[experiment.robot] = (description, sim.model)
             _pose(experiment, sim)
@@ -104,7 +104,7 @@ def _pose(experiment: Experiment, sim: Simulation) -> None:
         start_pose(sim, walk_trajectory(*_walk_key(experiment)))
 
 
-def _walk_key(experiment: WalkExperiment) -> tuple[str, float, float, float, float]:
+def _walk_key(experiment: WalkExperiment) -> tuple[Robot, float, float, float, float]:
     return (
         experiment.robot,
         experiment.speed_mps,
@@ -184,7 +184,7 @@ def _step_schedule(experiment: StepExperiment, sim: Simulation) -> OpenLoopSched
     """The recorded setpoints, one per servo tick, sampled at the recorded times."""
     signals = experiment.signals
     if tuple(sim.joint_names) != tuple(signals.joint_names):
-        title = get_robot(experiment.robot).title
+        title = experiment.robot.title
         raise SimulationDivergedError(
             0.0, "the joint list", f"recorded joints differ from {title}'s"
         )

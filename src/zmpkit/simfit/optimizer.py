@@ -148,7 +148,7 @@ class CmaResult:
 def fingerprint(problem: FitProblem, options: CmaOptions) -> dict[str, Any]:
     """What identifies a fit, for refusing to resume another one."""
     out: dict[str, Any] = {
-        "robot": problem.robot,
+        "robot": problem.robot.source,
         "sim_effects": problem.sim_effects,
         "parameters": [(p.name, p.path, p.nominal, p.lower, p.upper) for p in problem.parameters],
         "experiments": [e.name for e in problem.experiments],

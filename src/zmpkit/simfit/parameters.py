@@ -20,7 +20,6 @@ from numpy.typing import NDArray
 
 from zmpkit.errors import ParameterError
 from zmpkit.robots.fit_parameter import FitParameter
-from zmpkit.robots.registry import get_robot
 from zmpkit.robots.robot import Robot
 
 __all__ = [
@@ -74,28 +73,28 @@ def parse_fit_effects(text: str) -> tuple[str, ...]:
     return tuple(k for k in FIT_LETTERS if k in letters)
 
 
-def robot_catalogue(robot: str | Robot) -> tuple[FitParameter, ...]:
-    """Every fit parameter of ``robot`` (a name, a ``robot.yaml`` path or a robot).
+def robot_catalogue(robot: Robot) -> tuple[FitParameter, ...]:
+    """Every fit parameter of ``robot``.
 
     Raises:
-        ParameterError: on an unknown robot or one without a fit catalogue, naming the valid ones.
+        ParameterError: on a robot without a fit catalogue.
     """
-    return get_robot(robot, needs="fit").require_fit().catalogue
+    return robot.require_fit().catalogue
 
 
 def default_parameters(
-    robot: str, effects: str, names: Sequence[str] | None = None
+    robot: Robot, effects: str, names: Sequence[str] | None = None
 ) -> tuple[FitParameter, ...]:
     """The catalogue's parameters of ``robot`` for the effect letters ``effects``.
 
     Args:
-        robot: a robot with a fit catalogue (name or ``robot.yaml`` path, see
-            :func:`~zmpkit.robots.registry.robots_that`).
+        robot: a robot with a fit catalogue.
         effects: letters such as ``"M,G"``.
         names: keep only these parameter names (in this order); None keeps all.
 
     Raises:
-        ParameterError: on an unknown robot, letter or name, or an effect without parameters.
+        ParameterError: on a robot without a fit catalogue, an unknown letter or name, or an
+            effect without parameters.
     """
     catalogue = robot_catalogue(robot)
     letters = parse_fit_effects(effects)
@@ -104,7 +103,7 @@ def default_parameters(
     if empty:
         have = sorted({p.effect for p in catalogue})
         raise ParameterError(
-            f"{robot} has no fit parameters for effect {', '.join(empty)}; it has: {have}"
+            f"{robot.source} has no fit parameters for effect {', '.join(empty)}; it has: {have}"
         )
     if names is None:
         return tuple(chosen)
@@ -112,7 +111,7 @@ def default_parameters(
     missing = [n for n in names if n not in by_name]
     if missing:
         raise ParameterError(
-            f"unknown fit parameters {missing} for {robot} effects {effects!r}; "
+            f"unknown fit parameters {missing} for {robot.source} effects {effects!r}; "
             f"valid: {sorted(by_name)}"
         )
     return tuple(by_name[n] for n in names)

@@ -13,6 +13,7 @@ from functools import cached_property
 import numpy as np
 
 from zmpkit.errors import ParameterError
+from zmpkit.robots.robot import Robot
 from zmpkit.simfit.cost import CostTerms, CostWeights, experiment_cost
 from zmpkit.simfit.experiments import Experiment
 from zmpkit.simfit.parameters import FitParameter, ParameterValues
@@ -44,7 +45,8 @@ class FitProblem:
     """What the fit minimises.
 
     Attributes:
-        robot: the robot's registry name or ``robot.yaml`` path.
+        robot: the robot fitted (it crosses into a worker as its
+            :attr:`~zmpkit.robots.robot.Robot.source`).
         sim_effects: effect letters the simulator runs with, e.g. ``"M,G"``.
         parameters: the fitted parameters.
         base_doc: the base truth document (every unfitted value).
@@ -56,7 +58,7 @@ class FitProblem:
             (:func:`~zmpkit.simfit.truth_doc.expected_readings`).
     """
 
-    robot: str
+    robot: Robot
     sim_effects: str
     parameters: tuple[FitParameter, ...]
     base_doc: dict

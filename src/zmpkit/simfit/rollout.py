@@ -19,7 +19,6 @@ from numpy.typing import NDArray
 
 from zmpkit.errors import SimulationDivergedError
 from zmpkit.experiments.walk_trial import simulate_walk
-from zmpkit.robots.registry import get_robot
 from zmpkit.sensors import zmp_series
 from zmpkit.sensors.imu import tilt_from_quaternions
 from zmpkit.sim.world import Simulation
@@ -62,7 +61,7 @@ def _walk(
     experiment: WalkExperiment, truth: RobotTruth, effects: str, noise_seed: int | None
 ) -> RecordedSignals:
 
-    robot = get_robot(experiment.robot)
+    robot = experiment.robot
     settings = experiment.closed_loop
     try:
         if settings is None:
@@ -115,7 +114,7 @@ def _step(
 ) -> RecordedSignals:
 
     signals = experiment.signals
-    robot = get_robot(experiment.robot)
+    robot = experiment.robot
     sim = robot.make_simulation(effects, truth, seed=noise_seed or 0)
     if tuple(sim.joint_names) != tuple(signals.joint_names):
         raise SimulationDivergedError(

@@ -39,7 +39,7 @@ from zmpkit.experiments.walk_dataset import (
     write_series,
     write_summary,
 )
-from zmpkit.robots.registry import get_robot
+from zmpkit.robots.robot import Robot
 from zmpkit.simfit.parameters import FitParameter
 from zmpkit.simfit.truth_doc import truth_doc_with, write_truth_doc
 
@@ -76,7 +76,7 @@ class SelfTestPlan:
     held_out_hold_s: float = 8.0
 
 
-def self_test_plan(robot: str, quick: bool) -> SelfTestPlan:
+def self_test_plan(robot: Robot, quick: bool) -> SelfTestPlan:
     """The plan for ``robot``; ``quick`` keeps it small (2 short walks or 3 steps).
 
     Step targets are shares of the robot's largest balance target
@@ -86,7 +86,7 @@ def self_test_plan(robot: str, quick: bool) -> SelfTestPlan:
         if quick:
             return SelfTestPlan(((0.2, 3.0), (0.15, 3.0)), ((0.175, 10.0),))
         return SelfTestPlan(((0.1, 6.0), (0.15, 6.0), (0.2, 6.0)), ((0.175, 10.0), (0.2, 10.0)))
-    span = get_robot(robot, needs="balance").require_balance().max_target_m
+    span = robot.require_balance().max_target_m
     if quick:
         return SelfTestPlan(_shares((0.2, 0.5, 0.8), span), _shares((0.65,), span))
     return SelfTestPlan(_shares((0.2, 0.4, 0.6, 0.8), span), _shares((0.3, 0.7), span), hold_s=5.0)
@@ -97,8 +97,8 @@ def _shares(shares: tuple[float, ...], span_m: float) -> tuple[float, ...]:
     return tuple(round(share * span_m, 6) for share in shares)
 
 
-def _replays_walks(robot: str) -> bool:
-    return get_robot(robot, needs="fit").require_fit().experiment == "walk"
+def _replays_walks(robot: Robot) -> bool:
+    return robot.require_fit().experiment == "walk"
 
 
 def perturbed_values(parameters: tuple[FitParameter, ...], seed: int) -> NDArray[np.float64]:
@@ -115,13 +115,15 @@ def perturbed_values(parameters: tuple[FitParameter, ...], seed: int) -> NDArray
     return np.array(out)
 
 
-def _walks(robot: str, specs: tuple, truth: Path, effects: str, seed: int, out: Path) -> list[Path]:
+def _walks(
+    robot: Robot, specs: tuple, truth: Path, effects: str, seed: int, out: Path
+) -> list[Path]:
 
     folders = []
     for k, (speed, duration) in enumerate(specs):
         folder = out / f"walk_{speed:g}mps_{duration:g}s"
         config = WalkConfig(
-            robot=get_robot(robot),
+            robot=robot,
             speed_mps=speed,
             duration_s=duration,
             effects=effects,
@@ -132,18 +134,18 @@ def _walks(robot: str, specs: tuple, truth: Path, effects: str, seed: int, out: 
         trial = run_walk_trial(config)
         folder.mkdir(parents=True, exist_ok=True)
         write_summary(folder / SUMMARY_FILE, trial.summary)
-        joints = get_robot(robot, needs="walking").require_walking().series_joints
+        joints = robot.require_walking().series_joints
         write_series(folder / SERIES_FILE, trial.pattern, trial.record, joints or PITCH_JOINTS)
         folders.append(folder)
     return folders
 
 
 def _steps(
-    robot: str, targets: tuple, hold_s: float, truth: Path, effects: str, seed: int, out: Path
+    robot: Robot, targets: tuple, hold_s: float, truth: Path, effects: str, seed: int, out: Path
 ) -> Path:
 
     config = StepExperimentConfig(
-        robot=get_robot(robot),
+        robot=robot,
         targets_m=tuple(targets),
         effects=effects,
         seed=seed,
@@ -155,7 +157,7 @@ def _steps(
 
 
 def record_experiments(
-    robot: str,
+    robot: Robot,
     plan: SelfTestPlan,
     base_doc: dict,
     parameters: tuple[FitParameter, ...],

@@ -23,7 +23,7 @@ import yaml
 
 from zmpkit.errors import InputFileError, ParameterError
 from zmpkit.io.yaml_file import load_yaml, yaml_error
-from zmpkit.robots.registry import get_robot
+from zmpkit.robots.robot import Robot
 from zmpkit.simfit.parameters import FitParameter, ParameterValues
 
 __all__ = [
@@ -111,11 +111,11 @@ def set_path(doc: dict[str, Any], path: str, value: float) -> None:
                 node[i] = float(value)
 
 
-def base_truth_path(robot: str, truth: str | Path | None) -> Path:
+def base_truth_path(robot: Robot, truth: str | Path | None) -> Path:
     """The base truth file: ``truth`` if given, else the robot's shipped one."""
     if truth is not None:
         return Path(truth)
-    return Path(get_robot(robot).truth.default_path)
+    return Path(robot.truth.default_path)
 
 
 def load_truth_doc(path: str | Path) -> dict[str, Any]:
@@ -189,11 +189,10 @@ def write_truth_doc(doc: Mapping[str, Any], path: str | Path, header: str = "") 
     return path
 
 
-def load_robot_truth(robot: str, doc: Mapping[str, Any]) -> RobotTruth:
+def load_robot_truth(robot: Robot, doc: Mapping[str, Any]) -> RobotTruth:
     """The robot's truth object for a truth document.
 
     Raises:
-        ParameterError: on an unknown robot, naming the valid ones (never a guess).
         InputFileError: if the document does not fit the robot's truth layout.
     """
-    return get_robot(robot).truth.from_doc(doc, "<fit candidate truth>")
+    return robot.truth.from_doc(doc, "<fit candidate truth>")

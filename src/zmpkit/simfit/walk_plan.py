@@ -30,7 +30,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from zmpkit.errors import InputFileError
-from zmpkit.robots.registry import get_robot
+from zmpkit.robots.robot import Robot
 from zmpkit.simfit.closed_loop import WalkSettings, planned_references
 from zmpkit.simfit.recorded import RecordedSignals
 from zmpkit.walking import GaitParameters, PatternConfig, WalkCommand, generate_pattern
@@ -116,7 +116,7 @@ def _kept_rows(path: Path, time_s: NDArray[np.float64], end: int) -> int:
 
 @lru_cache(maxsize=16)
 def walk_trajectory(
-    robot: str, speed_mps: float, step_duration_s: float, duration_s: float, com_height_m: float
+    robot: Robot, speed_mps: float, step_duration_s: float, duration_s: float, com_height_m: float
 ) -> JointTrajectory:
     """Pattern + IK of ``robot``'s walk (cached) [rad per joint per motion frame]."""
     config = PatternConfig(
@@ -125,8 +125,7 @@ def walk_trajectory(
         gait=GaitParameters(step_duration_s=step_duration_s),
         com_height_m=com_height_m,
     )
-    walker = get_robot(robot, needs="walking")
-    return solve_walking_ik(generate_pattern(config), walker.ik_model(), walker.ik_settings)
+    return solve_walking_ik(generate_pattern(config), robot.ik_model(), robot.ik_settings)
 
 
 def _pattern_end(speed_mps: float, step_duration_s: float, duration_s: float) -> float:
@@ -162,7 +161,7 @@ def _walk_duration(path: Path, overhead_s: float, t_last: float) -> float:
 
 
 def match_walk_plan(
-    robot: str,
+    robot: Robot,
     path: Path,
     speed_mps: float,
     step_duration_s: float,
@@ -175,7 +174,7 @@ def match_walk_plan(
         InputFileError: naming ``path`` if no plan reproduces the commanded angles.
     """
     overhead = _pattern_end(speed_mps, step_duration_s, _PROBE_DURATION_S) - _PROBE_DURATION_S
-    height = get_robot(robot, needs="walking").require_walking().com_height_m
+    height = robot.require_walking().com_height_m
     names = signals.joint_names
     recorded = signals.q_cmd_rad
 

@@ -17,9 +17,9 @@ import mujoco
 import numpy as np
 
 from zmpkit.errors import ParameterError
-from zmpkit.robots.registry import get_robot
+from zmpkit.robots.robot import Robot
 from zmpkit.sim.warp_cache import cache_file_count
-from zmpkit.simfit.batched import WARP_RECORDS
+from zmpkit.simfit.warp_batched import WARP_RECORDS
 
 __all__ = ["WARM_UP_STEPS", "WarmUpResult", "WarmedRobot", "warm_up_warp"]
 
@@ -64,18 +64,18 @@ class WarmUpResult:
     files_after: int
 
 
-def warm_up_warp(robots: Sequence[str], effects: str, device: str | None) -> WarmUpResult:
+def warm_up_warp(robots: Sequence[Robot], effects: str, device: str | None) -> WarmUpResult:
     """Compile (or load from the kernel cache) the kernels a fit of ``robots`` uses.
 
     Args:
-        robots: robot names or ``robot.yaml`` paths (robots with a fit catalogue).
+        robots: the robots (each with a fit catalogue).
         effects: effect letters the fit's simulator runs with, e.g. ``"M,G,S"`` (MuJoCo
             Warp needs the M effect: it has no PID servo).
         device: Warp device (``"cuda:0"``, ``"cpu"``); ``None`` is Warp's default.
 
     Raises:
         ParameterError: MuJoCo Warp is not installed (the message says how to install it),
-            an unknown robot, or an unknown device.
+            a robot without a fit catalogue, or an unknown device.
     """
     start = time.perf_counter()
     from zmpkit.sim.warp_batch import rollout_warp, warp_runtime
@@ -87,8 +87,8 @@ def warm_up_warp(robots: Sequence[str], effects: str, device: str | None) -> War
     cache_dir = str(wp.config.kernel_cache_dir)
     before = cache_file_count(cache_dir)
     done = []
-    for robot_name in robots:
-        robot = get_robot(robot_name, needs="fit")
+    for robot in robots:
+        robot.require_fit()
         sim = robot.make_simulation(effects, None, seed=0)
         full = mujoco.mjtState.mjSTATE_FULLPHYSICS
         state = np.empty(mujoco.mj_stateSize(sim.model, full))
