@@ -38,6 +38,7 @@ __all__ = [
     "decide",
     "facing_votes",
     "knee_flexion",
+    "path_to_root",
     "side_from_names",
 ]
 
@@ -83,7 +84,8 @@ class FacingVote:
     evidence: str
 
 
-def _path_to_root(model: mujoco.MjModel, body: int) -> list[int]:
+def path_to_root(model: mujoco.MjModel, body: int) -> list[int]:
+    """The bodies from just below the world down to ``body``, top first."""
     path = [body]
     while int(model.body_parentid[path[-1]]) != 0:
         path.append(int(model.body_parentid[path[-1]]))
@@ -94,7 +96,7 @@ def _hinges_above(model: mujoco.MjModel, foot: int) -> list[int]:
     """The hinge joints from the root down to ``foot``, top first."""
     return [
         j
-        for b in _path_to_root(model, foot)
+        for b in path_to_root(model, foot)
         for j in range(model.body_jntadr[b], model.body_jntadr[b] + model.body_jntnum[b])
         if model.jnt_type[j] == mujoco.mjtJoint.mjJNT_HINGE
     ]
@@ -176,7 +178,7 @@ def side_from_names(names: Sequence[str]) -> str | None:
 
 def _path_names(model: mujoco.MjModel, foot: int, shared: set[int]) -> list[str]:
     """Names of the foot's own bodies and joints (those no other foot hangs from)."""
-    bodies = [b for b in _path_to_root(model, foot) if b not in shared]
+    bodies = [b for b in path_to_root(model, foot) if b not in shared]
     joints = [
         model.joint(j).name
         for b in bodies
@@ -198,7 +200,7 @@ def facing_votes(
         toes: the toes' vote, measured by the caller from the feet's collision geoms.
     """
     label = "xy"[axis]
-    shared = set(_path_to_root(model, feet[0])) & set(_path_to_root(model, feet[1]))
+    shared = set(path_to_root(model, feet[0])) & set(path_to_root(model, feet[1]))
     sides = [side_from_names(_path_names(model, f, shared)) for f in feet]
     if sorted(s or "" for s in sides) == ["left", "right"]:
         left, right = (feet[0], feet[1]) if sides[0] == "left" else (feet[1], feet[0])

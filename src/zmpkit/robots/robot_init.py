@@ -33,7 +33,7 @@ import numpy as np
 import yaml
 
 from zmpkit.errors import InputFileError
-from zmpkit.robots.facing import FacingVote, decide, facing_votes
+from zmpkit.robots.facing import FacingVote, decide, facing_votes, path_to_root
 from zmpkit.robots.user_feet import collision_geoms, geom_corners
 from zmpkit.robots.user_model_file import load_spec
 
@@ -77,21 +77,14 @@ def _lowest_z(model: mujoco.MjModel, data: mujoco.MjData) -> dict[int, float]:
     return low
 
 
-def _path_to_root(model: mujoco.MjModel, body: int) -> list[int]:
-    path = [body]
-    while int(model.body_parentid[path[-1]]) != 0:
-        path.append(int(model.body_parentid[path[-1]]))
-    return path[::-1]
-
-
 def _separate(model: mujoco.MjModel, a: int, b: int) -> bool:
     """Whether neither body is an ancestor of the other."""
-    return a not in _path_to_root(model, b) and b not in _path_to_root(model, a)
+    return a not in path_to_root(model, b) and b not in path_to_root(model, a)
 
 
 def _leg_paths(model: mujoco.MjModel, right: int, left: int) -> dict[str, list[int]]:
     """Each foot's bodies below the last body both feet hang from, hip first."""
-    paths = {"right": _path_to_root(model, right), "left": _path_to_root(model, left)}
+    paths = {"right": path_to_root(model, right), "left": path_to_root(model, left)}
     shared = 0
     for a, b in zip(paths["right"], paths["left"], strict=False):
         if a != b:
@@ -178,7 +171,7 @@ def guess_robot(
     unit = {"+x": (1.0, 0.0), "-x": (-1.0, 0.0), "+y": (0.0, 1.0), "-y": (0.0, -1.0)}[forward]
     leftward = np.array([-unit[1], unit[0]])  # z × forward
     left, right = sorted(feet, key=lambda b: -float(data.xpos[b][:2] @ leftward))
-    root = int(_path_to_root(model, left)[0])
+    root = int(path_to_root(model, left)[0])
     paths = _leg_paths(model, right, left)
     legs = {side: _hinges(model, path) for side, path in paths.items()}
     folder = Path(out).resolve().parent
