@@ -7,9 +7,14 @@ all of them, the layout's), taking from the model what it states, over the leg j
 (their median):
 
 - the **position gain** ``kp`` and **damping** ``kd`` of a position actuator
-  (``gainprm[0]``, ``−biasprm[2]``), else :math:`k_p = \tau_{stall} / 0.05` rad (ASSUMED:
-  the drive saturates at 0.05 rad of error; the OP3's soft factory gains saturate at
-  0.22 rad, and it walks at half speed) and :math:`k_d = 0.02\,k_p` s;
+  (``gainprm[0]``, ``−biasprm[2]``), unless that gain would let the robot sag more than
+  :data:`MAX_SAG_RAD` under the moment of its weight, :math:`m g h_{CoM} / k_p` (a learned
+  policy's gain or a soft factory setting, not a drive that follows a walk). Where the model
+  states no gain, or one that soft, the template ASSUMES the stiffer of
+  :math:`k_p = \tau_{stall} / 0.05` rad (the drive saturates at 0.05 rad of error) and
+  :math:`k_p = m g h_{CoM} / 0.04` rad (the weight's moment held within
+  :data:`HOLD_SAG_RAD`, as NAO's drive holds it), with :math:`k_d = 0.02\,k_p` s, and
+  says beside it what the model stated;
 - the **stall torque** from the actuator's ``forcerange`` or the joint's
   ``actuatorfrcrange`` (a URDF's ``<limit effort>``), else
   :math:`\tau_{stall} = \tfrac12 m g h_{hip}` (ASSUMED: holds the robot on one bent leg);
@@ -21,9 +26,14 @@ Everything else is ASSUMED and marked so in the file: gear ratio :math:`N = 200`
 in the OP3's truth: :math:`K = V / (\omega_{nl} N)` and :math:`R = N K V / \tau_{stall}`;
 a rotor inertia of :math:`10^{-6} \max(1, m / 3\,\mathrm{kg})` kg·m² when the model
 states no armature; inductance 0.1 mH; a current drive; a gear three times as stiff as the
-servo (a kid-size robot's gears: NAO's about 840 N·m/rad, the OP3's 400) with 0.25° of
-backlash; no flexible link. The template is checked to stand (tests). Replace each
-ASSUMED value with the robot's when known.
+servo (NAO's gears: 1200 N·m/rad on a 354 N·m/rad drive) with 0.25° of
+backlash, damped by 5 % of critical on the reflected rotor inertia or, where more, by
+:math:`c = k\,\Delta t` (NAO's gear: 1.0 N·m·s/rad on 1200 N·m/rad, a relaxation time of
+0.83 physics steps), so that the gear's deflection under the lightest link it carries (a
+swinging foot) stays resolved at the physics step (the spring is explicit, the damper
+implicit in MuJoCo's ``implicitfast``: Apollo's 56 kN·m/rad ankle gears under a 1 kg foot
+diverged with 5 % of critical); no flexible link. The template is checked to stand (tests).
+Replace each ASSUMED value with the robot's when known.
 """
 
 from __future__ import annotations
@@ -56,6 +66,18 @@ ROTOR_INERTIA_KG_M2 = 1.0e-6
 ROTOR_REFERENCE_MASS_KG = 3.0
 BACKLASH_RAD = 0.00436  # 0.25°
 G = 9.81
+MAX_SAG_RAD = 0.1
+"""The softest model gain the template takes: the robot sags at most this under the
+moment of its weight, m g h_CoM / kp (2.5 × NAO's drive) [rad]. A heuristic: a drive that
+sags more cannot follow a walk whose leg joints move a few tenths of a radian. Menagerie's
+Apollo, G1 and Berkeley Humanoid state learned policies' gains that sag 1.0, 0.46 and 14 rad
+(each falls in zmpkit's walk with them); the OP3's (Menagerie's 21.1 N·m/rad, its factory
+drive's 18.9) sag 0.40 and 0.45 rad, and its shipped truth walks only at half speed.
+"""
+HOLD_SAG_RAD = 0.04
+"""The sag of the gain the template assumes in place of a softer one: NAO's drive holds
+its weight's moment (13.5 N·m) within 0.038 rad (354 N·m/rad at its pitch joints) [rad]."""
+GEAR_DAMPING_PER_CRITICAL = 0.05
 
 
 @dataclass(frozen=True)
@@ -129,12 +151,59 @@ def _leg_facts(file: RobotFile) -> dict[str, float | None]:
     }
 
 
+@dataclass(frozen=True)
+class _Gain:
+    """The drive's position gain and damping, with their sources (None: ASSUMED)."""
+
+    kp: float
+    kd: float
+    kp_source: str | None
+    kd_source: str | None
+    note: str
+
+
+def _position_gain(
+    facts: dict[str, float | None], torque: float, weight_moment_n_m: float
+) -> _Gain:
+    """The model's position gain unless it lets the robot sag past :data:`MAX_SAG_RAD`.
+
+    Args:
+        facts: what the model states (:func:`_leg_facts`).
+        torque: the stall torque at the joint [N·m].
+        weight_moment_n_m: :math:`m g h_{CoM}`, the weight's moment about the soles [N·m].
+    """
+    kp, kd = facts["kp"], facts["kd"]
+    if kp is None:
+        gain = max(torque / SATURATING_ERROR_RAD, weight_moment_n_m / HOLD_SAG_RAD)
+        return _Gain(
+            gain, kd or KD_PER_KP_S * gain, None, "position actuator kv" if kd else None, ""
+        )
+    sag = weight_moment_n_m / kp
+    if sag <= MAX_SAG_RAD:
+        return _Gain(
+            kp,
+            kd or KD_PER_KP_S * kp,
+            "position actuator kp",
+            "position actuator kv" if kd else None,
+            "",
+        )
+    gain = weight_moment_n_m / HOLD_SAG_RAD
+    note = (
+        f"  # the model's position gain {kp:.4g} N·m/rad would let the robot sag {sag:.2g} rad\n"
+        f"  # under its weight's moment {weight_moment_n_m:.4g} N·m (more than {MAX_SAG_RAD:g} rad:"
+        " a learned policy's\n"
+        f"  # or a soft factory gain); ASSUMED: the gain that holds it within {HOLD_SAG_RAD:g}"
+        " rad, as NAO's drive does"
+    )
+    return _Gain(gain, KD_PER_KP_S * gain, None, None, note)
+
+
 def truth_template(file: RobotFile, built: UserModel, hip_height_m: float) -> TruthTemplate:
     """The truth template of ``file``'s robot (module docstring).
 
     Args:
         file: the robot file.
-        built: the model zmpkit simulates (its mass and ideal servo).
+        built: the model zmpkit simulates (its mass and weight's moment).
         hip_height_m: the hips' height above the soles [m].
     """
     facts = _leg_facts(file)
@@ -158,8 +227,7 @@ def truth_template(file: RobotFile, built: UserModel, hip_height_m: float) -> Tr
     if armature is None:
         rotor = ROTOR_INERTIA_KG_M2 * max(1.0, built.mass_kg / ROTOR_REFERENCE_MASS_KG)
         armature = rotor * GEAR_RATIO**2
-    kp, kd = facts["kp"], facts["kd"]
-    gain = kp if kp else torque / SATURATING_ERROR_RAD
+    drive = _position_gain(facts, torque, built.weight_moment_n_m)
     values.lines.append("motor:")
     values.add("gear_ratio", GEAR_RATIO, None)
     values.add("supply_voltage", SUPPLY_V, None)
@@ -174,17 +242,23 @@ def truth_template(file: RobotFile, built: UserModel, hip_height_m: float) -> Tr
     values.add("rotor_inertia", armature / GEAR_RATIO**2, armature_source and "armature / N^2")
     values.add("drive", "current", None)
     values.lines.append("pid:")
-    values.add("kp", gain, "position actuator kp" if kp else None)
+    if drive.note:
+        values.lines.append(drive.note)
+    values.add("kp", drive.kp, drive.kp_source)
     values.add("ki", 0.0, None)
-    values.add("kd", kd if kd else KD_PER_KP_S * gain, "position actuator kv" if kd else None)
+    values.add("kd", drive.kd, drive.kd_source)
     values.add("integral_limit_link", 0.05, None)
     friction = facts["friction"]
     values.lines.append("friction:")
     values.add("coulomb_link", friction or 0.0, "joint frictionloss" if friction else None)
-    stiffness = GEAR_STIFFNESS_PER_KP * gain
+    stiffness = GEAR_STIFFNESS_PER_KP * drive.kp
+    damping = max(
+        2.0 * math.sqrt(stiffness * armature) * GEAR_DAMPING_PER_CRITICAL,
+        stiffness * file.timestep_s,
+    )
     values.lines.append("gear:")
     values.add("stiffness", stiffness, None)
-    values.add("damping", 2.0 * math.sqrt(stiffness * armature) * 0.05, None)
+    values.add("damping", damping, None)
     values.add("backlash", BACKLASH_RAD, None)
     values.add("inertia_link", 1.0e-3, None)
     values.lines.append("flex: []                                # no flexible link ASSUMED")

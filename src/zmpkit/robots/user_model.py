@@ -90,6 +90,8 @@ class UserModel:
         feet: side → its footprint.
         mass_kg: total mass [kg].
         servo: the ideal servos' gains.
+        weight_moment_n_m: :math:`m g h_{CoM}`, the weight's moment about the soles at the
+            initial pose, the sole plates left out [N·m].
         excluded_contacts: the pairs of bodies whose geoms already touch at the initial pose
             (overlapping links of an imported model), whose contacts zmpkit excludes.
     """
@@ -98,15 +100,18 @@ class UserModel:
     feet: dict[str, FootPrint]
     mass_kg: float
     servo: IdealServoParams
+    weight_moment_n_m: float
     excluded_contacts: tuple[tuple[str, str], ...] = ()
 
 
-def _servo(
-    robot: RobotFile, model: mujoco.MjModel, data: mujoco.MjData, sole_z: float
-) -> IdealServoParams:
-    """The ideal servo: the file's gains, else scaled from weight × CoM height [N·m]."""
+def _weight_moment_n_m(model: mujoco.MjModel, data: mujoco.MjData, sole_z: float) -> float:
+    """:math:`m g h_{CoM}`, the weight's moment about the soles at ``sole_z`` [N·m]."""
     height = float(data.subtree_com[0][2]) - sole_z
-    weight_moment = float(model.body_subtreemass[0]) * 9.81 * height
+    return float(model.body_subtreemass[0]) * 9.81 * height
+
+
+def _servo(robot: RobotFile, weight_moment: float) -> IdealServoParams:
+    """The ideal servo: the file's gains, else scaled from weight × CoM height [N·m]."""
     kp = robot.servo.get("kp", 100.0 * weight_moment)
     return IdealServoParams(
         kp=kp, ki=robot.servo.get("ki", kp), kd=robot.servo.get("kd", 0.005 * kp)
@@ -141,7 +146,8 @@ def user_model(robot: RobotFile) -> UserModel:
     excluded = exclude_initial_self_contacts(spec, model, data)
     feet = {side: footprint(robot, model, data, side) for side in SIDES}
     mass = float(model.body_subtreemass[0])
-    servo = _servo(robot, model, data, min(f.bottom_z_m for f in feet.values()))
+    weight_moment = _weight_moment_n_m(model, data, min(f.bottom_z_m for f in feet.values()))
+    servo = _servo(robot, weight_moment)
     h = robot.sole_height_m
     for side, foot in feet.items():
         for b in subtree_bodies(model, model.body(foot.body).id):
@@ -157,7 +163,8 @@ def user_model(robot: RobotFile) -> UserModel:
     xml = ET.fromstring(spec.to_xml())
     _finish_xml(xml, robot, feet, mass, servo, root_body(model))
     ET.indent(xml)
-    return UserModel(ET.tostring(xml, encoding="unicode"), feet, mass, servo, excluded)
+    mjcf = ET.tostring(xml, encoding="unicode")
+    return UserModel(mjcf, feet, mass, servo, weight_moment, excluded)
 
 
 def _finish_xml(
