@@ -136,7 +136,8 @@ def test_every_problem_of_the_layout_is_a_line(robot_yaml: Path) -> None:
         "legs": "missing; expected a mapping with keys right and left",
         "sole.lenght": "unknown key; valid: length, width, height",
         "servo.kx": "unknown gain; valid: kp, ki, kd",
-        "walking.stride": "unknown key; valid: com_height, crouch, posture, foot_separation, "
+        "walking.stride": "unknown key; valid: com_height, crouch, posture, torso_pitch, "
+        "zmp_forward, foot_separation, "
         "max_step_length, control_period, speed, servo_stiffness, servo_damping, "
         "observer_com_noise, observer_zmp_noise",
         "walking.speed": "expected a number > 0, got 'fast'",

@@ -2,8 +2,12 @@
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from zmpkit.errors import ParameterError
 from zmpkit.robots.nao import NAO_WALKING_COM_HEIGHT_M
@@ -185,3 +189,34 @@ def test_every_walk_ends_with_the_com_at_rest_between_the_feet(command) -> None:
     centre = [(left.x + right.x) / 2, (left.y + right.y) / 2]
     np.testing.assert_allclose(pattern.com.com_position_in_world[-1], centre, atol=1e-5)
     assert np.abs(pattern.com.com_velocity_in_world[-1]).max() < 5e-5
+
+
+@settings(max_examples=15, deadline=None)
+@given(
+    forward=st.floats(-0.04, 0.04),
+    turn=st.floats(-0.4, 0.4),
+    lateral=st.floats(-0.05, 0.05),
+)
+def test_the_zmp_reference_sits_forward_m_along_each_stance_sole(
+    forward: float, turn: float, lateral: float
+) -> None:
+    """In single support the reference is the stance sole's centre plus ``forward`` along
+    the sole's heading, on any walk (turning, sideways), whatever else the plan does."""
+    from zmpkit.walking.zmp_reference import linear_zmp_reference
+
+    plan = plan_footsteps(WalkCommand(0.1, lateral, turn), n_steps=8)
+    centred = linear_zmp_reference(plan, DT)
+    moved = linear_zmp_reference(plan, DT, forward)
+    for k, step in enumerate(plan.steps):
+        stance = plan.stance_before(k)
+        i = int(np.searchsorted(moved.time_s, 0.5 * (step.t_start + step.t_end)))
+        expected = np.array([math.cos(stance.yaw), math.sin(stance.yaw)]) * forward
+        np.testing.assert_allclose(
+            moved.zmp_in_world[i] - centred.zmp_in_world[i], expected, atol=1e-12
+        )
+
+
+def test_a_zmp_point_beyond_a_quarter_of_the_sole_is_refused() -> None:
+    with pytest.raises(ParameterError, match=r"zmp_forward_m must lie within a quarter"):
+        PatternConfig(zmp_forward_m=0.05)  # the default sole is 0.16 m long: ±0.04 m
+    assert PatternConfig(zmp_forward_m=-0.04).zmp_forward_m == -0.04

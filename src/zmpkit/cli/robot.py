@@ -6,9 +6,12 @@ from pathlib import Path
 
 import click
 
+from zmpkit.errors import ZmpkitError
+from zmpkit.experiments.walking_posture import choose_walking_posture
 from zmpkit.robots.registry import get_robot, missing_reason, robot_names, robots_that
 from zmpkit.robots.robot_check import check_robot
-from zmpkit.robots.robot_init import write_robot_file
+from zmpkit.robots.robot_file_reader import read_robot_file
+from zmpkit.robots.robot_init import append_walking_keys, write_robot_file
 from zmpkit.robots.truth_template import write_truth_template
 
 __all__ = [
@@ -61,7 +64,44 @@ def robot_init_command(model: Path, out: Path, packages: tuple[str, ...]) -> Non
     guess = write_robot_file(model, out, folders)
     for note in guess.notes:
         click.echo(f"guessed {note}")
+    _choose_walking_posture(out)
     click.echo(f"wrote {out}; check the guesses, then: zmpkit robot check {out}")
+
+
+def _choose_walking_posture(out: Path) -> None:
+    """Probe the default walking posture of the robot ``out`` describes; write a better one.
+
+    A robot file that does not build, or a robot that cannot walk, is left to
+    ``zmpkit robot check`` to explain.
+    """
+    try:
+        robot = get_robot(str(out))
+    except ZmpkitError:
+        return
+    if robot.walking is None:
+        return
+    choice = choose_walking_posture(robot, read_robot_file(out))
+    default = choice.default
+    if choice.chosen is not None:
+        posture = choice.chosen.posture
+        assert default is not None  # a posture is chosen only after the default's probe
+        note = (
+            f"{posture.describe()} (upright and centred: {default.describe()}; this posture: "
+            f"{choice.chosen.describe()})"
+        )
+        keys = {
+            "torso_pitch": posture.torso_pitch_rad,
+            "crouch": posture.crouch,
+            "zmp_forward": posture.zmp_forward_m,
+        }
+        append_walking_keys(out, keys, note)
+        click.echo(f"guessed walking posture: {note}")
+    elif default is not None and not default.realisable:
+        click.echo(
+            f"walking: upright and centred, {default.describe()}, and none of the "
+            f"{choice.tried} postures tried keeps its joints off their limits: `zmpkit walk` "
+            "will refuse this robot"
+        )
 
 
 @robot_group.group("truth")

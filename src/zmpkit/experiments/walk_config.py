@@ -144,4 +144,5 @@ class WalkConfig:
             ),
             control_period_s=walking.control_period_s,
             com_height_m=self.com_height_m,  # type: ignore[arg-type]  # set in __post_init__
+            zmp_forward_m=walking.zmp_forward_m,
         )

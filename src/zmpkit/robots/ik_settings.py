@@ -25,6 +25,8 @@ class IkSettings:
         joint_names: the joints reported in the trajectory, in order.
         sole_sites: foot side → site at the sole centre on the sole plane.
         torso_body: body whose orientation follows the planned torso.
+        torso_pitch_rad: the torso's forward lean while walking, about the walk's lateral
+            axis [rad] (0: upright).
         posture_rad: nominal posture [rad] (joints not named: 0); also the start guess.
             Default: the zero pose; a robot gives its own (e.g. a walking crouch).
         foot_cost: weight of the feet position [1/m] and orientation [1/rad] errors.
@@ -43,6 +45,7 @@ class IkSettings:
         default_factory=lambda: {side: sole_site(side) for side in ("left", "right")}
     )
     torso_body: str = "torso"
+    torso_pitch_rad: float = 0.0
     posture_rad: Mapping[str, float] = field(default_factory=dict)
     foot_cost: float = 10.0
     com_cost: float = 10.0

@@ -21,10 +21,11 @@ from dataclasses import dataclass
 from functools import cache
 from pathlib import Path
 
-from zmpkit.errors import ParameterError
+from zmpkit.errors import ParameterError, ZmpkitError
 from zmpkit.robots.nao.preset import NAO
 from zmpkit.robots.op3.preset import OP3_CAPABILITIES, op3_missing_reason, op3_robot
 from zmpkit.robots.robot import Robot
+from zmpkit.robots.robot_file_reader import read_robot_file
 from zmpkit.robots.teo.preset import TEO
 from zmpkit.robots.user_robot import load_robot_file
 
@@ -140,7 +141,8 @@ def get_robot(name_or_path: str | Path | Robot, needs: str | None = None) -> Rob
         if text in entries:
             robot = entries[text].load()
         elif Path(text).suffix.lower() in ROBOT_FILE_SUFFIXES:
-            robot = _robot_file(str(Path(text).resolve()))
+            path = Path(text).resolve()
+            robot = _robot_file(str(path), tuple(_stamp(p) for p in _sources(path)))
         else:
             raise ParameterError(
                 f"robot must be one of {', '.join(valid)}; got {text!r} (or a robot.yaml file)"
@@ -163,8 +165,31 @@ def robot_reference(name_or_path: str | Path) -> str:
     return str(Path(text).resolve())
 
 
+def _sources(path: Path) -> tuple[Path, ...]:
+    """The robot file and the model and truth files it names (itself alone if unreadable)."""
+    try:
+        file = read_robot_file(path)
+    except ZmpkitError:
+        return (path,)
+    return tuple(p for p in (path, file.model, file.truth) if p is not None)
+
+
+def _stamp(path: Path) -> tuple[int, int]:
+    """The robot file's modification time [ns] and size [B] (0, 0 when it is missing)."""
+    try:
+        stat = path.stat()
+    except OSError:
+        return 0, 0
+    return stat.st_mtime_ns, stat.st_size
+
+
 @cache
-def _robot_file(path: str) -> Robot:
+def _robot_file(path: str, stamps: tuple[tuple[int, int], ...]) -> Robot:
+    """The robot of the file at ``path``, built once per version of the files it rests on.
+
+    ``stamps`` are those of the robot, model and truth files: an edited one is read again.
+    """
+    del stamps  # part of the cache's key only
     return load_robot_file(path)
 
 

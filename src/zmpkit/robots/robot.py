@@ -162,6 +162,8 @@ class WalkingDefaults:
             (:class:`~zmpkit.walking.zmp_observer.ZmpObserverParameters`).
         observer_zmp_noise_m: σ_p of that observer, the error it assumes of the measured ZMP
             [m]; None: its default.
+        zmp_forward_m: where in each sole the walk plans its ZMP, ahead of the sole centre
+            [m] (0: the centre, paper B's).
     """
 
     com_height_m: float
@@ -177,6 +179,7 @@ class WalkingDefaults:
     servo_damping_nm_s_per_rad: float = 0.0
     observer_com_noise_m: float | None = None
     observer_zmp_noise_m: float | None = None
+    zmp_forward_m: float = 0.0
 
     @property
     def leg_joints(self) -> tuple[str, ...]:

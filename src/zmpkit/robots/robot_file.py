@@ -26,6 +26,10 @@ Layout (lengths in m; every path relative to the YAML's folder)::
       com_height: 0.45               # CoM height of the walk [m]; default: the crouch's
       crouch: 0.08                   # the crouch lowers the hips by this share of the leg [-]
       posture: {r_knee: 0.6}         # joint → angle [rad] of the crouch, instead of the IK's
+      torso_pitch: 0.4               # the torso's forward lean while walking [rad]; default 0
+      zmp_forward: -0.03             # the planned ZMP's place in each sole, ahead of its
+                                     # centre [m]; default 0 (`robot init` chooses both for
+                                     # a robot whose legs cannot walk upright and centred)
       foot_separation: 0.12          # default: the feet's distance at the initial pose [m]
       max_step_length: 0.15          # default: 0.4 × leg length (hip to sole) [m]
       control_period: 0.01           # motion frame [s]
@@ -94,6 +98,8 @@ WALKING_FIELDS = (
     "com_height",
     "crouch",
     "posture",
+    "torso_pitch",
+    "zmp_forward",
     "foot_separation",
     "max_step_length",
     "control_period",
@@ -114,6 +120,8 @@ class WalkingOverrides:
         com_height_m: CoM height of the walk [m].
         crouch: the crouch lowers the hips by this share of the leg length [-].
         posture_rad: joint → crouch angle [rad] (replaces the IK's crouch).
+        torso_pitch_rad: the torso's forward lean while walking [rad].
+        zmp_forward_m: where the walk plans its ZMP in each sole, ahead of the centre [m].
         foot_separation_m: lateral distance between the foot centres [m].
         max_step_length_m: largest forward step [m].
         control_period_s: motion frame [s].
@@ -130,6 +138,8 @@ class WalkingOverrides:
     com_height_m: float | None = None
     crouch: float | None = None
     posture_rad: Mapping[str, float] | None = None
+    torso_pitch_rad: float | None = None
+    zmp_forward_m: float | None = None
     foot_separation_m: float | None = None
     max_step_length_m: float | None = None
     control_period_s: float | None = None

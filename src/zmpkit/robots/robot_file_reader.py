@@ -215,6 +215,22 @@ def _posture(path: Path, value: Any) -> Mapping[str, float] | None:
     return {str(k): float(v) for k, v in value.items()}
 
 
+def _signed(path: Path, field: str, value: Any, bound: float, unit: str) -> float | None:
+    """A number of either sign within ``±bound``, or None when not given."""
+    if value is None:
+        return None
+    if (
+        isinstance(value, bool)
+        or not isinstance(value, int | float)
+        or not math.isfinite(value)
+        or abs(value) > bound
+    ):
+        raise _fail(
+            path, field, f"expected a number within ±{bound:g} {unit}, got {shorten(value)}"
+        )
+    return float(value)
+
+
 def _walking(path: Path, value: Any, problems: Problems) -> WalkingOverrides:
     given = _section(path, "walking", value, WALKING_FIELDS, problems)
 
@@ -231,6 +247,12 @@ def _walking(path: Path, value: Any, problems: Problems) -> WalkingOverrides:
         com_height_m=number("com_height"),
         crouch=number("crouch"),
         posture_rad=problems.attempt(_posture, path, given.get("posture")),
+        torso_pitch_rad=problems.attempt(
+            _signed, path, "walking.torso_pitch", given.get("torso_pitch"), 1.0, "rad"
+        ),
+        zmp_forward_m=problems.attempt(
+            _signed, path, "walking.zmp_forward", given.get("zmp_forward"), 0.2, "m"
+        ),
         foot_separation_m=number("foot_separation"),
         max_step_length_m=number("max_step_length"),
         control_period_s=number("control_period"),

@@ -37,7 +37,13 @@ from zmpkit.robots.facing import FacingVote, decide, facing_votes, path_to_root
 from zmpkit.robots.user_feet import collision_geoms, geom_corners
 from zmpkit.robots.user_model_file import load_spec
 
-__all__ = ["RobotGuess", "guess_robot", "guess_robot_file", "write_robot_file"]
+__all__ = [
+    "RobotGuess",
+    "append_walking_keys",
+    "guess_robot",
+    "guess_robot_file",
+    "write_robot_file",
+]
 
 FORWARD_SURE_ASPECT = 1.2
 """Feet at least this many times as long as wide show their long axis [-]."""
@@ -222,3 +228,19 @@ def write_robot_file(
     )
     path.write_text(header + yaml.safe_dump(guess.doc, sort_keys=False), encoding="utf-8")
     return guess
+
+
+def append_walking_keys(out: str | Path, keys: Mapping[str, float], note: str) -> None:
+    """Add a ``walking:`` section with ``keys`` to the robot file ``out``, ``note`` above it.
+
+    Args:
+        out: a robot file :func:`write_robot_file` wrote (it has no ``walking:`` yet).
+        keys: ``walking:`` key → value (``torso_pitch`` [rad], ``crouch`` [-],
+            ``zmp_forward`` [m]).
+        note: why, one line (written as a comment).
+    """
+    path = Path(out)
+    lines = [f"# guessed walking posture: {note}", "walking:"]
+    lines += [f"  {key}: {value:.4g}" for key, value in keys.items()]
+    with path.open("a", encoding="utf-8") as f:
+        f.write("\n".join(lines) + "\n")

@@ -14,7 +14,6 @@ from __future__ import annotations
 import copy
 from collections.abc import Mapping
 from dataclasses import dataclass, field, replace
-from functools import cache
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -166,9 +165,11 @@ def _servo_truth_spec(path: Path) -> TruthSpec:
     return TruthSpec(path, load, servo_truth_from_doc, ServoTruth)
 
 
-@cache
 def load_robot_file(path: str | Path) -> Robot:
     """The robot a ``robot.yaml`` describes (see :mod:`zmpkit.robots.robot_file`).
+
+    Built anew on each call; :func:`zmpkit.robots.registry.get_robot` keeps one per version
+    of the file.
 
     Every problem of the file is found before one is raised
     (:func:`~zmpkit.robots.robot_file_problems.robot_file_problems`).

@@ -11,6 +11,9 @@ What the walk of :mod:`zmpkit.experiments.walk` needs of a robot, from the model
   (:mod:`zmpkit.sim.whole_body_ik`: both soles held where they stand, the torso upright, a
   small pull to the seed) lowers the CoM by :data:`CROUCH_FRACTION` :math:`\times L`. Its leg
   joint angles are the IK's posture and its CoM height (above the soles) the walk's CoM height;
+  the file's ``walking.torso_pitch`` leans the torso forward in the crouch and the walk, and
+  its ``walking.zmp_forward`` moves the planned ZMP along each sole
+  (:mod:`zmpkit.experiments.walking_posture` chooses both for ``robot init``);
 - **foot separation**: the lateral distance between the sole centres [m];
 - **step length limit**: :data:`STEP_LENGTH_FRACTION` :math:`\times L` [m];
 - **sole**: the feet's footprint (or the file's ``sole``); **sole sites** ``zmpkit/{side}_sole``;
@@ -40,7 +43,7 @@ from zmpkit.robots.robot_file import SIDES, RobotFile
 from zmpkit.robots.user_model import UserModel
 from zmpkit.robots.user_model_file import root_body
 from zmpkit.sim.names import sole_site
-from zmpkit.sim.whole_body_ik import IkCosts, IkStop, WholeBodyIk
+from zmpkit.sim.whole_body_ik import IkCosts, IkStop, WholeBodyIk, yaw_pose
 
 __all__ = [
     "CONTROL_PERIOD_S",
@@ -154,13 +157,16 @@ def _seed(model: mujoco.MjModel, file: RobotFile) -> NDArray[np.float64]:
     return q
 
 
-def crouch(model: mujoco.MjModel, file: RobotFile, depth_m: float) -> Crouch:
+def crouch(
+    model: mujoco.MjModel, file: RobotFile, depth_m: float, torso_pitch_rad: float = 0.0
+) -> Crouch:
     """Lower the standing CoM by ``depth_m`` [m] with the soles fixed and the torso upright.
 
     Args:
         model: the robot's model at its standing pose (``qpos0``), soles on the floor.
         file: the robot file (legs, torso).
         depth_m: how far the CoM goes down [m].
+        torso_pitch_rad: the torso's forward lean [rad] (0: upright, as the walk holds it).
     """
     data = mujoco.MjData(model)
     mujoco.mj_forward(model, data)
@@ -168,6 +174,9 @@ def crouch(model: mujoco.MjModel, file: RobotFile, depth_m: float) -> Crouch:
     torso = file.torso or root_body(model)
     ik = WholeBodyIk(model, model.qpos0.copy(), sole_sites, _CROUCH_COSTS, torso_body=torso)
     ik.hold_frames()
+    if torso_pitch_rad != 0.0:
+        assert ik.torso is not None  # _CROUCH_COSTS has a torso weight
+        ik.torso.set_target(yaw_pose(0.0, 0.0, 0.0, 0.0, torso_pitch_rad))
     ik.com.set_target(np.asarray(data.subtree_com[0]) - np.array([0.0, 0.0, depth_m]))
     ik.restart(_seed(model, file))
     ik.solve(_IK_DT_S, _CROUCH_STOP)
@@ -190,7 +199,8 @@ def user_walking(file: RobotFile, built: UserModel) -> WalkingDefaults | None:
     data = mujoco.MjData(model)
     mujoco.mj_forward(model, data)
     leg = leg_length_m(model, data, file)
-    bent = crouch(model, file, (given.crouch or CROUCH_FRACTION) * leg)
+    pitch = given.torso_pitch_rad or 0.0
+    bent = crouch(model, file, (given.crouch or CROUCH_FRACTION) * leg, pitch)
     posture = dict(given.posture_rad) if given.posture_rad is not None else bent.posture_rad
     sole = [data.site(sole_site(s)).xpos for s in SIDES]
     separation = float(abs(sole[1][1] - sole[0][1]))
@@ -208,6 +218,7 @@ def user_walking(file: RobotFile, built: UserModel) -> WalkingDefaults | None:
             joint_names=file.leg_joints,
             sole_sites={side: sole_site(side) for side in ("left", "right")},
             torso_body=file.torso or root_body(model),
+            torso_pitch_rad=pitch,
             posture_rad=posture,
         ),
         ik_mjcf=lambda: built.mjcf,
@@ -217,4 +228,5 @@ def user_walking(file: RobotFile, built: UserModel) -> WalkingDefaults | None:
         servo_damping_nm_s_per_rad=given.servo_damping_nm_s_per_rad or 0.0,
         observer_com_noise_m=given.observer_com_noise_m,
         observer_zmp_noise_m=given.observer_zmp_noise_m,
+        zmp_forward_m=given.zmp_forward_m or 0.0,
     )

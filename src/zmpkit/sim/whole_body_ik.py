@@ -106,9 +106,13 @@ class IkErrors:
     torso_rad: float
 
 
-def yaw_pose(x: float, y: float, z: float, yaw: float) -> mink.SE3:
-    """A frame target at ``(x, y, z)`` [m] turned by ``yaw`` [rad] about z, level otherwise."""
-    rotation = mink.SO3.from_rpy_radians(0.0, 0.0, yaw)
+def yaw_pose(x: float, y: float, z: float, yaw: float, pitch: float = 0.0) -> mink.SE3:
+    r"""A frame target at ``(x, y, z)`` [m] turned by ``yaw`` [rad] about z, then pitched.
+
+    ``pitch`` [rad] turns it about its own y axis (positive: its x axis tips down, a forward
+    lean): :math:`R = R_z(\psi) R_y(\theta)`.
+    """
+    rotation = mink.SO3.from_rpy_radians(0.0, pitch, yaw)
     return mink.SE3.from_rotation_and_translation(rotation, np.array([x, y, z]))
 
 

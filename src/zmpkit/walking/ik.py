@@ -126,7 +126,8 @@ class WalkingIk:
             x, y, z = trajectory.position_in_world[k]
             task.set_target(yaw_pose(x, y, z, trajectory.yaw_in_world[k]))
         assert body.torso is not None  # IkCosts.torso is always given
-        body.torso.set_target(yaw_pose(0.0, 0.0, 0.0, feet.torso_yaw_in_world[k]))
+        pitch = self.settings.torso_pitch_rad
+        body.torso.set_target(yaw_pose(0.0, 0.0, 0.0, feet.torso_yaw_in_world[k], pitch))
         body.com.set_target(pattern.com_position_in_world[k])
 
     def errors(self) -> tuple[float, float, float]:

@@ -69,6 +69,8 @@ class PatternConfig:
         error_weight: Q_e of the preview cost.
         jerk_weight: R of the preview cost.
         step_height_m: peak swing height [m].
+        zmp_forward_m: where in each sole the ZMP reference sits, ahead of the sole's centre
+            along it [m] (paper B: 0, the centre); within a quarter of the sole's length.
     """
 
     command: WalkCommand = field(default_factory=WalkCommand)
@@ -83,9 +85,16 @@ class PatternConfig:
     error_weight: float = 1.0
     jerk_weight: float = 1e-6
     step_height_m: float = DEFAULT_STEP_HEIGHT_M
+    zmp_forward_m: float = 0.0
 
     def __post_init__(self) -> None:
         _validate.non_negative("PatternConfig.step_height_m", self.step_height_m, "m")
+        quarter = self.limits.foot.length_m / 4
+        if not abs(_validate.finite("PatternConfig.zmp_forward_m", self.zmp_forward_m)) <= quarter:
+            raise ParameterError(
+                f"PatternConfig.zmp_forward_m must lie within a quarter of the sole's length "
+                f"(±{quarter:.4g} m), got {self.zmp_forward_m} m"
+            )
         _validate.positive("PatternConfig.com_height_m", self.com_height_m, "m")
         _validate.positive("PatternConfig.preview_horizon_s", self.preview_horizon_s, "s")
         dt = _validate.positive("PatternConfig.control_period_s", self.control_period_s, "s")
@@ -183,7 +192,7 @@ def generate_pattern(
     """
     config = config or PatternConfig()
     plan = config.plan()
-    reference = linear_zmp_reference(plan, config.control_period_s)
+    reference = linear_zmp_reference(plan, config.control_period_s, config.zmp_forward_m)
     n = reference.time_s.size
     if zmp_offset is None:
         offset = np.zeros((n, 2))
