@@ -21,7 +21,7 @@ its effects M, I, G, F are then applied to the MJCF the robot file builds
     flex: [{name: .., body: .., axis: [..], anchor: [..], stiffness: [k1, k2, k3], damping: ..}]
     sensors: {...}                        # optional: SensorParams fields; default scaled
 
-The drive's PID gains are joint-side torque gains (:class:`~zmpkit.sim.effects.MotorParams`):
+The drive's PID gains are joint-side torque gains (:class:`~zmpkit.sim.drive.MotorParams`):
 at stall the joint torque saturates at :math:`N K V / R`. ``drive`` says what the PID
 commands: ``current`` (a current loop that compensates the back-EMF) or ``voltage`` (a PWM
 drive: the PID's output is the winding voltage, so the back-EMF damps the joint by
@@ -39,15 +39,10 @@ from typing import Any
 
 from zmpkit.errors import InputFileError
 from zmpkit.sim.builder import add_flex_joint, add_gear_compliance, add_motor, find_element
+from zmpkit.sim.compliance import FlexJoint, GearParams
+from zmpkit.sim.drive import IdealServoParams, InductanceParams, MotorParams
 from zmpkit.sim.effect_set import EffectSet
-from zmpkit.sim.effects import (
-    FlexJoint,
-    GearParams,
-    IdealServoParams,
-    InductanceParams,
-    MotorParams,
-    SensorParams,
-)
+from zmpkit.sim.sensor_errors import SensorParams
 from zmpkit.sim.truth_file import flex_joint, parse_truth_doc, read_truth_file, section
 
 __all__ = [

@@ -21,8 +21,8 @@ from zmpkit.sim.builder import (
     add_motor,
 )
 from zmpkit.sim.description import FootSensor, RobotDescription
+from zmpkit.sim.drive import IdealServoParams
 from zmpkit.sim.effect_set import EffectSet
-from zmpkit.sim.effects import IdealServoParams
 from zmpkit.sim.servo import ServoLimits
 
 __all__ = ["TEO_SERVO_LIMITS", "teo_mjcf", "teo_robot"]
