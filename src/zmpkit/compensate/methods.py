@@ -124,7 +124,7 @@ def walk_with_algorithm2(walk: WalkSpec, parameters: Algorithm2Parameters) -> Co
         run = partial(simulate_walk, sim, trajectory, frame_hook=hook)
     else:
         learner = Algorithm2Offsets(pattern, parameters)
-        controller = walk_controller(config, robot, pattern, trajectory, model, sim, learner)
+        controller = walk_controller(config, robot, pattern, trajectory, model, sim, learner.adapt)
         run = partial(simulate_walk, sim, trajectory, controller=controller)
     try:
         record = run()

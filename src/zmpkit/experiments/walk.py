@@ -141,12 +141,15 @@ def make_controller(
         stepping = StepAdjustmentParameters(enabled=step_adjustment)
         if name == "zmpip":
             expected = expected_zmp_offset(model, trajectory, pattern.com.zmp_in_world)
-            controller = ZmpIpWalk(pattern, model, settings, layout, joints, observer, heading,
-                                   reference_adapter=reference_adapter, stepping=stepping,
-                                   expected_zmp_offset_in_world=expected)  # fmt: skip
+            controller = ZmpIpWalk(
+                pattern, model, settings, layout, joints, parameters=observer,
+                heading_gains=heading, reference_adapter=reference_adapter, stepping=stepping,
+                expected_zmp_offset_in_world=expected,
+            )  # fmt: skip
         else:
             dcm = DcmParameters(observer=observer)
-            controller = DcmWalk(pattern, model, settings, layout, joints, dcm, heading, stepping)
+            controller = DcmWalk(pattern, model, settings, layout, joints, parameters=dcm,
+                                 heading_gains=heading, stepping=stepping)  # fmt: skip
     if servo_stiffness_nm_per_rad is None:
         return controller
     offsets = servo_compliance_offsets(

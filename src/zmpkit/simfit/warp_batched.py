@@ -90,14 +90,12 @@ def costs_batches_warp(
     :func:`simulate_batches_warp`'s signals, to float64 rounding (tested).
 
     Args:
-        experiments: the recorded experiments to replay (of one robot).
-        truths: one truth object per candidate.
-        effects: effect letters switched on, e.g. ``"M,G,S"``.
-        device: the Warp device (``"cuda:0"``; ``"cpu"`` for testing; ``""`` for Warp's
-            default).
+        experiments: as :func:`simulate_batches_warp`.
+        truths: as :func:`simulate_batches_warp`.
+        effects: as :func:`simulate_batches_warp`.
+        device: as :func:`simulate_batches_warp`.
         keep_zmp_mean: charge the mean ZMP difference too (:mod:`~zmpkit.simfit.cost`).
-        solver: constraint-solver settings for the batch (after the pose); None keeps the
-            models' own.
+        solver: as :func:`simulate_batches_warp`.
 
     Returns:
         Per experiment, per candidate, the cost terms.
