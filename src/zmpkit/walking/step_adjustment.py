@@ -133,11 +133,16 @@ class StepAdjustment:
         plans = [getattr(pattern.feet, f).position_in_world for f in feet]
         self._feet = tuple(zip(range(len(feet)), plans, [targets[f] for f in feet], strict=True))
         self._soles = soles
+        self._init_state(len(feet), config.step_height_m)
+
+    def _init_state(self, nfeet: int, step_height_m: float) -> None:
+        """The adjustment's state, before the walk's first step, and its logs per step."""
+        dt, n = self._dt, self._n
         # each foot's placement against the plan, and o of the last placement (every later one
         # moves by it); arrays: a foot's first landing keeps no new float objects
-        self._offsets = np.zeros((len(feet), 2))
+        self._offsets = np.zeros((nfeet, 2))
         self._global = np.zeros(2)
-        self._swing = AdjustedSwing(config.step_height_m)
+        self._swing = AdjustedSwing(step_height_m)
         self._span = -1
         self._goal = [0.0, 0.0]
         self._shift_along = self._shift_lateral = 0.0
@@ -154,7 +159,8 @@ class StepAdjustment:
         self._planned_goal = [0.0, 0.0]
         self.dcm_error_in_world = np.full((n, 2), np.nan)
         swing = max((s.touchdown - s.lift for s in self._steps), default=1)
-        self._habit = [[[0.0] * swing for _ in range(2)] for _ in feet]  # foot, axis, frame
+        # per foot, axis, frame
+        self._habit = [[[0.0] * swing for _ in range(2)] for _ in range(nfeet)]
         self._quiet = 0  # swings since the last adjusted one
         m = len(self._steps)
         self._trigger_frame = [-1] * m
