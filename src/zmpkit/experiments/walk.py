@@ -23,7 +23,7 @@ from zmpkit.robots.robot import Robot, WalkingDefaults
 from zmpkit.sim.effect_set import EffectSet
 from zmpkit.sim.world import Simulation
 from zmpkit.walking import generate_pattern
-from zmpkit.walking.dcm_stabiliser import DcmParameters
+from zmpkit.walking.dcm_parameters import DcmParameters
 from zmpkit.walking.heading_feedback import HeadingFeedbackGains
 from zmpkit.walking.ik import IkSettings, JointTrajectory, solve_walking_ik
 from zmpkit.walking.multibody_zmp import expected_zmp_offset

@@ -41,7 +41,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from zmpkit.models.pendulum import STANDARD_GRAVITY_MPS2
-from zmpkit.walking.dcm_stabiliser import DcmParameters, DcmStabiliser
+from zmpkit.walking.dcm_parameters import DcmParameters
+from zmpkit.walking.dcm_stabiliser import DcmStabiliser
 from zmpkit.walking.foot_damping import FootDamping, ankle_joints
 from zmpkit.walking.heading_feedback import HeadingFeedbackGains
 from zmpkit.walking.ik import JointTrajectory
