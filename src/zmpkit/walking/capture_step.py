@@ -46,6 +46,7 @@ from dataclasses import dataclass
 
 from zmpkit import _validate
 from zmpkit.errors import ParameterError
+from zmpkit.walking.scalar_limits import clip
 
 __all__ = [
     "CaptureStep",
@@ -177,7 +178,7 @@ def solve_capture(
     if lower <= upper:
         dx = _required(ax, bx, margin_x, landing_x, upper, kappa)
         dy = _required(ay, by, margin_y, landing_y, upper, kappa)
-        return upper, _clip(dx, lo_x, hi_x), _clip(dy, lo_y, hi_y), 0.0
+        return upper, clip(dx, lo_x, hi_x), clip(dy, lo_y, hi_y), 0.0
     # No σ captures: the least total excess, a convex piecewise-linear function of σ, lies at
     # an end or at a root; ties go to the later touchdown.
     best, least = sigma_plan, math.inf
@@ -195,11 +196,7 @@ def solve_capture(
     best, least = _better(best, least, root, ax, bx, ay, by, kappa, margins, box, bounds)
     dx = _required(ax, bx, margin_x, landing_x, best, kappa)
     dy = _required(ay, by, margin_y, landing_y, best, kappa)
-    return best, _clip(dx, lo_x, hi_x), _clip(dy, lo_y, hi_y), kappa * max(least, 1e-9)
-
-
-def _clip(value: float, lo: float, hi: float) -> float:
-    return lo if value < lo else (hi if value > hi else value)
+    return best, clip(dx, lo_x, hi_x), clip(dy, lo_y, hi_y), kappa * max(least, 1e-9)
 
 
 def _better(

@@ -84,17 +84,13 @@ from numpy.typing import NDArray
 
 from zmpkit import _validate
 from zmpkit.walking.dcm_parameters import DcmParameters, require_stable
+from zmpkit.walking.scalar_limits import clamp
 from zmpkit.walking.zmp_observer import observer_gain, observer_matrices
 
 __all__ = ["DcmStabiliser"]
 
 _Plan: TypeAlias = tuple[list[float], list[float], list[float], list[float], list[float]]
 """One axis of the plan, as floats: c [m], ċ [m/s], c̈ [m/s²], p [m], ξ [m] per period."""
-
-
-def _clamp(value: float, limit: float) -> float:
-    """``value`` clamped to ±``limit`` (``min``/``max`` would make objects in the tick)."""
-    return -limit if value < -limit else (limit if value > limit else value)
 
 
 class DcmStabiliser:
@@ -263,12 +259,12 @@ class DcmStabiliser:
         zc_g = self._zc_over_g
         r_c = com - c_cmd - e_c
         r_p = zmp - (c_cmd - zc_g * a_cmd) - (e_c - zc_g * e_a + d)
-        r_p = _clamp(r_p, observer.max_zmp_innovation_m)
+        r_p = clamp(r_p, observer.max_zmp_innovation_m)
         e_c += l00 * r_c + l01 * r_p
         e_v += l10 * r_c + l11 * r_p
         e_a += l20 * r_c + l21 * r_p
         d += l30 * r_c + l31 * r_p
-        d = _clamp(d, observer.max_offset_m)
+        d = clamp(d, observer.max_offset_m)
         return e_c, e_v, e_a, d
 
     def _acceleration(
@@ -281,7 +277,7 @@ class DcmStabiliser:
         excess = abs(error) - par.dcm_deadband_m
         error = math.copysign(excess, error) if excess > 0.0 else 0.0
         integral = integrals.item(axis) + error * dt
-        integral = _clamp(integral, par.integral_limit_m_s)
+        integral = clamp(integral, par.integral_limit_m_s)
         integrals[axis] = integral
         rate = self.shift_rate_in_world.item(axis)
         accel = -omega * rate - omega * par.dcm_gain_per_s * (
@@ -289,9 +285,9 @@ class DcmStabiliser:
         )
         if par.com_admittance_per_s2 > 0.0 and has_zmp:
             zmp_error = zmp - (p_plan - accel / omega2)
-            zmp_error = _clamp(zmp_error, par.max_admittance_zmp_error_m)
+            zmp_error = clamp(zmp_error, par.max_admittance_zmp_error_m)
             accel += par.com_admittance_per_s2 * zmp_error
-        return _clamp(accel, omega2 * par.max_zmp_shift_m)
+        return clamp(accel, omega2 * par.max_zmp_shift_m)
 
     def _integrate_shift(self, axis: int, accel: float) -> None:
         """Δc̈ := ``accel`` [m/s²], then Δċ and Δc one period on, Δc held at its limit."""
