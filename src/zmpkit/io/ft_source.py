@@ -93,8 +93,8 @@ def read_robot_source(
         joint_names: YARP only (a dump has none): one name per joint value of the
             ``joint_topic`` ports in order; None: ``PORT[i]``. Bags name their joints.
         column_map: ``{canonical: column}`` or a column-map YAML (CSV and Parquet only).
-        units: units and frames of the raw values, or a units YAML; None: already SI. YARP
-            ports stream joints in deg and gyroscopes in deg/s: say so in the units.
+        units: units and frames of the raw values, or a units YAML; None: already SI (YARP
+            streams joints in deg, gyroscopes in deg/s: say so).
         time_source: "header" (sensor/sender stamps, default) or "receive" (bags and YARP).
         max_gap_s: longest gap [s] interpolated across when streams are joined on one clock.
 
@@ -105,27 +105,18 @@ def read_robot_source(
     """
     path = Path(path)
     kind = detect_source_kind(path)
-    _check_options(kind, right_topic, left_topic, joint_topic, imu_topic, column_map)
-    if joint_names is not None and kind != "yarp":
-        raise ParameterError(
-            f"joint_names applies to YARP dumps, not to {kind} logs "
-            "(a ROS 2 bag's JointState messages name their joints)"
-        )
+    _check_options(kind, right_topic, left_topic, joint_topic, imu_topic, column_map, joint_names)
     if kind in ("csv", "parquet"):
         columns = read_column_map(column_map) if isinstance(column_map, str | Path) else column_map
         reader = read_ft_log_csv if kind == "csv" else read_ft_log_parquet
         log = RobotLog(ft=reader(path, columns), source=str(path))
     elif kind == "yarp":
+        joint_ports = () if joint_topic is None else joint_topic
         log = read_yarp_robot(
-            path,
-            right_port=right_topic,
-            left_port=left_topic,
-            joint_ports=() if joint_topic is None else joint_topic,
-            joint_names=joint_names,
-            imu_port=imu_topic,
-            time_source=time_source,
+            path, right_port=right_topic, left_port=left_topic, joint_ports=joint_ports,
+            joint_names=joint_names, imu_port=imu_topic, time_source=time_source,
             max_gap_s=max_gap_s,
-        )
+        )  # fmt: skip
     else:
         assert joint_topic is None or isinstance(joint_topic, str)
         log = _read_bag(
@@ -170,7 +161,9 @@ def _check_options(
     joint_topic: str | Sequence[str] | None,
     imu_topic: str | None,
     column_map: object,
+    joint_names: Sequence[str] | None,
 ) -> None:
+    """Raise ParameterError for an option that does not apply to a ``kind`` source."""
     topics = {"right_topic": right_topic, "left_topic": left_topic}
     extra = {"joint_topic": joint_topic, "imu_topic": imu_topic}
     if kind in ("csv", "parquet"):
@@ -185,6 +178,11 @@ def _check_options(
         raise ParameterError(
             "a ROS 2 bag takes one JointState topic as joint_topic; several ports are "
             "for YARP dumps"
+        )
+    if joint_names is not None and kind != "yarp":
+        raise ParameterError(
+            f"joint_names applies to YARP dumps, not to {kind} logs "
+            "(a ROS 2 bag's JointState messages name their joints)"
         )
 
 
