@@ -80,8 +80,8 @@ def read_robot_source(
 ) -> RobotLog:
     """Read any supported log into a :class:`~zmpkit.io.robot_log.RobotLog`, units applied.
 
-    Each stream keeps its own sample times on one common origin (bags and YARP alike);
-    :func:`~zmpkit.io.resample.resample` puts them on one clock.
+    Each stream keeps its own times, on one origin: :func:`~zmpkit.io.resample.resample`
+    puts them on one clock.
 
     Args:
         path: CSV, Parquet, ROS 2 bag (folder, ``.db3``, ``.mcap``) or YARP dumps.
@@ -93,8 +93,7 @@ def read_robot_source(
         joint_names: YARP only (a dump has none): one name per joint value of the
             ``joint_topic`` ports in order; None: ``PORT[i]``. Bags name their joints.
         column_map: ``{canonical: column}`` or a column-map YAML (CSV and Parquet only).
-        units: units and frames of the raw values, or a units YAML; None: already SI (YARP
-            streams joints in deg, gyroscopes in deg/s: say so).
+        units: units and frames of the raw values, or a units YAML; None: already SI (YARP: deg, deg/s).
         time_source: "header" (sensor/sender stamps, default) or "receive" (bags and YARP).
         max_gap_s: longest gap [s] interpolated across when streams are joined on one clock.
 
