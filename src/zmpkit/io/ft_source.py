@@ -93,7 +93,8 @@ def read_robot_source(
         joint_names: YARP only (a dump has none): one name per joint value of the
             ``joint_topic`` ports in order; None: ``PORT[i]``. Bags name their joints.
         column_map: ``{canonical: column}`` or a column-map YAML (CSV and Parquet only).
-        units: units and frames of the raw values, or a units YAML; None: already SI (YARP: deg, deg/s).
+        units: units and frames of the raw values, or a units YAML; None: already SI (YARP
+            streams deg and deg/s: say so).
         time_source: "header" (sensor/sender stamps, default) or "receive" (bags and YARP).
         max_gap_s: longest gap [s] interpolated across when streams are joined on one clock.
 
@@ -117,7 +118,6 @@ def read_robot_source(
             max_gap_s=max_gap_s,
         )  # fmt: skip
     else:
-        assert joint_topic is None or isinstance(joint_topic, str)
         log = _read_bag(
             path, right_topic, left_topic, joint_topic, imu_topic, time_source, max_gap_s
         )
@@ -189,11 +189,13 @@ def _read_bag(
     path: Path,
     right_topic: str | None,
     left_topic: str | None,
-    joint_topic: str | None,
+    joint_topic: str | Sequence[str] | None,
     imu_topic: str | None,
     time_source: str,
     max_gap_s: float | None,
 ) -> RobotLog:
+    """The robot log of a ROS 2 bag (its options checked: one joint topic at most)."""
+    assert joint_topic is None or isinstance(joint_topic, str)
     if right_topic is None or left_topic is None:
         wrenches = [t for t, kind, _ in list_bag_topics(path) if kind == WRENCH_STAMPED_TYPE]
         raise ParameterError(
