@@ -129,27 +129,11 @@ def make_controller(
     if name == "open":
         controller = OpenLoopWalk(trajectory)
     else:
-        layout = sensor_layout(sim, settings.sole_sites)
-        heading = None if heading_feedback else HeadingFeedbackGains(gain_per_step=0.0)
-        joints = sim.joint_names
-        observer = ZmpObserverParameters()
-        observer = replace(
-            observer,
-            com_noise_m=observer_com_noise_m or observer.com_noise_m,
-            zmp_noise_m=observer_zmp_noise_m or observer.zmp_noise_m,
-        )
-        stepping = StepAdjustmentParameters(enabled=step_adjustment)
-        if name == "zmpip":
-            expected = expected_zmp_offset(model, trajectory, pattern.com.zmp_in_world)
-            controller = ZmpIpWalk(
-                pattern, model, settings, layout, joints, parameters=observer,
-                heading_gains=heading, reference_adapter=reference_adapter, stepping=stepping,
-                expected_zmp_offset_in_world=expected,
-            )  # fmt: skip
-        else:
-            dcm = DcmParameters(observer=observer)
-            controller = DcmWalk(pattern, model, settings, layout, joints, parameters=dcm,
-                                 heading_gains=heading, stepping=stepping)  # fmt: skip
+        noise = (observer_com_noise_m, observer_zmp_noise_m)
+        controller = _feedback_walk(
+            name, pattern, trajectory, model, settings, sim, heading_feedback, noise,
+            reference_adapter, step_adjustment,
+        )  # fmt: skip
     if servo_stiffness_nm_per_rad is None:
         return controller
     offsets = servo_compliance_offsets(
@@ -157,6 +141,44 @@ def make_controller(
         servo_damping_nm_s_per_rad,
     )  # fmt: skip
     return OffsetWalk(controller, offsets)
+
+
+def _feedback_walk(
+    name: str,
+    pattern: WalkingPattern,
+    trajectory: JointTrajectory,
+    model: mujoco.MjModel,
+    settings: IkSettings,
+    sim: Simulation,
+    heading_feedback: bool,
+    noise: tuple[float | None, float | None],
+    reference_adapter: ReferenceAdapter | None,
+    step_adjustment: bool,
+) -> WalkController:
+    """The feedback walk ``name`` (``zmpip`` or ``dcm``) of :func:`make_controller`.
+
+    ``noise``: the observer's σ_c and σ_p [m] (None: its default).
+    """
+    layout = sensor_layout(sim, settings.sole_sites)
+    heading = None if heading_feedback else HeadingFeedbackGains(gain_per_step=0.0)
+    joints = sim.joint_names
+    observer = ZmpObserverParameters()
+    observer = replace(
+        observer,
+        com_noise_m=noise[0] or observer.com_noise_m,
+        zmp_noise_m=noise[1] or observer.zmp_noise_m,
+    )
+    stepping = StepAdjustmentParameters(enabled=step_adjustment)
+    if name == "zmpip":
+        expected = expected_zmp_offset(model, trajectory, pattern.com.zmp_in_world)
+        return ZmpIpWalk(
+            pattern, model, settings, layout, joints, parameters=observer,
+            heading_gains=heading, reference_adapter=reference_adapter, stepping=stepping,
+            expected_zmp_offset_in_world=expected,
+        )  # fmt: skip
+    dcm = DcmParameters(observer=observer)
+    return DcmWalk(pattern, model, settings, layout, joints, parameters=dcm,
+                   heading_gains=heading, stepping=stepping)  # fmt: skip
 
 
 def soft_servo_stiffness(walking: WalkingDefaults, effects: str) -> float | None:
