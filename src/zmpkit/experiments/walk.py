@@ -27,6 +27,7 @@ from zmpkit.walking.dcm_parameters import DcmParameters
 from zmpkit.walking.heading_feedback import HeadingFeedbackGains
 from zmpkit.walking.ik import IkSettings, JointTrajectory, solve_walking_ik
 from zmpkit.walking.multibody_zmp import expected_zmp_offset
+from zmpkit.walking.online_walk import WalkPlant
 from zmpkit.walking.pattern import WalkingPattern
 from zmpkit.walking.servo_feedforward import servo_compliance_offsets
 from zmpkit.walking.step_adjustment import StepAdjustmentParameters
@@ -129,11 +130,12 @@ def make_controller(
     if name == "open":
         controller = OpenLoopWalk(trajectory)
     else:
+        layout = sensor_layout(sim, settings.sole_sites)
+        plant: WalkPlant = (pattern, model, settings, layout, sim.joint_names)
         noise = (observer_com_noise_m, observer_zmp_noise_m)
         controller = _feedback_walk(
-            name, pattern, trajectory, model, settings, sim, heading_feedback, noise,
-            reference_adapter, step_adjustment,
-        )  # fmt: skip
+            name, plant, trajectory, heading_feedback, noise, reference_adapter, step_adjustment
+        )
     if servo_stiffness_nm_per_rad is None:
         return controller
     offsets = servo_compliance_offsets(
@@ -145,11 +147,8 @@ def make_controller(
 
 def _feedback_walk(
     name: str,
-    pattern: WalkingPattern,
+    plant: WalkPlant,
     trajectory: JointTrajectory,
-    model: mujoco.MjModel,
-    settings: IkSettings,
-    sim: Simulation,
     heading_feedback: bool,
     noise: tuple[float | None, float | None],
     reference_adapter: ReferenceAdapter | None,
@@ -159,9 +158,7 @@ def _feedback_walk(
 
     ``noise``: the observer's σ_c and σ_p [m] (None: its default).
     """
-    layout = sensor_layout(sim, settings.sole_sites)
     heading = None if heading_feedback else HeadingFeedbackGains(gain_per_step=0.0)
-    joints = sim.joint_names
     observer = ZmpObserverParameters()
     observer = replace(
         observer,
@@ -170,15 +167,15 @@ def _feedback_walk(
     )
     stepping = StepAdjustmentParameters(enabled=step_adjustment)
     if name == "zmpip":
+        pattern, model = plant[0], plant[1]
         expected = expected_zmp_offset(model, trajectory, pattern.com.zmp_in_world)
         return ZmpIpWalk(
-            pattern, model, settings, layout, joints, parameters=observer,
-            heading_gains=heading, reference_adapter=reference_adapter, stepping=stepping,
+            *plant, parameters=observer, heading_gains=heading,
+            reference_adapter=reference_adapter, stepping=stepping,
             expected_zmp_offset_in_world=expected,
         )  # fmt: skip
     dcm = DcmParameters(observer=observer)
-    return DcmWalk(pattern, model, settings, layout, joints, parameters=dcm,
-                   heading_gains=heading, stepping=stepping)  # fmt: skip
+    return DcmWalk(*plant, parameters=dcm, heading_gains=heading, stepping=stepping)
 
 
 def soft_servo_stiffness(walking: WalkingDefaults, effects: str) -> float | None:
