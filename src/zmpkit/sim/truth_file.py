@@ -11,7 +11,7 @@ from __future__ import annotations
 from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Generic, TypeVar
+from typing import Any, Generic, Protocol, TypeVar
 
 import yaml
 
@@ -20,6 +20,7 @@ from zmpkit.io.yaml_file import load_yaml, yaml_error
 from zmpkit.sim.compliance import FlexJoint
 
 __all__ = [
+    "RobotTruth",
     "TruthReader",
     "flex_joint",
     "parse_truth_doc",
@@ -69,6 +70,21 @@ def parse_truth_doc(doc: Any, path: Path, parse: Callable[[Mapping[str, Any], Pa
         text = str(exc)
         text = text if len(text) <= _MAX_REASON_CHARS else text[: _MAX_REASON_CHARS - 3] + "..."
         raise InputFileError(path, f"invalid truth: {text}") from None
+
+
+class RobotTruth(Protocol):
+    """A robot's truth object: the hidden parameters of its effects, from its truth file.
+
+    Each robot reads its own frozen dataclass (:class:`~zmpkit.robots.teo.truth.TeoTruth`,
+    :class:`~zmpkit.robots.nao.truth.NaoTruth`, :class:`~zmpkit.robots.servo_truth.ServoTruth`,
+    :class:`~zmpkit.robots.user_robot.UserTruth`); only its robot reads its fields. What
+    every one names is the file it came from.
+    """
+
+    @property
+    def source(self) -> str:
+        """The truth file it was read from ("" or a placeholder for one built in memory)."""
+        ...
 
 
 @dataclass(frozen=True)
