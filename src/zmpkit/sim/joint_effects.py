@@ -1,7 +1,7 @@
 """The one way a robot's MJCF gets its effects: G, M and I joint by joint, then F.
 
-Every robot calls these: the virtual TEO and NAO on the MJCF they build in code, a robot
-file's robot (the OP3, ``robot.yaml``) on the MJCF its model file gives
+Every robot calls these: a virtual robot built in code on the MJCF it builds, a robot
+file's robot (``robot.yaml``) on the MJCF its model file gives
 (:func:`~zmpkit.robots.servo_truth.apply_servo_effects`). Per driven joint the gear
 compliance (G) comes first, then the DC motor and its drive (M, with the winding inductance
 of I); a joint without M keeps the servo its robot gives it. The flexible-link joints (F)

@@ -75,10 +75,10 @@ def parse_truth_doc(doc: Any, path: Path, parse: Callable[[Mapping[str, Any], Pa
 class RobotTruth(Protocol):
     """A robot's truth object: the hidden parameters of its effects, from its truth file.
 
-    Each robot reads its own frozen dataclass (:class:`~zmpkit.robots.teo.truth.TeoTruth`,
-    :class:`~zmpkit.robots.nao.truth.NaoTruth`, :class:`~zmpkit.robots.servo_truth.ServoTruth`,
-    :class:`~zmpkit.robots.user_robot.UserTruth`); only its robot reads its fields. What
-    every one names is the file it came from.
+    Each robot reads its own frozen dataclass (a built-in robot's, or
+    :class:`~zmpkit.robots.servo_truth.ServoTruth` and
+    :class:`~zmpkit.robots.user_robot.UserTruth` of a robot file); only its robot reads its
+    fields. What every one names is the file it came from.
     """
 
     @property
