@@ -92,14 +92,21 @@ class OffsetParameters:
         }
 
 
-def _step_phase(time_s: NDArray[np.float64], step_s: float, start_s: float, phase: float):
+def _step_phase(
+    time_s: NDArray[np.float64], step_s: float, start_s: float, phase: float
+) -> NDArray[np.float64]:
+    """Steps since ``start_s`` [s] at ``time_s`` [s], less ``phase`` [steps]."""
     if not step_s > 0.0:
         raise ParameterError(f"step duration must be > 0 s; got {step_s}")
     return (np.asarray(time_s, dtype=np.float64) - start_s) / step_s - phase
 
 
 def half_sine_wave(
-    time_s: NDArray[np.float64], step_s: float, amplitude_m: float, phase: float, start_s=0.0
+    time_s: NDArray[np.float64],
+    step_s: float,
+    amplitude_m: float,
+    phase: float,
+    start_s: float = 0.0,
 ) -> NDArray[np.float64]:
     """One half sine of height ``amplitude_m`` [m] per step of ``step_s`` [s], zero mean."""
     u = _step_phase(time_s, step_s, start_s, phase)
@@ -107,7 +114,11 @@ def half_sine_wave(
 
 
 def sawtooth_wave(
-    time_s: NDArray[np.float64], step_s: float, amplitude_m: float, phase: float, start_s=0.0
+    time_s: NDArray[np.float64],
+    step_s: float,
+    amplitude_m: float,
+    phase: float,
+    start_s: float = 0.0,
 ) -> NDArray[np.float64]:
     """A ramp from ``-amplitude_m`` to ``amplitude_m`` [m] over each step of ``step_s`` [s]."""
     u = _step_phase(time_s, step_s, start_s, phase)
@@ -115,7 +126,10 @@ def sawtooth_wave(
 
 
 def fourier_wave(
-    time_s: NDArray[np.float64], step_s: float, coefficients_m: tuple[float, ...], start_s=0.0
+    time_s: NDArray[np.float64],
+    step_s: float,
+    coefficients_m: tuple[float, ...],
+    start_s: float = 0.0,
 ) -> NDArray[np.float64]:
     """``sum_k a_k cos(2 pi k u) + b_k sin(2 pi k u)`` [m], u the step phase (no shift)."""
     u = _step_phase(time_s, step_s, start_s, 0.0)
