@@ -13,7 +13,7 @@ from zmpkit.robots.registry import get_robot
 from zmpkit.robots.teo import teo_robot
 from zmpkit.robots.teo.truth import DEFAULT_TRUTH_PATH, truth_from_doc
 from zmpkit.robots.teo.truth_variants import truth_variant
-from zmpkit.sim.effects import TrialVariability
+from zmpkit.sim.sensor_errors import TrialVariability
 
 
 def test_previous_target_is_the_one_before_in_increasing_order() -> None:

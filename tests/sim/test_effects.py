@@ -19,9 +19,11 @@ from zmpkit.sim.builder import (
     add_ideal_servo,
     add_motor,
 )
+from zmpkit.sim.compliance import FlexJoint, GearParams
+from zmpkit.sim.drive import IdealServoParams, MotorParams
 from zmpkit.sim.effect_set import EffectSet
-from zmpkit.sim.effects import FlexJoint, GearParams, IdealServoParams, MotorParams, SensorParams
 from zmpkit.sim.sensing import FtChannel
+from zmpkit.sim.sensor_errors import SensorParams
 from zmpkit.sim.servo import ServoLimits, TrajectoryLimiter
 from zmpkit.sim.spring import SofteningSpring
 

@@ -25,12 +25,12 @@ from hypothesis import strategies as st
 from numpy.typing import NDArray
 
 from zmpkit.errors import ParameterError
-from zmpkit.walking.dcm_stabiliser import (
+from zmpkit.walking.dcm_parameters import (
     DcmParameters,
-    DcmStabiliser,
     follower_spectral_radius,
     follower_transition,
 )
+from zmpkit.walking.dcm_stabiliser import DcmStabiliser
 
 G = 9.80665
 Z_C = 0.25

@@ -6,6 +6,7 @@ from collections.abc import Sequence
 from pathlib import Path
 
 import numpy as np
+from matplotlib.axes import Axes
 
 from zmpkit.analysis.figure import new_figure, save_figure
 from zmpkit.analysis.table1 import Table1Row
@@ -109,7 +110,7 @@ def plot_zmp_ref_vs_measured(rows: Sequence[Table1Row], path: str | Path, *, pla
     return save_figure(fig, path)
 
 
-def _shade_extrapolated(ax, rows: Sequence[Table1Row], ref: np.ndarray) -> None:
+def _shade_extrapolated(ax: Axes, rows: Sequence[Table1Row], ref: np.ndarray) -> None:
     """Shade the targets beyond the fitted range on ``ax`` (x axis: targets [m])."""
     fit_range = next((r.fit_range_m for r in rows if r.fit_range_m is not None), None)
     if fit_range is None:

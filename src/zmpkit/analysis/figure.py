@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import warnings
 from pathlib import Path
+from typing import Any
 
 import matplotlib
 
@@ -23,7 +24,9 @@ from zmpkit.errors import FigureWarning
 __all__ = ["new_figure", "save_figure"]
 
 
-def new_figure(rows: int = 1, cols: int = 1, *, width_in: float = 8.0, height_in: float = 4.5):
+def new_figure(
+    rows: int = 1, cols: int = 1, *, width_in: float = 8.0, height_in: float = 4.5
+) -> tuple[Figure, Any]:
     """Return ``(figure, axes)`` with a shared style; ``axes`` is an array when rows·cols > 1."""
     fig, axes = plt.subplots(
         rows, cols, figsize=(width_in, height_in), squeeze=rows * cols == 1, layout="constrained"

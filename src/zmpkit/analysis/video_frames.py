@@ -66,12 +66,21 @@ def label_panel(
     return np.asarray(picture)
 
 
-def _text_height(draw: ImageDraw.ImageDraw, text: str, font) -> int:
+def _text_height(
+    draw: ImageDraw.ImageDraw, text: str, font: ImageFont.ImageFont | ImageFont.FreeTypeFont
+) -> int:
+    """The height of ``text`` in ``font`` [px]."""
     box = draw.textbbox((0, 0), text, font=font)
     return int(box[3] - box[1])
 
 
-def _text_box(draw: ImageDraw.ImageDraw, at: tuple[int, int], text: str, font, fill) -> None:
+def _text_box(
+    draw: ImageDraw.ImageDraw,
+    at: tuple[int, int],
+    text: str,
+    font: ImageFont.ImageFont | ImageFont.FreeTypeFont,
+    fill: tuple[int, int, int],
+) -> None:
     """``text`` in white on a filled box whose top-left corner is ``at`` [px]."""
     x, y = at
     pad = 3

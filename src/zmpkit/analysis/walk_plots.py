@@ -16,6 +16,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
+from matplotlib.axes import Axes
 from numpy.typing import NDArray
 
 from zmpkit.analysis.figure import new_figure, save_figure
@@ -72,7 +73,7 @@ class FallMark:
 
 
 def _decorate(
-    ax,
+    ax: Axes,
     window_s: Window | None,
     fall: FallMark | None,
     pushes: Sequence[PushMark] = (),

@@ -5,6 +5,7 @@ from __future__ import annotations
 from pathlib import Path
 
 import numpy as np
+from matplotlib.axes import Axes
 
 from zmpkit.analysis.figure import new_figure, save_figure
 from zmpkit.sensors import ZmpSeries
@@ -32,7 +33,7 @@ def plot_zmp_series(series: ZmpSeries, path: str | Path, title: str = "Measured 
     return save_figure(fig, path)
 
 
-def _shade_undefined(ax, time: np.ndarray, undefined: np.ndarray) -> None:
+def _shade_undefined(ax: Axes, time: np.ndarray, undefined: np.ndarray) -> None:
     if not undefined.any():
         return
     edges = np.flatnonzero(np.diff(np.r_[0, undefined.astype(np.int8), 0]))

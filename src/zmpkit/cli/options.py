@@ -9,11 +9,16 @@ m/s, got -1``.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
+from typing import Any, TypeVar
 
 import click
 
 from zmpkit.analysis.report_files import DEFAULT_REPORT_FORMAT, REPORT_FORMATS
 from zmpkit.experiments import MAX_WORKERS
+
+_F = TypeVar("_F", bound=Callable[..., Any])
+"""A click command function (a decorator returns it decorated)."""
 
 __all__ = [
     "MAX_WORKERS",
@@ -54,7 +59,9 @@ class Bounded(click.ParamType):
         high = "inf)" if self.high is None else f"{_number(self.high)}]"
         return f"{left}{low}, {high}" + (f" {self.unit}" if self.unit else "")
 
-    def convert(self, value: object, param: click.Parameter | None, ctx: click.Context | None):
+    def convert(
+        self, value: object, param: click.Parameter | None, ctx: click.Context | None
+    ) -> float:
         """Parse ``value`` and check it; fail with one line naming the valid range."""
         try:
             x = float(value)  # type: ignore[arg-type]
@@ -75,7 +82,9 @@ class BoundedInt(click.ParamType):
     def __init__(self, low: int, high: int | None = None) -> None:
         self.low, self.high = low, high
 
-    def convert(self, value: object, param: click.Parameter | None, ctx: click.Context | None):
+    def convert(
+        self, value: object, param: click.Parameter | None, ctx: click.Context | None
+    ) -> int:
         """Parse ``value`` and check it; fail with one line naming the valid range."""
         valid = f"[{self.low}, {'inf)' if self.high is None else f'{self.high}]'}"
         try:
@@ -93,7 +102,7 @@ SEED = BoundedInt(0, 2**63 - 1)
 """``--seed``: a non-negative integer."""
 
 
-def report_option(function):
+def report_option(function: _F) -> _F:
     """``--report html|md|both``: the report's format (html: one self-contained page)."""
     return click.option(
         "--report",

@@ -6,6 +6,7 @@ the callback the pipeline takes; they differ only in what the callback receives.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from typing import Any
 
 from rich.console import Console
@@ -71,7 +72,7 @@ class SweepProgress(_Display):
     def __init__(self) -> None:
         super().__init__(_COUNT())
 
-    def __call__(self, label: str, total: int):
+    def __call__(self, label: str, total: int) -> Callable[[int, int, float], None]:
         """A new bar named ``label`` for ``total`` trials, and its callback."""
         task = self._bar.add_task(label, total=total)
 

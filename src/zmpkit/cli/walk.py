@@ -13,7 +13,7 @@ from zmpkit.cli.robot_option import robot_option
 from zmpkit.cli.video_option import video_option
 from zmpkit.experiments.walk_config import WalkConfig
 from zmpkit.experiments.walk_disturbances import Push
-from zmpkit.pipelines.walk import run_walk, write_walk
+from zmpkit.pipelines.walk import WalkResult, run_walk, write_walk
 from zmpkit.pipelines.walk_compensate import CompensateConfig, run_walk_compensate
 from zmpkit.pipelines.walk_compensate_report import write_walk_compensate
 from zmpkit.pipelines.walk_document import write_walk_report
@@ -136,6 +136,11 @@ def walk_group(
         result = run_walk(config, progress=progress)
     result = write_walk(result, out_dir)
     report = write_walk_report(result, out_dir, report_format)
+    _echo_walk(result, report, out_dir)
+
+
+def _echo_walk(result: WalkResult, report: Path, out_dir: Path) -> None:
+    """What ``zmpkit walk`` prints of a walk: warnings, its summary line, its files."""
     s = result.summary
     speed_text = format_or_undefined(s.mean_speed_mps, ".4f")
     peak_hz = format_or_undefined(s.trunk_pitch_peak_hz, ".2f")

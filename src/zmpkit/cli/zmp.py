@@ -13,7 +13,7 @@ from zmpkit.io import feet_from_mapping
 from zmpkit.pipelines.zmp_document import write_zmp_report
 from zmpkit.pipelines.zmp_log import run_zmp_log
 from zmpkit.robots.registry import get_robot
-from zmpkit.sensors import CONTACT_FORCE_THRESHOLD_N, CONTACT_THRESHOLD_RANGE_N
+from zmpkit.sensors import CONTACT_FORCE_THRESHOLD_N, CONTACT_THRESHOLD_RANGE_N, SensorMount
 
 __all__ = ["zmp_command"]
 
@@ -113,7 +113,7 @@ def zmp_command(
     click.echo(f"report: {report}")
 
 
-def _robot_feet(robot: str):
-
+def _robot_feet(robot: str) -> dict[str, SensorMount]:
+    """The foot sensor mounts of the robot named ``robot`` (or its ``robot.yaml``)."""
     chosen = get_robot(robot)
     return feet_from_mapping(chosen.feet_mounts(), source=f"robot {chosen.name!r}")

@@ -29,6 +29,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 from dataclasses import dataclass
 
+import mujoco
 import numpy as np
 from numpy.typing import NDArray
 
@@ -183,8 +184,8 @@ class OnlineZmpCompensator(Algorithm2Offsets):
         ik_settings: the IK settings the planned trajectory was solved with.
     """
 
-    def __init__(self, pattern: WalkingPattern, model, parameters: Algorithm2Parameters,
-                 ik_settings: IkSettings) -> None:  # fmt: skip
+    def __init__(self, pattern: WalkingPattern, model: mujoco.MjModel,
+                 parameters: Algorithm2Parameters, ik_settings: IkSettings) -> None:  # fmt: skip
         super().__init__(pattern, parameters)
         dt = pattern.config.control_period_s
         self.controller = PreviewController(pattern.gains, tuple(self.desired[0]))

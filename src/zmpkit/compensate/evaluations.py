@@ -11,7 +11,7 @@ from __future__ import annotations
 import hashlib
 import json
 import multiprocessing
-from collections.abc import Sequence
+from collections.abc import Iterable, Sequence
 from concurrent.futures import ProcessPoolExecutor
 from dataclasses import asdict, dataclass, field, fields
 from pathlib import Path
@@ -173,7 +173,13 @@ def evaluate_all(
     return [results[i] for i in range(len(tasks))]
 
 
-def _run(tasks, todo, results: dict[int, Evaluation], workers: int) -> None:
+def _run(
+    tasks: Sequence[tuple[WalkSpec, OffsetParameters | None]],
+    todo: list[tuple[int, Path | None]],
+    results: dict[int, Evaluation],
+    workers: int,
+) -> None:
+    """Simulate the tasks of ``todo`` (index, cache file), on ``workers`` processes."""
     for _, path in todo:
         if path is not None:
             path.parent.mkdir(parents=True, exist_ok=True)
@@ -187,7 +193,10 @@ def _run(tasks, todo, results: dict[int, Evaluation], workers: int) -> None:
         _store(((i, path, f.result()) for i, path, f in futures), results)
 
 
-def _store(done, results: dict[int, Evaluation]) -> None:
+def _store(
+    done: Iterable[tuple[int, Path | None, Evaluation]], results: dict[int, Evaluation]
+) -> None:
+    """Keep each finished evaluation in ``results`` and its cache file."""
     for i, path, evaluation in done:
         results[i] = evaluation
         if path is not None:

@@ -7,6 +7,7 @@ module-level so a process pool can run them.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 from functools import partial
 
@@ -24,7 +25,7 @@ from zmpkit.compensate.evaluations import WalkSpec
 from zmpkit.compensate.offsets import OffsetParameters, offset_in_world
 from zmpkit.errors import SimulationDivergedError
 from zmpkit.experiments.walk import walk_controller
-from zmpkit.experiments.walk_summary import summarise_walk
+from zmpkit.experiments.walk_summary import WalkSummary, summarise_walk
 from zmpkit.experiments.walk_trial import WalkRecord, simulate_walk
 from zmpkit.walking import generate_pattern
 from zmpkit.walking.ik import solve_walking_ik
@@ -64,14 +65,22 @@ class CompensatedWalk:
     iteration_rms_m: tuple[float, ...] = ()
 
 
-def _result(walk, pattern: WalkingPattern, record: WalkRecord | None, summary, target,
-            rms=()) -> CompensatedWalk:  # fmt: skip
+def _result(
+    walk: WalkSpec,
+    pattern: WalkingPattern,
+    record: WalkRecord | None,
+    summary: WalkSummary | None,
+    target: NDArray[np.float64],
+    rms: Sequence[float] | NDArray[np.float64] = (),
+) -> CompensatedWalk:
+    """The compensated walk's outcome from its record (None: it diverged) and summary."""
     peak, std, fell = oscillation_of(summary)
     desired = pattern.linear_zmp_reference.zmp_in_world
     if record is None:
         empty = np.zeros(0)
         return CompensatedWalk(walk, peak, std, True, empty, empty, (0.0, 0.0), desired, target,
                                np.zeros((0, 2)), tuple(rms))  # fmt: skip
+    assert summary is not None  # a record comes with its summary
     zmp = record.zmp_in_world()
     n = record.time_s.size
     return CompensatedWalk(
@@ -124,7 +133,7 @@ def walk_with_algorithm2(walk: WalkSpec, parameters: Algorithm2Parameters) -> Co
         run = partial(simulate_walk, sim, trajectory, frame_hook=hook)
     else:
         learner = Algorithm2Offsets(pattern, parameters)
-        controller = walk_controller(config, robot, pattern, trajectory, model, sim, learner)
+        controller = walk_controller(config, robot, pattern, trajectory, model, sim, learner.adapt)
         run = partial(simulate_walk, sim, trajectory, controller=controller)
     try:
         record = run()

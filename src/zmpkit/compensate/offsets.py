@@ -23,6 +23,7 @@ along the torso's heading (world x for a straight walk).
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TypeAlias
 
 import numpy as np
 from numpy.typing import NDArray
@@ -92,31 +93,38 @@ class OffsetParameters:
         }
 
 
-def _step_phase(time_s: NDArray[np.float64], step_s: float, start_s: float, phase: float):
+FloatArray: TypeAlias = NDArray[np.float64]
+"""Times [s] or a wave's values [m], per sample."""
+
+
+def _step_phase(
+    time_s: NDArray[np.float64], step_s: float, start_s: float, phase: float
+) -> NDArray[np.float64]:
+    """Steps since ``start_s`` [s] at ``time_s`` [s], less ``phase`` [steps]."""
     if not step_s > 0.0:
         raise ParameterError(f"step duration must be > 0 s; got {step_s}")
     return (np.asarray(time_s, dtype=np.float64) - start_s) / step_s - phase
 
 
 def half_sine_wave(
-    time_s: NDArray[np.float64], step_s: float, amplitude_m: float, phase: float, start_s=0.0
-) -> NDArray[np.float64]:
+    time_s: FloatArray, step_s: float, amplitude_m: float, phase: float, start_s: float = 0.0
+) -> FloatArray:
     """One half sine of height ``amplitude_m`` [m] per step of ``step_s`` [s], zero mean."""
     u = _step_phase(time_s, step_s, start_s, phase)
     return amplitude_m * (np.sin(np.pi * (u - np.floor(u))) - HALF_SINE_MEAN)
 
 
 def sawtooth_wave(
-    time_s: NDArray[np.float64], step_s: float, amplitude_m: float, phase: float, start_s=0.0
-) -> NDArray[np.float64]:
+    time_s: FloatArray, step_s: float, amplitude_m: float, phase: float, start_s: float = 0.0
+) -> FloatArray:
     """A ramp from ``-amplitude_m`` to ``amplitude_m`` [m] over each step of ``step_s`` [s]."""
     u = _step_phase(time_s, step_s, start_s, phase)
     return amplitude_m * (2.0 * (u - np.floor(u)) - 1.0)
 
 
 def fourier_wave(
-    time_s: NDArray[np.float64], step_s: float, coefficients_m: tuple[float, ...], start_s=0.0
-) -> NDArray[np.float64]:
+    time_s: FloatArray, step_s: float, coefficients_m: tuple[float, ...], start_s: float = 0.0
+) -> FloatArray:
     """``sum_k a_k cos(2 pi k u) + b_k sin(2 pi k u)`` [m], u the step phase (no shift)."""
     u = _step_phase(time_s, step_s, start_s, 0.0)
     wave = np.zeros_like(u)

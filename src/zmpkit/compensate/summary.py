@@ -10,7 +10,8 @@ into a number.
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
+from typing import TypeAlias
 
 import numpy as np
 
@@ -18,18 +19,14 @@ from zmpkit.compensate.methods import CompensatedWalk
 
 __all__ = [
     "EXTRA_SUMMARY_KEYS",
+    "OSCILLATION_KEYS",
     "SUMMARY_KEYS",
     "CompensationSummary",
+    "TrunkOscillationChange",
     "ValidationWalkOutcome",
     "summary_of",
 ]
 
-SUMMARY_KEYS: tuple[str, ...] = (
-    "method", "baseline_peak_amplitude_rad", "compensated_peak_amplitude_rad",
-    "peak_reduction_pct", "baseline_std_rad", "compensated_std_rad", "std_reduction_pct",
-    "validation_walks",
-)  # fmt: skip
-"""Keys of ``summary.json`` (``alg1`` adds ``iteration_rms_m``)."""
 EXTRA_SUMMARY_KEYS: tuple[str, ...] = (
     "walks_compared", "compensated_falls", "walks_made_to_fall", "rejected",
 )  # fmt: skip
@@ -61,20 +58,63 @@ def _mean(values: list[float | None]) -> float | None:
     return float(np.mean(kept)) if kept else None
 
 
+Oscillation: TypeAlias = tuple[
+    float | None, float | None, float | None, float | None, float | None, float | None
+]
+"""The fields of a :class:`TrunkOscillationChange`, in order."""
+
+
+def _oscillation(
+    peaks: tuple[float | None, float | None], stds: tuple[float | None, float | None]
+) -> Oscillation:
+    """The change from (before, after) peak amplitudes and stds [rad], reductions added."""
+    return peaks[0], peaks[1], _reduction(*peaks), stds[0], stds[1], _reduction(*stds)
+
+
 @dataclass(frozen=True)
-class ValidationWalkOutcome:
+class TrunkOscillationChange:
+    """The trunk pitch's oscillation without and with the compensation, and its reductions.
+
+    Of one validation walk (None where a version fell), or the means over the walks compared.
+
+    Attributes:
+        baseline_peak_amplitude_rad: uncompensated step-frequency amplitude [rad].
+        compensated_peak_amplitude_rad: compensated step-frequency amplitude [rad].
+        peak_reduction_pct: the amplitude's reduction [%].
+        baseline_std_rad: uncompensated trunk-pitch std [rad].
+        compensated_std_rad: compensated trunk-pitch std [rad].
+        std_reduction_pct: the std's reduction [%].
+    """
+
+    baseline_peak_amplitude_rad: float | None
+    compensated_peak_amplitude_rad: float | None
+    peak_reduction_pct: float | None
+    baseline_std_rad: float | None
+    compensated_std_rad: float | None
+    std_reduction_pct: float | None
+
+
+OSCILLATION_KEYS: tuple[str, ...] = tuple(f.name for f in fields(TrunkOscillationChange))
+"""The fields of :class:`TrunkOscillationChange`, in order."""
+SUMMARY_KEYS: tuple[str, ...] = ("method", *OSCILLATION_KEYS, "validation_walks")
+"""Keys of ``summary.json`` (``alg1`` adds ``iteration_rms_m``)."""
+_WALK_KEYS: tuple[str, ...] = (
+    "speed_mps", "seed", "duration_s", *OSCILLATION_KEYS, "baseline_fell", "compensated_fell",
+    "step_duration_s", "controller", "robot_change",
+)  # fmt: skip
+"""Keys of a walk's entry of ``summary.json``, in order."""
+
+
+@dataclass(frozen=True)
+class ValidationWalkOutcome(TrunkOscillationChange):
     """One validation walk without and with the compensation (None where a version fell).
+
+    Its trunk oscillation's change is that of :class:`TrunkOscillationChange`.
 
     Attributes:
         speed_mps: commanded speed [m/s].
         seed: sensor-noise seed [-].
         duration_s: walking time [s].
-        baseline_peak_amplitude_rad: uncompensated step-frequency amplitude [rad].
-        compensated_peak_amplitude_rad: compensated step-frequency amplitude [rad].
-        peak_reduction_pct: its reduction [%].
-        baseline_std_rad: uncompensated trunk-pitch std [rad].
-        compensated_std_rad: compensated trunk-pitch std [rad].
-        std_reduction_pct: its reduction [%].
         baseline_fell: whether the uncompensated walk fell.
         compensated_fell: whether the compensated walk fell.
         step_duration_s: step duration [s].
@@ -85,12 +125,6 @@ class ValidationWalkOutcome:
     speed_mps: float
     seed: int
     duration_s: float
-    baseline_peak_amplitude_rad: float | None
-    compensated_peak_amplitude_rad: float | None
-    peak_reduction_pct: float | None
-    baseline_std_rad: float | None
-    compensated_std_rad: float | None
-    std_reduction_pct: float | None
     baseline_fell: bool
     compensated_fell: bool
     step_duration_s: float = 0.5
@@ -102,29 +136,25 @@ class ValidationWalkOutcome:
         """The outcome of one walk from its two versions."""
         w = base.walk
         return cls(
-            w.commanded_speed_mps, w.seed, w.duration_s, _peak(base), _peak(comp),
-            _reduction(_peak(base), _peak(comp)), _std(base), _std(comp),
-            _reduction(_std(base), _std(comp)), base.fell, comp.fell, w.step_duration_s,
-            w.controller, w.truth_label,
+            *_oscillation((_peak(base), _peak(comp)), (_std(base), _std(comp))),
+            w.commanded_speed_mps, w.seed, w.duration_s, base.fell, comp.fell,
+            w.step_duration_s, w.controller, w.truth_label,
         )  # fmt: skip
 
     def as_dict(self) -> dict[str, object]:
         """The walk's entry of ``summary.json``."""
-        return dict(self.__dict__)
+        return {k: getattr(self, k) for k in _WALK_KEYS}
 
 
 @dataclass(frozen=True)
-class CompensationSummary:
+class CompensationSummary(TrunkOscillationChange):
     """The means over the validation walks where neither version fell (module docstring).
+
+    The oscillation's change (:class:`TrunkOscillationChange`) is that of the means: the mean
+    amplitudes and stds [rad], and the reductions of the means [%].
 
     Attributes:
         method: the compensation method.
-        baseline_peak_amplitude_rad: mean uncompensated step-frequency amplitude [rad].
-        compensated_peak_amplitude_rad: mean compensated step-frequency amplitude [rad].
-        peak_reduction_pct: reduction of the mean amplitude [%].
-        baseline_std_rad: mean uncompensated trunk-pitch std [rad].
-        compensated_std_rad: mean compensated trunk-pitch std [rad].
-        std_reduction_pct: reduction of the mean std [%].
         validation_walks: every validation walk, fallen ones included.
         walks_compared: walks the means cover (neither version fell) [-].
         compensated_falls: compensated walks that fell [-].
@@ -135,12 +165,6 @@ class CompensationSummary:
     """
 
     method: str
-    baseline_peak_amplitude_rad: float | None
-    compensated_peak_amplitude_rad: float | None
-    peak_reduction_pct: float | None
-    baseline_std_rad: float | None
-    compensated_std_rad: float | None
-    std_reduction_pct: float | None
     validation_walks: tuple[ValidationWalkOutcome, ...]
     walks_compared: int
     compensated_falls: int
@@ -172,7 +196,7 @@ def summary_of(
     rms = tuple(compensated[0].iteration_rms_m) if method == "alg1" else None
     made_to_fall = sum(c.fell and not b.fell for b, c in pairs)
     return CompensationSummary(
-        method, peaks[0], peaks[1], _reduction(*peaks), stds[0], stds[1], _reduction(*stds),
+        *_oscillation((peaks[0], peaks[1]), (stds[0], stds[1])), method,
         tuple(ValidationWalkOutcome.of(b, c) for b, c in pairs), len(both),
         sum(c.fell for _, c in pairs), rms, made_to_fall, made_to_fall > 0,
     )  # fmt: skip

@@ -77,7 +77,10 @@ def objective(evaluations: Sequence[Evaluation], baseline: Sequence[Evaluation])
     return float(np.mean(terms))
 
 
-def _fit_design(shape: str, u: NDArray[np.float64], phase: float, harmonics: int):
+def _fit_design(
+    shape: str, u: NDArray[np.float64], phase: float, harmonics: int
+) -> NDArray[np.float64]:
+    """The least-squares design matrix of ``shape`` at the step phases ``u`` [-]."""
     if shape == "fourier":
         cols = []
         for k in range(1, harmonics + 1):
@@ -163,11 +166,25 @@ def tune_offset(
     return TuningResult(prior.shape, prior, best, score, tuple(history), baseline)
 
 
-def _score(offset, walks, baseline, cache_dir, workers) -> float:
+def _score(
+    offset: OffsetParameters,
+    walks: Sequence[WalkSpec],
+    baseline: Sequence[Evaluation],
+    cache_dir: Path | None,
+    workers: int,
+) -> float:
+    """J of ``offset`` over ``walks`` (:func:`objective`)."""
     return _scores([offset], walks, baseline, cache_dir, workers)[0]
 
 
-def _scores(offsets, walks, baseline, cache_dir, workers) -> list[float]:
+def _scores(
+    offsets: Sequence[OffsetParameters],
+    walks: Sequence[WalkSpec],
+    baseline: Sequence[Evaluation],
+    cache_dir: Path | None,
+    workers: int,
+) -> list[float]:
+    """J of each of ``offsets`` over ``walks``, all evaluated together."""
     tasks = [(w, o) for o in offsets for w in walks]
     results = evaluate_all(tasks, cache_dir, workers)
     n = len(walks)

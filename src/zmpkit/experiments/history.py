@@ -3,7 +3,7 @@ r"""What a virtual robot carries into a trial: the previous trial's lean and its
 A real robot runs a sweep's trials in sequence without a reset (paper A: "the robot does not
 keep the initial value of the ZMP"), so backlash and friction leave each trial in the state
 the previous lean left them in, and its stance differs a little from trial to trial. When
-the robot's truth asks for it (:class:`~zmpkit.sim.effects.TrialVariability`), a trial
+the robot's truth asks for it (:class:`~zmpkit.sim.sensor_errors.TrialVariability`), a trial
 starts with
 
 - its **stance**: each leaning joint's setpoint offset by a draw of
@@ -26,7 +26,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from zmpkit.experiments.lean import Lean, lean_angle
-from zmpkit.sim.effects import TrialVariability
+from zmpkit.sim.sensor_errors import TrialVariability
 from zmpkit.sim.world import Simulation
 
 __all__ = ["previous_target", "replay_previous_lean", "stance_offsets"]

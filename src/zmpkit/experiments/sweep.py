@@ -9,7 +9,7 @@ folder holding a sweep with other settings is refused rather than mixed.
 from __future__ import annotations
 
 import multiprocessing
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from concurrent.futures import ProcessPoolExecutor, as_completed
 from pathlib import Path
 from typing import Any
@@ -223,7 +223,7 @@ def _records(
     targets: list[float],
     workers: int,
     controller: Callable[[], LeanController] | None,
-):
+) -> Iterator[StepTrialRecord]:
     """Yield the trial records of ``targets`` as they finish."""
     if workers == 1 or len(targets) <= 1:
         for target in targets:

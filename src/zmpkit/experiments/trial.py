@@ -30,7 +30,7 @@ from numpy.typing import NDArray
 from zmpkit.experiments.config import PushConfig, StepExperimentConfig
 from zmpkit.experiments.ft_faults import FtFaults
 from zmpkit.experiments.history import previous_target, replay_previous_lean, stance_offsets
-from zmpkit.experiments.hold import HoldMonitor
+from zmpkit.experiments.hold import HoldEnd, HoldMonitor
 from zmpkit.experiments.lean import Lean, design_lean_model, lean_angle
 from zmpkit.experiments.trial_record import StepTrialRecord
 from zmpkit.experiments.zmp_reading import ZmpReader
@@ -195,9 +195,24 @@ def run_step_trial(
     feedback = reader if command is not None and command.reads_zmp else None
     data = _record(sim, config, (stream, command, offsets), pusher, monitor, qpos, feedback)
     end = monitor.finish(float(data[-1, 0]))
+    return _trial_record(config.plane, target_m, t_step, angle, lean, sim, data, end, qpos)
+
+
+def _trial_record(
+    plane: str,
+    target_m: float,
+    t_step: float,
+    angle: float,
+    lean: Lean,
+    sim: Simulation,
+    data: NDArray[np.float64],
+    end: HoldEnd,
+    qpos: list[NDArray[np.float64]] | None,
+) -> StepTrialRecord:
+    """The trial's record from its recorded rows ``data`` (time, wrenches, joints, IMU)."""
     j = len(sim.joint_names)
     return StepTrialRecord(
-        plane=config.plane,
+        plane=plane,
         target_m=target_m,
         t_step_s=t_step,
         lean_angle_rad=angle,

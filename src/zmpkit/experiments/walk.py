@@ -23,10 +23,11 @@ from zmpkit.robots.robot import Robot, WalkingDefaults
 from zmpkit.sim.effect_set import EffectSet
 from zmpkit.sim.world import Simulation
 from zmpkit.walking import generate_pattern
-from zmpkit.walking.dcm_stabiliser import DcmParameters
+from zmpkit.walking.dcm_parameters import DcmParameters
 from zmpkit.walking.heading_feedback import HeadingFeedbackGains
 from zmpkit.walking.ik import IkSettings, JointTrajectory, solve_walking_ik
 from zmpkit.walking.multibody_zmp import expected_zmp_offset
+from zmpkit.walking.online_walk import WalkPlant
 from zmpkit.walking.pattern import WalkingPattern
 from zmpkit.walking.servo_feedforward import servo_compliance_offsets
 from zmpkit.walking.step_adjustment import StepAdjustmentParameters
@@ -130,23 +131,11 @@ def make_controller(
         controller = OpenLoopWalk(trajectory)
     else:
         layout = sensor_layout(sim, settings.sole_sites)
-        heading = None if heading_feedback else HeadingFeedbackGains(gain_per_step=0.0)
-        joints = sim.joint_names
-        observer = ZmpObserverParameters()
-        observer = replace(
-            observer,
-            com_noise_m=observer_com_noise_m or observer.com_noise_m,
-            zmp_noise_m=observer_zmp_noise_m or observer.zmp_noise_m,
+        plant: WalkPlant = (pattern, model, settings, layout, sim.joint_names)
+        noise = (observer_com_noise_m, observer_zmp_noise_m)
+        controller = _feedback_walk(
+            name, plant, trajectory, heading_feedback, noise, reference_adapter, step_adjustment
         )
-        stepping = StepAdjustmentParameters(enabled=step_adjustment)
-        if name == "zmpip":
-            expected = expected_zmp_offset(model, trajectory, pattern.com.zmp_in_world)
-            controller = ZmpIpWalk(pattern, model, settings, layout, joints, observer, heading,
-                                   reference_adapter=reference_adapter, stepping=stepping,
-                                   expected_zmp_offset_in_world=expected)  # fmt: skip
-        else:
-            dcm = DcmParameters(observer=observer)
-            controller = DcmWalk(pattern, model, settings, layout, joints, dcm, heading, stepping)
     if servo_stiffness_nm_per_rad is None:
         return controller
     offsets = servo_compliance_offsets(
@@ -154,6 +143,39 @@ def make_controller(
         servo_damping_nm_s_per_rad,
     )  # fmt: skip
     return OffsetWalk(controller, offsets)
+
+
+def _feedback_walk(
+    name: str,
+    plant: WalkPlant,
+    trajectory: JointTrajectory,
+    heading_feedback: bool,
+    noise: tuple[float | None, float | None],
+    reference_adapter: ReferenceAdapter | None,
+    step_adjustment: bool,
+) -> WalkController:
+    """The feedback walk ``name`` (``zmpip`` or ``dcm``) of :func:`make_controller`.
+
+    ``noise``: the observer's σ_c and σ_p [m] (None: its default).
+    """
+    heading = None if heading_feedback else HeadingFeedbackGains(gain_per_step=0.0)
+    observer = ZmpObserverParameters()
+    observer = replace(
+        observer,
+        com_noise_m=noise[0] or observer.com_noise_m,
+        zmp_noise_m=noise[1] or observer.zmp_noise_m,
+    )
+    stepping = StepAdjustmentParameters(enabled=step_adjustment)
+    if name == "zmpip":
+        pattern, model = plant[0], plant[1]
+        expected = expected_zmp_offset(model, trajectory, pattern.com.zmp_in_world)
+        return ZmpIpWalk(
+            *plant, parameters=observer, heading_gains=heading,
+            reference_adapter=reference_adapter, stepping=stepping,
+            expected_zmp_offset_in_world=expected,
+        )  # fmt: skip
+    dcm = DcmParameters(observer=observer)
+    return DcmWalk(*plant, parameters=dcm, heading_gains=heading, stepping=stepping)
 
 
 def soft_servo_stiffness(walking: WalkingDefaults, effects: str) -> float | None:

@@ -263,25 +263,8 @@ def _describe(event: StepEvent) -> str:
     return f"{text}; {NOT_CAPTURED} ({100.0 * event.dcm_error_left_m:.1f} cm left)"
 
 
-def summarise_walk(
-    pattern: WalkingPattern,
-    trajectory: JointTrajectory,
-    record: WalkRecord,
-    effects: str,
-    seed: int,
-    pushes: Sequence[str] = (),
-) -> WalkSummary:
-    """The summary of one simulated walk (see :class:`WalkSummary`).
-
-    Args:
-        pattern: the planned walk.
-        trajectory: its IK.
-        record: what the robot did.
-        effects: the effects that were on.
-        seed: the sensor-noise seed.
-        pushes: the pushes, as ``FORCE_N@TIME_S:DIR``.
-    """
-    step_hz = 1.0 / pattern.footsteps.gait.step_duration_s
+def _fall(pattern: WalkingPattern, record: WalkRecord) -> tuple[str | None, float | None]:
+    """How and when [s] the walk fell, a stall counted as a fall; (None, None): it stood."""
     fall_kind, fall_time = record.fall_kind, record.fall_time_s
     if record.fell and fall_kind is None:
         fall_kind = "tilt"  # a record from before fall kinds were told apart
@@ -289,8 +272,17 @@ def summarise_walk(
         stalled = stall_time(pattern, record)
         if stalled is not None:
             fall_kind, fall_time = "stall", stalled
-    fell = fall_kind is not None
-    window = steady_window(pattern, record)
+    return fall_kind, fall_time
+
+
+def _steady_metrics(
+    pattern: WalkingPattern,
+    record: WalkRecord,
+    window: tuple[float, float],
+    step_hz: float,
+    fell: bool,
+) -> dict[str, float | None]:
+    """The metrics of the steady ``window`` [s]; all None after a fall or in a short one."""
     time = record.time_s
     mask = (time >= window[0]) & (time <= window[1])
     metrics: dict[str, float | None] = dict.fromkeys(
@@ -315,6 +307,32 @@ def summarise_walk(
         if error is not None and error.size:
             metrics["heading_error_max_rad"] = float(np.max(np.abs(error)))
             metrics["heading_error_end_rad"] = float(error[-1])
+    return metrics
+
+
+def summarise_walk(
+    pattern: WalkingPattern,
+    trajectory: JointTrajectory,
+    record: WalkRecord,
+    effects: str,
+    seed: int,
+    pushes: Sequence[str] = (),
+) -> WalkSummary:
+    """The summary of one simulated walk (see :class:`WalkSummary`).
+
+    Args:
+        pattern: the planned walk.
+        trajectory: its IK.
+        record: what the robot did.
+        effects: the effects that were on.
+        seed: the sensor-noise seed.
+        pushes: the pushes, as ``FORCE_N@TIME_S:DIR``.
+    """
+    step_hz = 1.0 / pattern.footsteps.gait.step_duration_s
+    fall_kind, fall_time = _fall(pattern, record)
+    fell = fall_kind is not None
+    window = steady_window(pattern, record)
+    metrics = _steady_metrics(pattern, record, window, step_hz, fell)
     command = pattern.config.command
     return WalkSummary(
         fell=fell,

@@ -312,11 +312,7 @@ def simulate_walk(
         q_frames = q_frames.copy()
     for k in range(1, len(q_frames)):
         if controller is not None:
-            if controller.reads_sensors:
-                read_measurement(sim, measurement)
-                for fault in faults:
-                    fault.apply(measurement, frame_s)
-            q_frames[k] = controller.step(k, measurement)[columns]
+            q_frames[k] = _controlled(sim, controller, k, measurement, faults, frame_s)[columns]
         if frame_hook is not None:
             online = frame_hook(k, recorder.reading())
             if online is not None:
@@ -333,6 +329,22 @@ def simulate_walk(
         if progress is not None and k % every == 0:
             progress(sim.time, total)
     return recorder.result(None, name, _step_events(controller))
+
+
+def _controlled(
+    sim: Simulation,
+    controller: WalkController,
+    k: int,
+    measurement: WalkMeasurement,
+    faults: Sequence[SensorFault],
+    frame_s: float,
+) -> NDArray[np.float64]:
+    """``controller``'s joint targets of frame ``k`` [rad] from what the robot reads now."""
+    if controller.reads_sensors:
+        read_measurement(sim, measurement)
+        for fault in faults:
+            fault.apply(measurement, frame_s)
+    return controller.step(k, measurement)
 
 
 def _step_events(controller: WalkController | None) -> tuple[StepEvent, ...]:

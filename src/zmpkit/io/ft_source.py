@@ -80,8 +80,8 @@ def read_robot_source(
 ) -> RobotLog:
     """Read any supported log into a :class:`~zmpkit.io.robot_log.RobotLog`, units applied.
 
-    Each stream keeps its own sample times on one common origin (bags and YARP alike);
-    :func:`~zmpkit.io.resample.resample` puts them on one clock.
+    Each stream keeps its own times, on one origin: :func:`~zmpkit.io.resample.resample`
+    puts them on one clock.
 
     Args:
         path: CSV, Parquet, ROS 2 bag (folder, ``.db3``, ``.mcap``) or YARP dumps.
@@ -93,8 +93,8 @@ def read_robot_source(
         joint_names: YARP only (a dump has none): one name per joint value of the
             ``joint_topic`` ports in order; None: ``PORT[i]``. Bags name their joints.
         column_map: ``{canonical: column}`` or a column-map YAML (CSV and Parquet only).
-        units: units and frames of the raw values, or a units YAML; None: already SI. YARP
-            ports stream joints in deg and gyroscopes in deg/s: say so in the units.
+        units: units and frames of the raw values, or a units YAML; None: already SI (YARP
+            streams deg and deg/s: say so).
         time_source: "header" (sensor/sender stamps, default) or "receive" (bags and YARP).
         max_gap_s: longest gap [s] interpolated across when streams are joined on one clock.
 
@@ -105,29 +105,19 @@ def read_robot_source(
     """
     path = Path(path)
     kind = detect_source_kind(path)
-    _check_options(kind, right_topic, left_topic, joint_topic, imu_topic, column_map)
-    if joint_names is not None and kind != "yarp":
-        raise ParameterError(
-            f"joint_names applies to YARP dumps, not to {kind} logs "
-            "(a ROS 2 bag's JointState messages name their joints)"
-        )
+    _check_options(kind, right_topic, left_topic, joint_topic, imu_topic, column_map, joint_names)
     if kind in ("csv", "parquet"):
         columns = read_column_map(column_map) if isinstance(column_map, str | Path) else column_map
         reader = read_ft_log_csv if kind == "csv" else read_ft_log_parquet
         log = RobotLog(ft=reader(path, columns), source=str(path))
     elif kind == "yarp":
+        joint_ports = () if joint_topic is None else joint_topic
         log = read_yarp_robot(
-            path,
-            right_port=right_topic,
-            left_port=left_topic,
-            joint_ports=() if joint_topic is None else joint_topic,
-            joint_names=joint_names,
-            imu_port=imu_topic,
-            time_source=time_source,
+            path, right_port=right_topic, left_port=left_topic, joint_ports=joint_ports,
+            joint_names=joint_names, imu_port=imu_topic, time_source=time_source,
             max_gap_s=max_gap_s,
-        )
+        )  # fmt: skip
     else:
-        assert joint_topic is None or isinstance(joint_topic, str)
         log = _read_bag(
             path, right_topic, left_topic, joint_topic, imu_topic, time_source, max_gap_s
         )
@@ -170,7 +160,9 @@ def _check_options(
     joint_topic: str | Sequence[str] | None,
     imu_topic: str | None,
     column_map: object,
+    joint_names: Sequence[str] | None,
 ) -> None:
+    """Raise ParameterError for an option that does not apply to a ``kind`` source."""
     topics = {"right_topic": right_topic, "left_topic": left_topic}
     extra = {"joint_topic": joint_topic, "imu_topic": imu_topic}
     if kind in ("csv", "parquet"):
@@ -186,17 +178,24 @@ def _check_options(
             "a ROS 2 bag takes one JointState topic as joint_topic; several ports are "
             "for YARP dumps"
         )
+    if joint_names is not None and kind != "yarp":
+        raise ParameterError(
+            f"joint_names applies to YARP dumps, not to {kind} logs "
+            "(a ROS 2 bag's JointState messages name their joints)"
+        )
 
 
 def _read_bag(
     path: Path,
     right_topic: str | None,
     left_topic: str | None,
-    joint_topic: str | None,
+    joint_topic: str | Sequence[str] | None,
     imu_topic: str | None,
     time_source: str,
     max_gap_s: float | None,
 ) -> RobotLog:
+    """The robot log of a ROS 2 bag (its options checked: one joint topic at most)."""
+    assert joint_topic is None or isinstance(joint_topic, str)
     if right_topic is None or left_topic is None:
         wrenches = [t for t, kind, _ in list_bag_topics(path) if kind == WRENCH_STAMPED_TYPE]
         raise ParameterError(

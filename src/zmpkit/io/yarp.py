@@ -36,6 +36,10 @@ from __future__ import annotations
 import re
 from collections.abc import Sequence
 from pathlib import Path
+from typing import NamedTuple
+
+import numpy as np
+from numpy.typing import NDArray
 
 from zmpkit.errors import InputFileError, ParameterError
 from zmpkit.io.resample import merge_feet
@@ -134,35 +138,16 @@ def read_yarp_robot(
     if joint_names is not None and not joint_ports:
         raise ParameterError("joint_names needs joint ports (joint_topic) to name")
     if path.is_file() or (path / "data.log").is_file():
-        if joint_ports or imu_port is not None:
-            raise ParameterError(
-                f"{path} is a single dump; joint and IMU ports need the folder that holds "
-                "one dump folder per port"
-            )
-        dump = read_yarp_dump(path, time_source)
-        _require_width(dump, 12, "the right wrench then the left, in a single dump")
-        right, left = dump, dump
-        right_values, left_values = dump.values[:, :6], dump.values[:, 6:]
-        joint_dumps: list[YarpDump] = []
-        imu_dump = None
+        dumps = _single_dump(path, joint_ports, imu_port, time_source)
     else:
-        dumps = find_yarp_dumps(path)
-        right = _dump_for(path, dumps, right_port or JR3_RIGHT_FOOT_PORT, time_source)
-        left = _dump_for(path, dumps, left_port or JR3_LEFT_FOOT_PORT, time_source)
-        for dump in (right, left):
-            _require_width(dump, 6, "F_x F_y F_z τ_x τ_y τ_z")
-        right_values, left_values = right.values, left.values
-        joint_dumps = [_dump_for(path, dumps, port, time_source) for port in joint_ports]
-        imu_dump = None if imu_port is None else _dump_for(path, dumps, imu_port, time_source)
+        ports = (right_port or JR3_RIGHT_FOOT_PORT, left_port or JR3_LEFT_FOOT_PORT)
+        dumps = _port_dumps(path, ports, joint_ports, imu_port, time_source)
+    right, left, right_values, left_values, joint_dumps, imu_dump = dumps
     streams = [right, left, *joint_dumps] + ([imu_dump] if imu_dump is not None else [])
     origin = min(float(d.stamp[0]) for d in streams)
+    right_t, left_t = right.stamp - origin, left.stamp - origin
     ft = merge_feet(
-        right.stamp - origin,
-        right_values,
-        left.stamp - origin,
-        left_values,
-        source=str(path),
-        max_gap_s=max_gap_s,
+        right_t, right_values, left_t, left_values, source=str(path), max_gap_s=max_gap_s
     )
     joints = None
     if joint_dumps:
@@ -173,6 +158,49 @@ def read_yarp_robot(
     return RobotLog(
         ft=ft, joints=joints, imu=imu, time_origin_ns=round(origin * 1e9), source=str(path)
     )
+
+
+class _Dumps(NamedTuple):
+    """The dumps of a robot log: the feet's (and their wrenches), the joints', the IMU's."""
+
+    right: YarpDump
+    left: YarpDump
+    right_values: NDArray[np.float64]
+    left_values: NDArray[np.float64]
+    joints: list[YarpDump]
+    imu: YarpDump | None
+
+
+def _single_dump(
+    path: Path, joint_ports: Sequence[str], imu_port: str | None, time_source: str
+) -> _Dumps:
+    """One dump of both feet's wrenches (12 values a line: the right, then the left)."""
+    if joint_ports or imu_port is not None:
+        raise ParameterError(
+            f"{path} is a single dump; joint and IMU ports need the folder that holds "
+            "one dump folder per port"
+        )
+    dump = read_yarp_dump(path, time_source)
+    _require_width(dump, 12, "the right wrench then the left, in a single dump")
+    return _Dumps(dump, dump, dump.values[:, :6], dump.values[:, 6:], [], None)
+
+
+def _port_dumps(
+    path: Path,
+    feet_ports: tuple[str, str],
+    joint_ports: Sequence[str],
+    imu_port: str | None,
+    time_source: str,
+) -> _Dumps:
+    """The dumps of the folder ``path``: one per port, the feet's (right, left) first."""
+    dumps = find_yarp_dumps(path)
+    right = _dump_for(path, dumps, feet_ports[0], time_source)
+    left = _dump_for(path, dumps, feet_ports[1], time_source)
+    for dump in (right, left):
+        _require_width(dump, 6, "F_x F_y F_z τ_x τ_y τ_z")
+    joint_dumps = [_dump_for(path, dumps, port, time_source) for port in joint_ports]
+    imu_dump = None if imu_port is None else _dump_for(path, dumps, imu_port, time_source)
+    return _Dumps(right, left, right.values, left.values, joint_dumps, imu_dump)
 
 
 def find_yarp_dumps(path: str | Path) -> dict[Path, str]:

@@ -21,7 +21,7 @@ import math
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, Generic, TypeVar, cast
 
 import mujoco
 
@@ -31,6 +31,7 @@ from zmpkit.robots.ik_settings import IkSettings
 from zmpkit.sim.description import RobotDescription
 from zmpkit.sim.effect_set import EffectSet
 from zmpkit.sim.servo import ServoLimits
+from zmpkit.sim.truth_file import RobotTruth
 from zmpkit.sim.world import Simulation
 
 if TYPE_CHECKING:
@@ -55,8 +56,9 @@ servos, was run to 0.57 of its edge: 0.10 m of 0.175 m; its preset says so.)"""
 DEFAULT_WALK_SPEED_MPS = 0.2
 """A robot's default walking speed unless it gives its own [m/s]: paper B's 20 cm/s walk."""
 
-Truth = Any
-"""A robot's truth object (its own frozen dataclass); only its robot reads its fields."""
+TruthT = TypeVar("TruthT", bound=RobotTruth)
+"""The class of a robot's truth object (its own frozen dataclass, a
+:class:`~zmpkit.sim.truth_file.RobotTruth`); only its robot reads its fields."""
 
 
 @dataclass(frozen=True, eq=False)
@@ -193,7 +195,7 @@ class WalkingDefaults:
 
 
 @dataclass(frozen=True, eq=False)
-class TruthSpec:
+class TruthSpec(Generic[TruthT]):
     """Where a robot's truth file lives and how it is read.
 
     Attributes:
@@ -204,13 +206,15 @@ class TruthSpec:
     """
 
     default_path: Path
-    load: Callable[[str | Path | None], Truth]
-    from_doc: Callable[[Mapping[str, Any], str | Path], Truth]
-    kind: type
+    load: Callable[[str | Path | None], TruthT]
+    from_doc: Callable[[Mapping[str, Any], str | Path], TruthT]
+    kind: type[TruthT]
 
-    def resolve(self, truth: Truth | str | Path | None) -> Truth:
+    def resolve(self, truth: TruthT | str | Path | None) -> TruthT:
         """A truth object from a truth object, a truth file, or None (the shipped one)."""
-        return truth if isinstance(truth, self.kind) else self.load(truth)
+        if isinstance(truth, self.kind):
+            return truth
+        return self.load(cast("str | Path | None", truth))
 
 
 @dataclass(frozen=True, eq=False)
@@ -229,7 +233,7 @@ class FitSpec:
 
 
 @dataclass(frozen=True, eq=False)
-class Robot:
+class Robot(Generic[TruthT]):
     """A robot: everything zmpkit needs of it, built-in or from a user's ``robot.yaml``.
 
     Attributes:
@@ -258,10 +262,10 @@ class Robot:
     title: str
     summary: str
     source: str
-    describe: Callable[[EffectSet | str, Truth | str | Path | None, float], RobotDescription]
+    describe: Callable[[EffectSet | str, TruthT | str | Path | None, float], RobotDescription]
     driven_joints: tuple[str, ...]
     feet_mounts: Callable[[], dict[str, FootMountEntry]]
-    truth: TruthSpec
+    truth: TruthSpec[TruthT]
     servo_limits: ServoLimits
     contact_force_threshold_n: float
     balance: BalanceModel | None = None
@@ -269,13 +273,13 @@ class Robot:
     fit: FitSpec | None = None
 
     def description(
-        self, effects: EffectSet | str = "all", truth: Truth | str | Path | None = None
+        self, effects: EffectSet | str = "all", truth: TruthT | str | Path | None = None
     ) -> RobotDescription:
         """The simulator's description with ``effects`` on and ``truth`` (None: shipped)."""
         return self.describe(effects, truth, self.contact_force_threshold_n)
 
     def simulated_effects_note(
-        self, effects: EffectSet | str, truth: Truth | str | Path | None = None
+        self, effects: EffectSet | str, truth: TruthT | str | Path | None = None
     ) -> str:
         """What a report says of ``effects`` when the robot simulates fewer [text].
 
@@ -301,7 +305,7 @@ class Robot:
     def make_simulation(
         self,
         effects: EffectSet | str = "all",
-        truth: Truth | str | Path | None = None,
+        truth: TruthT | str | Path | None = None,
         seed: int = 0,
     ) -> Simulation:
         """Start a simulation of the robot standing in its initial pose.

@@ -21,7 +21,7 @@ its effects M, I, G, F are then applied to the MJCF the robot file builds
     flex: [{name: .., body: .., axis: [..], anchor: [..], stiffness: [k1, k2, k3], damping: ..}]
     sensors: {...}                        # optional: SensorParams fields; default scaled
 
-The drive's PID gains are joint-side torque gains (:class:`~zmpkit.sim.effects.MotorParams`):
+The drive's PID gains are joint-side torque gains (:class:`~zmpkit.sim.drive.MotorParams`):
 at stall the joint torque saturates at :math:`N K V / R`. ``drive`` says what the PID
 commands: ``current`` (a current loop that compensates the back-EMF) or ``voltage`` (a PWM
 drive: the PID's output is the winding voltage, so the back-EMF damps the joint by
@@ -38,16 +38,11 @@ from pathlib import Path
 from typing import Any
 
 from zmpkit.errors import InputFileError
-from zmpkit.sim.builder import add_flex_joint, add_gear_compliance, add_motor, find_element
+from zmpkit.sim.compliance import FlexJoint, GearParams
+from zmpkit.sim.drive import IdealServoParams, InductanceParams, MotorParams
 from zmpkit.sim.effect_set import EffectSet
-from zmpkit.sim.effects import (
-    FlexJoint,
-    GearParams,
-    IdealServoParams,
-    InductanceParams,
-    MotorParams,
-    SensorParams,
-)
+from zmpkit.sim.joint_effects import add_drive_effects, mjcf_with_flex
+from zmpkit.sim.sensor_errors import SensorParams
 from zmpkit.sim.truth_file import flex_joint, parse_truth_doc, read_truth_file, section
 
 __all__ = [
@@ -155,13 +150,6 @@ def servo_truth_from_doc(doc: Mapping[str, Any], source: str | Path = "<truth>")
     return parse_truth_doc(doc, Path(source), _parse)
 
 
-def _remove_actuator(root: ET.Element, joint: str) -> None:
-    for section_el in root.findall("actuator"):
-        for actuator in list(section_el):
-            if actuator.get("joint") == joint:
-                section_el.remove(actuator)
-
-
 def apply_servo_effects(
     mjcf: str, joints: Sequence[str], effects: EffectSet, truth: ServoTruth
 ) -> str:
@@ -174,17 +162,8 @@ def apply_servo_effects(
     gear deflection with backlash; F adds the flexible-link joints.
     """
     root = ET.fromstring(mjcf)
+    motors = dict.fromkeys(joints, truth.motor)
+    inductances = dict.fromkeys(joints, truth.inductance)
     for joint in joints:
-        if effects.gear:
-            add_gear_compliance(root, joint, truth.gear)
-        if effects.motor:
-            _remove_actuator(root, joint)
-            element = find_element(root, "joint", joint)
-            element.set("armature", "0")  # the motor's J N² and drive replace the model's
-            element.set("damping", "0")  # servo dynamics (its joint defaults included)
-            add_motor(root, joint, truth.motor, truth.inductance if effects.inductance else None)
-    if effects.flex:
-        for flex in truth.flex:
-            add_flex_joint(root, flex)
-    ET.indent(root)
-    return ET.tostring(root, encoding="unicode")
+        add_drive_effects(root, joint, effects, motors, inductances, truth.gear, True)
+    return mjcf_with_flex(root, effects, truth.flex)

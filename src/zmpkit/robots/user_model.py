@@ -45,7 +45,7 @@ from zmpkit.robots.user_model_file import (
 )
 from zmpkit.robots.user_model_names import check_names
 from zmpkit.sim.builder import add_ideal_servo
-from zmpkit.sim.effects import IdealServoParams
+from zmpkit.sim.drive import IdealServoParams
 from zmpkit.sim.names import FLOOR_GEOM, IMU_SITE, ft_plate_body, ft_site, sole_site
 from zmpkit.sim.sole_plate import SolePlate, add_sole_plate
 from zmpkit.sim.standard_sensors import add_standard_sensors

@@ -36,9 +36,10 @@ from zmpkit.robots.user_balance import user_balance
 from zmpkit.robots.user_model import UserModel, user_model
 from zmpkit.robots.user_walking import user_walking
 from zmpkit.sim.description import FootSensor, RobotDescription
+from zmpkit.sim.drive import IdealServoParams
 from zmpkit.sim.effect_set import EffectSet
-from zmpkit.sim.effects import IdealServoParams, SensorParams
 from zmpkit.sim.names import ft_site
+from zmpkit.sim.sensor_errors import SensorParams
 from zmpkit.sim.servo import ServoLimits
 from zmpkit.sim.truth_file import read_truth_file
 
@@ -70,7 +71,7 @@ class UserTruth:
 
 
 SENSOR_REFERENCE_WEIGHT_N = 600.0
-"""The default sensor errors (:class:`~zmpkit.sim.effects.SensorParams`) are sized for a
+"""The default sensor errors (:class:`~zmpkit.sim.sensor_errors.SensorParams`) are sized for a
 robot of this weight (an 8 N F_z offset is 1.3 % of it); a user's robot gets them scaled by
 its weight over this [N]."""
 

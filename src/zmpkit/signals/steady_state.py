@@ -44,7 +44,6 @@ autocorrelated residuals (:func:`~zmpkit.signals.robust_statistics.effective_sam
 
 from __future__ import annotations
 
-import dataclasses
 import math
 from dataclasses import dataclass
 
@@ -54,7 +53,9 @@ from scipy.ndimage import median_filter
 
 from zmpkit._validate import in_range, positive
 from zmpkit.errors import ParameterError
+from zmpkit.signals.end_drift import CreepCheck, classify_unsettled, end_drift
 from zmpkit.signals.robust_statistics import effective_sample_size, robust_sigma
+from zmpkit.signals.steady_state_result import STATUSES, SteadyState, unsettled
 from zmpkit.signals.step_trial import StepTrial
 
 __all__ = [
@@ -70,8 +71,6 @@ __all__ = [
 FloatArray = NDArray[np.float64]
 
 
-STATUSES = ("settled", "drifting", "oscillating", "short")
-"""Values of :attr:`SteadyState.status`."""
 CREEP_HORIZON_S = 10.0
 """Time ahead over which a creep at the end rate must stay within tolerance [s]."""
 CREEP_TOLERANCE_FRACTION = 0.005
@@ -80,45 +79,6 @@ CREEP_MIN_M = 2e-4
 """Smallest creep tolerance over the horizon, whatever the step: 0.2 mm [m]."""
 DRIFT_WINDOW_S = 5.0
 """Length of the end of the record whose line gives the end drift rate [s]."""
-_SIGNIFICANT_SLOPE_SE = 3.0  # a drift rate counts only beyond this many standard errors
-
-
-@dataclass(frozen=True)
-class SteadyState:
-    """The settled value of a step response.
-
-    Attributes:
-        value: mean of the signal over the settled window [m]; None if not settled.
-        std_error: its standard error, autocorrelation-corrected [m]; None if not settled.
-        window: (start, end) of the settled window — or, if not settled, of the longest
-            candidate — [s].
-        n_samples: samples in ``window``.
-        settled: whether a window meeting the minimum length and drift criteria exists.
-        band: half-width of the band around the final median [m].
-        noise_std: robust standard deviation of the last part about its trend [m].
-        drift_rate: slope of a line fitted over the window [m/s]; for a ``"drifting"``
-            signal, over the last ``drift_window_s`` of the record (the rate at its end).
-        effective_samples: the effective sample size of the window [-].
-        reason: why the signal is not settled; empty when it is.
-        status: one of :data:`STATUSES` (module docstring).
-    """
-
-    value: float | None
-    std_error: float | None
-    window: tuple[float, float]
-    n_samples: int
-    settled: bool
-    band: float
-    noise_std: float
-    drift_rate: float
-    effective_samples: float
-    reason: str = ""
-    status: str = "settled"
-
-    @property
-    def drift_rate_mm_s(self) -> float:
-        """:attr:`drift_rate` in [mm/s]."""
-        return 1e3 * self.drift_rate
 
 
 def _pre_step_sigma(trial: StepTrial, min_samples: int) -> float | None:
@@ -172,37 +132,80 @@ def steady_state(
         The :class:`SteadyState`; ``settled=False`` with a reason, a status and no value,
         when no window meets the criteria.
     """
-    fraction = in_range("tail_fraction", tail_fraction, 1e-6, 1.0)
-    k_sigma = positive("band_sigmas", band_sigmas)
-    step_fraction = in_range("band_step_fraction", band_step_fraction, 0.0, 1.0)
-    floor = positive("min_band", min_band, "m")
-    ratio = positive("max_noise_ratio", max_noise_ratio)
-    limits = (positive("min_duration_s", min_duration_s, "s"), min_samples)
-    creep = _Creep.checked(creep_horizon_s, creep_fraction, creep_min_m)
-    drift_window = positive("drift_window_s", drift_window_s, "s")
-    if min_samples < 3 or spike_samples < 1:
-        raise ParameterError(
-            f"min_samples must be >= 3 and spike_samples >= 1, got {min_samples} and "
-            f"{spike_samples}"
-        )
+    settings = _Settings.checked(
+        tail_fraction, band_sigmas, band_step_fraction, min_band, min_duration_s, min_samples,
+        max_noise_ratio, spike_samples, creep_horizon_s, creep_fraction, creep_min_m,
+        drift_window_s,
+    )  # fmt: skip
     after = trial.time >= trial.t_step
     times, values = trial.time[after], trial.zmp_measured[after]
-    before = trial.zmp_measured[~after]
-    y0 = float(np.median(before)) if before.size else float(values[0])
-    n_tail = max(3, math.ceil(fraction * values.size))
-    centre = float(np.median(values[-n_tail:]))
-    sigma = robust_sigma(times[-n_tail:], values[-n_tail:])
-    step_band = max(step_fraction * abs(centre - y0), floor)
-    band = max(k_sigma * sigma, step_band)
-    smooth = median_filter(values, size=spike_samples, mode="nearest")
-    outside = np.flatnonzero(np.abs(smooth - centre) > band)
-    start = min(int(outside[-1]) + 1, values.size - 1) if outside.size else 0
-    result = _window_result(times[start:], values[start:], band, sigma, limits)
-    if result.settled:
-        start += _mser_truncation(values[start:])
-        result = _window_result(times[start:], values[start:], band, sigma, limits)
+    tail = _Tail.of(values, times, trial.zmp_measured[~after], settings)
+    result = _settled_window(times, values, tail, spike_samples, settings.limits)
     pre_step = _pre_step_sigma(trial, min_samples)
-    noise = math.inf if pre_step is None else max(pre_step, floor / k_sigma)
+    noise = math.inf if pre_step is None else max(pre_step, settings.floor / settings.k_sigma)
+    return _judged(result, tail, times, values, noise, settings)
+
+
+@dataclass(frozen=True)
+class _Settings:
+    """The checked settings of :func:`steady_state` (its Args, by its names)."""
+
+    fraction: float
+    k_sigma: float
+    step_fraction: float
+    floor: float
+    ratio: float
+    limits: tuple[float, int]
+    creep: CreepCheck | None
+    drift_window: float
+
+    @classmethod
+    def checked(
+        cls,
+        tail_fraction: float,
+        band_sigmas: float,
+        band_step_fraction: float,
+        min_band: float,
+        min_duration_s: float,
+        min_samples: int,
+        max_noise_ratio: float,
+        spike_samples: int,
+        creep_horizon_s: float | None,
+        creep_fraction: float,
+        creep_min_m: float,
+        drift_window_s: float,
+    ) -> _Settings:
+        """The settings, checked; ParameterError naming the first out of range."""
+        fraction = in_range("tail_fraction", tail_fraction, 1e-6, 1.0)
+        k_sigma = positive("band_sigmas", band_sigmas)
+        step_fraction = in_range("band_step_fraction", band_step_fraction, 0.0, 1.0)
+        floor = positive("min_band", min_band, "m")
+        ratio = positive("max_noise_ratio", max_noise_ratio)
+        limits = (positive("min_duration_s", min_duration_s, "s"), min_samples)
+        creep = CreepCheck.checked(creep_horizon_s, creep_fraction, creep_min_m)
+        drift_window = positive("drift_window_s", drift_window_s, "s")
+        if min_samples < 3 or spike_samples < 1:
+            raise ParameterError(
+                f"min_samples must be >= 3 and spike_samples >= 1, got {min_samples} and "
+                f"{spike_samples}"
+            )
+        return cls(fraction, k_sigma, step_fraction, floor, ratio, limits, creep, drift_window)
+
+
+def _judged(
+    result: SteadyState,
+    tail: _Tail,
+    times: NDArray[np.float64],
+    values: NDArray[np.float64],
+    noise: float,
+    settings: _Settings,
+) -> SteadyState:
+    """``result``, unless the tail still oscillates (beyond ``noise`` [m]) or creeps.
+
+    An unsettled ``result`` is classified by the end's drift.
+    """
+    sigma, step_band = tail.sigma, tail.step_band
+    ratio, k_sigma = settings.ratio, settings.k_sigma
     if result.settled and sigma > ratio * noise and k_sigma * sigma > step_band:
         reason = (
             f"the signal still fluctuates at the end (robust σ = {sigma:.3g} m, "
@@ -210,116 +213,72 @@ def steady_state(
             f"{ratio:g}, and ±{k_sigma:g}σ wider than the settling band ±{step_band:.3g} m): "
             "an oscillation that has not died out"
         )
-        return _unsettled(result, "oscillating", reason)
+        return unsettled(result, "oscillating", reason)
+    window = settings.drift_window
     if not result.settled:
-        return _classify(result, _end_drift(times, values, drift_window), band, drift_window)
-    if creep is not None:
+        return classify_unsettled(result, end_drift(times, values, window), tail.band, window)
+    if settings.creep is not None:
         inside = times >= result.window[0]
-        end = _end_drift(times[inside], values[inside], drift_window)
-        return creep.judge(result, end, abs(centre - y0))
+        end = end_drift(times[inside], values[inside], window)
+        return settings.creep.judge(result, end, abs(tail.centre - tail.y0))
     return result
 
 
 @dataclass(frozen=True)
-class _EndDrift:
-    """The line through the end of a record: slope [m/s], its standard error [m/s], span [s]."""
+class _Tail:
+    """What the end of the post-step record says: where it settles and how wide its band.
 
-    slope: float
-    std_error: float
-    span_s: float
-    residual_sigma: float
-
-    @property
-    def significant(self) -> bool:
-        return abs(self.slope) > _SIGNIFICANT_SLOPE_SE * self.std_error
-
-
-def _end_drift(times: FloatArray, values: FloatArray, window_s: float) -> _EndDrift:
-    r"""Least-squares line over the last ``window_s`` of ``(times, values)``.
-
-    The slope's standard error uses the effective sample size of the residuals,
-    :math:`SE = s\,\sqrt{n/n_{eff}} / \sqrt{\sum (t - \bar t)^2}`.
+    Attributes:
+        y0: the value before the step [m] (the pre-step median; the first post-step
+            sample without one).
+        centre: the median of the tail [m].
+        sigma: the robust standard deviation of the tail [m].
+        step_band: the smallest band half-width the step allows [m].
+        band: the settling band's half-width [m].
     """
-    keep = times >= times[-1] - window_s
-    t, y = times[keep], values[keep]
-    if t.size < 3:
-        return _EndDrift(0.0, math.inf, 0.0, 0.0)
-    slope, intercept = np.polyfit(t, y, 1)
-    residual = y - (slope * t + intercept)
-    n_eff = effective_sample_size(residual)
-    spread = float(np.sum((t - t.mean()) ** 2))
-    s = float(np.std(residual, ddof=2))
-    se = s * math.sqrt(t.size / n_eff) / math.sqrt(spread)
-    return _EndDrift(float(slope), se, float(t[-1] - t[0]), s)
 
-
-def _unsettled(
-    result: SteadyState, status: str, reason: str, drift_rate: float | None = None
-) -> SteadyState:
-    rate = result.drift_rate if drift_rate is None else drift_rate
-    return dataclasses.replace(
-        result,
-        value=None,
-        std_error=None,
-        settled=False,
-        reason=reason,
-        status=status,
-        drift_rate=rate,
-    )
-
-
-def _classify(result: SteadyState, end: _EndDrift, band: float, window_s: float) -> SteadyState:
-    """Status of an unsettled window: a creep or ramp (the end line explains it) or short."""
-    moves = abs(end.slope) * end.span_s
-    full = end.span_s >= 0.99 * window_s  # a shorter record may still be its transient
-    if result.reason.startswith("the signal drifts") or (
-        full and end.significant and moves > band and end.residual_sigma < 0.5 * moves
-    ):
-        reason = (
-            f"{result.reason}; it drifts at {1e3 * end.slope:.3g} mm/s over the last "
-            f"{end.span_s:.3g} s"
-        )
-        return _unsettled(result, "drifting", reason, drift_rate=end.slope)
-    return _unsettled(result, "short", result.reason)
-
-
-@dataclass(frozen=True)
-class _Creep:
-    """The creep check (module docstring, step 5)."""
-
-    horizon_s: float
-    fraction: float
-    min_m: float
+    y0: float
+    centre: float
+    sigma: float
+    step_band: float
+    band: float
 
     @classmethod
-    def checked(cls, horizon: float | None, fraction: float, min_m: float) -> _Creep | None:
-        if horizon is None:
-            return None
-        return cls(
-            positive("creep_horizon_s", horizon, "s"),
-            in_range("creep_fraction", fraction, 0.0, 1.0),
-            positive("creep_min_m", min_m, "m"),
-        )
+    def of(
+        cls,
+        values: NDArray[np.float64],
+        times: NDArray[np.float64],
+        before: NDArray[np.float64],
+        settings: _Settings,
+    ) -> _Tail:
+        """The tail of the post-step ``values`` at ``times`` [s] (``before``: pre-step)."""
+        fraction, k_sigma = settings.fraction, settings.k_sigma
+        step_fraction, floor = settings.step_fraction, settings.floor
+        y0 = float(np.median(before)) if before.size else float(values[0])
+        n_tail = max(3, math.ceil(fraction * values.size))
+        centre = float(np.median(values[-n_tail:]))
+        sigma = robust_sigma(times[-n_tail:], values[-n_tail:])
+        step_band = max(step_fraction * abs(centre - y0), floor)
+        band = max(k_sigma * sigma, step_band)
+        return cls(y0, centre, sigma, step_band, band)
 
-    def judge(self, result: SteadyState, end: _EndDrift, step: float) -> SteadyState:
-        """Unsettle ``result`` [m] if its end creeps beyond tolerance over the horizon.
 
-        Args:
-            result: a settled window.
-            end: the line through its end.
-            step: the step's size [m].
-        """
-        tolerance = max(self.fraction * step, self.min_m)
-        ahead = abs(end.slope) * self.horizon_s
-        if not (end.significant and ahead > tolerance):
-            return result
-        reason = (
-            f"the signal still creeps at {1e3 * end.slope:.3g} ± {1e3 * end.std_error:.3g} mm/s "
-            f"over the last {end.span_s:.3g} s: {1e3 * ahead:.3g} mm in the next "
-            f"{self.horizon_s:g} s, more than the creep tolerance {1e3 * tolerance:.3g} mm "
-            f"(max({self.fraction:g} of the step, {1e3 * self.min_m:g} mm))"
-        )
-        return _unsettled(result, "drifting", reason, drift_rate=end.slope)
+def _settled_window(
+    times: NDArray[np.float64],
+    values: NDArray[np.float64],
+    tail: _Tail,
+    spike_samples: int,
+    limits: tuple[float, int],
+) -> SteadyState:
+    """The window after the last (spike-filtered) sample outside the band, MSER-truncated."""
+    smooth = median_filter(values, size=spike_samples, mode="nearest")
+    outside = np.flatnonzero(np.abs(smooth - tail.centre) > tail.band)
+    start = min(int(outside[-1]) + 1, values.size - 1) if outside.size else 0
+    result = _window_result(times[start:], values[start:], tail.band, tail.sigma, limits)
+    if result.settled:
+        start += _mser_truncation(values[start:])
+        result = _window_result(times[start:], values[start:], tail.band, tail.sigma, limits)
+    return result
 
 
 def _mser_truncation(y: FloatArray) -> int:

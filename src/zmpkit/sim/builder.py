@@ -32,13 +32,8 @@ from __future__ import annotations
 import xml.etree.ElementTree as ET
 
 from zmpkit.errors import ModelError
-from zmpkit.sim.effects import (
-    FlexJoint,
-    GearParams,
-    IdealServoParams,
-    InductanceParams,
-    MotorParams,
-)
+from zmpkit.sim.compliance import FlexJoint, GearParams
+from zmpkit.sim.drive import IdealServoParams, InductanceParams, MotorParams
 from zmpkit.sim.spring import SofteningSpring
 
 __all__ = [

@@ -12,8 +12,8 @@ from collections.abc import Mapping
 from dataclasses import dataclass, field
 
 from zmpkit.sim.effect_set import EffectSet
-from zmpkit.sim.effects import SensorParams, TrialVariability
 from zmpkit.sim.names import ft_site
+from zmpkit.sim.sensor_errors import SensorParams, TrialVariability
 from zmpkit.sim.servo import ServoLimits
 
 __all__ = ["FootSensor", "ImuSensors", "RobotDescription"]

@@ -22,7 +22,7 @@ from collections.abc import Sequence
 import numpy as np
 from numpy.typing import NDArray
 
-from zmpkit.sim.effects import SensorParams
+from zmpkit.sim.sensor_errors import SensorParams
 
 __all__ = ["FtChannel", "quantise", "sample_series"]
 

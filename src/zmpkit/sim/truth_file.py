@@ -9,16 +9,25 @@ sections whose layout is common (``flex`` entries).
 from __future__ import annotations
 
 from collections.abc import Callable, Iterable, Mapping
+from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, TypeVar
+from typing import Any, Generic, Protocol, TypeVar
 
 import yaml
 
 from zmpkit.errors import InputFileError, ZmpkitError
 from zmpkit.io.yaml_file import load_yaml, yaml_error
-from zmpkit.sim.effects import FlexJoint
+from zmpkit.sim.compliance import FlexJoint
 
-__all__ = ["flex_joint", "parse_truth_doc", "read_truth_file", "section", "vector3"]
+__all__ = [
+    "RobotTruth",
+    "TruthReader",
+    "flex_joint",
+    "parse_truth_doc",
+    "read_truth_file",
+    "section",
+    "vector3",
+]
 
 T = TypeVar("T")
 
@@ -61,6 +70,51 @@ def parse_truth_doc(doc: Any, path: Path, parse: Callable[[Mapping[str, Any], Pa
         text = str(exc)
         text = text if len(text) <= _MAX_REASON_CHARS else text[: _MAX_REASON_CHARS - 3] + "..."
         raise InputFileError(path, f"invalid truth: {text}") from None
+
+
+class RobotTruth(Protocol):
+    """A robot's truth object: the hidden parameters of its effects, from its truth file.
+
+    Each robot reads its own frozen dataclass (a built-in robot's, or
+    :class:`~zmpkit.robots.servo_truth.ServoTruth` and
+    :class:`~zmpkit.robots.user_robot.UserTruth` of a robot file); only its robot reads its
+    fields. What every one names is the file it came from.
+    """
+
+    @property
+    def source(self) -> str:
+        """The truth file it was read from ("" or a placeholder for one built in memory)."""
+        ...
+
+
+@dataclass(frozen=True)
+class TruthReader(Generic[T]):
+    """A robot's truth reader: its shipped truth file and the parser of its sections.
+
+    Attributes:
+        default_path: the truth file shipped with zmpkit.
+        parse: ``parse(document, path)`` → the robot's truth object.
+    """
+
+    default_path: Path
+    parse: Callable[[Mapping[str, Any], Path], T]
+
+    def load(self, path: str | Path | None = None) -> T:
+        """Read a truth file with the layout of the shipped one; ``None`` = the shipped truth.
+
+        Raises:
+            InputFileError: if the file cannot be read or a field is missing or invalid.
+        """
+        file = Path(path) if path is not None else self.default_path
+        return read_truth_file(file, self.parse)
+
+    def from_doc(self, doc: Mapping[str, Any], source: str | Path = "<truth document>") -> T:
+        """The truth of a document already in memory (the layout of the truth file).
+
+        Raises:
+            InputFileError: naming ``source`` if a field is missing or invalid.
+        """
+        return parse_truth_doc(doc, Path(source), self.parse)
 
 
 def section(doc: Mapping[str, Any], key: str, path: Path) -> Any:

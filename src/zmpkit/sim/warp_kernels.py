@@ -8,7 +8,8 @@ Each physics step of :func:`~zmpkit.sim.warp_batch.rollout_warp` launches, aroun
   or a ``|qvel|`` passes the divergence limit [rad/s];
 - ``record``, ``record_vec3``, ``record_mat33``: the asked columns of a ``mjData`` array
   (scalars, ``site_xpos`` vectors, ``site_xmat`` matrices row-major) into the row of the
-  current step, when that step is recorded;
+  current step, when that step is recorded: one kernel per value type, the branch of its
+  width chosen when Warp builds it (``wp.static``);
 - ``square_error``: a world's :math:`\sum_j (q_j - q^{target}_j)^2` at its target rows,
   each :math:`q_j` rounded to its encoder quantum first, added to its total (float64);
 - ``advance``: the step counter, on the device, so a captured graph replays unchanged.
@@ -31,8 +32,23 @@ def step_kernels() -> dict[str, Any]:
     """The Warp kernels of the step loop, by name, built once per process."""
     import warp as wp
 
-    # Warp's kernel DSL reads these annotations at run time: its array types are calls, which
-    # no static checker accepts as types, hence the ignores on each kernel parameter.
+    control, records = _control_kernels(wp), _record_kernels(wp)
+    return {
+        "set_ctrl": control["set_ctrl"],
+        "check": control["check"],
+        **records,
+        "square_error": _square_error(wp),
+        "advance": control["advance"],
+    }
+
+
+# Warp's kernel DSL reads the kernels' annotations at run time: its array types are calls,
+# which no static checker accepts as types, hence the ignores on each kernel parameter.
+
+
+def _control_kernels(wp: Any) -> dict[str, Any]:
+    """``set_ctrl``, ``check`` and ``advance``: a step's controls, its check, its counter."""
+
     @wp.kernel(enable_backward=False)
     def set_ctrl(
         control: wp.array3d(dtype=float),  # type: ignore[valid-type]  # Warp's kernel DSL
@@ -70,8 +86,27 @@ def step_kernels() -> dict[str, Any]:
             first_bad[world] = counter[0] + 1
 
     @wp.kernel(enable_backward=False)
+    def advance(counter: wp.array(dtype=wp.int32)):  # type: ignore[valid-type]  # Warp's kernel DSL
+        counter[0] = counter[0] + 1
+
+    return {"set_ctrl": set_ctrl, "check": check, "advance": advance}
+
+
+def _record_kernels(wp: Any) -> dict[str, Any]:
+    """``record``, ``record_vec3`` and ``record_mat33``: a step's columns into its row."""
+    return {
+        "record": _record_kernel(wp, float, 1),
+        "record_vec3": _record_kernel(wp, wp.vec3, 3),
+        "record_mat33": _record_kernel(wp, wp.mat33, 9),
+    }
+
+
+def _record_kernel(wp: Any, value: Any, width: int) -> Any:
+    """The kernel that records a ``value`` column (``width`` floats: 1, 3 or 9) into its row."""
+
+    @wp.kernel(enable_backward=False)
     def record(
-        source: wp.array2d(dtype=float),  # type: ignore[valid-type]  # Warp's kernel DSL
+        source: wp.array2d(dtype=value),  # type: ignore[valid-type]  # Warp's kernel DSL
         columns: wp.array(dtype=wp.int32),  # type: ignore[valid-type]  # Warp's kernel DSL
         counter: wp.array(dtype=wp.int32),  # type: ignore[valid-type]  # Warp's kernel DSL
         row_of_step: wp.array(dtype=wp.int32),  # type: ignore[valid-type]  # Warp's kernel DSL
@@ -80,38 +115,23 @@ def step_kernels() -> dict[str, Any]:
         world, i = wp.tid()
         row = row_of_step[counter[0]]
         if row >= 0:
-            out[row, world, i] = source[world, columns[i]]
+            if wp.static(width == 1):
+                out[row, world, i] = source[world, columns[i]]
+            elif wp.static(width == 3):
+                v = source[world, columns[i]]
+                for k in range(3):
+                    out[row, world, 3 * i + k] = v[k]
+            else:
+                m = source[world, columns[i]]
+                for r in range(3):
+                    for c in range(3):
+                        out[row, world, 9 * i + 3 * r + c] = m[r, c]
 
-    @wp.kernel(enable_backward=False)
-    def record_vec3(
-        source: wp.array2d(dtype=wp.vec3),  # type: ignore[valid-type]  # Warp's kernel DSL
-        columns: wp.array(dtype=wp.int32),  # type: ignore[valid-type]  # Warp's kernel DSL
-        counter: wp.array(dtype=wp.int32),  # type: ignore[valid-type]  # Warp's kernel DSL
-        row_of_step: wp.array(dtype=wp.int32),  # type: ignore[valid-type]  # Warp's kernel DSL
-        out: wp.array3d(dtype=float),  # type: ignore[valid-type]  # Warp's kernel DSL
-    ):
-        world, i = wp.tid()
-        row = row_of_step[counter[0]]
-        if row >= 0:
-            v = source[world, columns[i]]
-            for k in range(3):
-                out[row, world, 3 * i + k] = v[k]
+    return record
 
-    @wp.kernel(enable_backward=False)
-    def record_mat33(
-        source: wp.array2d(dtype=wp.mat33),  # type: ignore[valid-type]  # Warp's kernel DSL
-        columns: wp.array(dtype=wp.int32),  # type: ignore[valid-type]  # Warp's kernel DSL
-        counter: wp.array(dtype=wp.int32),  # type: ignore[valid-type]  # Warp's kernel DSL
-        row_of_step: wp.array(dtype=wp.int32),  # type: ignore[valid-type]  # Warp's kernel DSL
-        out: wp.array3d(dtype=float),  # type: ignore[valid-type]  # Warp's kernel DSL
-    ):
-        world, i = wp.tid()
-        row = row_of_step[counter[0]]
-        if row >= 0:
-            m = source[world, columns[i]]
-            for r in range(3):
-                for c in range(3):
-                    out[row, world, 9 * i + 3 * r + c] = m[r, c]
+
+def _square_error(wp: Any) -> Any:
+    """``square_error``: a world's squared joint errors at its target rows, summed."""
 
     @wp.kernel(enable_backward=False)
     def square_error(
@@ -140,16 +160,4 @@ def step_kernels() -> dict[str, Any]:
                 s = s + d * d
         total[world] = total[world] + s
 
-    @wp.kernel(enable_backward=False)
-    def advance(counter: wp.array(dtype=wp.int32)):  # type: ignore[valid-type]  # Warp's kernel DSL
-        counter[0] = counter[0] + 1
-
-    return {
-        "set_ctrl": set_ctrl,
-        "check": check,
-        "record": record,
-        "record_vec3": record_vec3,
-        "record_mat33": record_mat33,
-        "square_error": square_error,
-        "advance": advance,
-    }
+    return square_error

@@ -35,6 +35,7 @@ value is known.
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -148,7 +149,10 @@ def lag1_autocorrelation(residual: NDArray[np.float64]) -> float:
     return float(np.mean(lagged[ok] / energy[ok]))
 
 
-def _mean_cost(problem: FitProblem, recorded: list[RecordedSignals], fitted) -> float:
+def _mean_cost(
+    problem: FitProblem, recorded: list[RecordedSignals], fitted: Sequence[RecordedSignals]
+) -> float:
+    """The mean cost [-] of the fitted simulations against the recorded experiments."""
     totals = [
         experiment_cost(rec, sim, problem.keeps_zmp_mean).total(problem.weights)
         for rec, sim in zip(recorded, fitted, strict=True)

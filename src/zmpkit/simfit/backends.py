@@ -47,6 +47,7 @@ from __future__ import annotations
 import logging
 import socket
 from collections.abc import Sequence
+from types import ModuleType
 from typing import Protocol
 
 import numpy as np
@@ -109,7 +110,8 @@ class SerialEvaluator:
         """Nothing to release."""
 
 
-def _ray_module():
+def _ray_module() -> ModuleType:
+    """Ray, or an error saying how to install it."""
     try:
         import ray
     except ImportError:

@@ -50,6 +50,7 @@ self-test: a sharp profile, a 54 % CMA-ES spread, 76 % off).
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -182,7 +183,12 @@ def local_level(cost_opt: float, probe_costs: NDArray[np.float64]) -> tuple[floa
     return max(float(cost_opt), median - ROUGHNESS_RISE * spread), spread
 
 
-def _relative_std(problem: FitProblem, unit_std: NDArray[np.float64], values) -> NDArray:
+def _relative_std(
+    problem: FitProblem,
+    unit_std: NDArray[np.float64],
+    values: Sequence[float] | NDArray[np.float64],
+) -> NDArray[np.float64]:
+    """Each parameter's standard deviation relative to its value [-] (log scale: as is)."""
     out = []
     for p, s, v in zip(problem.parameters, unit_std, values, strict=True):
         if p.log_scale:

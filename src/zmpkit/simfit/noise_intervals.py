@@ -30,6 +30,7 @@ noise, moves the estimate.
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -97,7 +98,10 @@ def linearised_shifts(
     return -np.linalg.solve(factor.T, np.linalg.solve(factor, g.T)).T
 
 
-def _mean_cost(problem: FitProblem, recorded: list[RecordedSignals], simulated) -> float:
+def _mean_cost(
+    problem: FitProblem, recorded: list[RecordedSignals], simulated: Sequence[RecordedSignals]
+) -> float:
+    """The mean cost [-] of ``simulated`` against the recorded experiments."""
     return float(
         np.mean(
             [

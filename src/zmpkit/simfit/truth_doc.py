@@ -17,13 +17,14 @@ import os
 import re
 from collections.abc import Mapping, Sequence
 from pathlib import Path
-from typing import Any, TypeAlias
+from typing import Any
 
 import yaml
 
 from zmpkit.errors import InputFileError, ParameterError
 from zmpkit.io.yaml_file import load_yaml, yaml_error
 from zmpkit.robots.robot import Robot
+from zmpkit.sim.truth_file import RobotTruth
 from zmpkit.simfit.parameters import FitParameter, ParameterValues
 
 __all__ = [
@@ -39,10 +40,6 @@ __all__ = [
     "write_truth_doc",
 ]
 
-RobotTruth: TypeAlias = Any
-"""A robot's truth object, as the fit builds it from a truth document for the robot's
-simulation factory (:meth:`~zmpkit.robots.robot.Robot.make_simulation`). The fit reads nothing
-of it: it only hands it on to the robot it came from."""
 
 _TOKEN = re.compile(r"([^.\[\]]+)|\[([^\]]*)\]")
 

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
-from typing import TypeVar
+from typing import TYPE_CHECKING, TypeVar
 
 import mujoco
 import numpy as np
@@ -30,6 +30,10 @@ from zmpkit.simfit.open_loop import OpenLoopSchedule, open_loop_schedule, posed_
 from zmpkit.simfit.recorded import RecordedSignals
 from zmpkit.simfit.rollout import simulate_experiment
 from zmpkit.simfit.truth_doc import RobotTruth
+
+if TYPE_CHECKING:
+    from zmpkit.sim.warp_batch import WarpRollout
+    from zmpkit.sim.warp_columns import QposSquareError
 
 __all__ = ["WARP_RECORDS", "costs_batches_warp", "simulate_batches_warp"]
 
@@ -90,14 +94,12 @@ def costs_batches_warp(
     :func:`simulate_batches_warp`'s signals, to float64 rounding (tested).
 
     Args:
-        experiments: the recorded experiments to replay (of one robot).
-        truths: one truth object per candidate.
-        effects: effect letters switched on, e.g. ``"M,G,S"``.
-        device: the Warp device (``"cuda:0"``; ``"cpu"`` for testing; ``""`` for Warp's
-            default).
+        experiments: as :func:`simulate_batches_warp`.
+        truths: as :func:`simulate_batches_warp`.
+        effects: as :func:`simulate_batches_warp`.
+        device: as :func:`simulate_batches_warp`.
         keep_zmp_mean: charge the mean ZMP difference too (:mod:`~zmpkit.simfit.cost`).
-        solver: constraint-solver settings for the batch (after the pose); None keeps the
-            models' own.
+        solver: as :func:`simulate_batches_warp`.
 
     Returns:
         Per experiment, per candidate, the cost terms.
@@ -218,38 +220,14 @@ def _run_warp(parts: Sequence[_WarpPart], device: str, columns: CostColumns | No
     """
     from zmpkit.sim.warp_batch import rollout_warp
 
-    controls = []
-    for part in parts:
-        mine = part.sims[0].controls_of(part.schedule.setpoints_rad)
-        if any(
-            not np.array_equal(s.controls_of(part.schedule.setpoints_rad), mine) for s in part.sims
-        ):
-            raise ParameterError(
-                "the Warp backend needs the same actuator gears in every candidate"
-            )
-        controls.append(mine)
-    longest = max(len(c) for c in controls)
-    table = np.stack(
-        [np.concatenate([c, np.repeat(c[-1:], longest - len(c), 0)]) for c in controls]
-    )
+    table = _control_table(parts)
     sims = [s for part in parts for s in part.sims]
     group = np.repeat(np.arange(len(parts)), [len(part.sims) for part in parts])
-    full = mujoco.mjtState.mjSTATE_FULLPHYSICS
-    initial = np.empty((len(sims), mujoco.mj_stateSize(sims[0].model, full)))
-    for i, sim in enumerate(sims):
-        mujoco.mj_getState(sim.model, sim.data, initial[i], full)
+    initial = _initial_states(sims)
     ft_samples = columns is None or any(any(part.rows.sensors) for part in parts)
     kept = [part.kept_steps(ft_samples) for part in parts]
     record_steps = np.unique(np.concatenate(kept))
-    square = None
-    if columns is not None:
-        targets = [part.target_rows() for part in parts]
-        square = joint_square_error(
-            [part.sims[0] for part in parts],
-            [part.rows.experiment.signals.joint_names for part in parts],
-            [steps for steps, _ in targets],
-            [rows for _, rows in targets],
-        )
+    square = None if columns is None else _square_error(parts)
     result = rollout_warp(
         [s.model for s in sims],
         initial,
@@ -266,26 +244,73 @@ def _run_warp(parts: Sequence[_WarpPart], device: str, columns: CostColumns | No
     for part, steps_kept in zip(parts, kept, strict=True):
         worlds = slice(first, first + len(part.sims))
         first = worlds.stop
-        if result.square_error is not None:
-            part.square.extend(result.square_error[worlds].tolist())
-        rows_of_part = np.flatnonzero(np.isin(result.steps, steps_kept))
-        n, nrec = len(part.sims), len(rows_of_part)
+        _read_part(part, result, worlds, steps_kept, nsite, initial[worlds, 0])
 
-        picked = {name: result.records[name][worlds][:, rows_of_part] for name in WARP_RECORDS}
-        steps = part.schedule.start_step + result.steps[rows_of_part]
-        ft_rows = np.flatnonzero(steps % part.sims[0].ft_sample_every == 0)
-        out = {
-            "time": result.time[worlds][:, rows_of_part, None],
-            "qpos": picked["qpos"],
-            "sensordata": picked["sensordata"],
-            "site_xpos": picked["site_xpos"].reshape(n, nrec, nsite, 3),
-            "site_xmat": picked["site_xmat"].reshape(n, nrec, nsite, 9),
-        }
-        valid = np.searchsorted(rows_of_part, result.valid_rows[worlds], side="left")
-        alive = list(range(n))
-        measured = ft_readings(part.rows, part.sims, alive, out["sensordata"][:, ft_rows])
-        warned = np.zeros((n, int(mujoco.mjtWarning.mjNWARNING)), dtype=bool)
-        t0 = initial[worlds, 0]
-        read_candidates(
-            part.rows, alive, out, steps, ft_rows, measured, warned, t0, part.sims[0].dt, valid
-        )
+
+def _control_table(parts: Sequence[_WarpPart]) -> NDArray[np.float64]:
+    """Each part's controls, ``(nparts, nstep, nu)``: a shorter one holds its last row."""
+    controls = []
+    for part in parts:
+        mine = part.sims[0].controls_of(part.schedule.setpoints_rad)
+        if any(
+            not np.array_equal(s.controls_of(part.schedule.setpoints_rad), mine) for s in part.sims
+        ):
+            raise ParameterError(
+                "the Warp backend needs the same actuator gears in every candidate"
+            )
+        controls.append(mine)
+    longest = max(len(c) for c in controls)
+    return np.stack([np.concatenate([c, np.repeat(c[-1:], longest - len(c), 0)]) for c in controls])
+
+
+def _initial_states(sims: Sequence[Simulation]) -> NDArray[np.float64]:
+    """Each posed simulation's ``mjSTATE_FULLPHYSICS`` state, ``(nsims, nstate)``."""
+    full = mujoco.mjtState.mjSTATE_FULLPHYSICS
+    initial = np.empty((len(sims), mujoco.mj_stateSize(sims[0].model, full)))
+    for i, sim in enumerate(sims):
+        mujoco.mj_getState(sim.model, sim.data, initial[i], full)
+    return initial
+
+
+def _square_error(parts: Sequence[_WarpPart]) -> QposSquareError:
+    """The joint term each world sums on the device: its encoders against the recorded."""
+    targets = [part.target_rows() for part in parts]
+    return joint_square_error(
+        [part.sims[0] for part in parts],
+        [part.rows.experiment.signals.joint_names for part in parts],
+        [steps for steps, _ in targets],
+        [rows for _, rows in targets],
+    )
+
+
+def _read_part(
+    part: _WarpPart,
+    result: WarpRollout,
+    worlds: slice,
+    steps_kept: NDArray[np.int64],
+    nsite: int,
+    t0: NDArray[np.float64],
+) -> None:
+    """Fill ``part``'s rows (and its joint term) from its ``worlds`` of the batch."""
+    if result.square_error is not None:
+        part.square.extend(result.square_error[worlds].tolist())
+    rows_of_part = np.flatnonzero(np.isin(result.steps, steps_kept))
+    n, nrec = len(part.sims), len(rows_of_part)
+
+    picked = {name: result.records[name][worlds][:, rows_of_part] for name in WARP_RECORDS}
+    steps = part.schedule.start_step + result.steps[rows_of_part]
+    ft_rows = np.flatnonzero(steps % part.sims[0].ft_sample_every == 0)
+    out = {
+        "time": result.time[worlds][:, rows_of_part, None],
+        "qpos": picked["qpos"],
+        "sensordata": picked["sensordata"],
+        "site_xpos": picked["site_xpos"].reshape(n, nrec, nsite, 3),
+        "site_xmat": picked["site_xmat"].reshape(n, nrec, nsite, 9),
+    }
+    valid = np.searchsorted(rows_of_part, result.valid_rows[worlds], side="left")
+    alive = list(range(n))
+    measured = ft_readings(part.rows, part.sims, alive, out["sensordata"][:, ft_rows])
+    warned = np.zeros((n, int(mujoco.mjtWarning.mjNWARNING)), dtype=bool)
+    read_candidates(
+        part.rows, alive, out, steps, ft_rows, measured, warned, t0, part.sims[0].dt, valid
+    )

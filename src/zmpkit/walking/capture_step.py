@@ -46,6 +46,7 @@ from dataclasses import dataclass
 
 from zmpkit import _validate
 from zmpkit.errors import ParameterError
+from zmpkit.walking.scalar_limits import clip
 
 __all__ = [
     "CaptureStep",
@@ -156,31 +157,15 @@ def solve_capture(
 ) -> tuple[float, float, float, float]:
     """The capture step of the module docstring, in the stance foot's frame (scalars only).
 
-    Each bound ``lo ≤ Δ(σ) ≤ hi`` is, the dead band only widening it, one affine inequality
-    ``c σ ≤ d``: ``(a - m) σ ≤ κ hi + b σ_0 - m + l`` and
-    ``-(a + m) σ ≤ -(κ lo + b σ_0 + m - l)`` with ``a = e + b``. Written without tuples or
+    Arguments, ``_x`` along the stance foot and ``_y`` across it: ``error`` e, ``offset`` b,
+    ``margin`` m, ``landing`` l (how far off its centre the new sole may take the DCM),
+    ``lo`` <= 0 and ``hi`` >= 0 the least and the largest shift, all [m]; ``sigma_plan``
+    σ_0 = e^{ω τ_0} >= 1 of the planned remaining time and ``sigma_min`` e^{ω τ_min} in
+    [1, σ_0] of the earliest touchdown [-]; ``kappa`` κ of the double support, in (0, 1]
+    [-]. Each bound is one affine ``c σ ≤ d`` (module docstring, 1). Returns ``(σ, Δ_x, Δ_y,
+    left)``: the chosen σ [-], the landing shift within the box [m] and the DCM error the
+    step leaves outside the box, times κ (0 when it captures) [m]. Written without tuples or
     loops (a control tick makes no objects of its own).
-
-    Args:
-        error_x: e along the stance foot [m].
-        error_y: e across it [m].
-        offset_x: b along the stance foot [m].
-        offset_y: b across it [m].
-        sigma_plan: σ_0 = e^{ω τ_0} of the planned remaining time [-], >= 1.
-        sigma_min: e^{ω τ_min} of the earliest touchdown allowed [-], in [1, σ_0].
-        kappa: κ of the double support [-], in (0, 1].
-        margin_x: m along the stance foot [m].
-        margin_y: m across it [m].
-        landing_x: l, how far off its centre along it the new sole may take the DCM [m].
-        landing_y: l across it [m].
-        lo_x: the least shift along [m], <= 0.
-        hi_x: the largest shift along [m], >= 0.
-        lo_y: the least shift across [m], <= 0.
-        hi_y: the largest shift across [m], >= 0.
-
-    Returns:
-        ``(σ, Δ_x, Δ_y, left)``: the chosen σ [-], the landing shift [m] (within the box)
-        and the DCM error the step leaves outside the box, times κ (0 when it captures) [m].
     """
     ax, ay = error_x + offset_x, error_y + offset_y
     bx, by = offset_x * sigma_plan, offset_y * sigma_plan
@@ -193,7 +178,7 @@ def solve_capture(
     if lower <= upper:
         dx = _required(ax, bx, margin_x, landing_x, upper, kappa)
         dy = _required(ay, by, margin_y, landing_y, upper, kappa)
-        return upper, _clip(dx, lo_x, hi_x), _clip(dy, lo_y, hi_y), 0.0
+        return upper, clip(dx, lo_x, hi_x), clip(dy, lo_y, hi_y), 0.0
     # No σ captures: the least total excess, a convex piecewise-linear function of σ, lies at
     # an end or at a root; ties go to the later touchdown.
     best, least = sigma_plan, math.inf
@@ -211,11 +196,7 @@ def solve_capture(
     best, least = _better(best, least, root, ax, bx, ay, by, kappa, margins, box, bounds)
     dx = _required(ax, bx, margin_x, landing_x, best, kappa)
     dy = _required(ay, by, margin_y, landing_y, best, kappa)
-    return best, _clip(dx, lo_x, hi_x), _clip(dy, lo_y, hi_y), kappa * max(least, 1e-9)
-
-
-def _clip(value: float, lo: float, hi: float) -> float:
-    return lo if value < lo else (hi if value > hi else value)
+    return best, clip(dx, lo_x, hi_x), clip(dy, lo_y, hi_y), kappa * max(least, 1e-9)
 
 
 def _better(

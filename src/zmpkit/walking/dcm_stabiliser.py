@@ -77,125 +77,20 @@ tracks the same ZMP, and at 0.1 rad/(N·m·s) the 3 s walk falls.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from typing import TypeAlias
 
 import numpy as np
 from numpy.typing import NDArray
 
 from zmpkit import _validate
-from zmpkit.errors import ParameterError
-from zmpkit.walking.foot_damping import FootDampingParameters
-from zmpkit.walking.zmp_observer import ZmpObserverParameters, observer_gain, observer_matrices
+from zmpkit.walking.dcm_parameters import DcmParameters, require_stable
+from zmpkit.walking.scalar_limits import clamp
+from zmpkit.walking.zmp_observer import observer_gain, observer_matrices
 
-__all__ = [
-    "DcmParameters",
-    "DcmStabiliser",
-    "follower_spectral_radius",
-    "follower_transition",
-]
+__all__ = ["DcmStabiliser"]
 
-MAX_DCM_GAIN_PER_S = 50.0
-"""Largest ``K_ξ`` the 10 ms loop allows [1/s]."""
-
-
-@dataclass(frozen=True)
-class DcmParameters:
-    """Gains and limits of the DCM stabiliser (module docstring).
-
-    Attributes:
-        dcm_gain_per_s: K_ξ, the DCM error's decay rate [1/s].
-        dcm_integral_gain_per_s: K_i [1/s].
-        com_admittance_per_s2: A_c [1/s²]; 0 switches the admittance off.
-        max_admittance_zmp_error_m: δ_A, the ZMP error the admittance sees is clipped to it [m].
-        max_zmp_shift_m: the asked ZMP stays within this of the plan [m].
-        max_com_shift_m: the CoM correction stays within this [m].
-        integral_limit_m_s: clamp of the DCM error's integral [m·s].
-        dcm_deadband_m: DCM errors within ±this get no feedback (beyond it, only the excess
-            does) [m]; 0: none.
-        observer: the noise levels of the DCM's observer (the ZMP observer's).
-        foot_damping: the stance ankles' CoP tracking of ``p^d``
-            (:mod:`zmpkit.walking.foot_damping`; admittance 0: off).
-    """
-
-    dcm_gain_per_s: float = 3.0
-    dcm_integral_gain_per_s: float = 0.0
-    com_admittance_per_s2: float = 20.0
-    max_admittance_zmp_error_m: float = 0.08
-    max_zmp_shift_m: float = 0.03
-    max_com_shift_m: float = 0.03
-    integral_limit_m_s: float = 0.01
-    dcm_deadband_m: float = 0.0
-    observer: ZmpObserverParameters = field(default_factory=ZmpObserverParameters)
-    foot_damping: FootDampingParameters = field(default_factory=FootDampingParameters)
-
-    def __post_init__(self) -> None:
-        for name in (
-            "dcm_gain_per_s", "max_zmp_shift_m", "max_com_shift_m",
-            "max_admittance_zmp_error_m",
-        ):  # fmt: skip
-            _validate.positive(f"DcmParameters.{name}", getattr(self, name))
-        for name in (
-            "dcm_integral_gain_per_s", "com_admittance_per_s2", "integral_limit_m_s",
-            "dcm_deadband_m",
-        ):  # fmt: skip
-            _validate.non_negative(f"DcmParameters.{name}", getattr(self, name))
-        if self.dcm_gain_per_s > MAX_DCM_GAIN_PER_S:
-            raise ParameterError(
-                f"DcmParameters.dcm_gain_per_s must be <= {MAX_DCM_GAIN_PER_S:g} 1/s (the "
-                f"10 ms loop's limit); got {self.dcm_gain_per_s}"
-            )
-
-
-def follower_transition(
-    parameters: DcmParameters, com_height_m: float, period_s: float, gravity_mps2: float
-) -> NDArray[np.float64]:
-    r"""The stabiliser's loop with a robot that follows its command, one period [-].
-
-    One axis, no clamps, no dead band: the state ``(ε_c, ε_v, ε_a, d, Δc, Δ\dot c,
-    Δ\ddot c_{k-1}, \int e)`` (the integral only with ``K_i > 0``) maps linearly to the
-    next period's through the observer's correction and prediction, the law and the
-    admittance, with the robot's readings
-    ``\hat c = c_{cmd}`` and ``p = c_{cmd} - (z_c/g)\,\ddot c_{cmd}`` (the acceleration
-    commanded the period before).
-
-    Returns:
-        The transition matrix, shape (7, 7), or (8, 8) with the integral.
-    """
-    a_z, _, c_z = observer_matrices(period_s, com_height_m, gravity_mps2)
-    gain = observer_gain(parameters.observer, period_s, com_height_m, gravity_mps2)
-    omega = math.sqrt(gravity_mps2 / com_height_m)
-    k_xi, k_i = parameters.dcm_gain_per_s, parameters.dcm_integral_gain_per_s
-    admittance = parameters.com_admittance_per_s2
-    size = 8 if k_i > 0.0 else 7  # without K_i the integral feeds nothing back
-    transition = np.zeros((size, size))
-    for column in range(size):
-        x = np.zeros(8)
-        x[column] = 1.0
-        error_state, shift, rate, accel_before, integral = x[:4], x[4], x[5], x[6], x[7]
-        error_state = error_state + gain @ (-(c_z @ error_state))  # readings = command
-        error = shift + error_state[0] + (rate + error_state[1]) / omega
-        integral += error * period_s
-        accel = -omega * rate - omega * k_xi * (error + k_i * integral)
-        zmp_error = shift - accel_before / omega**2 + accel / omega**2  # p - p^d
-        accel += admittance * zmp_error
-        rate += accel * period_s
-        shift += rate * period_s
-        transition[:4, column] = a_z @ error_state
-        transition[4:, column] = (shift, rate, accel, integral)[: size - 4]
-    return transition
-
-
-def follower_spectral_radius(
-    parameters: DcmParameters, com_height_m: float, period_s: float, gravity_mps2: float
-) -> float:
-    """Spectral radius of :func:`follower_transition`: the loop is stable below 1 [-]."""
-    transition = follower_transition(parameters, com_height_m, period_s, gravity_mps2)
-    return float(np.max(np.abs(np.linalg.eigvals(transition))))
-
-
-def _clamp(value: float, limit: float) -> float:
-    """``value`` clamped to ±``limit`` (``min``/``max`` would make objects in the tick)."""
-    return -limit if value < -limit else (limit if value > limit else value)
+_Plan: TypeAlias = tuple[list[float], list[float], list[float], list[float], list[float]]
+"""One axis of the plan, as floats: c [m], ċ [m/s], c̈ [m/s²], p [m], ξ [m] per period."""
 
 
 class DcmStabiliser:
@@ -229,16 +124,7 @@ class DcmStabiliser:
         self.period_s = period_s
         self.omega = math.sqrt(gravity_mps2 / com_height_m)
         """ω [1/s]."""
-        radius = follower_spectral_radius(par, com_height_m, period_s, gravity_mps2)
-        if radius >= 1.0:
-            raise ParameterError(
-                f"DcmParameters: K_ξ = {par.dcm_gain_per_s:g} 1/s, K_i = "
-                f"{par.dcm_integral_gain_per_s:g} 1/s and A_c = {par.com_admittance_per_s2:g} "
-                f"1/s² make the loop unstable even on a robot that follows its CoM command "
-                f"(spectral radius {radius:.4f} >= 1 at a CoM height of {com_height_m:g} m); "
-                f"lower A_c (it must stay below ω² = {gravity_mps2 / com_height_m:.3g} 1/s² "
-                f"and ω·K_ξ) or raise K_ξ"
-            )
+        require_stable(par, com_height_m, period_s, gravity_mps2)
         self._c_ref = np.asarray(com_position_in_world, dtype=np.float64)[:, :2]
         self._v_ref = np.asarray(com_velocity_in_world, dtype=np.float64)[:, :2]
         self._a_ref = np.asarray(com_acceleration_in_world, dtype=np.float64)[:, :2]
@@ -305,77 +191,112 @@ class DcmStabiliser:
             Δc (x, y) for period ``k + 1`` [m], a view.
         """
         k = k if k < self._n else self._n - 1  # (min makes an object)
+        for axis, z, plan in self._axes:
+            self._update_axis(k, axis, z, plan, com_in_world.item(axis), zmp_in_world.item(axis))
+        return self.shift_in_world
+
+    def _update_axis(
+        self, k: int, axis: int, z: NDArray[np.float64], plan: _Plan, com: float, zmp: float
+    ) -> None:
+        """:meth:`update` on one axis: correct ε, the DCM law, integrate Δc, predict ε.
+
+        ``z`` is the axis's row of :attr:`error_state`, ``plan`` its planned c, ċ, c̈, p, ξ,
+        ``com`` and ``zmp`` its readings [m].
+        """
+        c_ref, v_ref, a_ref, p_ref, dcm_ref = plan
+        moved = self.reference_shift
+        e_c, e_v, e_a, d = self._replanned_error(axis, z)
+        c_cmd = c_ref[k] + moved.item(axis, 0) + self.shift_in_world.item(axis)
+        v_cmd = v_ref[k] + moved.item(axis, 1) + self.shift_rate_in_world.item(axis)
+        a_cmd = a_ref[k] + moved.item(axis, 2) + self.shift_acceleration_in_world.item(axis)
+        p_plan = p_ref[k] + moved.item(axis, 3)
+        has_zmp = math.isfinite(zmp)
+        if has_zmp:
+            e_c, e_v, e_a, d = self._corrected_error(e_c, e_v, e_a, d, com, zmp, c_cmd, a_cmd)
+        error = c_cmd + e_c + (v_cmd + e_v) / self.omega - (dcm_ref[k] + moved.item(axis, 4))
+        self.dcm_error_in_world[k, axis] = error
+        accel = self._acceleration(axis, error, zmp, has_zmp, p_plan)
+        omega = self.omega
+        self.desired_zmp_in_world[k, axis] = p_plan - accel / (omega * omega)
+        self._integrate_shift(axis, accel)
+        (a00, a01, a02, _), (_, a11, a12, _), (_, _, a22, _), _ = self._a
+        z[0] = a00 * e_c + a01 * e_v + a02 * e_a
+        z[1] = a11 * e_v + a12 * e_a
+        z[2] = a22 * e_a
+        z[3] = d
+
+    def _replanned_error(
+        self, axis: int, z: NDArray[np.float64]
+    ) -> tuple[float, float, float, float]:
+        """The prior ε_c, ε_v, ε_a, d of the axis, after a re-plan.
+
+        A re-plan moves the command, not the robot: the error state takes back the jump of
+        :attr:`reference_shift` beyond the reference's own motion.
+        """
+        moved, before, dt = self.reference_shift, self._moved_before, self.period_s
+        e_c, e_v, e_a, d = z.item(0), z.item(1), z.item(2), z.item(3)
+        v_moved, a_moved = moved.item(axis, 1), moved.item(axis, 2)
+        v_before, a_before = before.item(axis, 0), before.item(axis, 1)
+        e_v -= v_moved - v_before - dt * a_before
+        e_a -= a_moved - a_before
+        before[axis, 0], before[axis, 1] = v_moved, a_moved
+        return e_c, e_v, e_a, d
+
+    def _corrected_error(
+        self,
+        e_c: float,
+        e_v: float,
+        e_a: float,
+        d: float,
+        com: float,
+        zmp: float,
+        c_cmd: float,
+        a_cmd: float,
+    ) -> tuple[float, float, float, float]:
+        """ε and d corrected by the observer from the CoM [m] and ZMP [m] of the readings."""
+        observer = self.parameters.observer
+        (l00, l01), (l10, l11), (l20, l21), (l30, l31) = self._l
+        zc_g = self._zc_over_g
+        r_c = com - c_cmd - e_c
+        r_p = zmp - (c_cmd - zc_g * a_cmd) - (e_c - zc_g * e_a + d)
+        r_p = clamp(r_p, observer.max_zmp_innovation_m)
+        e_c += l00 * r_c + l01 * r_p
+        e_v += l10 * r_c + l11 * r_p
+        e_a += l20 * r_c + l21 * r_p
+        d += l30 * r_c + l31 * r_p
+        d = clamp(d, observer.max_offset_m)
+        return e_c, e_v, e_a, d
+
+    def _acceleration(
+        self, axis: int, error: float, zmp: float, has_zmp: bool, p_plan: float
+    ) -> float:
+        """Δc̈ [m/s²] from the DCM error [m] (dead band, integral), with the admittance."""
         par, omega, dt = self.parameters, self.omega, self.period_s
         omega2 = omega * omega
-        accel_limit = omega2 * par.max_zmp_shift_m
-        clip = par.observer.max_zmp_innovation_m
-        offset_limit = par.observer.max_offset_m
-        admittance, admittance_clip = par.com_admittance_per_s2, par.max_admittance_zmp_error_m
-        gain, integral_gain = par.dcm_gain_per_s, par.dcm_integral_gain_per_s
-        integral_limit, deadband, shift_limit = (
-            par.integral_limit_m_s,
-            par.dcm_deadband_m,
-            par.max_com_shift_m,
+        integrals = self._integral
+        excess = abs(error) - par.dcm_deadband_m
+        error = math.copysign(excess, error) if excess > 0.0 else 0.0
+        integral = integrals.item(axis) + error * dt
+        integral = clamp(integral, par.integral_limit_m_s)
+        integrals[axis] = integral
+        rate = self.shift_rate_in_world.item(axis)
+        accel = -omega * rate - omega * par.dcm_gain_per_s * (
+            error + par.dcm_integral_gain_per_s * integral
         )
-        (l00, l01), (l10, l11), (l20, l21), (l30, l31) = self._l
-        moved, moved_before = self.reference_shift, self._moved_before
-        (a00, a01, a02, _), (_, a11, a12, _), (_, _, a22, _), _ = self._a
-        zc_g = self._zc_over_g
-        shifts, rates = self.shift_in_world, self.shift_rate_in_world
-        accels, integrals = self.shift_acceleration_in_world, self._integral
-        for axis, z, (c_ref, v_ref, a_ref, p_ref, dcm_ref) in self._axes:
-            e_c, e_v, e_a, d = z.item(0), z.item(1), z.item(2), z.item(3)
-            shift, rate = shifts.item(axis), rates.item(axis)
-            c_moved, v_moved, a_moved = (
-                moved.item(axis, 0),
-                moved.item(axis, 1),
-                moved.item(axis, 2),
-            )
-            p_moved, dcm_moved = moved.item(axis, 3), moved.item(axis, 4)
-            v_before, a_before = moved_before.item(axis, 0), moved_before.item(axis, 1)
-            # a re-plan moves the command, not the robot: the error state takes the jump back
-            e_v -= v_moved - v_before - dt * a_before
-            e_a -= a_moved - a_before
-            moved_before[axis, 0], moved_before[axis, 1] = v_moved, a_moved
-            c_cmd = c_ref[k] + c_moved + shift
-            v_cmd = v_ref[k] + v_moved + rate
-            a_cmd = a_ref[k] + a_moved + accels.item(axis)
-            p_plan = p_ref[k] + p_moved
-            zmp = zmp_in_world.item(axis)
-            has_zmp = math.isfinite(zmp)
-            if has_zmp:
-                r_c = com_in_world.item(axis) - c_cmd - e_c
-                r_p = zmp - (c_cmd - zc_g * a_cmd) - (e_c - zc_g * e_a + d)
-                r_p = _clamp(r_p, clip)
-                e_c += l00 * r_c + l01 * r_p
-                e_v += l10 * r_c + l11 * r_p
-                e_a += l20 * r_c + l21 * r_p
-                d += l30 * r_c + l31 * r_p
-                d = _clamp(d, offset_limit)
-            error = c_cmd + e_c + (v_cmd + e_v) / omega - (dcm_ref[k] + dcm_moved)
-            self.dcm_error_in_world[k, axis] = error
-            excess = abs(error) - deadband
-            error = math.copysign(excess, error) if excess > 0.0 else 0.0
-            integral = integrals.item(axis) + error * dt
-            integral = _clamp(integral, integral_limit)
-            integrals[axis] = integral
-            accel = -omega * rate - omega * gain * (error + integral_gain * integral)
-            if admittance > 0.0 and has_zmp:
-                zmp_error = zmp - (p_plan - accel / omega2)
-                zmp_error = _clamp(zmp_error, admittance_clip)
-                accel += admittance * zmp_error
-            accel = _clamp(accel, accel_limit)
-            self.desired_zmp_in_world[k, axis] = p_plan - accel / omega2
-            accels[axis] = accel
-            rate += accel * dt
-            shift += rate * dt
-            if abs(shift) > shift_limit:
-                shift = math.copysign(shift_limit, shift)
-                rate = 0.0
-            shifts[axis] = shift
-            rates[axis] = rate
-            z[0] = a00 * e_c + a01 * e_v + a02 * e_a
-            z[1] = a11 * e_v + a12 * e_a
-            z[2] = a22 * e_a
-            z[3] = d
-        return self.shift_in_world
+        if par.com_admittance_per_s2 > 0.0 and has_zmp:
+            zmp_error = zmp - (p_plan - accel / omega2)
+            zmp_error = clamp(zmp_error, par.max_admittance_zmp_error_m)
+            accel += par.com_admittance_per_s2 * zmp_error
+        return clamp(accel, omega2 * par.max_zmp_shift_m)
+
+    def _integrate_shift(self, axis: int, accel: float) -> None:
+        """Δc̈ := ``accel`` [m/s²], then Δċ and Δc one period on, Δc held at its limit."""
+        dt, shift_limit = self.period_s, self.parameters.max_com_shift_m
+        self.shift_acceleration_in_world[axis] = accel
+        rate = self.shift_rate_in_world.item(axis) + accel * dt
+        shift = self.shift_in_world.item(axis) + rate * dt
+        if abs(shift) > shift_limit:
+            shift = math.copysign(shift_limit, shift)
+            rate = 0.0
+        self.shift_in_world[axis] = shift
+        self.shift_rate_in_world[axis] = rate

@@ -44,6 +44,7 @@ from numpy.typing import NDArray
 
 from zmpkit import _validate
 from zmpkit.sensors.imu import quaternion_yaw
+from zmpkit.walking.scalar_limits import clamp
 from zmpkit.walking.swing import FeetTrajectories, swing_edges
 
 __all__ = ["HeadingFeedback", "HeadingFeedbackGains"]
@@ -76,11 +77,6 @@ class HeadingFeedbackGains:
 
 
 _SIDES = ("left", "right")
-
-
-def _clamp(value: float, limit: float) -> float:
-    """``value`` clamped to ±``limit`` (a function call: ``min``/``max`` make objects)."""
-    return -limit if value < -limit else (limit if value > limit else value)
 
 
 class _RampViews(NamedTuple):
@@ -195,8 +191,8 @@ class HeadingFeedback:
             self._last_step_mean, self._error_sum, self._error_frames = step_mean, 0.0, 0
             self.heading_error_rad[frame] = error
             g = self.gains
-            change = _clamp(-g.gain_per_step * error, g.max_change_per_step_rad)
-            self.correction_rad = _clamp(self.correction_rad + change, g.max_correction_rad)
+            change = clamp(-g.gain_per_step * error, g.max_change_per_step_rad)
+            self.correction_rad = clamp(self.correction_rad + change, g.max_correction_rad)
             self._ramp(ramp, side, frame)
 
     def _ramp(self, views: _RampViews, side: str, lift: int) -> None:

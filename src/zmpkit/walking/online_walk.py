@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, replace
+from typing import TypeAlias
 
 import mujoco
 import numpy as np
@@ -29,7 +30,7 @@ from zmpkit.walking.step_adjustment_parameters import StepAdjustmentParameters
 from zmpkit.walking.step_events import StepEvent
 from zmpkit.walking.step_reach import step_reach
 
-__all__ = ["YAW_FROM_FEET", "OnlineWalk", "SensorLayout"]
+__all__ = ["YAW_FROM_FEET", "OnlineWalk", "SensorLayout", "WalkPlant"]
 
 
 @dataclass(frozen=True)
@@ -64,6 +65,15 @@ class _OnlineTargets:
             right=replace(feet.right, position_in_world=feet.right.position_in_world.copy()),
         )
         self.com_position_in_world = pattern.com_position_in_world.copy()
+
+
+WalkPlant: TypeAlias = tuple[
+    WalkingPattern, mujoco.MjModel, IkSettings, SensorLayout, tuple[str, ...]
+]
+"""What every feedback walk is built on, in :class:`OnlineWalk`'s order: the planned walk (its
+reference, gains, CoM and feet), the robot's design model (the IK's), the IK settings the plan
+was solved with, where the sensors sit on that model, and the encoders' joints in the
+measurement's order."""
 
 
 class OnlineWalk:

@@ -71,6 +71,26 @@ def _site(model: mujoco.MjModel, name: str) -> int:
     return int(site)
 
 
+def _imu_in_base(
+    model: mujoco.MjModel, imu_site: str
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """The IMU frame's orientation in the base (a unit quaternion) and ``p ↦ p ⊗ it``.
+
+    The second is the 4×4 matrix of the Hamilton product ``q ⊗ p = M(p) q``.
+
+    Raises:
+        ModelError: the IMU site is not on the root body.
+    """
+    imu = _site(model, imu_site)
+    if int(model.site_bodyid[imu]) != 1:
+        raise ModelError(f"the IMU site {imu_site!r} must be on the root body")
+    imu_in_base = np.empty(4)
+    mujoco.mju_negQuat(imu_in_base, model.site_quat[imu])  # conjugate
+    a, b, c, d = imu_in_base.tolist()
+    times = np.array([[a, -b, -c, -d], [b, a, d, -c], [c, -d, a, b], [d, c, -b, a]])
+    return imu_in_base, times
+
+
 class KinematicStateEstimator:
     """CoM, its velocity and the ZMP in the world, from one :class:`WalkMeasurement` a tick.
 
@@ -107,15 +127,7 @@ class KinematicStateEstimator:
         self._coupled = self._coupled_joints(set(self._qadr.tolist()))
         self._sole = [_site(model, sole_sites[f]) for f in self.feet]
         self._sensor = [_site(model, sensor_sites[f]) for f in self.feet]
-        imu = _site(model, imu_site)
-        if int(model.site_bodyid[imu]) != 1:
-            raise ModelError(f"the IMU site {imu_site!r} must be on the root body")
-        self._imu_in_base = np.empty(4)
-        mujoco.mju_negQuat(self._imu_in_base, model.site_quat[imu])  # conjugate
-        a, b, c, d = self._imu_in_base.tolist()
-        self._times_imu_in_base = np.array(  # q ⊗ p = M(p) q, the Hamilton product
-            [[a, -b, -c, -d], [b, a, d, -c], [c, -d, a, b], [d, c, -b, a]]
-        )
+        self._imu_in_base, self._times_imu_in_base = _imu_in_base(model, imu_site)
         f = len(self.feet)
         self._force = np.zeros((f, 3))
         self._moment = np.zeros((f, 3))
@@ -133,8 +145,11 @@ class KinematicStateEstimator:
         self._started = False
         self.yaw_correction_rad = 0.0
         """The turn last applied to the IMU's yaw from the feet [rad]."""
-        # Views made once, so that a tick creates no array (module docstring of update).
-        data = self.data
+        self._make_views()
+
+    def _make_views(self) -> None:
+        """The views of :attr:`data` a tick reads and writes, made once (no array per tick)."""
+        data, f = self.data, len(self.feet)
         self._qpos = data.qpos
         self._base_position = data.qpos[:3]
         self._base_quaternion = data.qpos[3:7]
@@ -217,6 +232,24 @@ class KinematicStateEstimator:
             planned_yaw: each sole's planned heading now [rad], shape (F,); given, the
                 base's yaw comes from the feet in contact instead of the IMU (module doc).
         """
+        self._pose(measurement)
+        total, turn = self._world_wrenches(measurement, planned_yaw)
+        if turn != 0.0 and total > 0.0:
+            self._turn(turn / total)
+        if total > 0.0:  # else the offset is kept from the last tick with a foot in contact
+            self._anchor_offset(planned_soles, total)
+        offset = self._offset
+        for row in self._rows:
+            np.add(row[4], offset, out=row[7])  # sensor origin, anchored
+        self._estimate_com()
+        zmp = zmp_in_world_now(self._force, self._moment, self._origin, self.threshold_n)
+        if zmp is None:
+            self.zmp_in_world.fill(np.nan)
+        else:
+            self.zmp_in_world[0], self.zmp_in_world[1] = zmp
+
+    def _pose(self, measurement: WalkMeasurement) -> None:
+        """Pose the design model: the base at the origin turned by the IMU, the encoders."""
         data, model, qpos = self.data, self.model, self._qpos
         self._base_position.fill(0.0)
         np.dot(self._times_imu_in_base, measurement.imu_quaternion, out=self._base_quaternion)
@@ -225,6 +258,15 @@ class KinematicStateEstimator:
             qpos[follower] = c0 + c1 * qpos.item(leader)
         mujoco.mj_kinematics(model, data)
         mujoco.mj_comPos(model, data)
+
+    def _world_wrenches(
+        self, measurement: WalkMeasurement, planned_yaw: NDArray[np.float64] | None
+    ) -> tuple[float, float]:
+        """Each foot's wrench in the world frame; (Σ F_z [N], Σ F_z · yaw error [N·rad]).
+
+        Both sums over the feet in contact; the yaw error (planned less posed sole heading)
+        only with ``planned_yaw``.
+        """
         np.copyto(self._force_in_sensor, measurement.force_in_sensor)
         np.copyto(self._moment_in_sensor, measurement.moment_in_sensor)
         threshold, force_z = self.threshold_n, self.force_z_n
@@ -240,15 +282,12 @@ class KinematicStateEstimator:
                 if planned_yaw is not None:
                     yaw = math.atan2(sole_xmat.item(3), sole_xmat.item(0))
                     turn += fz * ((planned_yaw.item(i) - yaw + math.pi) % _TWO_PI - math.pi)
-        if turn != 0.0 and total > 0.0:
-            self._turn(turn / total)
-        if total > 0.0:  # else the offset is kept from the last tick with a foot in contact
-            self._anchor_offset(planned_soles, total)
-        offset = self._offset
-        for row in self._rows:
-            np.add(row[4], offset, out=row[7])  # sensor origin, anchored
+        return total, turn
+
+    def _estimate_com(self) -> None:
+        """The CoM estimate (the model's, anchored) and its low-passed velocity."""
         com = self._com
-        np.add(self._root_com, offset, out=com)
+        np.add(self._root_com, self._offset, out=com)
         estimate, velocity = self.com_in_world, self.com_velocity_in_world
         if self._started:
             blend, period = self._blend, self.period_s
@@ -258,8 +297,3 @@ class KinematicStateEstimator:
                 velocity[axis] = v + blend * (rate - v)
         self._started = True
         np.copyto(estimate, com)
-        zmp = zmp_in_world_now(self._force, self._moment, self._origin, threshold)
-        if zmp is None:
-            self.zmp_in_world.fill(np.nan)
-        else:
-            self.zmp_in_world[0], self.zmp_in_world[1] = zmp

@@ -68,6 +68,7 @@ from zmpkit.walking.pattern import WalkingPattern
 from zmpkit.walking.planned_steps import PlannedStep, planned_steps
 from zmpkit.walking.replanned_dcm import ReplannedDcmReference
 from zmpkit.walking.replanned_zmp import ReplannedZmpReference
+from zmpkit.walking.scalar_limits import clip
 from zmpkit.walking.step_adjustment_parameters import StepAdjustmentParameters
 from zmpkit.walking.step_events import NOT_CAPTURED, StepEvent
 from zmpkit.walking.step_reach import StepReach
@@ -75,10 +76,6 @@ from zmpkit.walking.step_reach import StepReach
 __all__ = ["NOT_CAPTURED", "StepAdjustment", "StepAdjustmentParameters", "StepEvent"]
 
 _MOVED_M = 1e-5  # a landing that moves less than this is not re-planned [m]
-
-
-def _clip(value: float, lo: float, hi: float) -> float:
-    return lo if value < lo else (hi if value > hi else value)
 
 
 class StepAdjustment:
@@ -133,11 +130,15 @@ class StepAdjustment:
         plans = [getattr(pattern.feet, f).position_in_world for f in feet]
         self._feet = tuple(zip(range(len(feet)), plans, [targets[f] for f in feet], strict=True))
         self._soles = soles
+        self._init_state(len(feet), config.step_height_m)
+
+    def _init_state(self, nfeet: int, step_height_m: float) -> None:
+        """The adjustment's state, before the walk's first step, and its logs per step."""
         # each foot's placement against the plan, and o of the last placement (every later one
         # moves by it); arrays: a foot's first landing keeps no new float objects
-        self._offsets = np.zeros((len(feet), 2))
+        self._offsets = np.zeros((nfeet, 2))
         self._global = np.zeros(2)
-        self._swing = AdjustedSwing(config.step_height_m)
+        self._swing = AdjustedSwing(step_height_m)
         self._span = -1
         self._goal = [0.0, 0.0]
         self._shift_along = self._shift_lateral = 0.0
@@ -149,12 +150,13 @@ class StepAdjustment:
         self._reference: ReplannedZmpReference | None = None
         self.replans_dcm = False
         """Whether :meth:`update` re-plans the DCM, ZMP and CoM references (the ``dcm`` walk)."""
-        self.dcm_reference = ReplannedDcmReference(self._omega, dt, self._t_d)
+        self.dcm_reference = ReplannedDcmReference(self._omega, self._dt, self._t_d)
         """The change of the DCM, ZMP and CoM references (:mod:`zmpkit.walking.replanned_dcm`)."""
         self._planned_goal = [0.0, 0.0]
-        self.dcm_error_in_world = np.full((n, 2), np.nan)
+        self.dcm_error_in_world = np.full((self._n, 2), np.nan)
         swing = max((s.touchdown - s.lift for s in self._steps), default=1)
-        self._habit = [[[0.0] * swing for _ in range(2)] for _ in feet]  # foot, axis, frame
+        # per foot, axis, frame
+        self._habit = [[[0.0] * swing for _ in range(2)] for _ in range(nfeet)]
         self._quiet = 0  # swings since the last adjusted one
         m = len(self._steps)
         self._trigger_frame = [-1] * m
@@ -302,10 +304,10 @@ class StepAdjustment:
         limit = self.parameters.max_swing_acceleration_mps2 * time * time / 5.774
         bound = abs(self._shift_along)
         bound = limit if limit > bound else bound
-        along_in = _clip(along_in, step.along - bound, step.along + bound)
+        along_in = clip(along_in, step.along - bound, step.along + bound)
         bound = abs(self._shift_lateral)
         bound = limit if limit > bound else bound
-        lateral_in = _clip(lateral_in, step.lateral - bound, step.lateral + bound)
+        lateral_in = clip(lateral_in, step.lateral - bound, step.lateral + bound)
         moved = math.hypot(along_in - along, lateral_in - lateral)
         if moved > 1e-9:
             left += self._kappa * moved

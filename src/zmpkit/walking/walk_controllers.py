@@ -34,21 +34,20 @@ F-T) and the plan; the simulator's state is not theirs to see.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
-from typing import Protocol
+from collections.abc import Callable, Sequence
+from typing import Protocol, TypeAlias
 
-import mujoco
 import numpy as np
 from numpy.typing import NDArray
 
 from zmpkit.models.pendulum import STANDARD_GRAVITY_MPS2
-from zmpkit.walking.dcm_stabiliser import DcmParameters, DcmStabiliser
+from zmpkit.walking.dcm_parameters import DcmParameters
+from zmpkit.walking.dcm_stabiliser import DcmStabiliser
 from zmpkit.walking.foot_damping import FootDamping, ankle_joints
 from zmpkit.walking.heading_feedback import HeadingFeedbackGains
-from zmpkit.walking.ik import IkSettings, JointTrajectory
+from zmpkit.walking.ik import JointTrajectory
 from zmpkit.walking.measurement import WalkMeasurement
-from zmpkit.walking.online_walk import OnlineWalk, SensorLayout
-from zmpkit.walking.pattern import WalkingPattern
+from zmpkit.walking.online_walk import OnlineWalk, SensorLayout, WalkPlant
 from zmpkit.walking.step_adjustment import StepAdjustmentParameters
 from zmpkit.walking.step_events import StepEvent
 from zmpkit.walking.zmp_observer import ObservedPreviewControl, ZmpObserverParameters
@@ -85,20 +84,15 @@ class WalkController(Protocol):
         ...
 
 
-class ReferenceAdapter(Protocol):
-    """Adapts a preview controller's ZMP reference online from the measured ZMP.
+ReferenceAdapter: TypeAlias = Callable[
+    [int, NDArray[np.float64], Sequence[NDArray[np.float64]]], None
+]
+"""Adapts a preview controller's ZMP reference online from the measured ZMP.
 
-    Paper B's Algorithm 2 is one (:class:`~zmpkit.compensate.algorithm2.Algorithm2Offsets`).
-    """
-
-    def adapt(
-        self,
-        frame: int,
-        zmp_in_world: NDArray[np.float64],
-        reference_by_axis: Sequence[NDArray[np.float64]],
-    ) -> None:
-        """Learn from the measured ZMP (x, y) [m] of ``frame``; rewrite the reference from it on."""
-        ...
+``adapt(frame, zmp_in_world, reference_by_axis)`` learns from the measured ZMP (x, y) [m] of
+``frame`` and rewrites the reference from it on. Paper B's Algorithm 2 is one
+(:meth:`~zmpkit.compensate.algorithm2.Algorithm2Offsets.adapt`).
+"""
 
 
 class OpenLoopWalk:
@@ -146,11 +140,8 @@ class ZmpIpWalk(OnlineWalk):
     """Paper B's walk: preview control on the observed cart-table state (``zmpip``).
 
     Args:
-        pattern: the planned walk (its reference, gains and feet).
-        model: the robot's design model (the IK's).
-        ik_settings: the IK settings the plan was solved with.
-        sensors: where the sensors sit on ``model``.
-        joint_names: the encoders' joints, in the measurement's order.
+        plant: the planned walk, the design model, its IK settings, its sensors and the
+            encoders' joints (:data:`~zmpkit.walking.online_walk.WalkPlant`).
         parameters: the observer's noise levels.
         heading_gains: the IMU yaw feedback to the footsteps (default gains; gain 0: off).
         reference_adapter: adapts the tracked ZMP reference online from the measured ZMP
@@ -172,11 +163,7 @@ class ZmpIpWalk(OnlineWalk):
 
     def __init__(
         self,
-        pattern: WalkingPattern,
-        model: mujoco.MjModel,
-        ik_settings: IkSettings,
-        sensors: SensorLayout,
-        joint_names: tuple[str, ...],
+        *plant: *WalkPlant,
         parameters: ZmpObserverParameters | None = None,
         heading_gains: HeadingFeedbackGains | None = None,
         reference_adapter: ReferenceAdapter | None = None,
@@ -184,7 +171,8 @@ class ZmpIpWalk(OnlineWalk):
         expected_zmp_offset_in_world: NDArray[np.float64] | None = None,
         zmp_filter_hz: float | None = ZMP_FILTER_HZ,
     ) -> None:
-        super().__init__(pattern, model, ik_settings, sensors, joint_names, heading_gains, stepping)
+        super().__init__(*plant, heading_gains, stepping)
+        pattern = plant[0]
         self.reference_adapter = reference_adapter
         self.zmp_prefilter = ZmpPrefilter(
             pattern.config.control_period_s, expected_zmp_offset_in_world, zmp_filter_hz
@@ -208,7 +196,7 @@ class ZmpIpWalk(OnlineWalk):
         est = self.estimator
         adapter = self.reference_adapter
         if adapter is not None:
-            adapter.adapt(frame - 1, est.zmp_in_world, self.control.reference_by_axis)
+            adapter(frame - 1, est.zmp_in_world, self.control.reference_by_axis)
         k = self._before[frame]  # frame - 1 (the walk's frames are the plan's)
         zmp = self.zmp_prefilter.read(k, est.zmp_in_world)
         com = self.control.update(k, est.com_in_world, zmp)
@@ -222,11 +210,8 @@ class DcmWalk(OnlineWalk):
     """The DCM stabiliser around the planned walk (``dcm``).
 
     Args:
-        pattern: the planned walk (its reference, CoM and feet).
-        model: the robot's design model (the IK's).
-        ik_settings: the IK settings the plan was solved with.
-        sensors: where the sensors sit on ``model``.
-        joint_names: the encoders' joints, in the measurement's order.
+        plant: the planned walk, the design model, its IK settings, its sensors and the
+            encoders' joints (:data:`~zmpkit.walking.online_walk.WalkPlant`).
         parameters: gains and limits.
         heading_gains: the IMU yaw feedback to the footsteps (default gains; gain 0: off).
         stepping: the step adjustment's trigger and limits (default: off).
@@ -236,16 +221,13 @@ class DcmWalk(OnlineWalk):
 
     def __init__(
         self,
-        pattern: WalkingPattern,
-        model: mujoco.MjModel,
-        ik_settings: IkSettings,
-        sensors: SensorLayout,
-        joint_names: tuple[str, ...],
+        *plant: *WalkPlant,
         parameters: DcmParameters | None = None,
         heading_gains: HeadingFeedbackGains | None = None,
         stepping: StepAdjustmentParameters | None = None,
     ) -> None:
-        super().__init__(pattern, model, ik_settings, sensors, joint_names, heading_gains, stepping)
+        super().__init__(*plant, heading_gains, stepping)
+        pattern, model, ik_settings, sensors, _ = plant
         self.parameters = parameters or DcmParameters()
         com = pattern.com
         self.stabiliser = DcmStabiliser(

@@ -42,15 +42,11 @@ from numpy.typing import NDArray
 
 from zmpkit import _validate
 from zmpkit.walking.cart_table import PreviewGains, cart_table_matrices
+from zmpkit.walking.scalar_limits import clamp
 
 __all__ = ["ObservedPreviewControl", "ZmpObserverParameters", "observer_gain", "observer_matrices"]
 
 _AXES = (0, 1)
-
-
-def _clamp(value: float, limit: float) -> float:
-    """``value`` clamped to ±``limit`` (a function call: ``min``/``max`` make objects)."""
-    return -limit if value < -limit else (limit if value > limit else value)
 
 
 @dataclass(frozen=True)
@@ -243,12 +239,12 @@ class ObservedPreviewControl:
             if math.isfinite(zmp):
                 e_c = com_in_world.item(axis) - c
                 e_p = zmp - (c - zc_g * a + d)
-                e_p = _clamp(e_p, clip)
+                e_p = clamp(e_p, clip)
                 c += l_gain[0][0] * e_c + l_gain[0][1] * e_p
                 v += l_gain[1][0] * e_c + l_gain[1][1] * e_p
                 a += l_gain[2][0] * e_c + l_gain[2][1] * e_p
                 d += l_gain[3][0] * e_c + l_gain[3][1] * e_p
-                d = _clamp(d, limit)
+                d = clamp(d, limit)
             # Σ G_p(j) p^ref_{k+j}: a (1, n)·(n,) product is numpy's dot of two vectors
             np.dot(self._window_rows[axis], self._gp, out=self._preview_rows[axis])
             reference_k = self._reference_xy.item(axis, k)

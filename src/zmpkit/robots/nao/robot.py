@@ -19,15 +19,10 @@ import mujoco
 
 from zmpkit.robots.nao.model import NAO_DRIVEN_JOINTS, NAO_SIDES, SOLE_PLATE_M, base_mjcf
 from zmpkit.robots.nao.truth import NaoTruth, load_truth
-from zmpkit.sim.builder import (
-    add_flex_joint,
-    add_gear_compliance,
-    add_ideal_servo,
-    add_motor,
-    find_element,
-)
+from zmpkit.sim.builder import add_ideal_servo, find_element
 from zmpkit.sim.description import FootSensor, RobotDescription
 from zmpkit.sim.effect_set import EffectSet
+from zmpkit.sim.joint_effects import add_drive_effects, mjcf_with_flex
 from zmpkit.sim.servo import ServoLimits
 
 __all__ = [
@@ -53,16 +48,10 @@ def _resolve_truth(truth: NaoTruth | str | Path | None) -> NaoTruth:
     return truth if isinstance(truth, NaoTruth) else load_truth(truth)
 
 
-def _drive(root: ET.Element, joint: str, on: EffectSet, params: NaoTruth) -> None:
-    motor = params.motors[joint]
-    if on.gear:
-        add_gear_compliance(root, joint, params.gear)
-    if on.motor:
-        inductance = params.inductances[joint] if on.inductance else None
-        add_motor(root, joint, motor, inductance)
-        return
+def _ideal_servo(root: ET.Element, joint: str, params: NaoTruth) -> None:
+    """Drive ``joint`` with the ideal servo, keeping the rotor's ``J N²`` (module docstring)."""
     joint_el = find_element(root, "joint", joint)
-    armature = float(joint_el.get("armature", "0")) + motor.armature_link
+    armature = float(joint_el.get("armature", "0")) + params.motors[joint].armature_link
     joint_el.set("armature", f"{armature:.10g}")
     add_ideal_servo(root, joint, params.ideal_servo)
 
@@ -80,12 +69,9 @@ def nao_mjcf(effects: EffectSet | str = "all", truth: NaoTruth | str | Path | No
     coupled = find_element(root, "joint", "RHipYawPitch")
     coupled.set("armature", f"{params.motors['LHipYawPitch'].armature_link:.10g}")
     for joint in NAO_DRIVEN_JOINTS:
-        _drive(root, joint, on, params)
-    if on.flex:
-        for flex in params.flex:
-            add_flex_joint(root, flex)
-    ET.indent(root)
-    return ET.tostring(root, encoding="unicode")
+        if not add_drive_effects(root, joint, on, params.motors, params.inductances, params.gear):
+            _ideal_servo(root, joint, params)
+    return mjcf_with_flex(root, on, params.flex)
 
 
 def nao_ik_mjcf() -> str:
@@ -107,11 +93,9 @@ def nao_robot(
 ) -> RobotDescription:
     """The virtual NAO as a robot description, ready for :class:`~zmpkit.sim.world.Simulation`.
 
-    Args:
-        effects: which effects are on (see :class:`~zmpkit.sim.effect_set.EffectSet`).
-        truth: truth parameters, a truth file, or ``None`` for the shipped truth.
-        contact_force_threshold_n: the robot's contact threshold [N]
-            (:attr:`~zmpkit.robots.robot.Robot.contact_force_threshold_n`).
+    NAO's :attr:`~zmpkit.robots.robot.Robot.describe`: ``effects`` as
+    :meth:`~zmpkit.sim.effect_set.EffectSet.parse` reads them, ``truth`` the truth parameters,
+    a truth file or ``None`` (the shipped truth), and the robot's contact threshold [N].
     """
     on = EffectSet.parse(effects)
     params = _resolve_truth(truth)

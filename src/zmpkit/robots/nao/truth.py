@@ -11,7 +11,7 @@ resistance R and gear ratio N, a voltage gain ``g`` [V/rad] is the joint-side to
 .. math:: k_{link} = s\,g\,K N / R \quad [N·m/rad],
 
 and the drive's voltage clamp is the supply ``V_supply``. The simulated drive compensates the
-back-EMF (:class:`~zmpkit.sim.effects.MotorParams`); ``friction.back_emf_damping: true`` adds it
+back-EMF (:class:`~zmpkit.sim.drive.MotorParams`); ``friction.back_emf_damping: true`` adds it
 back as a rotor damping ``K²/R`` [N·m·s/rad] (a voltage-mode drive; the link sees ``N² K²/R``),
 which below the clamp is exact and at the clamp counts the back-EMF twice.
 
@@ -32,15 +32,10 @@ from typing import Any
 
 from zmpkit.errors import InputFileError
 from zmpkit.robots.nao.geometry import TORSO, Inertial
-from zmpkit.sim.effects import (
-    FlexJoint,
-    GearParams,
-    IdealServoParams,
-    InductanceParams,
-    MotorParams,
-    SensorParams,
-)
-from zmpkit.sim.truth_file import flex_joint, parse_truth_doc, read_truth_file, section
+from zmpkit.sim.compliance import FlexJoint, GearParams
+from zmpkit.sim.drive import IdealServoParams, InductanceParams, MotorParams
+from zmpkit.sim.sensor_errors import SensorParams
+from zmpkit.sim.truth_file import TruthReader, flex_joint, section
 
 __all__ = ["DEFAULT_TRUTH_PATH", "NaoTruth", "load_truth", "truth_from_doc"]
 
@@ -169,23 +164,8 @@ def _parse(doc: Mapping[str, Any], path: Path) -> NaoTruth:
     )
 
 
-def load_truth(path: str | Path | None = None) -> NaoTruth:
-    """Read the truth parameters of the virtual NAO.
-
-    Args:
-        path: a YAML file with the layout of the shipped one; ``None`` = the shipped truth.
-
-    Raises:
-        InputFileError: if the file cannot be read or a field is missing or invalid.
-    """
-    file = Path(path) if path is not None else DEFAULT_TRUTH_PATH
-    return read_truth_file(file, _parse)
-
-
-def truth_from_doc(doc: Mapping[str, Any], source: str | Path = "<truth document>") -> NaoTruth:
-    """The truth of a document already in memory (the layout of the truth file).
-
-    Raises:
-        InputFileError: naming ``source`` if a field is missing or invalid.
-    """
-    return parse_truth_doc(doc, Path(source), _parse)
+_READER = TruthReader(DEFAULT_TRUTH_PATH, _parse)
+load_truth = _READER.load
+"""Read a truth file of the virtual NAO (:meth:`~zmpkit.sim.truth_file.TruthReader.load`)."""
+truth_from_doc = _READER.from_doc
+"""The truth of a document in memory (:meth:`~zmpkit.sim.truth_file.TruthReader.from_doc`)."""

@@ -8,21 +8,16 @@ come from :func:`~zmpkit.robots.teo.truth.load_truth` (the shipped file unless o
 
 from __future__ import annotations
 
-import xml.etree.ElementTree as ET
 from pathlib import Path
 
 from zmpkit.robots.teo import geometry as geo
 from zmpkit.robots.teo.model import TEO_DRIVEN_JOINTS, TEO_SIDES, base_mjcf
 from zmpkit.robots.teo.truth import TeoTruth, load_truth
-from zmpkit.sim.builder import (
-    add_flex_joint,
-    add_gear_compliance,
-    add_ideal_servo,
-    add_motor,
-)
+from zmpkit.sim.builder import add_ideal_servo
 from zmpkit.sim.description import FootSensor, RobotDescription
+from zmpkit.sim.drive import IdealServoParams
 from zmpkit.sim.effect_set import EffectSet
-from zmpkit.sim.effects import IdealServoParams
+from zmpkit.sim.joint_effects import add_drive_effects, mjcf_with_flex
 from zmpkit.sim.servo import ServoLimits
 
 __all__ = ["TEO_SERVO_LIMITS", "teo_mjcf", "teo_robot"]
@@ -49,18 +44,10 @@ def teo_mjcf(effects: EffectSet | str = "all", truth: TeoTruth | str | Path | No
     params = _resolve_truth(truth)
     root = base_mjcf(params)
     for joint in TEO_DRIVEN_JOINTS:
-        if on.gear and joint in params.gear_joints:
-            add_gear_compliance(root, joint, params.gear)
-        if on.motor:
-            inductance = params.inductances[joint] if on.inductance else None
-            add_motor(root, joint, params.motors[joint], inductance)
-        else:
+        gear = params.gear if joint in params.gear_joints else None
+        if not add_drive_effects(root, joint, on, params.motors, params.inductances, gear):
             add_ideal_servo(root, joint, IdealServoParams())
-    if on.flex:
-        for flex in params.flex:
-            add_flex_joint(root, flex)
-    ET.indent(root)
-    return ET.tostring(root, encoding="unicode")
+    return mjcf_with_flex(root, on, params.flex)
 
 
 def teo_robot(
@@ -70,11 +57,9 @@ def teo_robot(
 ) -> RobotDescription:
     """The virtual TEO as a robot description, ready for :class:`~zmpkit.sim.world.Simulation`.
 
-    Args:
-        effects: which effects are on (see :class:`~zmpkit.sim.effect_set.EffectSet`).
-        truth: truth parameters, a truth file, or ``None`` for the shipped truth.
-        contact_force_threshold_n: the robot's contact threshold [N]
-            (:attr:`~zmpkit.robots.robot.Robot.contact_force_threshold_n`).
+    TEO's :attr:`~zmpkit.robots.robot.Robot.describe`: ``effects`` as
+    :meth:`~zmpkit.sim.effect_set.EffectSet.parse` reads them, ``truth`` the truth parameters,
+    a truth file or ``None`` (the shipped truth), and the robot's contact threshold [N].
     """
     on = EffectSet.parse(effects)
     params = _resolve_truth(truth)

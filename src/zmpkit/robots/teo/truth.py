@@ -14,15 +14,10 @@ from pathlib import Path
 from typing import Any
 
 from zmpkit.errors import InputFileError
-from zmpkit.sim.effects import (
-    FlexJoint,
-    GearParams,
-    InductanceParams,
-    MotorParams,
-    SensorParams,
-    TrialVariability,
-)
-from zmpkit.sim.truth_file import flex_joint, parse_truth_doc, read_truth_file, section, vector3
+from zmpkit.sim.compliance import FlexJoint, GearParams
+from zmpkit.sim.drive import InductanceParams, MotorParams
+from zmpkit.sim.sensor_errors import SensorParams, TrialVariability
+from zmpkit.sim.truth_file import TruthReader, flex_joint, section, vector3
 
 __all__ = ["DEFAULT_TRUTH_PATH", "TeoTruth", "load_truth", "truth_from_doc"]
 
@@ -140,23 +135,8 @@ def _parse(doc: Mapping[str, Any], path: Path) -> TeoTruth:
     )
 
 
-def load_truth(path: str | Path | None = None) -> TeoTruth:
-    """Read the truth parameters of the virtual TEO.
-
-    Args:
-        path: a YAML file with the layout of the shipped one; ``None`` = the shipped truth.
-
-    Raises:
-        InputFileError: if the file cannot be read or a field is missing or invalid.
-    """
-    file = Path(path) if path is not None else DEFAULT_TRUTH_PATH
-    return read_truth_file(file, _parse)
-
-
-def truth_from_doc(doc: Mapping[str, Any], source: str | Path = "<truth document>") -> TeoTruth:
-    """The truth of a document already in memory (the layout of the truth file).
-
-    Raises:
-        InputFileError: naming ``source`` if a field is missing or invalid.
-    """
-    return parse_truth_doc(doc, Path(source), _parse)
+_READER = TruthReader(DEFAULT_TRUTH_PATH, _parse)
+load_truth = _READER.load
+"""Read a truth file of the virtual TEO (:meth:`~zmpkit.sim.truth_file.TruthReader.load`)."""
+truth_from_doc = _READER.from_doc
+"""The truth of a document in memory (:meth:`~zmpkit.sim.truth_file.TruthReader.from_doc`)."""
