@@ -27,7 +27,7 @@ from zmpkit.pipelines.balance import (
 )
 from zmpkit.pipelines.balance_checks import balance_checks
 from zmpkit.pipelines.balance_report import write_balance_outputs
-from zmpkit.pipelines.videos import BALANCE_VIDEO, STEP_TRIAL_AFTER_S
+from zmpkit.pipelines.balance_video import BALANCE_VIDEO, STEP_TRIAL_AFTER_S
 
 CONFIG = BalanceConfig(
     planes=("sagittal",),

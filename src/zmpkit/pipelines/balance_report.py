@@ -27,7 +27,7 @@ from zmpkit.pipelines.balance_document import (
     balance_figures,
     step_trial_videos,
 )
-from zmpkit.pipelines.videos import write_step_trial_video
+from zmpkit.pipelines.balance_video import write_step_trial_video
 
 __all__ = ["BalanceArtifacts", "write_balance_outputs"]
 

@@ -31,6 +31,7 @@ import yaml
 from zmpkit.analysis.report_document import Figure
 from zmpkit.analysis.report_files import write_report
 from zmpkit.analysis.step_plot import Curve, plot_step_responses
+from zmpkit.analysis.walk_video import SIDE_BY_SIDE_FILE, write_walks_side_by_side
 from zmpkit.experiments.walk_config import WalkConfig
 from zmpkit.models import Dlipm, paper_units_omega_n
 from zmpkit.pipelines.balance import BalanceConfig, BalanceResult, run_balance
@@ -44,7 +45,6 @@ from zmpkit.pipelines.demo_document import (
     walk_side_by_side_videos,
 )
 from zmpkit.pipelines.progress import SILENT, Displays
-from zmpkit.pipelines.videos import SIDE_BY_SIDE_FILE, write_walks_side_by_side
 from zmpkit.pipelines.walk import WalkResult, run_walk, write_walk
 from zmpkit.pipelines.walk_compensate import CompensateConfig, CompensateResult, run_walk_compensate
 from zmpkit.pipelines.walk_compensate_report import write_walk_compensate
@@ -67,7 +67,8 @@ class DemoConfig:
     The pendulum is the balance robot's model (paper A §4.1's by default); the balance part
     runs on ``balance_robot``, the walks and the compensation on ``walk_robot``. Every report
     is written as ``report_format`` (``html``, ``md`` or ``both``). ``video`` draws the walks
-    side by side and a balance step trial (:mod:`zmpkit.pipelines.videos`).
+    side by side and a balance step trial (:mod:`zmpkit.analysis.walk_video`,
+    :mod:`zmpkit.pipelines.balance_video`).
     """
 
     mass_kg: float = field(default_factory=lambda: _balance_model().mass_kg)

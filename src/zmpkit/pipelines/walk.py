@@ -5,7 +5,7 @@ writes its folder: :data:`~zmpkit.experiments.walk_dataset.SUMMARY_FILE` (the
 :class:`~zmpkit.experiments.walk_summary.WalkSummary` as JSON),
 :data:`~zmpkit.experiments.walk_dataset.SERIES_FILE` (one row per 10 ms frame) and the figures
 of :mod:`zmpkit.analysis.walk_plots`, and with ``config.video`` the video ``walk.mp4``
-(:mod:`zmpkit.pipelines.videos`). Metrics are taken over the steady walk: from the end of
+(:mod:`zmpkit.analysis.walk_video`). Metrics are taken over the steady walk: from the end of
 the second step to one step before the last one ends (or the fall).
 """
 
@@ -15,12 +15,12 @@ import time
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 
+from zmpkit.analysis.walk_video import WALK_VIDEO_FILE, write_walk_video
 from zmpkit.experiments.walk import run_walk_trial
 from zmpkit.experiments.walk_config import WalkConfig
 from zmpkit.experiments.walk_dataset import SERIES_FILE, SUMMARY_FILE, write_series, write_summary
 from zmpkit.experiments.walk_summary import WalkSummary
 from zmpkit.experiments.walk_trial import ProgressCallback, WalkRecord
-from zmpkit.pipelines.videos import WALK_VIDEO_FILE, write_walk_video
 from zmpkit.pipelines.walk_report import series_joints, write_figures
 from zmpkit.walking.ik import JointTrajectory
 from zmpkit.walking.pattern import WalkingPattern
