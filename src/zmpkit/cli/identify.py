@@ -11,7 +11,7 @@ from zmpkit.cli.progress import GenerationProgress
 from zmpkit.cli.robot_option import robot_option
 from zmpkit.pipelines.identify_balance import run_identify_balance
 from zmpkit.pipelines.identify_sim import IdentifySimConfig, run_identify_sim
-from zmpkit.pipelines.identify_sim_document import write_identify_sim_report
+from zmpkit.pipelines.identify_sim_files import write_identify_sim
 from zmpkit.robots.registry import DEFAULT_FIT_ROBOT
 from zmpkit.robots.robot import Robot
 from zmpkit.simfit.optimizer import MAX_POPSIZE, MAX_RESTARTS, FitInterruptedError
@@ -190,10 +190,11 @@ def identify_sim_command(
     )
     try:
         with GenerationProgress() as progress:
-            result = run_identify_sim(config, out_dir, progress=progress)
+            fit = run_identify_sim(config, out_dir, progress=progress)
     except FitInterruptedError as exc:  # Ctrl-C: every finished generation is checkpointed
         click.echo(f"zmpkit: {exc}", err=True)
         raise click.exceptions.Exit(130) from None
+    result = write_identify_sim(fit, out_dir, report_format)
     intervals = {i.name: i for i in result.intervals}
     for name, value in result.fitted.items():
         interval = intervals.get(name)
@@ -209,7 +210,7 @@ def identify_sim_command(
     if "recovery" in result.files:
         click.echo(f"recovery: {result.files['recovery']}")
     click.echo(f"fitted truth: {Path(out_dir) / 'fitted_truth.yaml'} (best cost {result.cost:.4g})")
-    click.echo(f"report: {write_identify_sim_report(result, out_dir, report_format)}")
+    click.echo(f"report: {result.files['report']}")
 
 
 @identify_group.command("compare")

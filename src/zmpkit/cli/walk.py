@@ -15,7 +15,7 @@ from zmpkit.experiments.walk_config import WalkConfig
 from zmpkit.experiments.walk_disturbances import Push
 from zmpkit.pipelines.walk import run_walk, write_walk
 from zmpkit.pipelines.walk_compensate import CompensateConfig, run_walk_compensate
-from zmpkit.pipelines.walk_compensate_report import write_walk_compensate
+from zmpkit.pipelines.walk_compensate_files import write_walk_compensate
 from zmpkit.pipelines.walk_document import write_walk_report
 from zmpkit.pipelines.walk_sweep import SweepConfig, run_walk_sweep, write_walk_sweep
 from zmpkit.pipelines.walk_sweep_document import write_walk_sweep_report

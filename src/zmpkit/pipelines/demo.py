@@ -36,7 +36,7 @@ from zmpkit.experiments.walk_config import WalkConfig
 from zmpkit.models import Dlipm, paper_units_omega_n
 from zmpkit.pipelines.balance import BalanceConfig, BalanceResult, run_balance
 from zmpkit.pipelines.balance_document import step_trial_videos
-from zmpkit.pipelines.balance_report import BalanceArtifacts, write_balance_outputs
+from zmpkit.pipelines.balance_files import BalanceArtifacts, write_balance
 from zmpkit.pipelines.demo_document import (
     LABELS,
     DemoParts,
@@ -47,9 +47,9 @@ from zmpkit.pipelines.demo_document import (
 from zmpkit.pipelines.progress import SILENT, Displays
 from zmpkit.pipelines.walk import WalkResult, run_walk, write_walk
 from zmpkit.pipelines.walk_compensate import CompensateConfig, CompensateResult, run_walk_compensate
-from zmpkit.pipelines.walk_compensate_report import write_walk_compensate
+from zmpkit.pipelines.walk_compensate_files import write_walk_compensate
 from zmpkit.pipelines.walk_document import write_walk_report
-from zmpkit.pipelines.walk_report import COMPARISON_FILE, write_effects_comparison
+from zmpkit.pipelines.walk_figures import COMPARISON_FILE, write_effects_comparison
 from zmpkit.robots.registry import DEFAULT_BALANCE_ROBOT, DEFAULT_WALK_ROBOT, get_robot
 from zmpkit.robots.robot import BalanceModel, Robot
 from zmpkit.signals.step_metrics import StepMetrics, step_metrics
@@ -250,7 +250,7 @@ def _run_balance(
     with displays.sweeps() as progress:
         balance = BalanceConfig.quick(robot=config.balance_robot, video=config.video)
         result = run_balance(balance, out / "balance", progress=progress, echo=echo)
-    artifacts = write_balance_outputs(result, out / "balance", config.report_format)
+    artifacts = write_balance(result, out / "balance", config.report_format)
     return artifacts, result
 
 

@@ -29,11 +29,11 @@ from zmpkit.analysis.report_document import (
 from zmpkit.models import Dlipm
 from zmpkit.pipelines.balance_checks import balance_checks
 from zmpkit.pipelines.balance_document import balance_figures
-from zmpkit.pipelines.balance_report import BalanceArtifacts
+from zmpkit.pipelines.balance_files import BalanceArtifacts
 from zmpkit.pipelines.balance_sections import table1_table
 from zmpkit.pipelines.walk import WalkResult
 from zmpkit.pipelines.walk_compensate import CompensateResult
-from zmpkit.pipelines.walk_compensate_report import compensation_checks, compensation_sections
+from zmpkit.pipelines.walk_compensate_document import compensation_checks, compensation_sections
 from zmpkit.pipelines.walk_document import effects_name, walk_checks, walk_metrics_table
 from zmpkit.signals.step_metrics import StepMetrics
 

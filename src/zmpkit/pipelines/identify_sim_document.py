@@ -11,7 +11,6 @@ counts — on held-out ones; and that the data pin each fitted parameter down. W
 from __future__ import annotations
 
 import math
-from pathlib import Path
 
 from zmpkit.analysis.provenance import capture
 from zmpkit.analysis.report_document import (
@@ -22,12 +21,11 @@ from zmpkit.analysis.report_document import (
     Table,
     Text,
 )
-from zmpkit.analysis.report_files import write_report
 from zmpkit.pipelines.identify_sim import IdentifySimResult
 from zmpkit.simfit.noise_intervals import NoiseInterval
 from zmpkit.simfit.validation import AMPLITUDE_TOLERANCE, FREQUENCY_TOLERANCE_HZ, ReproductionCheck
 
-__all__ = ["identify_sim_document", "write_identify_sim_report"]
+__all__ = ["identify_sim_document"]
 
 
 def _reproduction(check: ReproductionCheck, role: str) -> Check:
@@ -191,10 +189,3 @@ def _caption(role: str) -> str:
         f"Experiment `{name}`: recorded and simulated signals with the fitted parameters "
         "(trunk tilt [rad], joint angles [rad])."
     )
-
-
-def write_identify_sim_report(
-    result: IdentifySimResult, out_dir: str | Path, fmt: str = "html"
-) -> Path:
-    """Write the fit's report into ``out_dir`` and return its path."""
-    return write_report(identify_sim_document(result), out_dir, fmt)

@@ -21,7 +21,7 @@ from zmpkit.experiments.walk_config import WalkConfig
 from zmpkit.experiments.walk_dataset import SERIES_FILE, SUMMARY_FILE, write_series, write_summary
 from zmpkit.experiments.walk_summary import WalkSummary
 from zmpkit.experiments.walk_trial import ProgressCallback, WalkRecord
-from zmpkit.pipelines.walk_report import series_joints, write_figures
+from zmpkit.pipelines.walk_figures import series_joints, write_figures
 from zmpkit.walking.ik import JointTrajectory
 from zmpkit.walking.pattern import WalkingPattern
 

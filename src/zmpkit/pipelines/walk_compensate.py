@@ -77,7 +77,7 @@ class CompensateResult:
         compensated: method or shape -> its validation walks.
         tuning: shape -> tuning result (offset methods only).
         files: every file written, by role (empty until
-            :func:`~zmpkit.pipelines.walk_compensate_report.write_walk_compensate`).
+            :func:`~zmpkit.pipelines.walk_compensate_files.write_walk_compensate`).
         started_s: when the run started [s since the epoch].
     """
 
@@ -139,7 +139,7 @@ def run_walk_compensate(
 
     Tuning walks are cached under ``out_dir/cache`` (or ``config.cache_dir``) as they finish,
     so a rerun resumes; the results are written by
-    :func:`~zmpkit.pipelines.walk_compensate_report.write_walk_compensate`.
+    :func:`~zmpkit.pipelines.walk_compensate_files.write_walk_compensate`.
 
     Args:
         config: the run.

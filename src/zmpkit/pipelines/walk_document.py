@@ -29,7 +29,7 @@ from zmpkit.analysis.report_files import write_report
 from zmpkit.experiments.walk_config import WalkConfig
 from zmpkit.experiments.walk_summary import HEADING_TOLERANCE_RAD, WalkSummary
 from zmpkit.pipelines.walk import WalkResult
-from zmpkit.pipelines.walk_report import JOINT_PLOT_STEPS
+from zmpkit.pipelines.walk_figures import JOINT_PLOT_STEPS
 
 __all__ = [
     "EFFECT_NAMES",
