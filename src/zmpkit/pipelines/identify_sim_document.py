@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import math
 
-from zmpkit.analysis.provenance import capture
+from zmpkit.analysis.provenance import capture_run
 from zmpkit.analysis.report_document import (
     Check,
     Figure,
@@ -142,13 +142,10 @@ def identify_sim_document(result: IdentifySimResult) -> ReportDocument:
                 ),
             ),
         ),
-        provenance=capture(
-            robot=c.robot,
-            started_s=result.started_s,
-            truth=c.truth,
-            effects=c.effects,
-            seed=c.seed,
-            extra=(("backend", c.backend), ("generations", str(len(result.cma.history)))),
+        provenance=capture_run(
+            c,
+            result.started_s,
+            (("backend", c.backend), ("generations", str(len(result.cma.history)))),
         ),
     )
 

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from zmpkit.analysis.provenance import capture
+from zmpkit.analysis.provenance import capture_run
 from zmpkit.analysis.report_document import Check, Figure, ReportDocument, Section, Table, Text
 from zmpkit.analysis.report_files import write_report
 from zmpkit.experiments import StepExperimentConfig
@@ -92,13 +92,7 @@ def sim_push_document(result: SimPushResult, config: StepExperimentConfig) -> Re
                 ),
             ),
         ),
-        provenance=capture(
-            robot=config.robot,
-            started_s=result.started_s,
-            truth=config.truth,
-            effects=config.effects,
-            seed=config.seed,
-        ),
+        provenance=capture_run(config, result.started_s),
     )
 
 

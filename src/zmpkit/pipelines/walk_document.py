@@ -13,7 +13,7 @@ from collections.abc import Mapping
 from pathlib import Path
 
 from zmpkit.analysis.labels import EFFECT_NAMES, effects_name
-from zmpkit.analysis.provenance import capture
+from zmpkit.analysis.provenance import capture_run
 from zmpkit.analysis.report_document import (
     Block,
     Check,
@@ -274,14 +274,7 @@ def walk_document(result: WalkResult) -> ReportDocument:
         summary=summary,
         checks=walk_checks(s),
         sections=(Section("The walk", (*body, data)),),
-        provenance=capture(
-            robot=c.robot,
-            started_s=result.started_s,
-            truth=c.truth,
-            effects=c.effects,
-            seed=c.seed,
-            extra=(("controller", c.controller),),
-        ),
+        provenance=capture_run(c, result.started_s, (("controller", c.controller),)),
     )
 
 
