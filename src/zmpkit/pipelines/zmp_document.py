@@ -31,25 +31,7 @@ def zmp_document(
     s = result.series
     n = len(s.time)
     defined = int(np.count_nonzero(s.defined))
-    both = int(np.count_nonzero(s.contact_right & s.contact_left))
-    right = int(np.count_nonzero(s.contact_right & ~s.contact_left))
-    left = int(np.count_nonzero(s.contact_left & ~s.contact_right))
-    duration = float(s.time[-1] - s.time[0]) if n > 1 else 0.0
-    rows = [
-        ("samples", f"{n}"),
-        ("duration [s]", f"{duration:.3f}"),
-        ("ZMP defined (a foot in contact)", f"{defined} ({_pct(defined, n)})"),
-        ("double support", f"{both} ({_pct(both, n)})"),
-        ("right foot only", f"{right} ({_pct(right, n)})"),
-        ("left foot only", f"{left} ({_pct(left, n)})"),
-        ("no foot in contact (ZMP undefined)", f"{n - defined} ({_pct(n - defined, n)})"),
-    ]
-    if defined:
-        zmp = s.zmp[s.defined]
-        rows += [
-            ("ZMP x range in world [m]", f"{zmp[:, 0].min():.4f} … {zmp[:, 0].max():.4f}"),
-            ("ZMP y range in world [m]", f"{zmp[:, 1].min():.4f} … {zmp[:, 1].max():.4f}"),
-        ]
+    rows = _log_rows(result)
     checks = (
         Check(
             "ZMP defined (no bar)",
@@ -89,6 +71,33 @@ def zmp_document(
             extra=(("log", str(log_path)), ("log SHA-256", file_sha256(log_path) or "–")),
         ),
     )
+
+
+def _log_rows(result: ZmpRunResult) -> list[tuple[str, str]]:
+    """Samples, duration [s], contact phases and, where defined, the ZMP's range [m]."""
+    s = result.series
+    n = len(s.time)
+    defined = int(np.count_nonzero(s.defined))
+    both = int(np.count_nonzero(s.contact_right & s.contact_left))
+    right = int(np.count_nonzero(s.contact_right & ~s.contact_left))
+    left = int(np.count_nonzero(s.contact_left & ~s.contact_right))
+    duration = float(s.time[-1] - s.time[0]) if n > 1 else 0.0
+    rows = [
+        ("samples", f"{n}"),
+        ("duration [s]", f"{duration:.3f}"),
+        ("ZMP defined (a foot in contact)", f"{defined} ({_pct(defined, n)})"),
+        ("double support", f"{both} ({_pct(both, n)})"),
+        ("right foot only", f"{right} ({_pct(right, n)})"),
+        ("left foot only", f"{left} ({_pct(left, n)})"),
+        ("no foot in contact (ZMP undefined)", f"{n - defined} ({_pct(n - defined, n)})"),
+    ]
+    if defined:
+        zmp = s.zmp[s.defined]
+        rows += [
+            ("ZMP x range in world [m]", f"{zmp[:, 0].min():.4f} … {zmp[:, 0].max():.4f}"),
+            ("ZMP y range in world [m]", f"{zmp[:, 1].min():.4f} … {zmp[:, 1].max():.4f}"),
+        ]
+    return rows
 
 
 def _pct(part: int, whole: int) -> str:
