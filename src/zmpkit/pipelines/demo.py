@@ -22,7 +22,7 @@ import csv
 import math
 import time
 from collections.abc import Callable
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
@@ -45,11 +45,11 @@ from zmpkit.pipelines.demo_document import (
     walk_side_by_side_videos,
 )
 from zmpkit.pipelines.progress import SILENT, Displays
-from zmpkit.pipelines.walk import WalkResult, run_walk, write_walk
+from zmpkit.pipelines.walk import WalkResult, run_walk
 from zmpkit.pipelines.walk_compensate import CompensateConfig, CompensateResult, run_walk_compensate
 from zmpkit.pipelines.walk_compensate_files import write_walk_compensate
-from zmpkit.pipelines.walk_document import write_walk_report
 from zmpkit.pipelines.walk_figures import COMPARISON_FILE, write_effects_comparison
+from zmpkit.pipelines.walk_files import write_walk
 from zmpkit.robots.registry import DEFAULT_BALANCE_ROBOT, DEFAULT_WALK_ROBOT, get_robot
 from zmpkit.robots.robot import BalanceModel, Robot
 from zmpkit.signals.step_metrics import StepMetrics, step_metrics
@@ -211,9 +211,10 @@ def _run_walks(
         echo(f"virtual {title}: zmpkit walk --effects {effects} (10 s at 0.2 m/s)")
         with displays.simulation(f"walk, effects {effects}") as progress:
             walk = WalkConfig(robot=config.walk_robot, effects=effects)
-            result = write_walk(run_walk(walk, progress), out / f"walk_{effects}")
-        report = write_walk_report(result, out / f"walk_{effects}", config.report_format)
-        walks[effects] = replace(result, files={**result.files, "report": report})
+            result = write_walk(
+                run_walk(walk, progress), out / f"walk_{effects}", config.report_format
+            )
+        walks[effects] = result
         records.append((result.config, result.record))
     clock.lap("walks")
     if not config.video:

@@ -25,7 +25,6 @@ from zmpkit.analysis.report_document import (
     Text,
     Video,
 )
-from zmpkit.analysis.report_files import write_report
 from zmpkit.experiments.walk_config import WalkConfig
 from zmpkit.experiments.walk_summary import HEADING_TOLERANCE_RAD, WalkSummary
 from zmpkit.pipelines.walk import WalkResult
@@ -39,7 +38,6 @@ __all__ = [
     "walk_document",
     "walk_figures",
     "walk_metrics_table",
-    "write_walk_report",
 ]
 
 
@@ -285,8 +283,3 @@ def walk_document(result: WalkResult) -> ReportDocument:
         sections=(Section("The walk", (*body, data)),),
         provenance=capture_run(c, result.started_s, (("controller", c.controller),)),
     )
-
-
-def write_walk_report(result: WalkResult, out_dir: str | Path, fmt: str = "html") -> Path:
-    """Write the walk's report (``report.html`` and/or ``report.md``) into ``out_dir``."""
-    return write_report(walk_document(result), out_dir, fmt)

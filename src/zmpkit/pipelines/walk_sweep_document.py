@@ -9,16 +9,14 @@ pushes by force, sensor faults).
 from __future__ import annotations
 
 from collections.abc import Sequence
-from pathlib import Path
 
 from zmpkit.analysis.provenance import capture
 from zmpkit.analysis.report_document import Check, Figure, ReportDocument, Section, Table, Text
-from zmpkit.analysis.report_files import write_report
 from zmpkit.analysis.robustness_plot import case_label
 from zmpkit.experiments.robustness import ROBUSTNESS_COLUMNS
 from zmpkit.pipelines.walk_sweep import SweepResult
 
-__all__ = ["case_kind", "walk_sweep_document", "write_walk_sweep_report"]
+__all__ = ["case_kind", "walk_sweep_document"]
 
 _CLOSED_LOOP = ("zmpip", "dcm")
 
@@ -160,8 +158,3 @@ def _summary(result: SweepResult) -> str:
 def _count(rows: list[dict[str, str]], controller: str, kind: str) -> str:
     mine = [r for r in rows if r["controller"] == controller and case_kind(r) == kind]
     return f"{sum(r['fell'] == 'true' for r in mine)} / {len(mine)}"
-
-
-def write_walk_sweep_report(result: SweepResult, out_dir: str | Path, fmt: str = "html") -> Path:
-    """Write the sweep's report into ``out_dir`` and return its path."""
-    return write_report(walk_sweep_document(result), out_dir, fmt)
