@@ -7,23 +7,21 @@ overshoot are stated per target (paper A Fig. 14).
 
 from __future__ import annotations
 
-from pathlib import Path
-
 from zmpkit.analysis.provenance import capture_run
 from zmpkit.analysis.report_document import Check, Figure, ReportDocument, Section, Table, Text
-from zmpkit.analysis.report_files import write_report
-from zmpkit.experiments import StepExperimentConfig, TrialResponse
+from zmpkit.experiments import TrialResponse
 from zmpkit.pipelines.sim_push import SimPushResult
 
-__all__ = ["sim_push_document", "write_sim_push_report"]
+__all__ = ["sim_push_document"]
 
 
 def _cell(value: float | None, spec: str) -> str:
     return "–" if value is None else f"{value:{spec}}"
 
 
-def sim_push_document(result: SimPushResult, config: StepExperimentConfig) -> ReportDocument:
+def sim_push_document(result: SimPushResult) -> ReportDocument:
     """The step sweep's report: one check per trial (settled or not), a table, the figure."""
+    config = result.config
     title = config.robot.title
     push = (
         f" A push of {config.push.force_n:g} N for {config.push.duration_s:g} s follows the step."
@@ -31,7 +29,7 @@ def sim_push_document(result: SimPushResult, config: StepExperimentConfig) -> Re
         else ""
     )
     figure = Figure(
-        result.figure_path,
+        result.files["figure"],
         f"Measured force–torque ZMP [m] (solid) and the LIPM's expected ZMP l·sin θ [m] (dashed) "
         f"over time since the step [s], one colour per target ({config.plane}; paper A Fig. 14).",
     )
@@ -97,10 +95,3 @@ def _steady_state_table(result: SimPushResult) -> Table:
         "– : undefined (target 0, where a relative error has no meaning, or a trial that did "
         "not settle).",
     )
-
-
-def write_sim_push_report(
-    result: SimPushResult, config: StepExperimentConfig, out_dir: str | Path, fmt: str = "html"
-) -> Path:
-    """Write the sweep's report (``report.html`` and/or ``report.md``) into ``out_dir``."""
-    return write_report(sim_push_document(result, config), out_dir, fmt)
