@@ -10,6 +10,7 @@ from zmpkit.cli.options import SEED, WORKERS, Bounded, BoundedInt, report_option
 from zmpkit.cli.progress import GenerationProgress
 from zmpkit.cli.robot_option import robot_option
 from zmpkit.pipelines.identify_balance import run_identify_balance
+from zmpkit.pipelines.identify_balance_files import write_identify_balance
 from zmpkit.pipelines.identify_sim import IdentifySimConfig, run_identify_sim
 from zmpkit.pipelines.identify_sim_files import write_identify_sim
 from zmpkit.robots.registry import DEFAULT_FIT_ROBOT
@@ -71,12 +72,12 @@ def identify_balance_command(
     DATASET is a step dataset folder (zmpkit sim push) or a step manifest .yaml listing a
     robot's logs (CSV, Parquet, ROS 2 bag, YARP dump) with each step's target and time.
     """
-    result = run_identify_balance(
-        dataset, out_dir, mass_kg=mass, length_m=length, report_format=report_format, robot=robot
-    )
+    identified = run_identify_balance(dataset, mass_kg=mass, length_m=length, robot=robot)
+    result = write_identify_balance(identified, out_dir, report_format)
     plane = next(iter(result.identification.planes.values()))
     click.echo(f"{plane.error_fit.model.equation}: {dict(plane.error_fit.model.as_dict())}")
-    click.echo(f"wrote {result.params_path}, {result.figure_path} and {result.summary_path}")
+    files = result.files
+    click.echo(f"wrote {files['params']}, {files['figure']} and {files['report']}")
 
 
 @identify_group.command("sim")
