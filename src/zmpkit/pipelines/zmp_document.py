@@ -7,27 +7,19 @@ contact, and the ZMP's range, so a wrong mount or unit shows at a glance.
 
 from __future__ import annotations
 
-import time
-from pathlib import Path
-
 import numpy as np
 
 from zmpkit.analysis.provenance import capture_described, file_sha256
 from zmpkit.analysis.report_document import Check, Figure, ReportDocument, Section, Table, Text
-from zmpkit.analysis.report_files import write_report
 from zmpkit.pipelines.zmp_log import ZmpRunResult
 
-__all__ = ["write_zmp_report", "zmp_document"]
+__all__ = ["zmp_document"]
 
 
-def zmp_document(
-    result: ZmpRunResult,
-    log_path: Path,
-    feet_source: str,
-    contact_threshold_n: float,
-    started_s: float,
-) -> ReportDocument:
+def zmp_document(result: ZmpRunResult) -> ReportDocument:
     """The ZMP log's report."""
+    log_path, feet_source = result.log_path, result.feet_source
+    contact_threshold_n = result.contact_threshold_n
     s = result.series
     n = len(s.time)
     defined = int(np.count_nonzero(s.defined))
@@ -56,7 +48,7 @@ def zmp_document(
                 (
                     Table(("quantity", "value"), tuple(rows), "What the log holds."),
                     Figure(
-                        result.figure_path,
+                        result.files["figure"],
                         "Measured ZMP in the world frame [m], x and y, over time [s] (gaps: "
                         "undefined), and the vertical force of each foot [N] with the contact "
                         "threshold.",
@@ -67,7 +59,7 @@ def zmp_document(
         ),
         provenance=capture_described(
             robot=feet_source,
-            started_s=started_s,
+            started_s=result.started_s,
             extra=(("log", str(log_path)), ("log SHA-256", file_sha256(log_path) or "–")),
         ),
     )
@@ -102,18 +94,3 @@ def _log_rows(result: ZmpRunResult) -> list[tuple[str, str]]:
 
 def _pct(part: int, whole: int) -> str:
     return f"{100.0 * part / whole:.1f} %" if whole else "–"
-
-
-def write_zmp_report(
-    result: ZmpRunResult,
-    out_dir: str | Path,
-    *,
-    log_path: Path,
-    feet_source: str,
-    contact_threshold_n: float,
-    started_s: float | None = None,
-    fmt: str = "html",
-) -> Path:
-    """Write the ZMP log's report into ``out_dir`` and return its path."""
-    doc = zmp_document(result, log_path, feet_source, contact_threshold_n, started_s or time.time())
-    return write_report(doc, out_dir, fmt)
