@@ -79,13 +79,7 @@ def run_zmp_log(
     written, so a run that fails on its inputs leaves nothing behind.
     """
     started_s = time.time()
-    if (feet is None) == (feet_path is None):
-        raise ValueError("give exactly one of feet and feet_path")
-    if feet is not None:
-        mounts: Mapping[str, SensorMount] = feet
-    else:
-        assert feet_path is not None  # exactly one of the two is given
-        mounts = read_feet_yaml(feet_path)
+    mounts = _mounts(feet, feet_path)
     log = read_ft_source(
         log_path,
         right_topic=right_topic,
@@ -104,3 +98,15 @@ def run_zmp_log(
         contact_threshold_n=contact_threshold_n,
         started_s=started_s,
     )
+
+
+def _mounts(
+    feet: Mapping[str, SensorMount] | None, feet_path: str | Path | None
+) -> Mapping[str, SensorMount]:
+    """The sensor mounts per foot: ``feet``, or read from ``feet_path`` (exactly one given)."""
+    if (feet is None) == (feet_path is None):
+        raise ValueError("give exactly one of feet and feet_path")
+    if feet is not None:
+        return feet
+    assert feet_path is not None  # exactly one of the two is given
+    return read_feet_yaml(feet_path)
