@@ -22,7 +22,7 @@ import csv
 import math
 import time
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -37,6 +37,7 @@ from zmpkit.models import Dlipm, paper_units_omega_n
 from zmpkit.pipelines.balance import BalanceConfig, BalanceResult, run_balance
 from zmpkit.pipelines.balance_document import step_trial_videos
 from zmpkit.pipelines.balance_files import BalanceArtifacts, write_balance
+from zmpkit.pipelines.demo_config import DEMO_STEP_M, DemoConfig
 from zmpkit.pipelines.demo_document import (
     LABELS,
     DemoParts,
@@ -50,45 +51,10 @@ from zmpkit.pipelines.walk_compensate import CompensateConfig, CompensateResult,
 from zmpkit.pipelines.walk_compensate_files import write_walk_compensate
 from zmpkit.pipelines.walk_figures import COMPARISON_FILE, write_effects_comparison
 from zmpkit.pipelines.walk_files import write_walk
-from zmpkit.robots.registry import DEFAULT_BALANCE_ROBOT, DEFAULT_WALK_ROBOT, get_robot
-from zmpkit.robots.robot import BalanceModel, Robot
+from zmpkit.robots.registry import get_robot
 from zmpkit.signals.step_metrics import StepMetrics, step_metrics
 
 __all__ = ["DEMO_STEP_M", "DemoConfig", "DemoResult", "run_demo"]
-
-DEMO_STEP_M = 0.09  # the 9 cm ZMP disturbance of paper A, Fig. 18 [m]
-PAPER_ZETA = 0.8
-
-
-@dataclass(frozen=True)
-class DemoConfig:
-    """Demo settings: pendulum of mass [kg] and length [m], ZMP step [m], duration [s].
-
-    The pendulum is the balance robot's model (paper A §4.1's by default); the balance part
-    runs on ``balance_robot``, the walks and the compensation on ``walk_robot``. Every report
-    is written as ``report_format`` (``html``, ``md`` or ``both``). ``video`` draws the walks
-    side by side and a balance step trial (:mod:`zmpkit.analysis.walk_video`,
-    :mod:`zmpkit.pipelines.balance_video`).
-    """
-
-    mass_kg: float = field(default_factory=lambda: _balance_model().mass_kg)
-    length_m: float = field(default_factory=lambda: _balance_model().com_height_m)
-    zmp_step_m: float = DEMO_STEP_M
-    zeta: float = PAPER_ZETA
-    duration_s: float = 20.0
-    dt_s: float = 0.002
-    balance: bool = True
-    walking: bool = True
-    compensation: bool = True
-    balance_robot: Robot = field(default_factory=lambda: get_robot(DEFAULT_BALANCE_ROBOT))
-    walk_robot: Robot = field(default_factory=lambda: get_robot(DEFAULT_WALK_ROBOT))
-    report_format: str = "html"
-    video: bool = True
-
-    def __post_init__(self) -> None:
-        # a registry name or robot.yaml path, from Python, is resolved once, here
-        object.__setattr__(self, "balance_robot", get_robot(self.balance_robot))
-        object.__setattr__(self, "walk_robot", get_robot(self.walk_robot))
 
 
 @dataclass(frozen=True)
@@ -159,7 +125,7 @@ def run_demo(
         started_s=started_s,
         part_times_s=clock.times_s,
     )
-    report = write_report(demo_document(out, config, parts), out, config.report_format)
+    report = write_report(demo_document(config, parts), out, config.report_format)
     echo("time by part: " + ", ".join(f"{k} {v:.0f} s" for k, v in clock.times_s.items() if v))
     return DemoResult(out, report, figures, metrics, walk_videos + balance_videos)
 
@@ -176,10 +142,6 @@ class _PartClock:
         now_s = time.perf_counter()
         self.times_s[part] = self.times_s.get(part, 0.0) + now_s - self._last_s
         self._last_s = now_s
-
-
-def _balance_model() -> BalanceModel:
-    return get_robot(DEFAULT_BALANCE_ROBOT, needs="balance").require_balance()
 
 
 def _run_compensation(

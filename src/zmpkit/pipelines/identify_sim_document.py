@@ -13,15 +13,7 @@ from __future__ import annotations
 import math
 
 from zmpkit.analysis.provenance import capture_run
-from zmpkit.analysis.report_document import (
-    Block,
-    Check,
-    Figure,
-    ReportDocument,
-    Section,
-    Table,
-    Text,
-)
+from zmpkit.analysis.report_document import Check, Figure, ReportDocument, Section, Table, Text
 from zmpkit.pipelines.identify_sim import IdentifySimResult
 from zmpkit.simfit.noise_intervals import NoiseInterval
 from zmpkit.simfit.validation import AMPLITUDE_TOLERANCE, FREQUENCY_TOLERANCE_HZ, ReproductionCheck
@@ -45,7 +37,7 @@ def _reproduction(check: ReproductionCheck, role: str) -> Check:
 def identify_sim_document(result: IdentifySimResult) -> ReportDocument:
     """The fit's report: reproduction per experiment, parameters, identifiability, figures."""
     c = result.config
-    blocks: list[Block] = [_parameters_table(result)]
+    blocks: list[Table] = [_parameters_table(result)]
     if result.sloppy_directions:
         blocks.append(_sloppy_table(result))
     if result.recovery:
