@@ -14,15 +14,13 @@ import pytest
 from helpers.browser import check_page, chromium, screenshot
 from helpers.golden_demo import GOLDEN_DIR, UPDATE_ENV, compare_with_golden, write_golden
 from zmpkit.cli import main
-from zmpkit.pipelines.demo import DemoConfig, run_demo
+from zmpkit.pipelines.demo import DemoConfig, run_demo, write_demo
 
 
 def test_demo_writes_report_and_matches_second_order_theory(tmp_path: Path) -> None:
-    result = run_demo(
-        tmp_path,
-        DemoConfig(duration_s=30.0, balance=False, walking=False, compensation=False),
-        echo=lambda _: None,
-    )
+    config = DemoConfig(duration_s=30.0, balance=False, walking=False, compensation=False)
+    result = write_demo(run_demo(config, tmp_path, echo=lambda _: None), tmp_path, lambda _: None)
+    assert result.report_path is not None
     html = result.report_path.read_text()
     assert result.report_path.name == "report.html"
     assert "<h1>zmpkit demo: the LIPM and the robot that really moves</h1>" in html

@@ -14,6 +14,10 @@
 
 With ``video`` (the default) it also draws the rigid and the all-effects walk side by side
 (``walk_side_by_side.mp4``) and one balance step trial (``balance/step_trial.mp4``).
+
+:func:`run_demo` runs the parts, each written into its folder as it finishes (each part's
+own ``run_x`` and ``write_x``); :func:`write_demo` writes the model's files, the walk
+comparison and the demo's report.
 """
 
 from __future__ import annotations
@@ -22,11 +26,12 @@ import csv
 import math
 import time
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
 import yaml
+from numpy.typing import NDArray
 
 from zmpkit.analysis.report_document import Figure
 from zmpkit.analysis.report_files import write_report
@@ -54,30 +59,63 @@ from zmpkit.pipelines.walk_files import write_walk
 from zmpkit.robots.registry import get_robot
 from zmpkit.signals.step_metrics import StepMetrics, step_metrics
 
-__all__ = ["DEMO_STEP_M", "DemoConfig", "DemoResult", "run_demo"]
+__all__ = ["DEMO_STEP_M", "DemoConfig", "DemoResult", "run_demo", "write_demo"]
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class DemoResult:
-    """Paths of what the demo wrote, and the metrics it measured per model.
+    """What the demo ran: the models' step responses and each part's result.
 
-    ``videos`` are the MP4s (or the GIFs or keyframes written instead).
+    Attributes:
+        config: what was asked.
+        out_dir: the folder the parts were written into as each finished.
+        time_s: the step responses' sample times [s], shape (N,).
+        theta_rad: each model's ankle angle after the ZMP step [rad], shape (N,).
+        models: the pendulum models by key of :data:`~zmpkit.pipelines.demo_sections.LABELS`.
+        metrics: step-response metrics of each stable model.
+        balance: the balance part's written artefacts and result, or None.
+        walks: the walks by effect set (``none``, ``all``), each written; empty without walking.
+        walk_videos: the walks side by side (MP4, or the GIF or keyframes written instead).
+        compensation: the compensation part, written, or None.
+        started_s: when the demo started [s since the epoch].
+        part_times_s: wall time of each part, in the order they ran [s].
+        report_path: the report (None until :func:`write_demo`).
+        figures: the model figures, Fig. 17 and 18 (empty until :func:`write_demo`).
     """
 
+    config: DemoConfig
     out_dir: Path
-    report_path: Path
-    figures: tuple[Path, ...]
+    time_s: NDArray[np.float64]
+    theta_rad: dict[str, NDArray[np.float64]]
+    models: dict[str, Dlipm]
     metrics: dict[str, StepMetrics]
-    videos: tuple[Path, ...] = ()
+    balance: tuple[BalanceArtifacts, BalanceResult] | None
+    walks: dict[str, WalkResult]
+    walk_videos: tuple[Path, ...]
+    compensation: CompensateResult | None
+    started_s: float
+    part_times_s: dict[str, float]
+    report_path: Path | None = None
+    figures: tuple[Path, ...] = ()
+
+    @property
+    def videos(self) -> tuple[Path, ...]:
+        """Every video written: the walks side by side, then the balance step trial."""
+        return self.walk_videos + (self.balance[0].videos if self.balance is not None else ())
 
 
 def run_demo(
-    out_dir: str | Path,
     config: DemoConfig | None = None,
+    out_dir: str | Path = "out/demo",
     echo: Callable[[str], None] = print,
     displays: Displays = SILENT,
 ) -> DemoResult:
-    """Run the demo and write its artefacts into ``out_dir`` (created if missing)."""
+    """Run every part of the demo; each part's folder is written into ``out_dir`` as it ends.
+
+    The balance, walk and compensation parts take minutes: each writes its own folder
+    (``balance/``, ``walk_none/``, ``walk_all/``, ``compensate/``, the walk video) when it
+    finishes; :func:`write_demo` then writes the demo's own files and its report.
+    """
     started_s = time.time()
     config = config or DemoConfig()
     out = Path(out_dir)
@@ -98,43 +136,65 @@ def run_demo(
     }
     echo(f"DLIPM step responses for a {config.zmp_step_m:g} m ZMP step")
     clock = _PartClock()
-    figures = _figures(out, t, theta, lipm_static, config)
-    _write_metrics_csv(out / "step_metrics.csv", models, metrics)
-    _write_params_yaml(out / "dlipm.yaml", models)
-    clock.lap("models")
+    clock.lap("models")  # its figures and files are drawn and written by write_demo
     balance = _run_balance(config, out, echo, displays) if config.balance else None
     clock.lap("balance")
     walks, walk_videos = (
         _run_walks(config, out, echo, displays, clock) if config.walking else ({}, ())
     )
-    comparison = _walk_comparison(walks, out)
-    clock.lap("walk figures")
+    clock.lap("walk figures")  # the comparison is drawn by write_demo
     compensation = _run_compensation(config, out, echo, displays) if config.compensation else None
     clock.lap("compensation")
-    balance_videos = balance[0].videos if balance is not None else ()
+    return DemoResult(
+        config, out, t, theta, models, metrics, balance, walks, walk_videos, compensation,
+        started_s, clock.times_s,
+    )  # fmt: skip
+
+
+def write_demo(
+    result: DemoResult, out_dir: str | Path, echo: Callable[[str], None] = print
+) -> DemoResult:
+    """Write the model's figures and files, the walk comparison and the demo's report.
+
+    ``out_dir`` is the folder :func:`run_demo` wrote the parts into; it receives
+    ``fig17_lipm_vs_dlipm.png``, ``fig18_dlipm_zeta08.png``, ``step_metrics.csv``,
+    ``dlipm.yaml``, the walk comparison and the report. Their wall time is charged to the
+    parts they belong to (models, walk figures).
+    """
+    config, out = result.config, Path(out_dir)
+    times_s = dict(result.part_times_s)
+    clock = _PartClock(times_s)
+    lipm_static = math.asin(config.zmp_step_m / config.length_m)
+    figures = _figures(out, result.time_s, result.theta_rad, lipm_static, config)
+    _write_metrics_csv(out / "step_metrics.csv", result.models, result.metrics)
+    _write_params_yaml(out / "dlipm.yaml", result.models)
+    clock.lap("models")
+    comparison = _walk_comparison(result.walks, out)
+    clock.lap("walk figures")
+    balance = result.balance
     parts = DemoParts(
-        models,
-        metrics,
+        result.models,
+        result.metrics,
         figures,
         balance,
-        walks,
-        compensation,
-        videos=walk_side_by_side_videos(walk_videos),
-        balance_videos=step_trial_videos(balance[1], balance_videos) if balance else (),
+        result.walks,
+        result.compensation,
+        videos=walk_side_by_side_videos(result.walk_videos),
+        balance_videos=step_trial_videos(balance[1], balance[0].videos) if balance else (),
         extra_figures=comparison,
-        started_s=started_s,
-        part_times_s=clock.times_s,
+        started_s=result.started_s,
+        part_times_s=times_s,
     )
     report = write_report(demo_document(config, parts), out, config.report_format)
-    echo("time by part: " + ", ".join(f"{k} {v:.0f} s" for k, v in clock.times_s.items() if v))
-    return DemoResult(out, report, figures, metrics, walk_videos + balance_videos)
+    echo("time by part: " + ", ".join(f"{k} {v:.0f} s" for k, v in times_s.items() if v))
+    return replace(result, report_path=report, figures=figures, part_times_s=times_s)
 
 
 class _PartClock:
     """Wall time of each part of the demo [s], in the order they ran."""
 
-    def __init__(self) -> None:
-        self.times_s: dict[str, float] = {}
+    def __init__(self, times_s: dict[str, float] | None = None) -> None:
+        self.times_s: dict[str, float] = {} if times_s is None else times_s
         self._last_s = time.perf_counter()
 
     def lap(self, part: str) -> None:
