@@ -64,7 +64,7 @@ def run_zmp_log(
             or YARP dumps.
         feet: sensor mounts per foot; or give ``feet_path`` (FEET.yaml) instead.
         feet_path: FEET.yaml with both feet's sensor poses.
-        feet_source: where ``feet`` came from, as the report states it (e.g. ``robot teo``);
+        feet_source: where ``feet`` came from, as the report states it (a robot, a file);
             None: ``feet_path``.
         columns_path: optional column-map YAML ``{canonical: header}`` (CSV, Parquet).
         contact_threshold_n: minimum world F_z for a foot to count as in contact [N], in
