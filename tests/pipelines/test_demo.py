@@ -14,7 +14,8 @@ import pytest
 from helpers.browser import check_page, chromium, screenshot
 from helpers.golden_demo import GOLDEN_DIR, UPDATE_ENV, compare_with_golden, write_golden
 from zmpkit.cli import main
-from zmpkit.pipelines.demo import DemoConfig, run_demo, write_demo
+from zmpkit.pipelines.demo import DemoConfig, run_demo
+from zmpkit.pipelines.demo_files import write_demo
 
 
 def test_demo_writes_report_and_matches_second_order_theory(tmp_path: Path) -> None:

@@ -9,7 +9,8 @@ import click
 from zmpkit.cli.options import report_option
 from zmpkit.cli.progress import RichDisplays
 from zmpkit.cli.video_option import video_option
-from zmpkit.pipelines.demo import DemoConfig, run_demo, write_demo
+from zmpkit.pipelines.demo import DemoConfig, run_demo
+from zmpkit.pipelines.demo_files import write_demo
 
 __all__ = ["demo_command"]
 

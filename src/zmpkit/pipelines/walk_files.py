@@ -2,17 +2,23 @@
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import replace
 from pathlib import Path
 
 from zmpkit.analysis.report_files import write_report
-from zmpkit.analysis.walk_video import WALK_VIDEO_FILE, write_walk_video
+from zmpkit.analysis.walk_video import (
+    SIDE_BY_SIDE_FILE,
+    WALK_VIDEO_FILE,
+    write_walk_video,
+    write_walks_side_by_side,
+)
 from zmpkit.experiments.walk_dataset import SERIES_FILE, SUMMARY_FILE, write_series, write_summary
 from zmpkit.pipelines.walk import WalkResult
 from zmpkit.pipelines.walk_document import walk_document
 from zmpkit.pipelines.walk_figures import series_joints, write_figures
 
-__all__ = ["write_walk"]
+__all__ = ["SIDE_BY_SIDE_FILE", "write_side_by_side", "write_walk"]
 
 
 def write_walk(result: WalkResult, out_dir: str | Path, report_format: str = "html") -> WalkResult:
@@ -45,3 +51,13 @@ def write_walk(result: WalkResult, out_dir: str | Path, report_format: str = "ht
     written = replace(result, files=files)
     files["report"] = write_report(walk_document(written), out, report_format)
     return replace(result, files=files)
+
+
+def write_side_by_side(walks: Sequence[WalkResult], out_dir: str | Path) -> Path | None:
+    """Draw walks side by side into ``out_dir`` (:data:`SIDE_BY_SIDE_FILE`), labelled by effects.
+
+    Returns:
+        What was written (the MP4, or the GIF or keyframes written instead), or None.
+    """
+    records = [(w.config, w.record) for w in walks]
+    return write_walks_side_by_side(records, Path(out_dir) / SIDE_BY_SIDE_FILE).path
