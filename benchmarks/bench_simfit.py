@@ -46,7 +46,8 @@ import numpy as np
 
 from harness import base_parser, print_table, write_run
 from zmpkit.experiments.walk_config import WalkConfig
-from zmpkit.pipelines.walk import run_walk, write_walk
+from zmpkit.pipelines.walk import run_walk
+from zmpkit.pipelines.walk_files import write_walk
 from zmpkit.robots.nao import make_nao
 from zmpkit.robots.registry import get_robot
 from zmpkit.simfit.backends import LocalPoolEvaluator, SerialEvaluator

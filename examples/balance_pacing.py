@@ -39,9 +39,9 @@ from zmpkit.experiments import (
     run_step_sweep,
 )
 from zmpkit.experiments.lean import lean_angle
+from zmpkit.experiments.lean_controllers import LeanControllerFactory
 from zmpkit.identify import BalanceParams
 from zmpkit.pipelines.balance import BalanceConfig, support_polygon
-from zmpkit.pipelines.balance_controllers import LeanControllerFactory
 
 TARGETS_M = (0.03, 0.04, 0.06, 0.08, 0.09, 0.1)
 CANDIDATES = (  # label, ζ, time scale (minimum when servo-paced), servo-paced

@@ -29,7 +29,7 @@ from zmpkit.experiments import StepExperimentConfig, run_step_trial
 from zmpkit.experiments.response import measured_zmp
 from zmpkit.io import feet_from_mapping
 from zmpkit.pipelines.balance import BalanceConfig, run_balance
-from zmpkit.pipelines.balance_report import write_balance_outputs
+from zmpkit.pipelines.balance_files import write_balance
 from zmpkit.robots.teo.truth_variants import TRUTH_VARIANTS, write_truth_variant
 from zmpkit.signals import StepTrial
 from zmpkit.signals.steady_state import steady_state
@@ -85,7 +85,7 @@ def run_truth(name: str, out: Path) -> list[dict[str, object]]:
     if not table.exists():
         config = BalanceConfig.quick(truth=truth, dlipm_feedback=True)
         result = run_balance(config, folder, echo=lambda line: print(f"[{name}] {line}"))
-        write_balance_outputs(result, folder)
+        write_balance(result, folder)
     with table.open(encoding="utf-8") as handle:
         rows = list(csv.DictReader(handle))
     return [{"truth": name, **_plane_figures(rows, p)} for p in ("sagittal", "frontal")]

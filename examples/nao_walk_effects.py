@@ -11,7 +11,8 @@ from pathlib import Path
 
 from zmpkit.analysis.walk_plots import plot_effect_comparison
 from zmpkit.experiments.walk_config import WalkConfig
-from zmpkit.pipelines.walk import run_walk, write_walk
+from zmpkit.pipelines.walk import run_walk
+from zmpkit.pipelines.walk_files import write_walk
 from zmpkit.robots.registry import get_robot
 
 EFFECT_SETS = ("none", "M", "M,I", "G", "F", "I,G,F", "M,G", "M,F", "M,G,F", "all")

@@ -20,7 +20,7 @@ from zmpkit.analysis import balance_plots, walk_plots
 from zmpkit.analysis.balance_validation import evaluate_trial
 from zmpkit.analysis.table1 import Table1Row
 from zmpkit.identify import identify_balance
-from zmpkit.pipelines.walk_report import JOINT_PLOT_STEPS, joint_plot_span
+from zmpkit.pipelines.walk_figures import JOINT_PLOT_STEPS, joint_plot_span
 from zmpkit.signals import StepTrial
 from zmpkit.signals.contact_phases import double_support_distance
 

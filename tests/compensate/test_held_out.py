@@ -13,7 +13,8 @@ from zmpkit.compensate.methods import CompensatedWalk
 from zmpkit.compensate.summary import summary_of
 from zmpkit.errors import ParameterError
 from zmpkit.pipelines.walk_compensate import CompensateConfig, CompensateResult
-from zmpkit.pipelines.walk_compensate_report import compensation_checks, write_walk_compensate
+from zmpkit.pipelines.walk_compensate_document import compensation_checks
+from zmpkit.pipelines.walk_compensate_files import write_walk_compensate
 from zmpkit.robots.registry import get_robot
 from zmpkit.robots.truth_variant import scaled_truth_file
 

@@ -16,7 +16,7 @@ from zmpkit.compensate.summary import EXTRA_SUMMARY_KEYS, SUMMARY_KEYS, summary_
 from zmpkit.compensate.tuning import TuningResult, objective, prior_from_offset, tune_offset
 from zmpkit.errors import ParameterError
 from zmpkit.pipelines.walk_compensate import CompensateConfig, CompensateResult, run_walk_compensate
-from zmpkit.pipelines.walk_compensate_report import write_walk_compensate
+from zmpkit.pipelines.walk_compensate_files import write_walk_compensate
 from zmpkit.robots.nao import nao_ik_model
 from zmpkit.robots.registry import get_robot
 from zmpkit.walking import generate_pattern

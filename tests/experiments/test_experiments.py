@@ -28,6 +28,7 @@ from zmpkit.experiments import (
 from zmpkit.experiments import sweep as sweep_module
 from zmpkit.experiments.lean import design_support_interval, lean_angle
 from zmpkit.pipelines.sim_push import run_sim_push
+from zmpkit.pipelines.sim_push_files import write_sim_push
 from zmpkit.robots.registry import get_robot
 
 TEO = get_robot("teo")
@@ -210,8 +211,9 @@ def test_effects_off_steady_state_error_is_below_half_a_percent(
 
 
 def test_steady_state_csv_and_figure(tmp_path: Path) -> None:
-    result = run_sim_push(_config(targets_m=(0.0, 0.03), hold_s=2.0), tmp_path, workers=1)
-    with result.steady_state_path.open() as f:
+    swept = run_sim_push(_config(targets_m=(0.0, 0.03), hold_s=2.0), tmp_path, workers=1)
+    result = write_sim_push(swept, tmp_path)
+    with result.files["steady_state"].open() as f:
         rows = list(csv.reader(f))
     assert tuple(rows[0]) == STEADY_STATE_COLUMNS
     assert rows[1][0] == "sagittal"
@@ -220,7 +222,7 @@ def test_steady_state_csv_and_figure(tmp_path: Path) -> None:
     assert rows[1][4] == ""
     assert float(rows[2][1]) == 0.03
     assert rows[2][3] != ""
-    assert result.figure_path.stat().st_size > 10_000
+    assert result.files["figure"].stat().st_size > 10_000
 
 
 def test_a_push_moves_the_zmp_and_it_comes_back(tmp_path: Path) -> None:

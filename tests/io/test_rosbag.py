@@ -14,6 +14,7 @@ from helpers.ft_data import FEET_YAML
 from zmpkit.errors import InputFileError, ParameterError
 from zmpkit.io import read_ft_source, read_robot_source, read_ros2_bag
 from zmpkit.pipelines.zmp_log import run_zmp_log
+from zmpkit.pipelines.zmp_log_files import write_zmp_log
 
 TS = get_typestore(Stores.LATEST)
 WRENCH = "geometry_msgs/msg/WrenchStamped"
@@ -242,14 +243,11 @@ def test_zmp_pipeline_reads_a_bag(tmp_path: Path) -> None:
     topics = {"/ft/right": (WRENCH, msgs), "/ft/left": (WRENCH, list(msgs))}
     bag = write_bag(tmp_path / "bag", topics, PLUGINS[1])
     (tmp_path / "feet.yaml").write_text(FEET_YAML)
-    result = run_zmp_log(
-        bag,
-        tmp_path / "out",
-        feet_path=tmp_path / "feet.yaml",
-        right_topic="/ft/right",
-        left_topic="/ft/left",
+    computed = run_zmp_log(
+        bag, feet_path=tmp_path / "feet.yaml", right_topic="/ft/right", left_topic="/ft/left"
     )
-    assert result.csv_path.is_file()
+    result = write_zmp_log(computed, tmp_path / "out")
+    assert result.files["csv"].is_file()
     np.testing.assert_allclose(result.series.zmp[:, 1], 0.0, atol=1e-12)  # feet symmetric in y
 
 

@@ -26,8 +26,8 @@ from zmpkit.pipelines.balance import (
     step_experiment,
 )
 from zmpkit.pipelines.balance_checks import balance_checks
-from zmpkit.pipelines.balance_report import write_balance_outputs
-from zmpkit.pipelines.videos import BALANCE_VIDEO, STEP_TRIAL_AFTER_S
+from zmpkit.pipelines.balance_files import write_balance
+from zmpkit.pipelines.balance_video import BALANCE_VIDEO, STEP_TRIAL_AFTER_S
 
 CONFIG = BalanceConfig(
     planes=("sagittal",),
@@ -41,7 +41,7 @@ CONFIG = BalanceConfig(
 def balance_run(tmp_path_factory: pytest.TempPathFactory):
     out = tmp_path_factory.mktemp("balance")
     result = run_balance(CONFIG, out, echo=lambda _: None)
-    return out, result, write_balance_outputs(result, out)
+    return out, result, write_balance(result, out)
 
 
 def test_dlipm_error_is_below_lipm_error(balance_run) -> None:
@@ -182,7 +182,7 @@ def test_balance_video_films_the_dlipm_at_the_largest_target(balance_run, tmp_pa
     skip_without_gl()
     _, result, _ = balance_run
     filmed = replace(result, config=replace(CONFIG, video=True))
-    artifacts = write_balance_outputs(filmed, tmp_path)
+    artifacts = write_balance(filmed, tmp_path)
     assert artifacts.videos == (tmp_path / "step_trial.mp4",)
     reader = imageio_ffmpeg.read_frames(str(tmp_path / "step_trial.mp4"))
     assert next(reader)["size"] == (BALANCE_VIDEO.width_px, BALANCE_VIDEO.height_px)
@@ -251,7 +251,7 @@ def test_a_failed_plane_keeps_the_finished_ones_report(
     assert list(result.planes) == ["sagittal"]
     assert result.failed_planes == {"frontal": why}
     assert f"frontal plane failed: {why}" in said
-    artifacts = write_balance_outputs(result, tmp_path)
+    artifacts = write_balance(result, tmp_path)
     assert not artifacts.met
     html = artifacts.report.read_text(encoding="utf-8")
     assert "frontal: paper A" in html

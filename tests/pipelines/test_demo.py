@@ -12,16 +12,16 @@ from pathlib import Path
 import pytest
 
 from helpers.browser import check_page, chromium, screenshot
+from helpers.golden_demo import GOLDEN_DIR, UPDATE_ENV, compare_with_golden, write_golden
 from zmpkit.cli import main
 from zmpkit.pipelines.demo import DemoConfig, run_demo
+from zmpkit.pipelines.demo_files import write_demo
 
 
 def test_demo_writes_report_and_matches_second_order_theory(tmp_path: Path) -> None:
-    result = run_demo(
-        tmp_path,
-        DemoConfig(duration_s=30.0, balance=False, walking=False, compensation=False),
-        echo=lambda _: None,
-    )
+    config = DemoConfig(duration_s=30.0, balance=False, walking=False, compensation=False)
+    result = write_demo(run_demo(config, tmp_path, echo=lambda _: None), tmp_path, lambda _: None)
+    assert result.report_path is not None
     html = result.report_path.read_text()
     assert result.report_path.name == "report.html"
     assert "<h1>zmpkit demo: the LIPM and the robot that really moves</h1>" in html
@@ -68,6 +68,26 @@ def test_demo_command(demo_run: tuple[Path, str]) -> None:
     assert all((out / v).stat().st_size > 10_000 for v in videos)
     html = (out / "report.html").read_text()
     assert all(f'src="{v}"' in html for v in videos)  # embedded as <video> elements
+
+
+@pytest.mark.slow
+def test_demo_outputs_equal_the_golden_set(demo_run: tuple[Path, str]) -> None:
+    """Every number the demo writes is unchanged: summaries, Table 1, compensation JSON.
+
+    The golden set (``tests/pipelines/golden/demo/``, :mod:`helpers.golden_demo`) holds the
+    model's metrics and parameters, Table 1, the identified parameters, each balance sweep's
+    meta.json, both walks' and the compensation's summaries and details, and a fingerprint
+    (per column: count and sum) of every time series; numbers to 1e-9 relative, text exactly.
+    With ``ZMPKIT_UPDATE_GOLDEN=1`` the run rewrites the set instead (an intended change).
+    """
+    out, _ = demo_run
+    if os.environ.get(UPDATE_ENV) == "1":
+        write_golden(out)
+        return
+    differences = compare_with_golden(out)
+    assert not differences, f"demo outputs differ from {GOLDEN_DIR}:\n" + "\n".join(
+        differences[:40]
+    )
 
 
 @pytest.mark.slow

@@ -9,10 +9,10 @@ import numpy as np
 import pytest
 
 from helpers.gl import skip_without_gl
+from zmpkit.analysis.walk_video import WALK_VIDEO, effects_label, write_walks_side_by_side
 from zmpkit.cli import main
 from zmpkit.experiments.walk_config import WalkConfig
 from zmpkit.experiments.walk_disturbances import Push
-from zmpkit.pipelines.videos import WALK_VIDEO, effects_label, write_walks_side_by_side
 from zmpkit.pipelines.walk import run_walk
 from zmpkit.robots.registry import get_robot
 

@@ -12,7 +12,8 @@ import pytest
 from zmpkit.errors import ParameterError
 from zmpkit.experiments.walk_config import WalkConfig
 from zmpkit.experiments.walk_dataset import SERIES_COLUMNS
-from zmpkit.pipelines.walk import run_walk, write_walk
+from zmpkit.pipelines.walk import run_walk
+from zmpkit.pipelines.walk_files import write_walk
 from zmpkit.robots.registry import get_robot
 from zmpkit.sensors.zmp import zmp_in_world
 from zmpkit.signals.contact_phases import foot_slip

@@ -214,4 +214,4 @@ def test_identify_balance_finds_a_users_robot_from_any_folder(
     assert main(named) == 0
     assert BalanceParams.from_yaml(elsewhere / "fit3" / "params.yaml").mass == pytest.approx(mass)
     with pytest.raises(ParameterError, match="--robot names a step dataset's robot"):
-        run_identify_balance(tmp_path / "steps.yaml", tmp_path / "o", robot=str(robot_yaml))
+        run_identify_balance(tmp_path / "steps.yaml", robot=str(robot_yaml))

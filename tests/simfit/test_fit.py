@@ -87,11 +87,16 @@ def test_local_backends_give_the_serial_costs(problem: FitProblem, backend: str)
 
 def test_pipeline_writes_a_loadable_truth_and_its_tables(walk_folder: Path, tmp_path: Path) -> None:
     from zmpkit.pipelines.identify_sim import IdentifySimConfig, run_identify_sim
+    from zmpkit.pipelines.identify_sim_files import write_identify_sim
     from zmpkit.robots.nao import load_truth
 
     config = IdentifySimConfig(data=(str(walk_folder),), quick=True, generations=2,
                                backend="serial", held_out=(str(walk_folder),))  # fmt: skip
-    result = run_identify_sim(config, tmp_path)
+    fit = run_identify_sim(config, tmp_path)
+    assert set(fit.files) == {"checkpoint"}  # the run draws and writes no result file
+    assert not list(tmp_path.glob("*.png"))
+    assert not (tmp_path / "fitted_truth.yaml").exists()
+    result = write_identify_sim(fit, tmp_path)
     truth = load_truth(result.files["truth"])
     assert truth.gear.stiffness == pytest.approx(result.fitted["gear_stiffness"])
     history = result.files["history"].read_text().splitlines()
@@ -117,8 +122,10 @@ def test_pipeline_writes_a_loadable_truth_and_its_tables(walk_folder: Path, tmp_
 @pytest.mark.slow
 def test_quick_self_test_recovers_pid_gain_and_gear_stiffness(tmp_path: Path) -> None:
     from zmpkit.pipelines.identify_sim import IdentifySimConfig, run_identify_sim
+    from zmpkit.pipelines.identify_sim_files import write_identify_sim
 
-    result = run_identify_sim(IdentifySimConfig(self_test=True, quick=True), tmp_path)
+    fit = run_identify_sim(IdentifySimConfig(self_test=True, quick=True), tmp_path)
+    result = write_identify_sim(fit, tmp_path)
     assert (
         (tmp_path / "recovery.csv")
         .read_text()

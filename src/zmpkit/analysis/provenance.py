@@ -19,11 +19,19 @@ from dataclasses import dataclass
 from datetime import UTC, datetime
 from importlib.metadata import PackageNotFoundError, version
 from pathlib import Path
+from typing import Protocol
 
 import zmpkit
 from zmpkit.robots.robot import Robot
 
-__all__ = ["Provenance", "capture", "capture_described", "file_sha256"]
+__all__ = [
+    "Provenance",
+    "RunSettings",
+    "capture",
+    "capture_described",
+    "capture_run",
+    "file_sha256",
+]
 
 
 @dataclass(frozen=True)
@@ -97,6 +105,50 @@ def capture(
     """
     truth_file = str(Path(truth) if truth is not None else robot.truth.default_path)
     return _provenance(robot.source, truth_file, started_s, effects, seed, extra)
+
+
+class RunSettings(Protocol):
+    """A simulated run's config: the robot, its truth file, effects and seed."""
+
+    @property
+    def robot(self) -> Robot:
+        """The simulated robot."""
+        ...
+
+    @property
+    def truth(self) -> str | None:
+        """The truth file given, or None for the robot's shipped one."""
+        ...
+
+    @property
+    def effects(self) -> str:
+        """The simulator's effect set."""
+        ...
+
+    @property
+    def seed(self) -> int:
+        """The random seed."""
+        ...
+
+
+def capture_run(
+    config: RunSettings, started_s: float, extra: tuple[tuple[str, str], ...] = ()
+) -> Provenance:
+    """:func:`capture` of a run whose ``config`` names its robot, truth, effects and seed.
+
+    Args:
+        config: the run's settings.
+        started_s: the run's start (``time.time()``) [s since the epoch].
+        extra: further (name, value) settings.
+    """
+    return capture(
+        robot=config.robot,
+        started_s=started_s,
+        truth=config.truth,
+        effects=config.effects,
+        seed=config.seed,
+        extra=extra,
+    )
 
 
 def capture_described(

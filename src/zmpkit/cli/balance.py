@@ -22,7 +22,7 @@ from zmpkit.pipelines.balance import (
     fit_targets_of,
     run_balance,
 )
-from zmpkit.pipelines.balance_report import write_balance_outputs
+from zmpkit.pipelines.balance_files import write_balance
 from zmpkit.robots.registry import DEFAULT_BALANCE_ROBOT
 from zmpkit.robots.robot import Robot
 
@@ -153,7 +153,7 @@ def balance_command(
     config = BalanceConfig.quick(**changes) if quick else BalanceConfig(**changes)
     with SweepProgress() as progress:
         result = run_balance(config, out_dir, progress=progress, echo=click.echo)
-    artifacts = write_balance_outputs(result, out_dir, report_format)
+    artifacts = write_balance(result, out_dir, report_format)
     click.echo(f"report: {artifacts.report}")
     for path in artifacts.videos:
         click.echo(f"video: {path}")

@@ -10,6 +10,7 @@ from zmpkit.cli.options import report_option
 from zmpkit.cli.progress import RichDisplays
 from zmpkit.cli.video_option import video_option
 from zmpkit.pipelines.demo import DemoConfig, run_demo
+from zmpkit.pipelines.demo_files import write_demo
 
 __all__ = ["demo_command"]
 
@@ -23,7 +24,8 @@ __all__ = ["demo_command"]
 def demo_command(out_dir: Path, report_format: str, video: bool) -> None:
     """Run the main job on the built-in virtual robot and write a report to --out."""
     config = DemoConfig(report_format=report_format, video=video)
-    result = run_demo(out_dir, config, echo=click.echo, displays=RichDisplays())
+    result = run_demo(config, out_dir, echo=click.echo, displays=RichDisplays())
+    result = write_demo(result, out_dir, echo=click.echo)
     for path in result.videos:
         click.echo(f"video: {path}")
     click.echo(f"report: {result.report_path}")

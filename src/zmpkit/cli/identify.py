@@ -10,8 +10,9 @@ from zmpkit.cli.options import SEED, WORKERS, Bounded, BoundedInt, report_option
 from zmpkit.cli.progress import GenerationProgress
 from zmpkit.cli.robot_option import robot_option
 from zmpkit.pipelines.identify_balance import run_identify_balance
+from zmpkit.pipelines.identify_balance_files import write_identify_balance
 from zmpkit.pipelines.identify_sim import IdentifySimConfig, run_identify_sim
-from zmpkit.pipelines.identify_sim_document import write_identify_sim_report
+from zmpkit.pipelines.identify_sim_files import write_identify_sim
 from zmpkit.robots.registry import DEFAULT_FIT_ROBOT
 from zmpkit.robots.robot import Robot
 from zmpkit.simfit.optimizer import MAX_POPSIZE, MAX_RESTARTS, FitInterruptedError
@@ -71,12 +72,12 @@ def identify_balance_command(
     DATASET is a step dataset folder (zmpkit sim push) or a step manifest .yaml listing a
     robot's logs (CSV, Parquet, ROS 2 bag, YARP dump) with each step's target and time.
     """
-    result = run_identify_balance(
-        dataset, out_dir, mass_kg=mass, length_m=length, report_format=report_format, robot=robot
-    )
+    identified = run_identify_balance(dataset, mass_kg=mass, length_m=length, robot=robot)
+    result = write_identify_balance(identified, out_dir, report_format)
     plane = next(iter(result.identification.planes.values()))
     click.echo(f"{plane.error_fit.model.equation}: {dict(plane.error_fit.model.as_dict())}")
-    click.echo(f"wrote {result.params_path}, {result.figure_path} and {result.summary_path}")
+    files = result.files
+    click.echo(f"wrote {files['params']}, {files['figure']} and {files['report']}")
 
 
 @identify_group.command("sim")
@@ -190,10 +191,11 @@ def identify_sim_command(
     )
     try:
         with GenerationProgress() as progress:
-            result = run_identify_sim(config, out_dir, progress=progress)
+            fit = run_identify_sim(config, out_dir, progress=progress)
     except FitInterruptedError as exc:  # Ctrl-C: every finished generation is checkpointed
         click.echo(f"zmpkit: {exc}", err=True)
         raise click.exceptions.Exit(130) from None
+    result = write_identify_sim(fit, out_dir, report_format)
     intervals = {i.name: i for i in result.intervals}
     for name, value in result.fitted.items():
         interval = intervals.get(name)
@@ -209,7 +211,7 @@ def identify_sim_command(
     if "recovery" in result.files:
         click.echo(f"recovery: {result.files['recovery']}")
     click.echo(f"fitted truth: {Path(out_dir) / 'fitted_truth.yaml'} (best cost {result.cost:.4g})")
-    click.echo(f"report: {write_identify_sim_report(result, out_dir, report_format)}")
+    click.echo(f"report: {result.files['report']}")
 
 
 @identify_group.command("compare")

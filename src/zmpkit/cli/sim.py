@@ -11,7 +11,7 @@ from zmpkit.cli.progress import TrialProgressBar
 from zmpkit.cli.robot_option import robot_option
 from zmpkit.experiments import MAX_HOLD_S, MAX_PUSH_DURATION_S, MAX_PUSH_FORCE_N
 from zmpkit.pipelines.sim_push import run_sim_push, sim_push_config
-from zmpkit.pipelines.sim_push_document import write_sim_push_report
+from zmpkit.pipelines.sim_push_files import write_sim_push
 from zmpkit.robots.registry import DEFAULT_BALANCE_ROBOT
 from zmpkit.robots.robot import Robot
 
@@ -98,10 +98,11 @@ def sim_push_command(
 
     with TrialProgressBar(len(config.targets_m)) as progress:
         result = run_sim_push(config, out_dir, workers=workers, progress=progress)
+    result = write_sim_push(result, out_dir, report_format)
     for line in result.warnings:
         click.echo(f"warning: {line}", err=True)
     click.echo(
         f"{len(result.dataset.trials)} trials in {out_dir}; wrote "
-        f"{result.steady_state_path} and {result.figure_path}"
+        f"{result.files['steady_state']} and {result.files['figure']}"
     )
-    click.echo(f"report: {write_sim_push_report(result, config, out_dir, report_format)}")
+    click.echo(f"report: {result.files['report']}")

@@ -13,12 +13,12 @@ from zmpkit.cli.robot_option import robot_option
 from zmpkit.cli.video_option import video_option
 from zmpkit.experiments.walk_config import WalkConfig
 from zmpkit.experiments.walk_disturbances import Push
-from zmpkit.pipelines.walk import WalkResult, run_walk, write_walk
+from zmpkit.pipelines.walk import WalkResult, run_walk
 from zmpkit.pipelines.walk_compensate import CompensateConfig, run_walk_compensate
-from zmpkit.pipelines.walk_compensate_report import write_walk_compensate
-from zmpkit.pipelines.walk_document import write_walk_report
-from zmpkit.pipelines.walk_sweep import SweepConfig, run_walk_sweep, write_walk_sweep
-from zmpkit.pipelines.walk_sweep_document import write_walk_sweep_report
+from zmpkit.pipelines.walk_compensate_files import write_walk_compensate
+from zmpkit.pipelines.walk_files import write_walk
+from zmpkit.pipelines.walk_sweep import SweepConfig, run_walk_sweep
+from zmpkit.pipelines.walk_sweep_files import write_walk_sweep
 from zmpkit.robots.registry import DEFAULT_WALK_ROBOT
 from zmpkit.robots.robot import Robot
 from zmpkit.walking.walk_controllers import CONTROLLERS
@@ -134,9 +134,8 @@ def walk_group(
     )
     with SimTimeProgress(f"walk ({config.effects or 'none'})") as progress:
         result = run_walk(config, progress=progress)
-    result = write_walk(result, out_dir)
-    report = write_walk_report(result, out_dir, report_format)
-    _echo_walk(result, report, out_dir)
+    result = write_walk(result, out_dir, report_format)
+    _echo_walk(result, result.files["report"], out_dir)
 
 
 def _echo_walk(result: WalkResult, report: Path, out_dir: Path) -> None:
@@ -319,12 +318,12 @@ def walk_sweep_command(
     )
     with StageProgress() as progress:
         result = run_walk_sweep(config, out_dir, progress=progress)
-    result = write_walk_sweep(result, out_dir)
+    result = write_walk_sweep(result, out_dir, report_format)
     for controller in config.controllers:
         falls, walked = result.falls(controller)
         click.echo(f"{controller}: {falls} of {walked} walks fell")
     click.echo(f"robustness: {Path(out_dir) / 'robustness.csv'}")
-    click.echo(f"report: {write_walk_sweep_report(result, out_dir, report_format)}")
+    click.echo(f"report: {result.files['report']}")
 
 
 def _change(reduction_pct: float) -> str:

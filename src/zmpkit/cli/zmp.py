@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import time
 from pathlib import Path
 
 import click
@@ -10,8 +9,8 @@ import click
 from zmpkit.cli.options import Bounded, report_option
 from zmpkit.cli.robot_option import robot_option
 from zmpkit.io import feet_from_mapping
-from zmpkit.pipelines.zmp_document import write_zmp_report
 from zmpkit.pipelines.zmp_log import run_zmp_log
+from zmpkit.pipelines.zmp_log_files import write_zmp_log
 from zmpkit.robots.registry import get_robot
 from zmpkit.sensors import CONTACT_FORCE_THRESHOLD_N, CONTACT_THRESHOLD_RANGE_N, SensorMount
 
@@ -83,12 +82,11 @@ def zmp_command(
         CONTACT_FORCE_THRESHOLD_N if robot is None else get_robot(robot).contact_force_threshold_n
     )
     threshold = default_threshold if contact_threshold is None else contact_threshold
-    started_s = time.time()
     result = run_zmp_log(
         log,
-        out_dir,
         feet=feet,
         feet_path=feet_path,
+        feet_source=f"robot {robot}" if robot is not None else f"{feet_path}",
         columns_path=columns_path,
         contact_threshold_n=threshold,
         right_topic=right_topic,
@@ -96,21 +94,13 @@ def zmp_command(
         units_path=units_path,
         time_source=time_source,
     )
+    result = write_zmp_log(result, out_dir, report_format)
     s = result.series
     click.echo(
         f"{len(s.time)} samples, ZMP defined on {len(s.time) - s.n_undefined}; "
-        f"wrote {result.csv_path} and {result.figure_path}"
+        f"wrote {result.files['csv']} and {result.files['figure']}"
     )
-    report = write_zmp_report(
-        result,
-        out_dir,
-        log_path=Path(log),
-        feet_source=f"robot {robot}" if robot is not None else f"{feet_path}",
-        contact_threshold_n=threshold,
-        started_s=started_s,
-        fmt=report_format,
-    )
-    click.echo(f"report: {report}")
+    click.echo(f"report: {result.files['report']}")
 
 
 def _robot_feet(robot: str) -> dict[str, SensorMount]:

@@ -37,9 +37,9 @@ from zmpkit.experiments import (
     run_step_sweep,
 )
 from zmpkit.experiments.ft_faults import FtFaults
+from zmpkit.experiments.lean_controllers import FEEDBACK_KINDS, LeanControllerFactory
 from zmpkit.experiments.sweep import check_sweep
 from zmpkit.identify import BalanceIdentification, BalanceParams, ErrorModel, identify_balance
-from zmpkit.pipelines.balance_controllers import FEEDBACK_KINDS, LeanControllerFactory
 from zmpkit.robots.registry import DEFAULT_BALANCE_ROBOT, get_robot
 from zmpkit.robots.robot import Robot
 from zmpkit.signals import StepTrial

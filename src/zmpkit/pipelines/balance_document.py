@@ -13,7 +13,7 @@ from pathlib import Path
 import numpy as np
 
 from zmpkit.analysis.balance_verdict import PlaneVerdict
-from zmpkit.analysis.provenance import capture
+from zmpkit.analysis.provenance import capture_run
 from zmpkit.analysis.report_document import (
     Figure,
     ReportDocument,
@@ -54,13 +54,10 @@ def balance_document(
         summary=_summary(c, title),
         checks=balance_checks(result, verdicts),
         sections=tuple(sections),
-        provenance=capture(
-            robot=c.robot,
-            started_s=result.started_s,
-            truth=c.truth,
-            effects=c.effects,
-            seed=c.seed,
-            extra=(
+        provenance=capture_run(
+            c,
+            result.started_s,
+            (
                 ("hold", _hold(c)),
                 ("pacing", _pace(c)),
                 ("DLIPM ζ", f"{c.zeta:g}"),

@@ -14,103 +14,97 @@
 
 With ``video`` (the default) it also draws the rigid and the all-effects walk side by side
 (``walk_side_by_side.mp4``) and one balance step trial (``balance/step_trial.mp4``).
+
+:func:`run_demo` runs the parts, each written into its folder as it finishes (each part's
+own ``run_x`` and ``write_x``); :func:`~zmpkit.pipelines.demo_files.write_demo` writes the
+model's files, the walk comparison and the demo's report.
 """
 
 from __future__ import annotations
 
-import csv
 import math
 import time
 from collections.abc import Callable
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 import numpy as np
-import yaml
+from numpy.typing import NDArray
 
-from zmpkit.analysis.report_document import Figure
-from zmpkit.analysis.report_files import write_report
-from zmpkit.analysis.step_plot import Curve, plot_step_responses
 from zmpkit.experiments.walk_config import WalkConfig
 from zmpkit.models import Dlipm, paper_units_omega_n
 from zmpkit.pipelines.balance import BalanceConfig, BalanceResult, run_balance
-from zmpkit.pipelines.balance_document import step_trial_videos
-from zmpkit.pipelines.balance_report import BalanceArtifacts, write_balance_outputs
-from zmpkit.pipelines.demo_document import (
-    LABELS,
-    DemoParts,
-    demo_document,
-    format_optional,
-    walk_side_by_side_videos,
-)
+from zmpkit.pipelines.balance_files import BalanceArtifacts, write_balance
+from zmpkit.pipelines.demo_config import DEMO_STEP_M, DemoConfig
 from zmpkit.pipelines.progress import SILENT, Displays
-from zmpkit.pipelines.videos import SIDE_BY_SIDE_FILE, write_walks_side_by_side
-from zmpkit.pipelines.walk import WalkResult, run_walk, write_walk
+from zmpkit.pipelines.walk import WalkResult, run_walk
 from zmpkit.pipelines.walk_compensate import CompensateConfig, CompensateResult, run_walk_compensate
-from zmpkit.pipelines.walk_compensate_report import write_walk_compensate
-from zmpkit.pipelines.walk_document import write_walk_report
-from zmpkit.pipelines.walk_report import COMPARISON_FILE, write_effects_comparison
-from zmpkit.robots.registry import DEFAULT_BALANCE_ROBOT, DEFAULT_WALK_ROBOT, get_robot
-from zmpkit.robots.robot import BalanceModel, Robot
+from zmpkit.pipelines.walk_compensate_files import write_walk_compensate
+from zmpkit.pipelines.walk_files import SIDE_BY_SIDE_FILE, write_side_by_side, write_walk
+from zmpkit.robots.registry import get_robot
 from zmpkit.signals.step_metrics import StepMetrics, step_metrics
 
-__all__ = ["DEMO_STEP_M", "DemoConfig", "DemoResult", "run_demo"]
-
-DEMO_STEP_M = 0.09  # the 9 cm ZMP disturbance of paper A, Fig. 18 [m]
-PAPER_ZETA = 0.8
+__all__ = ["DEMO_STEP_M", "DemoConfig", "DemoResult", "PartClock", "run_demo"]
 
 
-@dataclass(frozen=True)
-class DemoConfig:
-    """Demo settings: pendulum of mass [kg] and length [m], ZMP step [m], duration [s].
-
-    The pendulum is the balance robot's model (paper A §4.1's by default); the balance part
-    runs on ``balance_robot``, the walks and the compensation on ``walk_robot``. Every report
-    is written as ``report_format`` (``html``, ``md`` or ``both``). ``video`` draws the walks
-    side by side and a balance step trial (:mod:`zmpkit.pipelines.videos`).
-    """
-
-    mass_kg: float = field(default_factory=lambda: _balance_model().mass_kg)
-    length_m: float = field(default_factory=lambda: _balance_model().com_height_m)
-    zmp_step_m: float = DEMO_STEP_M
-    zeta: float = PAPER_ZETA
-    duration_s: float = 20.0
-    dt_s: float = 0.002
-    balance: bool = True
-    walking: bool = True
-    compensation: bool = True
-    balance_robot: Robot = field(default_factory=lambda: get_robot(DEFAULT_BALANCE_ROBOT))
-    walk_robot: Robot = field(default_factory=lambda: get_robot(DEFAULT_WALK_ROBOT))
-    report_format: str = "html"
-    video: bool = True
-
-    def __post_init__(self) -> None:
-        # a registry name or robot.yaml path, from Python, is resolved once, here
-        object.__setattr__(self, "balance_robot", get_robot(self.balance_robot))
-        object.__setattr__(self, "walk_robot", get_robot(self.walk_robot))
-
-
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class DemoResult:
-    """Paths of what the demo wrote, and the metrics it measured per model.
+    """What the demo ran: the models' step responses and each part's result.
 
-    ``videos`` are the MP4s (or the GIFs or keyframes written instead).
+    Attributes:
+        config: what was asked.
+        out_dir: the folder the parts were written into as each finished.
+        time_s: the step responses' sample times [s], shape (N,).
+        theta_rad: each model's ankle angle after the ZMP step [rad], shape (N,).
+        models: the pendulum models by key of :data:`~zmpkit.pipelines.demo_sections.LABELS`.
+        metrics: step-response metrics of each stable model.
+        balance: the balance part's written artefacts and result, or None.
+        walks: the walks by effect set (``none``, ``all``), each written; empty without walking.
+        walk_videos: the walks side by side (MP4, or the GIF or keyframes written instead).
+        compensation: the compensation part, written, or None.
+        started_s: when the demo started [s since the epoch].
+        part_times_s: wall time of each part, in the order they ran [s].
+        report_path: the report (None until
+            :func:`~zmpkit.pipelines.demo_files.write_demo`).
+        figures: the model figures, Fig. 17 and 18 (empty until
+            :func:`~zmpkit.pipelines.demo_files.write_demo`).
     """
 
+    config: DemoConfig
     out_dir: Path
-    report_path: Path
-    figures: tuple[Path, ...]
+    time_s: NDArray[np.float64]
+    theta_rad: dict[str, NDArray[np.float64]]
+    models: dict[str, Dlipm]
     metrics: dict[str, StepMetrics]
-    videos: tuple[Path, ...] = ()
+    balance: tuple[BalanceArtifacts, BalanceResult] | None
+    walks: dict[str, WalkResult]
+    walk_videos: tuple[Path, ...]
+    compensation: CompensateResult | None
+    started_s: float
+    part_times_s: dict[str, float]
+    report_path: Path | None = None
+    figures: tuple[Path, ...] = ()
+
+    @property
+    def videos(self) -> tuple[Path, ...]:
+        """Every video written: the walks side by side, then the balance step trial."""
+        return self.walk_videos + (self.balance[0].videos if self.balance is not None else ())
 
 
 def run_demo(
-    out_dir: str | Path,
     config: DemoConfig | None = None,
+    out_dir: str | Path = "out/demo",
     echo: Callable[[str], None] = print,
     displays: Displays = SILENT,
 ) -> DemoResult:
-    """Run the demo and write its artefacts into ``out_dir`` (created if missing)."""
+    """Run every part of the demo; each part's folder is written into ``out_dir`` as it ends.
+
+    The balance, walk and compensation parts take minutes: each writes its own folder
+    (``balance/``, ``walk_none/``, ``walk_all/``, ``compensate/``, the walk video) when it
+    finishes; :func:`~zmpkit.pipelines.demo_files.write_demo` then writes the demo's own
+    files and its report.
+    """
     started_s = time.time()
     config = config or DemoConfig()
     out = Path(out_dir)
@@ -130,44 +124,27 @@ def run_demo(
         if m.is_stable
     }
     echo(f"DLIPM step responses for a {config.zmp_step_m:g} m ZMP step")
-    clock = _PartClock()
-    figures = _figures(out, t, theta, lipm_static, config)
-    _write_metrics_csv(out / "step_metrics.csv", models, metrics)
-    _write_params_yaml(out / "dlipm.yaml", models)
-    clock.lap("models")
+    clock = PartClock()
+    clock.lap("models")  # its figures and files are drawn and written by write_demo
     balance = _run_balance(config, out, echo, displays) if config.balance else None
     clock.lap("balance")
     walks, walk_videos = (
         _run_walks(config, out, echo, displays, clock) if config.walking else ({}, ())
     )
-    comparison = _walk_comparison(walks, out)
-    clock.lap("walk figures")
+    clock.lap("walk figures")  # the comparison is drawn by write_demo
     compensation = _run_compensation(config, out, echo, displays) if config.compensation else None
     clock.lap("compensation")
-    balance_videos = balance[0].videos if balance is not None else ()
-    parts = DemoParts(
-        models,
-        metrics,
-        figures,
-        balance,
-        walks,
-        compensation,
-        videos=walk_side_by_side_videos(walk_videos),
-        balance_videos=step_trial_videos(balance[1], balance_videos) if balance else (),
-        extra_figures=comparison,
-        started_s=started_s,
-        part_times_s=clock.times_s,
-    )
-    report = write_report(demo_document(out, config, parts), out, config.report_format)
-    echo("time by part: " + ", ".join(f"{k} {v:.0f} s" for k, v in clock.times_s.items() if v))
-    return DemoResult(out, report, figures, metrics, walk_videos + balance_videos)
+    return DemoResult(
+        config, out, t, theta, models, metrics, balance, walks, walk_videos, compensation,
+        started_s, clock.times_s,
+    )  # fmt: skip
 
 
-class _PartClock:
+class PartClock:
     """Wall time of each part of the demo [s], in the order they ran."""
 
-    def __init__(self) -> None:
-        self.times_s: dict[str, float] = {}
+    def __init__(self, times_s: dict[str, float] | None = None) -> None:
+        self.times_s: dict[str, float] = {} if times_s is None else times_s
         self._last_s = time.perf_counter()
 
     def lap(self, part: str) -> None:
@@ -175,10 +152,6 @@ class _PartClock:
         now_s = time.perf_counter()
         self.times_s[part] = self.times_s.get(part, 0.0) + now_s - self._last_s
         self._last_s = now_s
-
-
-def _balance_model() -> BalanceModel:
-    return get_robot(DEFAULT_BALANCE_ROBOT, needs="balance").require_balance()
 
 
 def _run_compensation(
@@ -201,43 +174,26 @@ def _run_walks(
     out: Path,
     echo: Callable[[str], None],
     displays: Displays,
-    clock: _PartClock,
+    clock: PartClock,
 ) -> tuple[dict[str, WalkResult], tuple[Path, ...]]:
     """The walks by effect set, and their side-by-side video if asked for."""
-    walks, records = {}, []
+    walks = {}
     title = config.walk_robot.title
     for effects in ("none", "all"):
         echo(f"virtual {title}: zmpkit walk --effects {effects} (10 s at 0.2 m/s)")
         with displays.simulation(f"walk, effects {effects}") as progress:
             walk = WalkConfig(robot=config.walk_robot, effects=effects)
-            result = write_walk(run_walk(walk, progress), out / f"walk_{effects}")
-        report = write_walk_report(result, out / f"walk_{effects}", config.report_format)
-        walks[effects] = replace(result, files={**result.files, "report": report})
-        records.append((result.config, result.record))
+            result = write_walk(
+                run_walk(walk, progress), out / f"walk_{effects}", config.report_format
+            )
+        walks[effects] = result
     clock.lap("walks")
     if not config.video:
         return walks, ()
     echo(f"video: the rigid and the all-effects walk side by side ({SIDE_BY_SIDE_FILE})")
-    video = write_walks_side_by_side(records, out / SIDE_BY_SIDE_FILE)
+    video = write_side_by_side(list(walks.values()), out)
     clock.lap("walk video")
-    return walks, () if video.path is None else (video.path,)
-
-
-def _walk_comparison(walks: dict[str, WalkResult], out: Path) -> tuple[Figure, ...]:
-    """The rigid walk against the all-effects walk on shared axes (paper B Fig. 6)."""
-    if not {"none", "all"} <= walks.keys():
-        return ()
-    path = write_effects_comparison(
-        {k: (w.config, w.summary, w.record) for k, w in walks.items()}, out / COMPARISON_FILE
-    )
-    caption = (
-        "The rigid walk (every effect off) and the walk with every effect on, same command: "
-        "trunk pitch [rad] over the same four steps of their steady windows over time [s] "
-        "(left), and its amplitude spectrum [rad] over each walk's steady window, the one of "
-        "its summary (right), with the step frequency marked. Paper B Fig. 6 attributes the "
-        "difference to the motor and its PID."
-    )
-    return (Figure(path, caption),)
+    return walks, () if video is None else (video,)
 
 
 def _run_balance(
@@ -249,7 +205,7 @@ def _run_balance(
     with displays.sweeps() as progress:
         balance = BalanceConfig.quick(robot=config.balance_robot, video=config.video)
         result = run_balance(balance, out / "balance", progress=progress, echo=echo)
-    artifacts = write_balance_outputs(result, out / "balance", config.report_format)
+    artifacts = write_balance(result, out / "balance", config.report_format)
     return artifacts, result
 
 
@@ -267,70 +223,6 @@ def _angle_rad(name: str, model: Dlipm, t: np.ndarray, step_m: float) -> np.ndar
     return _to_rad(name, model.step_response(t, step_m).theta)
 
 
-def _to_rad(name: str, angle):
+def _to_rad(name: str, angle: Any) -> Any:
+    """``angle`` in [rad]: the paper-units design's [deg] converted, the others as they are."""
     return np.radians(angle) if name == "dlipm_paper_units" else angle
-
-
-def _figures(out: Path, t, theta, lipm_static: float, config: DemoConfig) -> tuple[Path, ...]:
-    early = t <= 3.0
-    fig17 = plot_step_responses(
-        [Curve(LABELS[n], t[early], theta[n][early]) for n in ("lipm", "dlipm_si")],
-        out / "fig17_lipm_vs_dlipm.png",
-        title=f"Angular step response, ZMP step {config.zmp_step_m:g} m (paper A Fig. 17)",
-        reference_rad=lipm_static,
-        ylim_rad=(-0.01, 2.0 * lipm_static),
-    )
-    fig18 = plot_step_responses(
-        [Curve(LABELS[n], t, theta[n]) for n in ("dlipm_si", "dlipm_paper_units")],
-        out / "fig18_dlipm_zeta08.png",
-        title=f"DLIPM designed for ζ = {config.zeta:g} (paper A Fig. 18)",
-        reference_rad=lipm_static,
-    )
-    return fig17, fig18
-
-
-def _write_metrics_csv(path: Path, models: dict[str, Dlipm], metrics) -> None:
-    with path.open("w", newline="", encoding="utf-8") as f:
-        w = csv.writer(f)
-        w.writerow(
-            [
-                "model",
-                "stable",
-                "omega_n_rad_s",
-                "zeta",
-                "overshoot_pct",
-                "rise_time_s",
-                "settling_time_s_2pct",
-                "final_value_rad",
-            ]
-        )
-        for name, model in models.items():
-            m = metrics.get(name)
-            w.writerow(
-                [
-                    name,
-                    model.is_stable,
-                    format_optional(model.omega_n if model.is_stable else None),
-                    format_optional(model.zeta if model.is_stable else None),
-                    format_optional(m and m.overshoot_pct),
-                    format_optional(m and m.rise_time_s),
-                    format_optional(m and m.settling_time_s),
-                    format_optional(m and m.final_value),
-                ]
-            )
-
-
-def _write_params_yaml(path: Path, models: dict[str, Dlipm]) -> None:
-    doc = {
-        name: {
-            "mass_kg": m.mass,
-            "length_m": m.length,
-            "k_a_N": m.k_a,
-            "b_a_Ns": m.b_a,
-            "gamma_rad_per_m_s2": m.gamma,
-            "alpha_per_s": m.alpha,
-            "beta_per_s2": m.beta,
-        }
-        for name, m in models.items()
-    }
-    path.write_text(yaml.safe_dump(doc, sort_keys=False), encoding="utf-8")

@@ -7,11 +7,13 @@ step datasets, as the robot's fit replays them, using only the commanded angles,
 F-T ZMP and IMU — with rollouts in MuJoCo thread-pool batches (default), on a process pool or
 a Ray cluster, checkpointed every generation.
 
-Writes into the output folder: the checkpoint (``checkpoint.json`` and ``checkpoint.npz``,
-data only: :mod:`zmpkit.simfit.checkpoint`) and ``history.json``; ``fitted_truth.yaml``
-(loadable as ``--truth``), ``fitted_parameters.yaml``, ``cost_history.csv``,
-``identifiability.csv``, ``reproduction.csv``, figures; with ``self_test``, the recorded
-experiments under ``self_test/`` and ``recovery.csv``.
+:func:`run_identify_sim` writes into the output folder only as it goes: the checkpoint
+(``checkpoint.json`` and ``checkpoint.npz``, data only: :mod:`zmpkit.simfit.checkpoint`),
+``history.json`` and, with ``self_test``, the recorded experiments under ``self_test/``.
+:func:`~zmpkit.pipelines.identify_sim_files.write_identify_sim` writes the rest:
+``fitted_truth.yaml`` (loadable as ``--truth``), ``fitted_parameters.yaml``,
+``cost_history.csv``, ``identifiability.csv``, ``reproduction.csv``, figures, the report and,
+with ``self_test``, ``recovery.csv``.
 """
 
 from __future__ import annotations
@@ -22,196 +24,50 @@ from pathlib import Path
 
 import numpy as np
 
-from zmpkit.errors import ParameterError
-from zmpkit.pipelines.identify_sim_report import reproduction_checks, write_fit_files
-from zmpkit.robots.registry import DEFAULT_FIT_ROBOT, get_robot
-from zmpkit.robots.robot import Robot
+from zmpkit.pipelines.identify_sim_config import IdentifySimConfig
 from zmpkit.simfit.adequacy import Adequacy, model_adequacy, replica_recordings
-from zmpkit.simfit.backends import BACKENDS, DEFAULT_WORKERS, make_evaluator
+from zmpkit.simfit.backends import make_evaluator
 from zmpkit.simfit.checkpoint import load_checkpoint
-from zmpkit.simfit.cost import CostWeights
 from zmpkit.simfit.cost_hessian import CostDirection
 from zmpkit.simfit.experiments import Experiment, read_experiments, simulated_effects
-from zmpkit.simfit.identifiability import ParameterIdentifiability, identifiability
+from zmpkit.simfit.identifiability import Identifiability, ParameterIdentifiability, identifiability
 from zmpkit.simfit.noise_intervals import NoiseInterval, noise_intervals
-from zmpkit.simfit.optimizer import (
-    MAX_POPSIZE,
-    MAX_RESTARTS,
-    CmaOptions,
-    CmaResult,
-    ProgressCallback,
-    run_cma,
-)
-from zmpkit.simfit.parameters import (
-    FitParameter,
-    default_parameters,
-    parse_fit_effects,
-)
-from zmpkit.simfit.problem import FitProblem, check_sensor_readings
+from zmpkit.simfit.optimizer import CmaOptions, CmaResult, ProgressCallback, run_cma
+from zmpkit.simfit.parameters import FitParameter
+from zmpkit.simfit.problem import FitProblem, simulate
+from zmpkit.simfit.recorded import RecordedSignals
 from zmpkit.simfit.self_test import (
     RecoveryRow,
     perturbed_values,
     record_experiments,
     recovery_rows,
     self_test_plan,
-    write_recovery_csv,
 )
 from zmpkit.simfit.truth_doc import base_truth_path, load_truth_doc
-from zmpkit.simfit.validation import ReproductionCheck
+from zmpkit.simfit.validation import ReproductionCheck, reproduction_check
 
 __all__ = [
     "IdentifySimConfig",
     "IdentifySimResult",
+    "Replay",
+    "replay_experiments",
     "run_identify_sim",
 ]
 
-DEFAULT_GENERATIONS = 40
-QUICK_GENERATIONS = 30
-
 
 @dataclass(frozen=True)
-class IdentifySimConfig:
-    """``zmpkit identify sim DATA... --robot R --effects M,G --out DIR [...]``.
+class Replay:
+    """One experiment replayed with the fitted values.
 
     Attributes:
-        data: recorded experiment folders (walk folders or step datasets); empty
-            with ``self_test``.
-        robot: the robot (it needs a fit catalogue); a registry name or ``robot.yaml`` path
-            given from Python is resolved once, here. Files record its
-            :attr:`~zmpkit.robots.robot.Robot.source`.
-        effects: letters of the effects whose parameters are fitted (``M,I,G,F,S,C``); the
-            simulator runs with these effects on (C is not a switch).
-        parameters: fit only these catalogue names; None = all of the effects (quick: the
-            robot's quick parameters where they belong to the effects, see
-            :attr:`~zmpkit.robots.robot.FitSpec.quick_parameters`).
-        truth: base truth file holding every unfitted value; None = the shipped one.
-        held_out: experiment folders not fitted, only checked (``--held-out``).
-        backend: ``"local"`` (thread-pool batches), ``"pool"`` (process pool), ``"serial"``
-            or ``"ray"``.
-        address: Ray cluster address (``--address``), only with ``backend="ray"``.
-        workers: threads of the local batches, or processes of the pool.
-        resume: a folder of an interrupted fit to continue (``--resume``).
-        generations: CMA-ES generations; None = 40, or 30 with ``quick``.
-        popsize: candidates per generation (the first run's, with restarts); None =
-            CMA-ES's 4 + 3 ln n.
-        restarts: IPOP-CMA-ES restarts after the first run, each from a random mean with
-            twice the previous population (0 to :data:`~zmpkit.simfit.optimizer.MAX_RESTARTS`;
-            ``popsize`` times 2^restarts at most
-            :data:`~zmpkit.simfit.optimizer.MAX_POPSIZE`); ``generations`` is per run.
-        sigma0: initial CMA-ES step, fraction of each parameter's (log-)range [-].
-        seed: seed of CMA-ES and, in a self-test, of the hidden truth and the sensor noise.
-        quick: small fit (2–3 parameters; short experiments in a self-test).
-        self_test: record experiments from a virtual robot with hidden perturbed truth,
-            fit them, and compare (``recovery.csv``).
-        weights: weights of the cost terms.
-        sensor_model: simulate the sensors as the base truth describes them (S: F-T filter,
-            rate, quantisation, noise with a fixed seed; encoder resolution), so the
-            simulated signals pass through the same sensor chain as the recorded ones.
-        sensor_readings: with the sensor model, ``"sampled"`` (the whole chain, noise with a
-            fixed seed and quantisation) or ``"expected"`` (no noise, no quantisation: a
-            smooth cost; :func:`~zmpkit.simfit.truth_doc.expected_readings`).
-        figures: draw the figures.
+        experiment: the recorded experiment (its signals are the recording).
+        simulated: the simulated signals with the fitted values.
+        check: their trunk oscillation and joint error compared.
     """
 
-    data: tuple[str, ...] = ()
-    robot: Robot = field(default_factory=lambda: get_robot(DEFAULT_FIT_ROBOT, needs="fit"))
-    effects: str = "M,G"
-    parameters: tuple[str, ...] | None = None
-    truth: str | None = None
-    held_out: tuple[str, ...] = ()
-    backend: str = "local"
-    address: str | None = None
-    workers: int = DEFAULT_WORKERS
-    resume: str | None = None
-    generations: int | None = None
-    popsize: int | None = None
-    restarts: int = 0
-    sigma0: float = 0.2
-    seed: int = 1
-    quick: bool = False
-    self_test: bool = False
-    weights: CostWeights = field(default_factory=CostWeights)
-    sensor_model: bool = True
-    figures: bool = True
-    sensor_readings: str = "sampled"
-
-    def __post_init__(self) -> None:
-        object.__setattr__(self, "robot", get_robot(self.robot, needs="fit"))
-        object.__setattr__(self, "effects", ",".join(parse_fit_effects(self.effects)))
-        object.__setattr__(self, "data", tuple(str(d) for d in self.data))
-        if self.backend not in BACKENDS:
-            raise ParameterError(
-                f"backend must be one of {', '.join(BACKENDS)}; got {self.backend!r}"
-            )
-        if self.address is not None and self.backend != "ray":
-            raise ParameterError(f"--address is for --backend ray; got backend {self.backend!r}")
-        if self.self_test and self.data:
-            raise ParameterError("--self-test records its own experiments; give no DATA with it")
-        if not self.self_test and not self.data:
-            kind = self.robot.require_fit().experiment
-            what = "a walk folder" if kind == "walk" else "a step dataset"
-            raise ParameterError(f"give at least one DATA folder ({what}), or --self-test")
-        _positive_int("generations", self.generations, allow_none=True)
-        _positive_int("popsize", self.popsize, allow_none=True)
-        _check_restarts(self.restarts, self.popsize)
-        _positive_int("workers", self.workers)
-        if isinstance(self.seed, bool) or not isinstance(self.seed, int) or self.seed < 0:
-            raise ParameterError(f"seed must be an integer >= 0; got {self.seed!r}")
-        if not 0.0 < self.sigma0 <= 0.5:
-            raise ParameterError(f"sigma0 must be in (0, 0.5]; got {self.sigma0!r}")
-        check_sensor_readings(self.sensor_readings)
-        self.fit_parameters()  # validates the parameter names against the effects
-
-    @property
-    def n_generations(self) -> int:
-        """Generations to run."""
-        if self.generations is not None:
-            return self.generations
-        return QUICK_GENERATIONS if self.quick else DEFAULT_GENERATIONS
-
-    @property
-    def physics_effects(self) -> str:
-        """The fitted effect letters that switch physics on (all but C and S)."""
-        letters = [x for x in self.effects.split(",") if x not in ("C", "S")]
-        return ",".join(letters) if letters else "none"
-
-    @property
-    def sim_effects(self) -> str:
-        """Effect letters the simulator runs with: the physics, plus S for the sensors."""
-        sensors = self.sensor_model or "S" in self.effects.split(",")
-        physics = self.physics_effects
-        if not sensors:
-            return physics
-        return "S" if physics == "none" else f"{physics},S"
-
-    def fit_parameters(self) -> tuple[FitParameter, ...]:
-        """The fitted parameters."""
-        chosen = default_parameters(self.robot, self.effects, self.parameters)
-        if self.parameters is not None or not self.quick:
-            return chosen
-        names = self.robot.require_fit().quick_parameters
-        quick = [p for p in chosen if p.name in names]
-        return tuple(quick) if len(quick) >= 2 else chosen[:3]
-
-
-def _positive_int(name: str, value: object, allow_none: bool = False) -> None:
-    if value is None and allow_none:
-        return
-    if isinstance(value, bool) or not isinstance(value, int) or value < 1:
-        raise ParameterError(f"{name} must be an integer >= 1; got {value!r}")
-
-
-def _check_restarts(restarts: object, popsize: int | None) -> None:
-    if isinstance(restarts, bool) or not isinstance(restarts, int) or restarts < 0:
-        raise ParameterError(f"restarts must lie in [0, {MAX_RESTARTS}]; got {restarts!r}")
-    if restarts > MAX_RESTARTS:
-        raise ParameterError(f"restarts must lie in [0, {MAX_RESTARTS}]; got {restarts!r}")
-    if popsize is not None and popsize * 2**restarts > MAX_POPSIZE:
-        raise ParameterError(
-            f"popsize {popsize} doubled at each of {restarts} restarts exceeds {MAX_POPSIZE} "
-            f"candidates; with this popsize restarts must lie in "
-            f"[0, {(MAX_POPSIZE // popsize).bit_length() - 1}]"
-        )
+    experiment: Experiment
+    simulated: RecordedSignals
+    check: ReproductionCheck
 
 
 @dataclass(frozen=True)
@@ -220,6 +76,8 @@ class IdentifySimResult:
 
     Attributes:
         config: what was asked.
+        problem: the fit problem (robot, simulated effects, parameters, base truth, the
+            fitted experiments).
         parameters: the fitted parameters.
         fitted: fitted value per parameter name [units].
         cost: the best cost [-].
@@ -227,8 +85,10 @@ class IdentifySimResult:
         identifiability: per parameter, whether the data pin it down.
         fit_checks: trunk oscillation and joint error on the fitted experiments.
         held_out_checks: the same on the held-out experiments.
+        replays: the fitted, then the held-out experiments replayed with the fitted values.
         recovery: self-test only: truth vs fit per parameter.
-        files: every file written, by role.
+        files: every file written, by role (the checkpoint until
+            :func:`~zmpkit.pipelines.identify_sim_files.write_identify_sim`).
         started_s: when the run started [s since the epoch].
         sloppy_directions: combinations of parameters the data leave loose (coarser than
             :data:`~zmpkit.simfit.identifiability.IDENTIFIABLE_WITHIN`), loosest first.
@@ -242,6 +102,7 @@ class IdentifySimResult:
     """
 
     config: IdentifySimConfig
+    problem: FitProblem
     parameters: tuple[FitParameter, ...]
     fitted: dict[str, float]
     cost: float
@@ -249,6 +110,7 @@ class IdentifySimResult:
     identifiability: tuple[ParameterIdentifiability, ...]
     fit_checks: tuple[ReproductionCheck, ...]
     held_out_checks: tuple[ReproductionCheck, ...]
+    replays: tuple[Replay, ...] = ()
     recovery: tuple[RecoveryRow, ...] = ()
     files: dict[str, Path] = field(default_factory=dict)
     started_s: float = field(default_factory=time.time)
@@ -287,11 +149,12 @@ def _experiments(
 def run_identify_sim(
     config: IdentifySimConfig, out_dir: str | Path, progress: ProgressCallback | None = None
 ) -> IdentifySimResult:
-    """Fit the simulator to the recorded experiments; write the results to ``out_dir``.
+    """Fit the simulator to the recorded experiments, checkpointing into ``out_dir``.
 
     Args:
         config: the fit.
-        out_dir: output folder (created if missing); the checkpoint is written there.
+        out_dir: output folder (created if missing); the checkpoint, the history and a
+            self-test's recordings are written there as the fit goes, nothing else.
         progress: called after every generation with a
             :class:`~zmpkit.simfit.optimizer.FitProgress`.
 
@@ -322,6 +185,18 @@ def run_identify_sim(
         config.weights,
         config.sensor_readings,
     )
+    cma_result, judged = _fit(config, problem, out, resume, progress)
+    return _fit_result(config, problem, cma_result, judged, held_exps, truth, started_s)
+
+
+def _fit(
+    config: IdentifySimConfig,
+    problem: FitProblem,
+    out: Path,
+    resume: Path | None,
+    progress: ProgressCallback | None,
+) -> tuple[CmaResult, Identifiability]:
+    """CMA-ES on ``problem`` (checkpointed into ``out``), then each parameter's identifiability."""
     options = CmaOptions(
         config.n_generations, config.popsize, config.sigma0, config.seed, config.restarts
     )
@@ -333,47 +208,66 @@ def run_identify_sim(
         )
     finally:
         evaluator.close()
-    replicas = replica_recordings(problem, cma_result.best_values)
-    adequacy = model_adequacy(problem, cma_result.best_values, recordings=replicas)
-    intervals = noise_intervals(problem, cma_result.best_values, judged.hessian, replicas)
-    figures = out if config.figures else None
-    fit_checks, fit_files = reproduction_checks(problem, fit_exps, cma_result.best_values, figures)
-    held_checks, held_files = reproduction_checks(
-        problem, held_exps, cma_result.best_values, figures
-    )
+    return cma_result, judged
+
+
+def _fit_result(
+    config: IdentifySimConfig,
+    problem: FitProblem,
+    cma_result: CmaResult,
+    judged: Identifiability,
+    held_exps: list[Experiment],
+    truth: np.ndarray | None,
+    started_s: float,
+) -> IdentifySimResult:
+    """The fit judged: adequacy, noise intervals, replays and, in a self-test, recovery."""
+    best, params = cma_result.best_values, problem.parameters
+    replicas = replica_recordings(problem, best)
+    adequacy = model_adequacy(problem, best, recordings=replicas)
+    intervals = noise_intervals(problem, best, judged.hessian, replicas)
+    fit_replays = replay_experiments(problem, list(problem.experiments), best)
+    held_replays = replay_experiments(problem, held_exps, best)
     ident = judged.parameters
-    files = write_fit_files(
-        problem,
-        cma_result,
-        judged,
-        (fit_checks, held_checks),
-        out,
-        config.figures,
-        adequacy,
-        intervals,
-    )
-    files |= fit_files | held_files
     recovery: tuple[RecoveryRow, ...] = ()
     if truth is not None:
-        recovery = tuple(
-            recovery_rows(params, truth, cma_result.best_values, [i.identifiable for i in ident])
-        )
-        files["recovery"] = write_recovery_csv(list(recovery), out / "recovery.csv")
-    fitted = {p.name: float(v) for p, v in zip(params, cma_result.best_values, strict=True)}
+        recovery = tuple(recovery_rows(params, truth, best, [i.identifiable for i in ident]))
     return IdentifySimResult(
-        config,
-        params,
-        fitted,
-        cma_result.best_cost,
-        cma_result,
-        ident,
-        fit_checks,
-        held_checks,
-        recovery,
-        files,
-        started_s,
-        judged.sloppy,
-        adequacy,
-        problem.sim_effects,
-        intervals,
+        config=config,
+        problem=problem,
+        parameters=params,
+        fitted={p.name: float(v) for p, v in zip(params, best, strict=True)},
+        cost=cma_result.best_cost,
+        cma=cma_result,
+        identifiability=ident,
+        fit_checks=tuple(r.check for r in fit_replays),
+        held_out_checks=tuple(r.check for r in held_replays),
+        replays=fit_replays + held_replays,
+        recovery=recovery,
+        files={"checkpoint": cma_result.checkpoint},
+        started_s=started_s,
+        sloppy_directions=judged.sloppy,
+        adequacy=adequacy,
+        sim_effects=problem.sim_effects,
+        intervals=intervals,
     )
+
+
+def replay_experiments(
+    problem: FitProblem, experiments: list[Experiment], values: np.ndarray
+) -> tuple[Replay, ...]:
+    """Simulate each experiment with the fitted values and compare it with its recording."""
+    held = FitProblem(
+        problem.robot,
+        problem.sim_effects,
+        problem.parameters,
+        problem.base_doc,
+        tuple(experiments),
+        problem.weights,
+        problem.sensor_readings,
+    )
+    replays = []
+    for i, experiment in enumerate(experiments):
+        simulated = simulate(held, values, i)
+        check = reproduction_check(experiment.name, experiment.signals, simulated)
+        replays.append(Replay(experiment, simulated, check))
+    return tuple(replays)

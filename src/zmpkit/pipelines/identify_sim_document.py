@@ -11,23 +11,14 @@ counts — on held-out ones; and that the data pin each fitted parameter down. W
 from __future__ import annotations
 
 import math
-from pathlib import Path
 
-from zmpkit.analysis.provenance import capture
-from zmpkit.analysis.report_document import (
-    Check,
-    Figure,
-    ReportDocument,
-    Section,
-    Table,
-    Text,
-)
-from zmpkit.analysis.report_files import write_report
+from zmpkit.analysis.provenance import capture_run
+from zmpkit.analysis.report_document import Check, Figure, ReportDocument, Section, Table, Text
 from zmpkit.pipelines.identify_sim import IdentifySimResult
 from zmpkit.simfit.noise_intervals import NoiseInterval
 from zmpkit.simfit.validation import AMPLITUDE_TOLERANCE, FREQUENCY_TOLERANCE_HZ, ReproductionCheck
 
-__all__ = ["identify_sim_document", "write_identify_sim_report"]
+__all__ = ["identify_sim_document"]
 
 
 def _reproduction(check: ReproductionCheck, role: str) -> Check:
@@ -46,6 +37,36 @@ def _reproduction(check: ReproductionCheck, role: str) -> Check:
 def identify_sim_document(result: IdentifySimResult) -> ReportDocument:
     """The fit's report: reproduction per experiment, parameters, identifiability, figures."""
     c = result.config
+    blocks: list[Table] = [_parameters_table(result)]
+    if result.sloppy_directions:
+        blocks.append(_sloppy_table(result))
+    if result.recovery:
+        blocks.append(_recovery_table(result))
+    figures = [
+        Figure(path, _caption(role))
+        for role, path in result.files.items()
+        if path.suffix.lower() == ".png"
+    ]
+    title = c.robot.title
+    return ReportDocument(
+        title=f"zmpkit identify sim: the virtual {title}'s simulator fitted to recorded data",
+        summary=_summary(result),
+        checks=_checks(result),
+        sections=(
+            Section("Fitted parameters", tuple(blocks)),
+            Section("Figures", tuple(figures)),
+            _data_section(result),
+        ),
+        provenance=capture_run(
+            c,
+            result.started_s,
+            (("backend", c.backend), ("generations", str(len(result.cma.history)))),
+        ),
+    )
+
+
+def _checks(result: IdentifySimResult) -> tuple[Check, ...]:
+    """Each experiment reproduced, each parameter pinned down, the model adequate."""
     checks = [_reproduction(k, "fitted experiment") for k in result.fit_checks]
     checks += [_reproduction(k, "held-out experiment") for k in result.held_out_checks]
     checks += [
@@ -66,10 +87,27 @@ def identify_sim_document(result: IdentifySimResult) -> ReportDocument:
             checks.append(Check(name, "undefined", adequacy.verdict))
         else:
             checks.append(Check(name, "met" if explains else "missed", adequacy.verdict))
+    return tuple(checks)
+
+
+def _summary(result: IdentifySimResult) -> str:
+    c, adequacy = result.config, result.adequacy
+    data = ", ".join(c.data) or "experiments recorded by the self-test"
+    return (
+        f"CMA-ES fit of the {c.effects} effects' parameters (paper B §II) to {data}, "
+        f"reading only commanded angles, encoders, F-T ZMP and IMU; held out: "
+        f"{', '.join(c.held_out) or 'none'}; simulated effects "
+        f"{result.sim_effects or c.sim_effects}."
+        + ("" if adequacy is None else f" Verdict: {adequacy.verdict}.")
+    )
+
+
+def _parameters_table(result: IdentifySimResult) -> Table:
+    """Each fitted parameter with its unit, noise interval, bounds and identifiability."""
+    adequacy = result.adequacy
     precise = adequacy is None or adequacy.explains is not False
-    units = {p.name: p.unit for p in result.parameters}
     intervals = {i.name: i for i in result.intervals}
-    parameters = Table(
+    return Table(
         ("parameter", "fitted", "unit", "95 % interval (noise)", "bounds", "identifiable"),
         tuple(
             (
@@ -90,67 +128,39 @@ def identify_sim_document(result: IdentifySimResult) -> ReportDocument:
             "the misfit moves, not how precisely the robot's values are known."
         ),
     )
-    blocks: list = [parameters]
-    if result.sloppy_directions:
-        blocks.append(_sloppy_table(result))
-    if result.recovery:
-        blocks.append(
-            Table(
-                ("parameter", "hidden truth", "fitted", "unit", "error [%]"),
-                tuple(
-                    (
-                        r.parameter,
-                        f"{r.truth:.5g}",
-                        f"{r.fitted:.5g}",
-                        units.get(r.parameter, ""),
-                        f"{r.error_pct:+.1f}",
-                    )
-                    for r in result.recovery
-                ),
-                "Self-test: the hidden truth of the recorded robot against the fit (the truth "
-                "is read only here, to judge the fit).",
+
+
+def _recovery_table(result: IdentifySimResult) -> Table:
+    """Self-test: the hidden truth against the fit, per parameter."""
+    units = {p.name: p.unit for p in result.parameters}
+    return Table(
+        ("parameter", "hidden truth", "fitted", "unit", "error [%]"),
+        tuple(
+            (
+                r.parameter,
+                f"{r.truth:.5g}",
+                f"{r.fitted:.5g}",
+                units.get(r.parameter, ""),
+                f"{r.error_pct:+.1f}",
             )
-        )
-    figures = [
-        Figure(path, _caption(role))
-        for role, path in result.files.items()
-        if path.suffix.lower() == ".png"
-    ]
-    title = c.robot.title
-    data = ", ".join(c.data) or "experiments recorded by the self-test"
-    return ReportDocument(
-        title=f"zmpkit identify sim: the virtual {title}'s simulator fitted to recorded data",
-        summary=(
-            f"CMA-ES fit of the {c.effects} effects' parameters (paper B §II) to {data}, "
-            f"reading only commanded angles, encoders, F-T ZMP and IMU; held out: "
-            f"{', '.join(c.held_out) or 'none'}; simulated effects "
-            f"{result.sim_effects or c.sim_effects}."
-            + ("" if adequacy is None else f" Verdict: {adequacy.verdict}.")
+            for r in result.recovery
         ),
-        checks=tuple(checks),
-        sections=(
-            Section("Fitted parameters", tuple(blocks)),
-            Section("Figures", tuple(figures)),
-            Section(
-                "Data",
-                (
-                    Text(
-                        "`fitted_truth.yaml` (usable as `--truth`), `fitted_parameters.yaml`, "
-                        "`cost_history.csv`, `identifiability.csv`, `sloppy_directions.csv`, "
-                        "`reproduction.csv`"
-                        + (", `recovery.csv`" if result.recovery else "")
-                        + "; the checkpoint resumes an interrupted fit (`--resume`)."
-                    ),
-                ),
+        "Self-test: the hidden truth of the recorded robot against the fit (the truth "
+        "is read only here, to judge the fit).",
+    )
+
+
+def _data_section(result: IdentifySimResult) -> Section:
+    return Section(
+        "Data",
+        (
+            Text(
+                "`fitted_truth.yaml` (usable as `--truth`), `fitted_parameters.yaml`, "
+                "`cost_history.csv`, `identifiability.csv`, `sloppy_directions.csv`, "
+                "`reproduction.csv`"
+                + (", `recovery.csv`" if result.recovery else "")
+                + "; the checkpoint resumes an interrupted fit (`--resume`)."
             ),
-        ),
-        provenance=capture(
-            robot=c.robot,
-            started_s=result.started_s,
-            truth=c.truth,
-            effects=c.effects,
-            seed=c.seed,
-            extra=(("backend", c.backend), ("generations", str(len(result.cma.history)))),
         ),
     )
 
@@ -191,10 +201,3 @@ def _caption(role: str) -> str:
         f"Experiment `{name}`: recorded and simulated signals with the fitted parameters "
         "(trunk tilt [rad], joint angles [rad])."
     )
-
-
-def write_identify_sim_report(
-    result: IdentifySimResult, out_dir: str | Path, fmt: str = "html"
-) -> Path:
-    """Write the fit's report into ``out_dir`` and return its path."""
-    return write_report(identify_sim_document(result), out_dir, fmt)

@@ -1,9 +1,9 @@
 """The ``zmpkit sim push`` pipeline: a step / push sweep on a virtual robot, analysed.
 
-Writes into the output folder the dataset (one CSV per trial + ``meta.json``, see
-:mod:`zmpkit.experiments.dataset`), ``steady_state.csv`` (columns
-:data:`~zmpkit.experiments.response.STEADY_STATE_COLUMNS`) and ``steps.png`` (measured vs
-expected ZMP of every target, like paper A Fig. 14).
+:func:`run_sim_push` writes into the output folder, trial by trial, the dataset (one CSV per
+trial + ``meta.json``, see :mod:`zmpkit.experiments.dataset`; a rerun resumes it);
+:func:`~zmpkit.pipelines.sim_push_files.write_sim_push` writes ``steady_state.csv``, ``steps.png``
+and the report.
 """
 
 from __future__ import annotations
@@ -13,7 +13,6 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from zmpkit.analysis.zmp_steps_plot import ZmpStepCurve, plot_zmp_steps
 from zmpkit.errors import ParameterError
 from zmpkit.experiments import (
     DEFAULT_WORKERS,
@@ -27,7 +26,6 @@ from zmpkit.experiments import (
     parse_targets,
     run_step_sweep,
     step_responses,
-    write_steady_state_csv,
 )
 from zmpkit.experiments.sweep import ProgressCallback, check_sweep
 from zmpkit.robots.registry import DEFAULT_BALANCE_ROBOT, get_robot, robots_that
@@ -35,17 +33,7 @@ from zmpkit.robots.robot import Robot
 from zmpkit.signals import PLANES
 from zmpkit.sim.effect_set import EFFECT_LETTERS, EffectSet
 
-__all__ = [
-    "STEADY_STATE_FILE",
-    "STEPS_FIGURE_FILE",
-    "SimPushResult",
-    "run_sim_push",
-    "sim_push_config",
-]
-
-STEADY_STATE_FILE = "steady_state.csv"
-STEPS_FIGURE_FILE = "steps.png"
-_AXIS_LABEL = {"sagittal": "ZMP x (forward)", "frontal": "ZMP y (left)"}
+__all__ = ["SimPushResult", "run_sim_push", "sim_push_config"]
 
 
 @dataclass(frozen=True)
@@ -53,17 +41,18 @@ class SimPushResult:
     """What ``zmpkit sim push`` produced.
 
     Attributes:
+        config: the sweep.
         dataset: the dataset as read back from the output folder.
         responses: measured / expected ZMP and steady-state figures per trial.
-        steady_state_path: ``steady_state.csv``.
-        figure_path: ``steps.png``.
+        files: the files written by role (``steady_state``, ``figure``, ``report``; empty
+            until :func:`~zmpkit.pipelines.sim_push_files.write_sim_push`).
         started_s: when the run started [s since the epoch].
     """
 
+    config: StepExperimentConfig
     dataset: StepDataset
     responses: tuple[TrialResponse, ...]
-    steady_state_path: Path
-    figure_path: Path
+    files: dict[str, Path] = field(default_factory=dict)
     started_s: float = field(default_factory=time.time)
 
     @property
@@ -167,16 +156,6 @@ def sim_push_config(
     return config
 
 
-def _title(config: StepExperimentConfig) -> str:
-    push = ""
-    if config.push is not None:
-        push = f", push {config.push.force_n:g} N for {config.push.duration_s:g} s"
-    return (
-        f"{config.robot.title} {config.plane} ZMP steps, effects {config.effects}, "
-        f"seed {config.seed}{push}"
-    )
-
-
 def run_sim_push(
     config: StepExperimentConfig,
     out_dir: str | Path,
@@ -184,17 +163,7 @@ def run_sim_push(
     workers: int = DEFAULT_WORKERS,
     progress: ProgressCallback | None = None,
 ) -> SimPushResult:
-    """Run (or resume) the sweep of ``config`` into ``out_dir`` and write its analysis."""
+    """Run (or resume) the sweep of ``config`` into ``out_dir`` and analyse each trial."""
     started_s = time.time()
-    out = Path(out_dir)
-    dataset = run_step_sweep(config, out, workers=workers, progress=progress)
-    responses = step_responses(dataset)
-    csv_path = write_steady_state_csv(responses, out / STEADY_STATE_FILE)
-    curves = [
-        ZmpStepCurve(f"{1000 * r.zmp_ref:g} mm", r.time_since_step, r.zmp_measured, r.zmp_expected)
-        for r in responses
-    ]
-    figure = plot_zmp_steps(
-        curves, out / STEPS_FIGURE_FILE, title=_title(config), axis_label=_AXIS_LABEL[config.plane]
-    )
-    return SimPushResult(dataset, responses, csv_path, figure, started_s)
+    dataset = run_step_sweep(config, Path(out_dir), workers=workers, progress=progress)
+    return SimPushResult(config, dataset, step_responses(dataset), started_s=started_s)

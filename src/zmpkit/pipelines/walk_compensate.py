@@ -77,7 +77,7 @@ class CompensateResult:
         compensated: method or shape -> its validation walks.
         tuning: shape -> tuning result (offset methods only).
         files: every file written, by role (empty until
-            :func:`~zmpkit.pipelines.walk_compensate_report.write_walk_compensate`).
+            :func:`~zmpkit.pipelines.walk_compensate_files.write_walk_compensate`).
         started_s: when the run started [s since the epoch].
     """
 
@@ -100,7 +100,9 @@ def _pool_map(jobs: list[tuple[Callable, tuple]], workers: int) -> list[Compensa
         return [f.result() for f in futures]
 
 
-def _tune_shapes(config: CompensateConfig, cache: Path, report) -> dict[str, TuningResult]:
+def _tune_shapes(
+    config: CompensateConfig, cache: Path, report: Callable[[str, int, int], None]
+) -> dict[str, TuningResult]:
     shapes = OFFSET_SHAPES if config.method == "auto" else (config.method,)
     walk = config.tuning_walks()[0].walk_config()
     pattern = generate_pattern(walk.pattern_config())
@@ -119,7 +121,7 @@ def _tune_shapes(config: CompensateConfig, cache: Path, report) -> dict[str, Tun
 
 def _validation_jobs(
     config: CompensateConfig, offsets: dict[str, OffsetParameters], walks: tuple[WalkSpec, ...]
-):
+) -> tuple[list[tuple[Callable, tuple]], list[str]]:
     jobs: list[tuple[Callable, tuple]] = [(walk_with_offset, (w, None)) for w in walks]
     if config.method == "alg1":
         jobs += [(walk_with_algorithm1, (w, config.iterations)) for w in walks]
@@ -139,7 +141,7 @@ def run_walk_compensate(
 
     Tuning walks are cached under ``out_dir/cache`` (or ``config.cache_dir``) as they finish,
     so a rerun resumes; the results are written by
-    :func:`~zmpkit.pipelines.walk_compensate_report.write_walk_compensate`.
+    :func:`~zmpkit.pipelines.walk_compensate_files.write_walk_compensate`.
 
     Args:
         config: the run.

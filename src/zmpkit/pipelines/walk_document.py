@@ -13,7 +13,7 @@ from collections.abc import Mapping
 from pathlib import Path
 
 from zmpkit.analysis.labels import EFFECT_NAMES, effects_name
-from zmpkit.analysis.provenance import capture
+from zmpkit.analysis.provenance import capture_run
 from zmpkit.analysis.report_document import (
     Block,
     Check,
@@ -25,11 +25,10 @@ from zmpkit.analysis.report_document import (
     Text,
     Video,
 )
-from zmpkit.analysis.report_files import write_report
 from zmpkit.experiments.walk_config import WalkConfig
 from zmpkit.experiments.walk_summary import HEADING_TOLERANCE_RAD, WalkSummary
 from zmpkit.pipelines.walk import WalkResult
-from zmpkit.pipelines.walk_report import JOINT_PLOT_STEPS
+from zmpkit.pipelines.walk_figures import JOINT_PLOT_STEPS
 
 __all__ = [
     "EFFECT_NAMES",
@@ -39,7 +38,6 @@ __all__ = [
     "walk_document",
     "walk_figures",
     "walk_metrics_table",
-    "write_walk_report",
 ]
 
 
@@ -54,67 +52,10 @@ def walk_checks(summary: WalkSummary, prefix: str = "") -> tuple[Check, ...]:
     """The walk's targets: it stood; it stepped as commanded; speed and oscillation stated."""
     lead = f"{prefix}: " if prefix else ""
     why = _why_undefined(summary)
-    checks = [
-        Check(
-            f"{lead}stands for the whole walk",
-            "missed" if summary.fell else "met",
-            f"fell at {summary.fall_time_s:.2f} s ({summary.fall_kind})"
-            if summary.fell and summary.fall_time_s is not None
-            else "stood to the end",
-        ),
-        Check(
-            f"{lead}steps as commanded",
-            "missed" if summary.clamped_step_limits else "met",
-            "steps shortened by the footstep limits: " + ", ".join(summary.clamped_step_limits)
-            if summary.clamped_step_limits
-            else "no footstep limit shortened a step",
-        ),
-    ]
-    heading = summary.heading_error_max_rad
-    if heading is not None or summary.fell:
-        open_loop = summary.controller == "open"  # no heading feedback: stated, not judged
-        status: Status = "undefined"
-        if heading is not None:
-            status = "info" if open_loop else _met(heading <= HEADING_TOLERANCE_RAD)
-        bar = (
-            "(open loop: no bar)"
-            if open_loop
-            else f"against the bar ≤ {HEADING_TOLERANCE_RAD:g} rad"
-        )
-        checks.append(
-            Check(
-                f"{lead}keeps its heading (IMU yaw against the plan's)",
-                status,
-                why
-                if heading is None
-                else f"largest error {heading:.3f} rad {bar} (at the end "
-                f"{summary.heading_error_end_rad:+.3f} rad)",
-            )
-        )
-    speed = summary.mean_speed_mps
-    checks.append(
-        Check(
-            f"{lead}forward speed (no bar)",
-            "undefined" if speed is None else "info",
-            why
-            if speed is None
-            else f"{speed:.3f} m/s against {summary.commanded_speed_mps:.3f} m/s commanded "
-            f"({_pct(speed, summary.commanded_speed_mps)})",
-        )
-    )
-    path = summary.path_speed_mps
-    commanded_path = math.hypot(summary.commanded_speed_mps, summary.commanded_lateral_speed_mps)
-    checks.append(
-        Check(
-            f"{lead}speed along the path (no bar)",
-            "undefined" if path is None else "info",
-            (why if speed is None else "the steady window is shorter than two gait cycles")
-            if path is None
-            else f"{path:.3f} m/s against {commanded_path:.3f} m/s commanded "
-            f"({_pct(path, commanded_path)}); what a turning or sideways walk makes, where the "
-            "forward speed is the advance along x",
-        )
-    )
+    checks = [_stands(summary, lead), _steps_as_commanded(summary, lead)]
+    if summary.heading_error_max_rad is not None or summary.fell:
+        checks.append(_heading_check(summary, lead, why))
+    checks += _speed_checks(summary, lead, why)
     if summary.adjusted_steps:
         checks.append(_stepping_check(summary, lead))
     amplitude = summary.trunk_pitch_peak_amplitude_rad
@@ -130,6 +71,72 @@ def walk_checks(summary: WalkSummary, prefix: str = "") -> tuple[Check, ...]:
         )
     )
     return tuple(checks)
+
+
+def _stands(summary: WalkSummary, lead: str) -> Check:
+    """Met when the walk did not fall."""
+    return Check(
+        f"{lead}stands for the whole walk",
+        "missed" if summary.fell else "met",
+        f"fell at {summary.fall_time_s:.2f} s ({summary.fall_kind})"
+        if summary.fell and summary.fall_time_s is not None
+        else "stood to the end",
+    )
+
+
+def _steps_as_commanded(summary: WalkSummary, lead: str) -> Check:
+    """Met when no footstep limit shortened a step."""
+    return Check(
+        f"{lead}steps as commanded",
+        "missed" if summary.clamped_step_limits else "met",
+        "steps shortened by the footstep limits: " + ", ".join(summary.clamped_step_limits)
+        if summary.clamped_step_limits
+        else "no footstep limit shortened a step",
+    )
+
+
+def _heading_check(summary: WalkSummary, lead: str, why: str) -> Check:
+    """The IMU yaw against the plan's: judged in closed loop, stated in open loop [rad]."""
+    heading = summary.heading_error_max_rad
+    open_loop = summary.controller == "open"  # no heading feedback: stated, not judged
+    status: Status = "undefined"
+    if heading is not None:
+        status = "info" if open_loop else _met(heading <= HEADING_TOLERANCE_RAD)
+    bar = "(open loop: no bar)" if open_loop else f"against the bar ≤ {HEADING_TOLERANCE_RAD:g} rad"
+    return Check(
+        f"{lead}keeps its heading (IMU yaw against the plan's)",
+        status,
+        why
+        if heading is None
+        else f"largest error {heading:.3f} rad {bar} (at the end "
+        f"{summary.heading_error_end_rad:+.3f} rad)",
+    )
+
+
+def _speed_checks(summary: WalkSummary, lead: str, why: str) -> list[Check]:
+    """The forward speed and the speed along the path against the commanded [m/s]."""
+    speed = summary.mean_speed_mps
+    path = summary.path_speed_mps
+    commanded_path = math.hypot(summary.commanded_speed_mps, summary.commanded_lateral_speed_mps)
+    return [
+        Check(
+            f"{lead}forward speed (no bar)",
+            "undefined" if speed is None else "info",
+            why
+            if speed is None
+            else f"{speed:.3f} m/s against {summary.commanded_speed_mps:.3f} m/s commanded "
+            f"({_pct(speed, summary.commanded_speed_mps)})",
+        ),
+        Check(
+            f"{lead}speed along the path (no bar)",
+            "undefined" if path is None else "info",
+            (why if speed is None else "the steady window is shorter than two gait cycles")
+            if path is None
+            else f"{path:.3f} m/s against {commanded_path:.3f} m/s commanded "
+            f"({_pct(path, commanded_path)}); what a turning or sideways walk makes, where the "
+            "forward speed is the advance along x",
+        ),
+    ]
 
 
 def _stepping_check(summary: WalkSummary, lead: str) -> Check:
@@ -274,17 +281,5 @@ def walk_document(result: WalkResult) -> ReportDocument:
         summary=summary,
         checks=walk_checks(s),
         sections=(Section("The walk", (*body, data)),),
-        provenance=capture(
-            robot=c.robot,
-            started_s=result.started_s,
-            truth=c.truth,
-            effects=c.effects,
-            seed=c.seed,
-            extra=(("controller", c.controller),),
-        ),
+        provenance=capture_run(c, result.started_s, (("controller", c.controller),)),
     )
-
-
-def write_walk_report(result: WalkResult, out_dir: str | Path, fmt: str = "html") -> Path:
-    """Write the walk's report (``report.html`` and/or ``report.md``) into ``out_dir``."""
-    return write_report(walk_document(result), out_dir, fmt)

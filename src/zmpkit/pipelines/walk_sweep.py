@@ -4,9 +4,9 @@ Every case of :func:`~zmpkit.experiments.robustness.robustness_matrix` is walked
 pool; each finished row is appended to ``robustness.csv`` at once, so an interrupted sweep
 loses at most the walks in flight, and a rerun into the same folder walks only the cases not
 yet in the file (rows of another configuration are refused: ``sweep.json`` records it).
-``write_walk_sweep`` adds two figures per controller (every case; the pushes as a matrix) and
-the counts of falls. ``SweepConfig.cases`` walks a subset (e.g. the 30 N pushes) into the
-same folder.
+:func:`~zmpkit.pipelines.walk_sweep_files.write_walk_sweep` adds two figures per controller
+(every case; the pushes as a matrix), the counts of falls and the report.
+``SweepConfig.cases`` walks a subset (e.g. the 30 N pushes) into the same folder.
 """
 
 from __future__ import annotations
@@ -21,7 +21,6 @@ from dataclasses import dataclass, field, fields
 from pathlib import Path
 
 from zmpkit import _validate
-from zmpkit.analysis.robustness_plot import plot_push_matrix, plot_robustness
 from zmpkit.errors import InputFileError, ParameterError
 from zmpkit.experiments.robustness import (
     ROBUSTNESS_COLUMNS,
@@ -36,7 +35,7 @@ from zmpkit.robots.robot import DEFAULT_WALK_SPEED_MPS, Robot
 from zmpkit.sim.effect_set import EffectSet
 from zmpkit.walking.walk_controllers import CONTROLLERS
 
-__all__ = ["SweepConfig", "SweepResult", "run_walk_sweep", "write_walk_sweep"]
+__all__ = ["SweepConfig", "SweepResult", "run_walk_sweep"]
 
 CSV_FILE = "robustness.csv"
 CONFIG_FILE = "sweep.json"
@@ -219,34 +218,3 @@ def run_walk_sweep(
     every = config.full_matrix()  # the report shows every finished case
     rows = tuple(done[c.key] for c in every if c.key in done)
     return SweepResult(config, rows, {"robustness": path}, started_s)
-
-
-def write_walk_sweep(result: SweepResult, out: Path) -> SweepResult:
-    """Write two figures per controller and ``summary.json`` (falls per controller).
-
-    The figures: every case's outcome (:func:`~zmpkit.analysis.robustness_plot.plot_robustness`)
-    and the pushes as a matrix of force, direction and phase
-    (:func:`~zmpkit.analysis.robustness_plot.plot_push_matrix`).
-    """
-    files = dict(result.files)
-    config = result.config
-    for controller in config.controllers:
-        rows = [r for r in result.rows if r[0] == controller]
-        title = f"{config.robot.title}, effects {config.effects or 'none'}: {controller}" + (
-            " with step adjustment" if config.step_adjustment else ""
-        )
-        files[f"figure_{controller}"] = plot_robustness(
-            rows, ROBUSTNESS_COLUMNS, out / f"robustness_{controller}.png", title
-        )
-        matrix = plot_push_matrix(rows, ROBUSTNESS_COLUMNS, out / f"pushes_{controller}.png", title)
-        if matrix is not None:
-            files[f"matrix_{controller}"] = matrix
-    summary = {
-        c: {"falls": f, "cases": n, "step_adjustment": config.step_adjustment}
-        for c in config.controllers
-        for f, n in [result.falls(c)]
-    }
-    path = out / "summary.json"
-    path.write_text(json.dumps(summary, indent=2) + "\n", encoding="utf-8")
-    files["summary"] = path
-    return SweepResult(result.config, result.rows, files, result.started_s)

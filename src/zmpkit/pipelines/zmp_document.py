@@ -7,49 +7,23 @@ contact, and the ZMP's range, so a wrong mount or unit shows at a glance.
 
 from __future__ import annotations
 
-import time
-from pathlib import Path
-
 import numpy as np
 
 from zmpkit.analysis.provenance import capture_described, file_sha256
 from zmpkit.analysis.report_document import Check, Figure, ReportDocument, Section, Table, Text
-from zmpkit.analysis.report_files import write_report
 from zmpkit.pipelines.zmp_log import ZmpRunResult
 
-__all__ = ["write_zmp_report", "zmp_document"]
+__all__ = ["zmp_document"]
 
 
-def zmp_document(
-    result: ZmpRunResult,
-    log_path: Path,
-    feet_source: str,
-    contact_threshold_n: float,
-    started_s: float,
-) -> ReportDocument:
+def zmp_document(result: ZmpRunResult) -> ReportDocument:
     """The ZMP log's report."""
+    log_path, feet_source = result.log_path, result.feet_source
+    contact_threshold_n = result.contact_threshold_n
     s = result.series
     n = len(s.time)
     defined = int(np.count_nonzero(s.defined))
-    both = int(np.count_nonzero(s.contact_right & s.contact_left))
-    right = int(np.count_nonzero(s.contact_right & ~s.contact_left))
-    left = int(np.count_nonzero(s.contact_left & ~s.contact_right))
-    duration = float(s.time[-1] - s.time[0]) if n > 1 else 0.0
-    rows = [
-        ("samples", f"{n}"),
-        ("duration [s]", f"{duration:.3f}"),
-        ("ZMP defined (a foot in contact)", f"{defined} ({_pct(defined, n)})"),
-        ("double support", f"{both} ({_pct(both, n)})"),
-        ("right foot only", f"{right} ({_pct(right, n)})"),
-        ("left foot only", f"{left} ({_pct(left, n)})"),
-        ("no foot in contact (ZMP undefined)", f"{n - defined} ({_pct(n - defined, n)})"),
-    ]
-    if defined:
-        zmp = s.zmp[s.defined]
-        rows += [
-            ("ZMP x range in world [m]", f"{zmp[:, 0].min():.4f} … {zmp[:, 0].max():.4f}"),
-            ("ZMP y range in world [m]", f"{zmp[:, 1].min():.4f} … {zmp[:, 1].max():.4f}"),
-        ]
+    rows = _log_rows(result)
     checks = (
         Check(
             "ZMP defined (no bar)",
@@ -74,7 +48,7 @@ def zmp_document(
                 (
                     Table(("quantity", "value"), tuple(rows), "What the log holds."),
                     Figure(
-                        result.figure_path,
+                        result.files["figure"],
                         "Measured ZMP in the world frame [m], x and y, over time [s] (gaps: "
                         "undefined), and the vertical force of each foot [N] with the contact "
                         "threshold.",
@@ -85,26 +59,38 @@ def zmp_document(
         ),
         provenance=capture_described(
             robot=feet_source,
-            started_s=started_s,
+            started_s=result.started_s,
             extra=(("log", str(log_path)), ("log SHA-256", file_sha256(log_path) or "–")),
         ),
     )
 
 
+def _log_rows(result: ZmpRunResult) -> list[tuple[str, str]]:
+    """Samples, duration [s], contact phases and, where defined, the ZMP's range [m]."""
+    s = result.series
+    n = len(s.time)
+    defined = int(np.count_nonzero(s.defined))
+    both = int(np.count_nonzero(s.contact_right & s.contact_left))
+    right = int(np.count_nonzero(s.contact_right & ~s.contact_left))
+    left = int(np.count_nonzero(s.contact_left & ~s.contact_right))
+    duration = float(s.time[-1] - s.time[0]) if n > 1 else 0.0
+    rows = [
+        ("samples", f"{n}"),
+        ("duration [s]", f"{duration:.3f}"),
+        ("ZMP defined (a foot in contact)", f"{defined} ({_pct(defined, n)})"),
+        ("double support", f"{both} ({_pct(both, n)})"),
+        ("right foot only", f"{right} ({_pct(right, n)})"),
+        ("left foot only", f"{left} ({_pct(left, n)})"),
+        ("no foot in contact (ZMP undefined)", f"{n - defined} ({_pct(n - defined, n)})"),
+    ]
+    if defined:
+        zmp = s.zmp[s.defined]
+        rows += [
+            ("ZMP x range in world [m]", f"{zmp[:, 0].min():.4f} … {zmp[:, 0].max():.4f}"),
+            ("ZMP y range in world [m]", f"{zmp[:, 1].min():.4f} … {zmp[:, 1].max():.4f}"),
+        ]
+    return rows
+
+
 def _pct(part: int, whole: int) -> str:
     return f"{100.0 * part / whole:.1f} %" if whole else "–"
-
-
-def write_zmp_report(
-    result: ZmpRunResult,
-    out_dir: str | Path,
-    *,
-    log_path: Path,
-    feet_source: str,
-    contact_threshold_n: float,
-    started_s: float | None = None,
-    fmt: str = "html",
-) -> Path:
-    """Write the ZMP log's report into ``out_dir`` and return its path."""
-    doc = zmp_document(result, log_path, feet_source, contact_threshold_n, started_s or time.time())
-    return write_report(doc, out_dir, fmt)

@@ -27,9 +27,9 @@ from zmpkit.pipelines.balance_document import (
     balance_figures,
     step_trial_videos,
 )
-from zmpkit.pipelines.videos import write_step_trial_video
+from zmpkit.pipelines.balance_video import write_step_trial_video
 
-__all__ = ["BalanceArtifacts", "write_balance_outputs"]
+__all__ = ["BalanceArtifacts", "write_balance"]
 
 PAPER_PLANNED_TARGET_M = 0.09
 """Paper A's planned lean (Fig. 18 and 21b) is for this ZMP step [m]."""
@@ -50,7 +50,7 @@ _PLANNED_DURATION_S = 15.0
 
 @dataclass(frozen=True)
 class BalanceArtifacts:
-    """Paths written by :func:`write_balance_outputs`, each plane's figures and verdict.
+    """Paths written by :func:`write_balance`, each plane's figures and verdict.
 
     ``videos`` holds the step trial's video when the config asked for one (``step_trial.mp4``,
     or the GIF or keyframes written instead). ``failed_planes``: plane → why it did not
@@ -72,7 +72,7 @@ class BalanceArtifacts:
         return not self.failed_planes and all(v.met for v in self.verdicts.values())
 
 
-def write_balance_outputs(
+def write_balance(
     result: BalanceResult, out_dir: str | Path, report_format: str = "html"
 ) -> BalanceArtifacts:
     """Write ``params.yaml`` (+ one per plane), ``table1.csv``, figures and the report.

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from collections.abc import Mapping
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -55,6 +56,16 @@ def joint_plot_span(
     return start, min(start + span, end_s)
 
 
+@dataclass(frozen=True)
+class _Marks:
+    """What every time plot of one walk shares: its label, steady window, fall and pushes."""
+
+    label: str
+    window_s: tuple[float, float] | None
+    fall: plots.FallMark | None
+    pushes: tuple[plots.PushMark, ...]
+
+
 def write_figures(
     out: Path,
     config: WalkConfig,
@@ -68,20 +79,38 @@ def write_figures(
     peak is the one in ``summary.json``; time plots shade that window and mark a fall.
     """
     title = config.robot.title
-    label = (
-        f"{title} {config.speed_mps:g} m/s, {config.step_duration_s:g} s steps, "
-        f"{effects_name(config.effects)}, {config.controller}"
+    marks = _Marks(
+        label=(
+            f"{title} {config.speed_mps:g} m/s, {config.step_duration_s:g} s steps, "
+            f"{effects_name(config.effects)}, {config.controller}"
+        ),
+        window_s=None if summary.fell else summary.window_s,  # a fall has no metrics' window
+        fall=(
+            plots.FallMark(summary.fall_time_s, summary.fall_kind or "tilt")
+            if summary.fell and summary.fall_time_s is not None
+            else None
+        ),
+        pushes=tuple(
+            plots.PushMark(p.time_s, p.duration_s, f"push {p.force_n:g} N {_signed(p.direction)}")
+            for p in config.pushes
+        ),
     )
-    t = record.time_s
-    window = None if summary.fell else summary.window_s  # a fall has no metrics' window
-    pushes = tuple(
-        plots.PushMark(p.time_s, p.duration_s, f"push {p.force_n:g} N {_signed(p.direction)}")
-        for p in config.pushes
-    )
-    fall = (
-        plots.FallMark(summary.fall_time_s, summary.fall_kind or "tilt")
-        if summary.fell and summary.fall_time_s is not None
-        else None
+    files = _trunk_figures(out, config, record, summary, marks)
+    files |= _feet_figures(out, pattern, record, marks)
+    files |= _joint_figures(out, config, record, summary, marks)
+    return files
+
+
+def _trunk_figures(
+    out: Path, config: WalkConfig, record: WalkRecord, summary: WalkSummary, marks: _Marks
+) -> dict[str, Path]:
+    """Trunk pitch and roll over time [rad], and the pitch's spectrum over the steady window."""
+    t, label, window, fall, pushes = (
+        record.time_s,
+        marks.label,
+        marks.window_s,
+        marks.fall,
+        marks.pushes,
     )
     files = {}
     files["trunk_pitch"] = plots.plot_trunk_tilt(
@@ -99,9 +128,18 @@ def write_figures(
             spectrum, 1.0 / config.step_duration_s, out / "trunk_pitch_spectrum.png", label,
             window_s=window,
         )  # fmt: skip
+    return files
+
+
+def _feet_figures(
+    out: Path, pattern: WalkingPattern, record: WalkRecord, marks: _Marks
+) -> dict[str, Path]:
+    """The soles along x [m] while in contact, and the feet's distance in double support [m]."""
+    t, label, fall = record.time_s, marks.label, marks.fall
     contact = record.in_contact()
     sole_x = record.sole_in_world[..., 0]
     feet = dict(enumerate(record.feet))
+    files = {}
     files["feet"] = plots.plot_feet_in_contact(
         t, {f: sole_x[:, i] for i, f in feet.items()}, {f: contact[:, i] for i, f in feet.items()},
         out / "feet_in_contact.png", label, fall=fall,
@@ -112,16 +150,25 @@ def write_figures(
     )  # fmt: skip
     files["feet_distance"] = plots.plot_feet_distance(
         t, measured_double_support_distance(pattern, record), planned,
-        out / "feet_distance.png", label, window_s=window, fall=fall, pushes=pushes,
+        out / "feet_distance.png", label, window_s=marks.window_s, fall=fall, pushes=marks.pushes,
     )  # fmt: skip
+    return files
+
+
+def _joint_figures(
+    out: Path, config: WalkConfig, record: WalkRecord, summary: WalkSummary, marks: _Marks
+) -> dict[str, Path]:
+    """The right leg's joints over :data:`JOINT_PLOT_STEPS` steps: tracking [rad], torque [N·m]."""
+    t, fall = record.time_s, marks.fall
     start, stop = joint_plot_span(summary, config.step_duration_s, float(t[-1]))
     span = (t >= start) & (t <= stop)
     right_leg = series_joints(config)[3:]
+    files = {}
     for joint in right_leg[::-1]:
         j = record.joint(joint)
         files[joint] = plots.plot_joint_tracking(
             t[span], record.q_cmd_rad[span, j], record.q_meas_rad[span, j],
-            record.torque_nm[span, j], out / f"joint_{joint}.png", f"{label}: {joint}",
+            record.torque_nm[span, j], out / f"joint_{joint}.png", f"{marks.label}: {joint}",
             fall=fall if fall is not None and start <= fall.time_s <= stop else None,
         )  # fmt: skip
     return files

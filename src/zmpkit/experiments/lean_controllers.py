@@ -1,8 +1,9 @@
 """Picklable factories of the lean controllers compared in the balance validation.
 
-A sweep runs its trials in worker processes, so it receives a factory, not a controller:
-each trial builds its own controller, at rest, from these settings. ``settings()`` goes into
-the dataset's ``meta.json``, so a resumed sweep refuses a folder run with other settings.
+The balance pipeline builds one per plane and kind from the identified error model. A sweep
+runs its trials in worker processes, so it receives a factory, not a controller: each trial
+builds its own controller, at rest, from these settings. ``settings()`` goes into the
+dataset's ``meta.json``, so a resumed sweep refuses a folder run with other settings.
 """
 
 from __future__ import annotations
@@ -18,7 +19,7 @@ from zmpkit.control import (
     LipmController,
     ZmpFeedbackGains,
 )
-from zmpkit.experiments import CONTROL_PERIOD_S, LeanController
+from zmpkit.experiments.trial import CONTROL_PERIOD_S, LeanController
 from zmpkit.identify import ErrorModel
 from zmpkit.models.pendulum import STANDARD_GRAVITY_MPS2
 
