@@ -14,8 +14,29 @@ def test_recorded_signals_as_time_series() -> None:
     zmp[2] = np.nan  # no foot in contact
     signals = RecordedSignals(t, ("a", "b"), q_cmd, q_meas, zmp, 0.5 * t)
     series = signals.as_time_series()
-    assert series.columns == ("a_cmd_rad", "a_meas_rad", "b_cmd_rad", "b_meas_rad",
+    assert series.columns == ("a_cmd_rad", "b_cmd_rad", "a_meas_rad", "b_meas_rad",
                               "zmp_x_m", "zmp_y_m", "trunk_tilt_rad")  # fmt: skip
     np.testing.assert_array_equal(series["b_meas"], q_meas[:, 1])
     np.testing.assert_array_equal(series["zmp_y"], zmp[:, 1])  # NaN stays NaN
     assert series.signal("zmp_x").frame == "world"
+
+
+def test_a_record_is_its_time_series_and_pickles_as_one_table() -> None:
+    """The arrays the cost compares are views of the record's series (no copy), and a record
+    sent to a worker process travels as that one table."""
+    import pickle
+
+    t = 0.01 * np.arange(4)
+    q_cmd, q_meas = np.outer(t, [1.0, 2.0]), np.outer(t, [1.5, 2.5])
+    record = RecordedSignals(t, ("a", "b"), q_cmd, q_meas, np.column_stack([t, t]), -t)
+    for view in (record.q_cmd_rad, record.q_meas_rad, record.zmp_m, record.trunk_tilt_rad):
+        assert np.shares_memory(view, record.series.values)
+        assert not view.flags.writeable
+    again = pickle.loads(pickle.dumps(record))
+    np.testing.assert_array_equal(again.q_meas_rad, q_meas)
+    assert np.shares_memory(again.zmp_m, again.series.values)
+    head = record.head(2)
+    np.testing.assert_array_equal(head.trunk_tilt_rad, -t[:2])
+    empty = RecordedSignals(np.zeros(0), ("a", "b"), np.zeros((0, 2)), np.zeros((0, 2)),
+                            np.zeros((0, 2)), np.zeros(0))  # fmt: skip
+    assert len(empty.series) == 0  # a rollout that diverged before its first sample

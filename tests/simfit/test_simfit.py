@@ -145,8 +145,10 @@ def test_cost_is_zero_for_identical_signals_and_grows_with_the_miss() -> None:
 
 def test_a_constant_zmp_shift_costs_only_when_the_mean_is_kept() -> None:
     rec = _signals(400)
-    shifted = _signals(400)
-    shifted.zmp_m[:] += [0.004, -0.003]  # a 5 mm shift, as a CoM or F-T moment offset gives
+    shifted = RecordedSignals(  # a 5 mm shift, as a CoM or F-T moment offset gives
+        rec.time_s, rec.joint_names, rec.q_cmd_rad, rec.q_meas_rad,
+        rec.zmp_m + np.array([0.004, -0.003]), rec.trunk_tilt_rad,
+    )  # fmt: skip
     assert experiment_cost(rec, shifted).zmp == pytest.approx(0.0, abs=1e-12)
     # scale: RMS of the recorded ZMP about its trend, 0.03 / sqrt(2) m (the y sine) less the
     # little of 8 sine periods a straight line takes away (0.5 %)

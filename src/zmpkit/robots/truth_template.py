@@ -208,13 +208,11 @@ def truth_template(file: RobotFile, built: UserModel, hip_height_m: float) -> Tr
     """
     facts = _leg_facts(file)
     values = _Values()
-    values.lines.append(
-        "# Truth of the effects of a robot-file robot (zmpkit robot truth init): the layout of"
-    )
-    values.lines.append(
-        "# zmpkit.robots.servo_truth, SI units. Values marked ASSUMED are guesses: replace"
-    )
-    values.lines.append("# them with the robot's own (datasheets, identification).")
+    values.lines += [
+        "# Truth of the effects of a robot-file robot (zmpkit robot truth init): the layout of",
+        "# zmpkit.robots.servo_truth, SI units. Values marked ASSUMED are guesses: replace",
+        "# them with the robot's own (datasheets, identification).",
+    ]
     values.add("servo_rate_hz", 1.0 / file.timestep_s, "the physics rate", indent=0)
     torque = facts["torque"]
     torque_source = "forcerange / actuatorfrcrange" if torque else None
@@ -251,18 +249,22 @@ def truth_template(file: RobotFile, built: UserModel, hip_height_m: float) -> Tr
     friction = facts["friction"]
     values.lines.append("friction:")
     values.add("coulomb_link", friction or 0.0, "joint frictionloss" if friction else None)
-    stiffness = GEAR_STIFFNESS_PER_KP * drive.kp
+    _add_gear(values, GEAR_STIFFNESS_PER_KP * drive.kp, armature, file.timestep_s)
+    values.lines.append("flex: []                                # no flexible link ASSUMED")
+    return TruthTemplate("\n".join(values.lines) + "\n", values.from_model, values.assumed)
+
+
+def _add_gear(values: _Values, stiffness: float, armature: float, timestep_s: float) -> None:
+    """The ``gear:`` section: stiffness [N·m/rad], damped as the module docstring says."""
     damping = max(
         2.0 * math.sqrt(stiffness * armature) * GEAR_DAMPING_PER_CRITICAL,
-        stiffness * file.timestep_s,
+        stiffness * timestep_s,
     )
     values.lines.append("gear:")
     values.add("stiffness", stiffness, None)
     values.add("damping", damping, None)
     values.add("backlash", BACKLASH_RAD, None)
     values.add("inertia_link", 1.0e-3, None)
-    values.lines.append("flex: []                                # no flexible link ASSUMED")
-    return TruthTemplate("\n".join(values.lines) + "\n", values.from_model, values.assumed)
 
 
 def write_truth_template(robot_file: str | Path, out: str | Path) -> TruthTemplate:

@@ -2,9 +2,10 @@
 
 A :class:`TimeSeries` holds ``time_s`` [s], strictly increasing, shape (N,), and a float
 table of C columns, shape (N, C), each described by a :class:`Signal`: its name, unit and
-frame. Records of experiments (a walk's frames, a step trial's samples, a ZMP series) give
-themselves as a :class:`TimeSeries`, so one writer, one windowing and one column lookup
-serve them all.
+frame; N may be 0 (a record with no sample: a simulation that diverged before its first).
+Records of experiments (a walk's frames, a step trial's samples, a ZMP series, the
+simulator fit's records) give themselves as a :class:`TimeSeries`, so one writer, one
+windowing and one column lookup serve them all.
 
 Names follow one rule: the signal's name says *what* (``zmp_x``, ``trunk_pitch``,
 ``RKneePitch_cmd``, ``left_fz``), the :class:`Signal` says its unit and the frame it is
@@ -92,8 +93,8 @@ def _time_array(time_s: ArrayLike) -> NDArray[np.float64]:
         t = np.array(time_s, dtype=np.float64)
     except (TypeError, ValueError):
         raise ParameterError("time_s must be an array of real numbers") from None
-    if t.ndim != 1 or t.size == 0:
-        raise ParameterError(f"time_s must have shape (N,) with N >= 1, got {t.shape}")
+    if t.ndim != 1:
+        raise ParameterError(f"time_s must have shape (N,), got {t.shape}")
     if not np.all(np.isfinite(t)):
         raise ParameterError(f"time_s must be finite; sample {int(np.argmin(np.isfinite(t)))}")
     if t.size > 1 and np.any(np.diff(t) <= 0.0):
