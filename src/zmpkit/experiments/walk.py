@@ -248,7 +248,9 @@ def check_realisable(trajectory: JointTrajectory, model: mujoco.MjModel | None =
         f"the robot's legs cannot follow this walk's plan: the whole-body IK leaves the CoM "
         f"{1e3 * com:.1f} mm off (at {t_com:.2f} s) and a sole {1e3 * foot:.1f} mm off (at "
         f"{t_foot:.2f} s), more than {1e3 * IK_REALISABLE_M:g} mm{limits}; try a lower --speed "
-        "or --step-duration, or check the robot file's legs, walking.com_height and crouch"
+        "or --step-duration, or check the robot file's legs and walking: com_height, crouch, "
+        "torso_pitch, zmp_forward (`zmpkit robot init` chooses the last three where a leg "
+        "joint holds the upright crouch at its limit)"
     )
 
 
