@@ -27,6 +27,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+from collections.abc import Mapping
 from dataclasses import dataclass
 
 import mujoco
@@ -161,18 +162,31 @@ def ankle_forward_m(robot: Robot, file: RobotFile) -> float:
     return float(np.mean(offsets))
 
 
-def crouch_margin_rad(robot: Robot) -> float:
-    """The smallest distance of a leg joint from its range's ends in the walking crouch [rad]."""
-    model = robot.ik_model()
-    settings = robot.require_walking().ik_settings
-    margins = [math.inf]
-    for name in settings.joint_names:
+def _least_margin(
+    model: mujoco.MjModel, angles_rad: Mapping[str, tuple[float, float]]
+) -> tuple[float, str]:
+    """The limited joint closest to its range's ends, and how close [rad].
+
+    Returns ``(inf, "")`` when no joint is limited.
+
+    Args:
+        model: the model whose joint ranges count.
+        angles_rad: joint → (smallest, largest) angle it takes [rad].
+    """
+    least = (math.inf, "")
+    for name, (lowest, highest) in angles_rad.items():
         joint = model.joint(name).id
         if model.jnt_limited[joint]:
             low, high = (float(v) for v in model.jnt_range[joint])
-            angle = settings.posture_rad.get(name, 0.0)
-            margins.append(min(angle - low, high - angle))
-    return min(margins)
+            least = min(least, (min(lowest - low, high - highest), name))
+    return least
+
+
+def crouch_margin_rad(robot: Robot) -> float:
+    """The smallest distance of a leg joint from its range's ends in the walking crouch [rad]."""
+    settings = robot.require_walking().ik_settings
+    angles = {name: settings.posture_rad.get(name, 0.0) for name in settings.joint_names}
+    return _least_margin(robot.ik_model(), {n: (a, a) for n, a in angles.items()})[0]
 
 
 def candidates(ankle_forward: float, quarter_sole_m: float) -> list[WalkingPosture]:
@@ -214,15 +228,12 @@ def probe_posture(robot: Robot, file: RobotFile, posture: WalkingPosture) -> Pos
         robot=dataclasses.replace(robot, walking=walking), duration_s=PROBE_DURATION_S
     )
     trajectory = solve_walking_ik(generate_pattern(config.pattern_config()), model, settings)
-    margins = []
-    for k, name in enumerate(trajectory.joint_names):
-        joint = model.joint(name).id
-        if not model.jnt_limited[joint]:
-            continue
-        low, high = (float(v) for v in model.jnt_range[joint])
-        q = trajectory.q_rad[:, k]
-        margins.append((min(float(q.min()) - low, high - float(q.max())), name))
-    margin, joint_name = min(margins) if margins else (float("inf"), "")
+    q = trajectory.q_rad
+    ranges = {
+        name: (float(q[:, k].min()), float(q[:, k].max()))
+        for k, name in enumerate(trajectory.joint_names)
+    }
+    margin, joint_name = _least_margin(model, ranges)
     error = max(trajectory.max_com_error_m, trajectory.max_foot_error_m)
     return PostureProbe(posture, error, margin, joint_name)
 
