@@ -174,3 +174,16 @@ def test_walk_command_too_short_for_a_speed_says_undefined(
     summary = json.loads((tmp_path / "summary.json").read_text())
     assert summary["mean_speed_mps"] is None  # 2 s leave no steady walk to fit a speed on
     assert "speed undefined m/s" in out
+
+
+def test_a_window_a_sample_short_of_two_gait_cycles_leaves_the_path_speed_unmeasured() -> None:
+    """4 s of 0.6 s steps leave a steady window of 2.4 s, sampled as 2.39 s: the path speed
+    (which needs two 1.2 s cycles) is not measured, the walk still is (it stopped with
+    'need a window of at least two periods' before)."""
+    config = WalkConfig(
+        robot=get_robot("nao"), speed_mps=0.15, step_duration_s=0.6, duration_s=4.0,
+        effects="none", figures=False,
+    )  # fmt: skip
+    summary = run_walk(config).summary
+    assert summary.path_speed_mps is None
+    assert summary.mean_speed_mps == pytest.approx(0.15, rel=0.1)

@@ -6,6 +6,7 @@ from pathlib import Path
 
 import click
 
+from zmpkit.cli.identify_plan import identify_plan_command
 from zmpkit.cli.options import SEED, WORKERS, Bounded, BoundedInt, report_option
 from zmpkit.cli.progress import GenerationProgress
 from zmpkit.cli.robot_option import robot_option
@@ -35,6 +36,9 @@ MAX_GENERATIONS = 100_000
 @click.group("identify")
 def identify_group() -> None:
     """Identify models of the robot from recorded data."""
+
+
+identify_group.add_command(identify_plan_command)
 
 
 @identify_group.command("balance")

@@ -296,7 +296,8 @@ def _steady_metrics(
         planned_mask = (pattern.time_s >= window[0]) & (pattern.time_s <= window[1])
         metrics["mean_speed_mps"] = fitted_speed(time, record.torso_in_world[:, 0], mask)
         cycle_s = 2.0 / step_hz  # two steps: the sway's period
-        if window[1] - window[0] >= 2.0 * cycle_s:
+        sampled = time[mask]  # the window as sampled: a sample short of its bounds at most
+        if sampled.size >= 3 and sampled[-1] - sampled[0] >= 2.0 * cycle_s:
             xy = record.torso_in_world[:, :2]
             metrics["path_speed_mps"] = path_speed(time, xy, mask, cycle_s)
         com_x = pattern.com_position_in_world[:, 0]

@@ -1,0 +1,95 @@
+"""Write an ``identify plan``: its tables and the chosen experiments' protocols.
+
+- ``plan.csv``: one row per candidate experiment and parameter, judged alone: the
+  conditional and marginal resolution [%] and whether it pins the parameter;
+- ``selection.csv``: one row per experiment the greedy choice added, in order, with the
+  set's marginal resolution per parameter [%] and how many it pins;
+- ``protocols/<experiment>/``: ``targets.csv`` and ``manifest.yaml`` of each chosen walk
+  (:func:`~zmpkit.simfit.design_experiments.write_walk_protocol`);
+- ``plan.md``: the same as a short report, with what the plan assumed.
+"""
+
+from __future__ import annotations
+
+import csv
+import math
+from pathlib import Path
+
+from zmpkit.pipelines.identify_plan import IdentifyPlanResult
+from zmpkit.simfit.design_experiments import write_walk_protocol
+from zmpkit.simfit.identifiability import IDENTIFIABLE_WITHIN
+
+__all__ = ["percent", "write_identify_plan"]
+
+
+def percent(fraction: float) -> str:
+    """A resolution as a percentage, ``inf`` for none."""
+    return f"{100.0 * fraction:.3g}" if math.isfinite(fraction) else "inf"
+
+
+def write_identify_plan(result: IdentifyPlanResult, out_dir: str | Path) -> dict[str, Path]:
+    """Write the plan's files into ``out_dir``; returns them by role."""
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    names = [p.name for p in result.parameters]
+    files = {"plan": out / "plan.csv", "selection": out / "selection.csv"}
+    with files["plan"].open("w", newline="", encoding="utf-8") as f:
+        writer = csv.writer(f)
+        writer.writerow(("experiment", "parameter", "conditional_pct", "marginal_pct", "pins"))
+        for judged in result.alone:
+            for k, name in enumerate(names):
+                writer.writerow(
+                    (judged.experiments[0], name, percent(judged.conditional[k]),
+                     percent(judged.marginal[k]), str(judged.pinned[k]).lower())
+                )  # fmt: skip
+    with files["selection"].open("w", newline="", encoding="utf-8") as f:
+        writer = csv.writer(f)
+        writer.writerow(("rank", "experiment", "pinned", *(f"{n}_marginal_pct" for n in names)))
+        for rank, judged in enumerate(result.chosen, start=1):
+            writer.writerow(
+                (rank, judged.experiments[-1], sum(judged.pinned),
+                 *(percent(m) for m in judged.marginal))
+            )  # fmt: skip
+    chosen = result.chosen[-1].experiments if result.chosen else ()
+    for name in chosen:
+        design = result.walks.get(name)
+        if design is not None:
+            write_walk_protocol(result.config.robot, design, out / "protocols" / name)
+    if result.walks and chosen:
+        files["protocols"] = out / "protocols"
+    files["report"] = out / "plan.md"
+    files["report"].write_text(_report(result), encoding="utf-8")
+    return files
+
+
+def _report(result: IdentifyPlanResult) -> str:
+    """The plan as Markdown."""
+    names = [p.name for p in result.parameters]
+    config = result.config
+    lines = [
+        f"# Which experiments to record: {config.robot.name}, effects {config.effects}",
+        "",
+        f"Every candidate was recorded once from the nominal robot (the catalogue's nominal "
+        f"values), and the fit's cost (expected sensor readings) evaluated on one batch of "
+        f"{len(result.alone[0].marginal) if result.alone else 0} parameters' moves. A "
+        f"parameter is pinned when its marginal resolution (every other parameter free) is "
+        f"within {100 * IDENTIFIABLE_WITHIN:g} %. This is a local design: it says what the "
+        f"experiments show on a robot near the nominal values; the fit judges the recorded "
+        f"data again. {result.seconds:.0f} s.",
+        "",
+        "## Each experiment alone (marginal resolution, %)",
+        "",
+        "| experiment | " + " | ".join(names) + " | pins |",
+        "|---|" + "---|" * (len(names) + 1),
+    ]
+    for judged in result.alone:
+        cells = " | ".join(percent(m) for m in judged.marginal)
+        lines.append(f"| {judged.experiments[0]} | {cells} | {sum(judged.pinned)} |")
+    lines += ["", "## The recommended set, as it grows", ""]
+    lines += ["| added | " + " | ".join(names) + " | pins |", "|---|" + "---|" * (len(names) + 1)]
+    for judged in result.chosen:
+        cells = " | ".join(percent(m) for m in judged.marginal)
+        lines.append(f"| {judged.experiments[-1]} | {cells} | {sum(judged.pinned)} |")
+    if result.dropped:
+        lines += ["", "Not recorded: " + "; ".join(result.dropped) + "."]
+    return "\n".join(lines) + "\n"
