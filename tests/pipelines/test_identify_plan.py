@@ -9,12 +9,13 @@ import numpy as np
 import pytest
 import yaml
 
+from zmpkit.experiments.double_support import double_support_targets
 from zmpkit.pipelines.identify_plan import IdentifyPlanConfig, run_identify_plan
 from zmpkit.pipelines.identify_plan_files import write_identify_plan
 from zmpkit.robots.registry import get_robot
 from zmpkit.simfit.batch_backend import BatchEvaluator
 from zmpkit.simfit.cost import CostWeights
-from zmpkit.simfit.design_experiments import walk_designs
+from zmpkit.simfit.design_experiments import DoubleSupportDesign, walk_designs
 from zmpkit.simfit.experiments import read_experiments
 from zmpkit.simfit.identifiability import identifiability
 from zmpkit.simfit.problem import FitProblem
@@ -41,7 +42,7 @@ def test_the_plan_judges_each_walk_as_the_fit_would_and_writes_its_protocols(
     result = run_identify_plan(config, tmp_path)
     names = [p.name for p in result.parameters]
     assert names == ["pid_gain_scale", "gear_stiffness"]
-    # The fit's own identifiability on the first recorded walk alone, at the nominal values,
+    # The fit's own identifiability on the first recorded experiment alone, at the nominal values,
     # from its own batch: the plan's marginal resolutions are the same numbers.
     first = result.alone[0].experiments[0]
     folder = tmp_path / "recorded" / first
@@ -66,11 +67,18 @@ def test_the_plan_judges_each_walk_as_the_fit_would_and_writes_its_protocols(
     assert set(rows[0]) == {"experiment", "parameter", "conditional_pct", "marginal_pct", "pins"}
     chosen = result.chosen[-1].experiments[0]
     protocol = tmp_path / "protocols" / chosen
-    design = result.walks[chosen]
+    design = result.designs[chosen]
     table = np.loadtxt(protocol / "targets.csv", delimiter=",", skiprows=1)
-    height = NAO.require_walking().com_height_m
-    plan = walk_trajectory(NAO, design.speed_mps, design.step_duration_s, design.duration_s, height)
-    np.testing.assert_allclose(table[:, 1:], plan.q_rad, atol=1e-6)
+    if isinstance(design, DoubleSupportDesign):
+        np.testing.assert_allclose(
+            table[:, 1:], double_support_targets(NAO, design.design).q_rad, atol=1e-6
+        )
+    else:
+        height = NAO.require_walking().com_height_m
+        plan = walk_trajectory(
+            NAO, design.speed_mps, design.step_duration_s, design.duration_s, height
+        )
+        np.testing.assert_allclose(table[:, 1:], plan.q_rad, atol=1e-6)
     manifest = yaml.safe_load((protocol / "manifest.yaml").read_text(encoding="utf-8"))
-    assert manifest["command"]["step_duration_s"] == design.step_duration_s
     assert manifest["targets"]["file"] == "targets.csv"
+    assert len(manifest["record"]["signals"]) == 4

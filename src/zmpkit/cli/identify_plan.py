@@ -45,7 +45,7 @@ def identify_plan_command(
 
     Records every candidate experiment once from the robot's nominal model, measures what
     each pins from the fit's cost curvature (every other parameter free), and chooses the
-    set to record; writes plan.csv, selection.csv, the chosen walks' protocols
+    set to record; writes plan.csv, selection.csv, the chosen experiments' protocols
     (targets.csv + manifest.yaml) and plan.md.
     """
     config = IdentifyPlanConfig(robot, effects, quick, duration, workers, seed)

@@ -1,7 +1,8 @@
 """``zmpkit identify plan``: which experiments to record, before any is recorded.
 
 Records every candidate experiment of the robot once from its nominal model
-(:mod:`zmpkit.simfit.design_experiments`), evaluates the fit's cost of each on one shared
+(:mod:`zmpkit.simfit.design_experiments`: designed double-support experiments, open-loop
+walks, balance steps), evaluates the fit's cost of each on one shared
 batch of candidates around the nominal values, and judges every experiment alone and the
 set the greedy choice builds (:mod:`zmpkit.simfit.experiment_design`): which parameters
 each pins, how finely, and which experiments to record.
@@ -15,20 +16,22 @@ from __future__ import annotations
 import shutil
 import time
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
 
 from zmpkit.errors import ParameterError
+from zmpkit.experiments.double_support import DESIGNS
 from zmpkit.pipelines.identify_sim_config import IdentifySimConfig
 from zmpkit.robots.robot import Robot
 from zmpkit.simfit.batch_backend import BatchEvaluator
 from zmpkit.simfit.cost import CostWeights
 from zmpkit.simfit.design_experiments import (
-    WalkDesign,
+    Design,
+    double_support_designs,
+    record_design,
     record_step_designs,
-    record_walk_design,
     scratch_folder,
     step_designs,
     walk_designs,
@@ -41,7 +44,7 @@ from zmpkit.simfit.experiment_design import (
     greedy_design,
     judge_set,
 )
-from zmpkit.simfit.experiments import Experiment, read_experiments
+from zmpkit.simfit.experiments import Experiment, StepExperiment, read_experiments
 from zmpkit.simfit.parameters import FitParameter
 from zmpkit.simfit.problem import FitProblem
 from zmpkit.simfit.truth_doc import base_truth_path, load_truth_doc
@@ -96,7 +99,7 @@ class IdentifyPlanResult:
         parameters: the fitted parameters, in the judgements' order.
         alone: each candidate experiment judged alone.
         chosen: the greedy choice's sets, one per experiment added (the last recommended).
-        walks: the candidate walks by name (empty for a robot fitted on balance steps).
+        designs: the recorded candidates with a protocol, by experiment name.
         dropped: candidate experiments the nominal robot could not complete, with why.
         seconds: the plan's wall time [s].
     """
@@ -105,7 +108,7 @@ class IdentifyPlanResult:
     parameters: tuple[FitParameter, ...]
     alone: tuple[SetJudgement, ...]
     chosen: tuple[SetJudgement, ...]
-    walks: dict[str, WalkDesign]
+    designs: dict[str, Design]
     dropped: tuple[str, ...]
     seconds: float
 
@@ -119,7 +122,9 @@ def run_identify_plan(
     robot, params = config.robot, fit.fit_parameters()
     base_doc = load_truth_doc(base_truth_path(robot, None))
     out = Path(out_dir)
-    experiments, walks, dropped = _record(config, fit, base_doc, params, out / "recorded", progress)
+    experiments, designs, dropped = _record(
+        config, fit, base_doc, params, out / "recorded", progress
+    )
     if not experiments:
         raise ParameterError(
             "the nominal robot completed none of the candidate experiments: " + "; ".join(dropped)
@@ -140,7 +145,7 @@ def run_identify_plan(
     alone = tuple(judge_set([e], len(params)) for e in per_experiment)
     chosen = tuple(greedy_design(per_experiment, len(params)))
     seconds = time.perf_counter() - start
-    return IdentifyPlanResult(config, params, alone, chosen, walks, tuple(dropped), seconds)
+    return IdentifyPlanResult(config, params, alone, chosen, designs, tuple(dropped), seconds)
 
 
 def _record(
@@ -150,32 +155,42 @@ def _record(
     params: tuple[FitParameter, ...],
     out: Path,
     progress: PlanProgress | None,
-) -> tuple[list[Experiment], dict[str, WalkDesign], list[str]]:
-    """Record every candidate from the nominal robot; the experiments, walks and drops."""
+) -> tuple[list[Experiment], dict[str, Design], list[str]]:
+    """Record every candidate from the nominal robot; the experiments, designs and drops."""
     robot = config.robot
     recorded_effects = "S" if fit.physics_effects == "none" else f"{fit.physics_effects},S"
+    designs: list[Design] = list(double_support_designs())
+    if robot.require_fit().experiment == "walk":
+        designs += walk_designs(robot, config.duration_s)
     scratch = scratch_folder()
+    folders: list[Path] = []
+    recorded: dict[str, Design] = {}
+    dropped: list[str] = []
     try:
         truth = write_nominal_truth(base_doc, params, scratch)
         if robot.require_fit().experiment != "walk":
-            folder = record_step_designs(
-                robot, step_designs(robot), truth, recorded_effects, config.seed, out
-            )
-            return list(read_experiments([folder], robot)), {}, []
-        folders: list[Path] = []
-        walks: dict[str, WalkDesign] = {}
-        dropped: list[str] = []
-        designs = walk_designs(robot, config.duration_s)
+            targets = step_designs(robot)
+            folders.append(record_step_designs(robot, targets, truth, recorded_effects,
+                                               config.seed, out))  # fmt: skip
         for k, design in enumerate(designs):
             if progress is not None:
                 progress("recording", k, len(designs))
-            walk = record_walk_design(robot, design, truth, recorded_effects, config.seed + k, out)
-            if walk is None:
+            folder = record_design(robot, design, truth, recorded_effects, config.seed + k, out)
+            if folder is None:
                 dropped.append(f"{design.name}: the nominal robot fell")
                 continue
-            folders.append(walk)
-            walks[walk.name] = design
-        experiments = list(read_experiments(folders, robot)) if folders else []
-        return experiments, walks, dropped
+            folders.append(folder)
+            recorded[folder.name] = design
     finally:
         shutil.rmtree(scratch, ignore_errors=True)
+    experiments = list(read_experiments(folders, robot)) if folders else []
+    return [_named(x) for x in experiments], recorded, dropped
+
+
+def _named(experiment: Experiment) -> Experiment:
+    """A designed double-support trial named by its folder (its design), not its trial file."""
+    if isinstance(experiment, StepExperiment) and "/" in experiment.name:
+        folder, _ = experiment.name.split("/", 1)
+        if folder in DESIGNS:
+            return replace(experiment, name=folder)
+    return experiment

@@ -4,8 +4,8 @@
   conditional and marginal resolution [%] and whether it pins the parameter;
 - ``selection.csv``: one row per experiment the greedy choice added, in order, with the
   set's marginal resolution per parameter [%] and how many it pins;
-- ``protocols/<experiment>/``: ``targets.csv`` and ``manifest.yaml`` of each chosen walk
-  (:func:`~zmpkit.simfit.design_experiments.write_walk_protocol`);
+- ``protocols/<experiment>/``: ``targets.csv`` and ``manifest.yaml`` of each chosen
+  experiment (:func:`~zmpkit.simfit.design_experiments.write_protocol`);
 - ``plan.md``: the same as a short report, with what the plan assumed.
 """
 
@@ -16,7 +16,7 @@ import math
 from pathlib import Path
 
 from zmpkit.pipelines.identify_plan import IdentifyPlanResult
-from zmpkit.simfit.design_experiments import write_walk_protocol
+from zmpkit.simfit.design_experiments import write_protocol
 from zmpkit.simfit.identifiability import IDENTIFIABLE_WITHIN
 
 __all__ = ["percent", "write_identify_plan"]
@@ -52,11 +52,10 @@ def write_identify_plan(result: IdentifyPlanResult, out_dir: str | Path) -> dict
             )  # fmt: skip
     chosen = result.chosen[-1].experiments if result.chosen else ()
     for name in chosen:
-        design = result.walks.get(name)
+        design = result.designs.get(name)
         if design is not None:
-            write_walk_protocol(result.config.robot, design, out / "protocols" / name)
-    if result.walks and chosen:
-        files["protocols"] = out / "protocols"
+            write_protocol(result.config.robot, design, out / "protocols" / name)
+            files["protocols"] = out / "protocols"
     files["report"] = out / "plan.md"
     files["report"].write_text(_report(result), encoding="utf-8")
     return files

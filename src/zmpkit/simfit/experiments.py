@@ -34,6 +34,7 @@ from numpy.typing import NDArray
 
 from zmpkit.errors import InputFileError, ParameterError, ZmpkitError
 from zmpkit.experiments import read_step_dataset
+from zmpkit.experiments.dataset import META_FILE
 from zmpkit.experiments.walk_dataset import PITCH_JOINTS, SERIES_FILE, SUMMARY_FILE, read_series
 from zmpkit.robots.robot import Robot
 from zmpkit.sensors import CONTACT_FORCE_THRESHOLD_N, zmp_series
@@ -293,7 +294,10 @@ def read_experiments(folders: Sequence[str | Path], robot: Robot) -> list[Experi
 
     The robot's fit says what it replays (:attr:`~zmpkit.robots.robot.FitSpec.experiment`):
     walks — a walk output folder (``summary.json`` + ``timeseries.csv``) — or steps — a step
-    dataset (``meta.json`` + trial CSVs), each trial one experiment.
+    dataset (``meta.json`` + trial CSVs), each trial one experiment. A robot that replays
+    walks takes step datasets too (a designed double-support experiment,
+    :mod:`zmpkit.experiments.double_support`, is one): a folder with ``meta.json`` is read as
+    one.
 
     Raises:
         InputFileError: naming the folder or file and what was expected.
@@ -306,7 +310,7 @@ def read_experiments(folders: Sequence[str | Path], robot: Robot) -> list[Experi
         folder = Path(item)
         if not folder.is_dir():
             raise InputFileError(folder, "expected an experiment folder (does not exist)")
-        if kind == "walk":
+        if kind == "walk" and not (folder / META_FILE).is_file():
             out.append(read_walk_folder(folder, robot))
             continue
         try:
