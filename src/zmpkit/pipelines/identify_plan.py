@@ -20,6 +20,7 @@ from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
+from numpy.typing import NDArray
 
 from zmpkit.errors import ParameterError
 from zmpkit.experiments.double_support import DESIGNS
@@ -97,6 +98,9 @@ class IdentifyPlanResult:
     Attributes:
         config: what was planned for.
         parameters: the fitted parameters, in the judgements' order.
+        candidates: the parameter values every experiment was evaluated at [units], in
+            :func:`~zmpkit.simfit.experiment_design.design_candidates`' order.
+        costs: each experiment's cost on every candidate [-].
         alone: each candidate experiment judged alone.
         chosen: the greedy choice's sets, one per experiment added (the last recommended).
         designs: the recorded candidates with a protocol, by experiment name.
@@ -106,6 +110,8 @@ class IdentifyPlanResult:
 
     config: IdentifyPlanConfig
     parameters: tuple[FitParameter, ...]
+    candidates: tuple[NDArray[np.float64], ...]
+    costs: tuple[ExperimentCosts, ...]
     alone: tuple[SetJudgement, ...]
     chosen: tuple[SetJudgement, ...]
     designs: dict[str, Design]
@@ -145,7 +151,10 @@ def run_identify_plan(
     alone = tuple(judge_set([e], len(params)) for e in per_experiment)
     chosen = tuple(greedy_design(per_experiment, len(params)))
     seconds = time.perf_counter() - start
-    return IdentifyPlanResult(config, params, alone, chosen, designs, tuple(dropped), seconds)
+    return IdentifyPlanResult(
+        config, params, tuple(candidates), tuple(per_experiment), alone, chosen, designs,
+        tuple(dropped), seconds,
+    )  # fmt: skip
 
 
 def _record(

@@ -6,6 +6,11 @@
   set's marginal resolution per parameter [%] and how many it pins;
 - ``protocols/<experiment>/``: ``targets.csv`` and ``manifest.yaml`` of each chosen
   experiment (:func:`~zmpkit.simfit.design_experiments.write_protocol`);
+- ``loose_directions.csv``: the recommended set's combinations of parameters it leaves
+  loose (the Hessian's directions coarser than the identifiable limit);
+- ``design_costs.csv``: every experiment's cost at every candidate (``candidates.csv``), to
+  judge other sets without simulating again
+  (:func:`~zmpkit.simfit.experiment_design.judge_set`);
 - ``plan.md``: the same as a short report, with what the plan assumed.
 """
 
@@ -16,8 +21,10 @@ import math
 from pathlib import Path
 
 from zmpkit.pipelines.identify_plan import IdentifyPlanResult
+from zmpkit.simfit.cost_hessian import sloppy_directions
 from zmpkit.simfit.design_experiments import write_protocol
 from zmpkit.simfit.identifiability import IDENTIFIABLE_WITHIN
+from zmpkit.simfit.outputs import write_sloppy_directions_csv
 
 __all__ = ["percent", "write_identify_plan"]
 
@@ -50,6 +57,11 @@ def write_identify_plan(result: IdentifyPlanResult, out_dir: str | Path) -> dict
                 (rank, judged.experiments[-1], sum(judged.pinned),
                  *(percent(m) for m in judged.marginal))
             )  # fmt: skip
+    _write_costs(result, out, files)
+    if result.chosen:
+        best = result.chosen[-1]
+        loose = sloppy_directions(best.hessian, best.rise, names, IDENTIFIABLE_WITHIN)
+        files["loose"] = write_sloppy_directions_csv(out / "loose_directions.csv", loose)
     chosen = result.chosen[-1].experiments if result.chosen else ()
     for name in chosen:
         design = result.designs.get(name)
@@ -59,6 +71,24 @@ def write_identify_plan(result: IdentifyPlanResult, out_dir: str | Path) -> dict
     files["report"] = out / "plan.md"
     files["report"].write_text(_report(result), encoding="utf-8")
     return files
+
+
+def _write_costs(result: IdentifyPlanResult, out: Path, files: dict[str, Path]) -> None:
+    """Write ``candidates.csv`` (index, each parameter) and ``design_costs.csv``."""
+    names = [p.name for p in result.parameters]
+    files["candidates"] = out / "candidates.csv"
+    with files["candidates"].open("w", newline="", encoding="utf-8") as f:
+        writer = csv.writer(f)
+        writer.writerow(("candidate", *names))
+        for k, values in enumerate(result.candidates):
+            writer.writerow((k, *(f"{v:.10g}" for v in values)))
+    files["costs"] = out / "design_costs.csv"
+    with files["costs"].open("w", newline="", encoding="utf-8") as f:
+        writer = csv.writer(f)
+        writer.writerow(("experiment", "candidate", "cost"))
+        for experiment in result.costs:
+            for k, cost in enumerate(experiment.costs):
+                writer.writerow((experiment.name, k, f"{cost:.10g}"))
 
 
 def _report(result: IdentifyPlanResult) -> str:
@@ -89,6 +119,20 @@ def _report(result: IdentifyPlanResult) -> str:
     for judged in result.chosen:
         cells = " | ".join(percent(m) for m in judged.marginal)
         lines.append(f"| {judged.experiments[-1]} | {cells} | {sum(judged.pinned)} |")
+    if result.chosen:
+        best = result.chosen[-1]
+        loose = sloppy_directions(best.hessian, best.rise, names, IDENTIFIABLE_WITHIN)
+        lines += ["", "## What the recommended set leaves loose", ""]
+        lines += [
+            f"- ±{percent(d.resolution)} %: "
+            + ", ".join(f"{name} {value:+.2f}" for name, value in d.components)
+            for d in loose
+        ] or ["- nothing: every direction is pinned within the limit"]
+        lines += [
+            "",
+            f"The recommended set's cost at the nominal values is {best.level:.3g}, its scatter "
+            f"under 0.5 % moves {best.roughness:.3g}; a rise of {best.rise:.3g} counts as visible.",
+        ]
     if result.dropped:
         lines += ["", "Not recorded: " + "; ".join(result.dropped) + "."]
     return "\n".join(lines) + "\n"

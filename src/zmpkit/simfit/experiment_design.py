@@ -90,7 +90,7 @@ class ExperimentCosts:
     costs: NDArray[np.float64]
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class SetJudgement:
     """What a set of experiments pins down (module docstring).
 
@@ -101,6 +101,7 @@ class SetJudgement:
         rise: the visible cost rise the resolutions are measured against [-].
         level: the cost's level at the centre [-].
         roughness: the cost's scatter under the roughness probes [-].
+        hessian: the set's cost Hessian in relative moves [-], shape (n, n).
     """
 
     experiments: tuple[str, ...]
@@ -109,6 +110,7 @@ class SetJudgement:
     rise: float
     level: float
     roughness: float
+    hessian: NDArray[np.float64]
 
     @property
     def pinned(self) -> tuple[bool, ...]:
@@ -146,6 +148,7 @@ def judge_set(chosen: Sequence[ExperimentCosts], parameters: int) -> SetJudgemen
         rise,
         level,
         roughness,
+        hessian,
     )
 
 
