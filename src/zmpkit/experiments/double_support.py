@@ -85,7 +85,7 @@ _IK_PERIOD_S = 0.02
 _IK_DT_S = 0.01
 _COSTS = IkCosts(foot=10.0, com=10.0, posture=1e-2, equality=100.0)
 _TORSO_COSTS = IkCosts(foot=10.0, com=10.0, posture=1e-2, torso=1.0, equality=100.0)
-_STOP = IkStop(tolerance_m=1e-5, max_iterations=60)
+_STOP = IkStop(tolerance_m=1e-4, max_iterations=30)
 
 
 @dataclass(frozen=True, eq=False)
