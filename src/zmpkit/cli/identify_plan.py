@@ -7,6 +7,7 @@ from pathlib import Path
 import click
 
 from zmpkit.cli.options import SEED, WORKERS, Bounded
+from zmpkit.cli.progress import StageProgress
 from zmpkit.cli.robot_option import robot_option
 from zmpkit.pipelines.identify_plan import IdentifyPlanConfig, run_identify_plan
 from zmpkit.pipelines.identify_plan_files import percent, write_identify_plan
@@ -49,7 +50,8 @@ def identify_plan_command(
     (targets.csv + manifest.yaml) and plan.md.
     """
     config = IdentifyPlanConfig(robot, effects, quick, duration, workers, seed)
-    result = run_identify_plan(config, out_dir)
+    with StageProgress() as progress:
+        result = run_identify_plan(config, out_dir, progress)
     files = write_identify_plan(result, out_dir)
     names = [p.name for p in result.parameters]
     for judged in result.alone:

@@ -190,6 +190,8 @@ def _record(
                 continue
             folders.append(folder)
             recorded[folder.name] = design
+        if progress is not None:
+            progress("recording", len(designs), len(designs))
     finally:
         shutil.rmtree(scratch, ignore_errors=True)
     experiments = list(read_experiments(folders, robot)) if folders else []
