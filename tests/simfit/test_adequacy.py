@@ -63,6 +63,38 @@ def test_the_verdict_follows_the_limit(floor: float, spread: float, best: float)
     assert ("not a precision" in check.verdict) == (best > limit)
 
 
+@given(st.floats(0.0, 0.99), st.floats(1e-4, 0.2), st.integers(2, 12), st.floats(-0.5, 0.5))
+def test_residuals_are_structured_beyond_the_replicas_prediction_bound(
+    mean: float, spread: float, replicas: int, shift: float
+) -> None:
+    """r > r̄ + t_{0.99, K-1} s_r √(1 + 1/K): a cost the noise explains is then not enough."""
+    from scipy.stats import t as student_t
+
+    bound = mean + student_t.ppf(0.99, replicas - 1) * spread * math.sqrt(1 + 1 / replicas)
+    lag = bound + shift
+    check = Adequacy(0.1, 0.1, 0.01, replicas, lag, mean, spread)
+    assert check.lag1_limit == pytest.approx(bound)
+    assert check.structured == (lag > bound)
+    assert check.explains == (lag <= bound)  # the cost lies at its floor
+    if lag > bound:
+        assert "smoother than the noise" in check.verdict
+        assert adequacy_entry(check)["residuals_structured"] is True
+
+
+def test_structure_is_not_judged_from_one_replica() -> None:
+    check = Adequacy(0.1, 0.1, math.nan, 1, 0.99, 0.5, math.nan)
+    assert check.structured is None
+    assert check.explains is True  # the cost alone
+    assert adequacy_entry(check)["residual_lag1_limit"] is None
+
+
+def test_a_t_bound_from_four_replicas_matches_its_closed_form() -> None:
+    """t_{0.99, 3} = 4.5407: four replicas at 0.72 ± 0.01 bound r at 0.72 + 0.0508."""
+    check = Adequacy(0.05, 0.05, 0.005, 4, 0.80, 0.72, 0.01)
+    assert check.lag1_limit == pytest.approx(0.72 + 4.5407 * 0.01 * math.sqrt(1.25), abs=1e-4)
+    assert check.structured is True
+
+
 def test_no_replica_no_verdict() -> None:
     check = Adequacy(0.1, math.nan, math.nan, 0, 0.9, math.nan)
     assert check.explains is None

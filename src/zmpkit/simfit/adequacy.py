@@ -22,10 +22,19 @@ the fitted model reaches against *itself*, recorded again with fresh sensor nois
    with :math:`\rho` = :data:`ADEQUATE_RATIO`: a correct model's :math:`c^*` is distributed
    as the :math:`c_k` (the recording is one more replica), or lower (the fit adapts to its
    noise).
-4. **Residual structure**: the lag-1 autocorrelation of the joint residual
-   :math:`q_{fit} - q_{rec}` (mean over joints and experiments), beside that of the
-   replicas' residuals; a model that misses a dynamic leaves residuals smoother (closer to
-   1) than the noise does.
+4. **Residual structure**: the lag-1 autocorrelation :math:`r` of the joint residual
+   :math:`q_{fit} - q_{rec}` (mean over joints and experiments), beside those of the
+   replicas' residuals :math:`r_k` (mean :math:`\bar r`, standard deviation :math:`s_r`); a
+   model that misses a dynamic leaves residuals smoother (closer to 1) than the noise does.
+   The recording is one more replica if the model is right, so its :math:`r` lies below the
+   one-sided 99 % prediction bound of a new draw from the :math:`K` replicas,
+
+   .. math:: r \le \bar r + t_{0.99,\,K-1}\, s_r \sqrt{1 + 1/K},
+
+   (Student's t with the replicas' :math:`K - 1` degrees of freedom); above it the residuals
+   are **structured** and the model does not explain the data, whatever the cost says (a
+   closed-loop walk's floor is high, its cost can hide a missing dynamic that its residuals
+   show). Judged with at least two replicas.
 
 When the model does not explain the data, the misfit, not the noise, shapes the cost
 around the optimum: its intervals say how the misfit moves, not how precisely the robot's
@@ -40,6 +49,7 @@ from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import NDArray
+from scipy.stats import t as student_t
 
 from zmpkit.simfit.cost import experiment_cost
 from zmpkit.simfit.problem import FitProblem, simulate
@@ -77,7 +87,8 @@ class Adequacy:
         replicas: replicas that completed every experiment (a replica that falls is left
             out) [-].
         residual_lag1: lag-1 autocorrelation of the joint residual against the recording [-].
-        floor_residual_lag1: the same against the replicas [-].
+        floor_residual_lag1: the same against the replicas, their mean [-].
+        floor_residual_lag1_std: their standard deviation [-] (NaN with fewer than two).
     """
 
     best_cost: float
@@ -86,6 +97,7 @@ class Adequacy:
     replicas: int
     residual_lag1: float
     floor_residual_lag1: float
+    floor_residual_lag1_std: float = math.nan
 
     @property
     def ratio(self) -> float:
@@ -101,6 +113,23 @@ class Adequacy:
         return max(ADEQUATE_RATIO * self.noise_floor, self.noise_floor + 3.0 * spread)
 
     @property
+    def lag1_limit(self) -> float:
+        r"""The largest :math:`r` a right model leaves (module docstring, 4) [-]; NaN unjudged."""
+        spread = self.floor_residual_lag1_std
+        if self.replicas < 2 or not math.isfinite(spread):
+            return math.nan
+        t = float(student_t.ppf(0.99, self.replicas - 1))
+        return self.floor_residual_lag1 + t * spread * math.sqrt(1.0 + 1.0 / self.replicas)
+
+    @property
+    def structured(self) -> bool | None:
+        """Whether the residuals are smoother than the noise leaves them; None unjudged."""
+        limit = self.lag1_limit
+        if not (math.isfinite(limit) and math.isfinite(self.residual_lag1)):
+            return None
+        return bool(self.residual_lag1 > limit)
+
+    @property
     def judged(self) -> bool:
         """Whether a floor was measured (at least one replica completed)."""
         return self.replicas > 0 and math.isfinite(self.noise_floor)
@@ -110,7 +139,7 @@ class Adequacy:
         """Whether the model explains the data; None when no floor was measured."""
         if not self.judged:
             return None
-        return bool(self.best_cost <= self.limit)
+        return bool(self.best_cost <= self.limit) and self.structured is not True
 
     @property
     def verdict(self) -> str:
@@ -126,9 +155,18 @@ class Adequacy:
         )
         if self.explains:
             return f"the model explains the data: {numbers}"
+        if self.best_cost > self.limit:
+            why = f"{numbers}, above {self.limit:.3g}"
+        else:
+            why = (
+                f"its residuals are smoother than the noise leaves them (lag-1 "
+                f"autocorrelation {self.residual_lag1:.3g} against {self.floor_residual_lag1:.3g}"
+                f" ± {self.floor_residual_lag1_std:.2g} of the replicas, above "
+                f"{self.lag1_limit:.3g}: a dynamic the model misses), though its {numbers}"
+            )
         return (
-            f"the model does not explain the data: {numbers}, above {self.limit:.3g}; the "
-            "intervals show how the misfit moves, not a precision"
+            f"the model does not explain the data: {why}; the intervals show how the misfit "
+            "moves, not a precision"
         )
 
 
@@ -218,4 +256,5 @@ def model_adequacy(
     spread = float(np.std(costs, ddof=1)) if len(costs) > 1 else math.nan
     finite = [v for v in lags if math.isfinite(v)]
     floor_lag = float(np.mean(finite)) if finite else math.nan
-    return Adequacy(best, floor, spread, len(costs), _lag1(recorded, fitted), floor_lag)
+    lag_spread = float(np.std(finite, ddof=1)) if len(finite) > 1 else math.nan
+    return Adequacy(best, floor, spread, len(costs), _lag1(recorded, fitted), floor_lag, lag_spread)

@@ -159,6 +159,9 @@ def adequacy_entry(adequacy: Adequacy) -> dict:
         "replicas": adequacy.replicas,
         "residual_lag1": _number(adequacy.residual_lag1),
         "noise_floor_residual_lag1": _number(adequacy.floor_residual_lag1),
+        "noise_floor_residual_lag1_std": _number(adequacy.floor_residual_lag1_std),
+        "residual_lag1_limit": _number(adequacy.lag1_limit),
+        "residuals_structured": adequacy.structured,
     }
 
 
