@@ -151,6 +151,12 @@ def test_never_returns_nan(y: list[float], band: float) -> None:
         assert value is None or np.all(np.isfinite(value)), name
 
 
+def test_a_step_too_small_for_a_percentage_has_no_overshoot() -> None:
+    """Found by hypothesis: a step of -2.2e-308 under a peak 1 away overflowed to inf %."""
+    metrics = step_metrics(np.arange(3.0), [0.0, -1.0, -2.2250738585072014e-308], reference=1.0)
+    assert metrics.overshoot_pct is None
+
+
 def test_lengths_must_match() -> None:
     with pytest.raises(ParameterError, match=r"t and y must have the same length, got 3 and 2"):
         step_metrics([0.0, 1.0, 2.0], [0.0, 1.0])

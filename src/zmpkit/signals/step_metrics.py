@@ -43,7 +43,8 @@ class StepMetrics:
         final_value: :math:`y_\infty`, the steady-state value.
         step_size: :math:`y_\infty - y_0` (negative for a downward step).
         overshoot_pct: overshoot beyond :math:`y_\infty` in the step direction, in percent of
-            :math:`|\Delta|` (0 when it never passes :math:`y_\infty`); None if the step is 0.
+            :math:`|\Delta|` (0 when it never passes :math:`y_\infty`); None if the step is 0
+            or too small for a finite percentage.
         peak_value: the sample farthest in the step direction (the farthest from
             :math:`y_0` if the step is 0).
         peak_time_s: time of ``peak_value`` after the step [s].
@@ -194,9 +195,12 @@ def _peak_index(ya: FloatArray, y0: float, step: float) -> int:
 
 
 def _overshoot_pct(peak: float, y_inf: float, step: float) -> float | None:
+    """Overshoot in % of the step; None for a zero step or one whose percentage overflows."""
     if step == 0.0:
         return None
-    return max(0.0, 100.0 * math.copysign(1.0, step) * (peak - y_inf) / abs(step))
+    with np.errstate(over="ignore"):
+        value = 100.0 * math.copysign(1.0, step) * (peak - y_inf) / abs(step)
+    return max(0.0, value) if math.isfinite(value) else None
 
 
 def _first_crossing(ta: FloatArray, ya: FloatArray, target: float, sign: float) -> float | None:

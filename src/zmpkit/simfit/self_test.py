@@ -20,7 +20,6 @@ from __future__ import annotations
 
 import hashlib
 import math
-import shutil
 import tempfile
 from dataclasses import dataclass
 from pathlib import Path
@@ -168,9 +167,12 @@ def record_experiments(
 ) -> tuple[list[Path], list[Path]]:
     """Record the plan's fit and held-out experiments from the hidden truth into ``out``.
 
-    The truth file lives in a temporary folder only while recording. The folder is named
-    after the truth's content, so a run resumed (or repeated with the same seed) names the
-    same truth in its datasets' settings and finds its recordings complete.
+    The truth file is written into a temporary folder named after the truth's content, so a
+    run resumed (or repeated with the same seed) names the same truth in its datasets'
+    settings and finds its recordings complete. The folder is left in place (one small YAML
+    file per truth): another process recording the same truth at the same time (parallel
+    test workers, two self-tests of one seed) reads the same path, and removing it after one
+    run pulled it from under the other ("truth file not found").
 
     Returns:
         (fit folders, held-out folders).
@@ -180,25 +182,22 @@ def record_experiments(
     digest = hashlib.sha256(yaml.safe_dump(doc, sort_keys=True).encode()).hexdigest()[:16]
     hidden = Path(tempfile.gettempdir()) / f"zmpkit-hidden-truth-{digest}"
     hidden.mkdir(exist_ok=True)
-    try:
-        truth = write_truth_doc(doc, hidden / "truth.yaml")
-        if _replays_walks(robot):
-            fit = _walks(robot, plan.fit, truth, recorded, seed, out / "fit")
-            held = _walks(robot, plan.held_out, truth, recorded, seed + 100, out / "held_out")
-            return fit, held
-        fit_dir = _steps(robot, plan.fit, plan.hold_s, truth, recorded, seed, out / "fit_steps")
-        held_dir = _steps(
-            robot,
-            plan.held_out,
-            plan.held_out_hold_s,
-            truth,
-            recorded,
-            seed + 100,
-            out / "held_out_steps",
-        )
-        return [fit_dir], [held_dir]
-    finally:
-        shutil.rmtree(hidden, ignore_errors=True)
+    truth = write_truth_doc(doc, hidden / "truth.yaml")
+    if _replays_walks(robot):
+        fit = _walks(robot, plan.fit, truth, recorded, seed, out / "fit")
+        held = _walks(robot, plan.held_out, truth, recorded, seed + 100, out / "held_out")
+        return fit, held
+    fit_dir = _steps(robot, plan.fit, plan.hold_s, truth, recorded, seed, out / "fit_steps")
+    held_dir = _steps(
+        robot,
+        plan.held_out,
+        plan.held_out_hold_s,
+        truth,
+        recorded,
+        seed + 100,
+        out / "held_out_steps",
+    )
+    return [fit_dir], [held_dir]
 
 
 @dataclass(frozen=True)

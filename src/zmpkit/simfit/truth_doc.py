@@ -15,6 +15,7 @@ from __future__ import annotations
 import copy
 import os
 import re
+import uuid
 from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
@@ -180,7 +181,7 @@ def write_truth_doc(doc: Mapping[str, Any], path: str | Path, header: str = "") 
     path = Path(path)
     lines = "".join(f"# {line}\n" for line in header.splitlines())
     text = lines + yaml.safe_dump(dict(doc), sort_keys=False, allow_unicode=True)
-    tmp = path.with_name(path.name + ".tmp")
+    tmp = path.with_name(f"{path.name}.{os.getpid()}.{uuid.uuid4().hex}.tmp")  # writers may race
     tmp.write_text(text, encoding="utf-8")
     os.replace(tmp, path)
     return path
