@@ -17,6 +17,11 @@ from the IMU. Every experiment names its robot. Two kinds of experiment:
 - :class:`StepExperiment` — one trial of a step dataset
   (:func:`~zmpkit.experiments.read_step_dataset`): the commanded setpoints of every joint are
   in the trial CSV; the robot stands ``settle_s`` before the recording starts.
+- :class:`~zmpkit.simfit.shooting_window.ShootingWindow` — a window of a walk log of a
+  controller zmpkit does not have (:mod:`zmpkit.experiments.walk_log`: a ``.csv`` or
+  ``.parquet`` file, or a folder holding ``walk_log.csv`` and no ``summary.json``): the log
+  is fitted by multiple shooting, each window replayed open loop from its measured state
+  (:mod:`~zmpkit.simfit.shooting_window`); every window is one experiment.
 
 :func:`read_experiments` reads a list of folders; every problem is an
 :class:`~zmpkit.errors.InputFileError` naming the file and what was expected.
@@ -41,11 +46,19 @@ from zmpkit.sensors.imu import tilt_from_quaternions
 from zmpkit.sim.effect_set import EffectSet
 from zmpkit.simfit.closed_loop import WalkSettings
 from zmpkit.simfit.recorded import RecordedSignals
+from zmpkit.simfit.shooting_window import (
+    DEFAULT_BURN_IN_S,
+    DEFAULT_WINDOW_S,
+    ShootingWindow,
+    read_log_windows,
+    walk_log_path,
+)
 from zmpkit.simfit.walk_plan import match_closed_loop_plan, match_walk_plan
 from zmpkit.walking.walk_controllers import CONTROLLERS
 
 __all__ = [
     "Experiment",
+    "ShootingWindow",
     "StepExperiment",
     "WalkExperiment",
     "read_experiments",
@@ -108,7 +121,7 @@ class StepExperiment:
     contact_threshold_n: float = CONTACT_FORCE_THRESHOLD_N
 
 
-Experiment = WalkExperiment | StepExperiment
+Experiment = WalkExperiment | StepExperiment | ShootingWindow
 """Any experiment the fit takes."""
 
 
@@ -288,12 +301,19 @@ def _step_experiments(folder: Path, robot: Robot) -> list[StepExperiment]:
     return out
 
 
-def read_experiments(folders: Sequence[str | Path], robot: Robot) -> list[Experiment]:
+def read_experiments(
+    folders: Sequence[str | Path],
+    robot: Robot,
+    window_s: float = DEFAULT_WINDOW_S,
+    burn_in_s: float = DEFAULT_BURN_IN_S,
+) -> list[Experiment]:
     """Read recorded experiment folders of ``robot``; each experiment names it.
 
     The robot's fit says what it replays (:attr:`~zmpkit.robots.robot.FitSpec.experiment`):
     walks — a walk output folder (``summary.json`` + ``timeseries.csv``) — or steps — a step
-    dataset (``meta.json`` + trial CSVs), each trial one experiment.
+    dataset (``meta.json`` + trial CSVs), each trial one experiment. A walk log (a ``.csv``
+    or ``.parquet`` file, or a folder with ``walk_log.csv`` and no ``summary.json``) is cut
+    into windows of ``window_s`` [s] with an unscored ``burn_in_s`` [s], each one experiment.
 
     Raises:
         InputFileError: naming the folder or file and what was expected.
@@ -304,8 +324,14 @@ def read_experiments(folders: Sequence[str | Path], robot: Robot) -> list[Experi
     out: list[Experiment] = []
     for item in folders:
         folder = Path(item)
+        log = walk_log_path(folder)
+        if log is not None:
+            out.extend(read_log_windows(log, robot, window_s, burn_in_s))
+            continue
         if not folder.is_dir():
-            raise InputFileError(folder, "expected an experiment folder (does not exist)")
+            raise InputFileError(
+                folder, "expected an experiment folder or a walk log (.csv, .parquet)"
+            )
         if kind == "walk":
             out.append(read_walk_folder(folder, robot))
             continue

@@ -28,6 +28,7 @@ from zmpkit.sim.description import RobotDescription
 from zmpkit.sim.world import Simulation
 from zmpkit.simfit.experiments import Experiment, StepExperiment, WalkExperiment
 from zmpkit.simfit.rollout import setpoint_table
+from zmpkit.simfit.shooting_window import ShootingWindow
 from zmpkit.simfit.truth_doc import RobotTruth
 from zmpkit.simfit.walk_plan import walk_trajectory
 
@@ -41,7 +42,14 @@ __all__ = [
 
 
 def is_open_loop(experiment: Experiment) -> bool:
-    """Whether ``experiment``'s servo setpoints are known before its rollout (a schedule)."""
+    """Whether ``experiment`` runs as a schedule from a posed simulation (a batch's rollout).
+
+    A walk with a feedback controller does not (its commands follow the candidate); nor
+    does a walk-log window (:mod:`~zmpkit.simfit.shooting`): its commands are known, but it
+    starts from a measured state the batches do not set, so it runs on the serial path.
+    """
+    if isinstance(experiment, ShootingWindow):
+        return False
     return not isinstance(experiment, WalkExperiment) or experiment.closed_loop is None
 
 

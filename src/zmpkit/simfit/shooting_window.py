@@ -1,0 +1,333 @@
+r"""A walk log cut into windows, each started from the measured state (multiple shooting).
+
+A walk of a controller zmpkit does not have cannot be re-simulated in closed loop, and its
+recorded joint commands replayed open loop over a whole walk diverge from the recording
+within a step or two (the commanded feedback answered the robot's motion, not the
+candidate's). So the log (:mod:`zmpkit.experiments.walk_log`) is cut into windows of
+``window_s``; each window is replayed open loop from its recorded commands, starting from
+the state the sensors measured at its start (:class:`WindowStart`), and its first
+``burn_in_s`` is not scored while the unmeasured states settle (:mod:`~zmpkit.simfit.shooting`).
+Consecutive windows overlap by the burn-in, so their scored parts tile the log.
+
+**The measured start state** at the window's first row :math:`t_0`:
+
+- joint angles: the encoders at :math:`t_0` [rad];
+- joint speeds: the least-squares slope of the encoders over the
+  :math:`2k+1 =` :data:`SLOPE_ROWS` rows centred on :math:`t_0` (a first-order
+  Savitzky–Golay differentiator, :math:`\dot q = \sum_i (t_i - \bar t)(q_i - \bar q) /
+  \sum_i (t_i - \bar t)^2`): an encoder quantum :math:`\delta` and row period :math:`T` give
+  a speed error of about :math:`\delta / (T \sqrt{12 \sum_i i^2})` (0.014 rad/s for the NAO's
+  0.0015 rad at 100 Hz over 5 rows), and the centred fit has no lag;
+- base orientation and angular velocity: the IMU quaternion and gyro at :math:`t_0`
+  (without a gyro, the orientation's central difference);
+- base position and linear velocity: from the kinematics of the stance foot — the one with
+  the larger F-T :math:`F_z` — its sole centre on the floor and at rest
+  (:meth:`~zmpkit.simfit.log_kinematics.LogKinematics.place_base`);
+- what no sensor sees — gear deflection, link flex, the drives' PID integral and winding
+  current — starts at zero; the burn-in lets them settle (the gear's and drive's time
+  constants are milliseconds; :data:`DEFAULT_BURN_IN_S` is 40 of the NAO's 5 ms PID).
+
+**Windows where the robot stood** are dropped: each window's cost is normalised by its own
+recorded variation (:mod:`~zmpkit.simfit.cost`: tracking error, ZMP about its trend, trunk
+tilt spectrum), which while standing is the sensors' noise, so its cost would weigh noise,
+not the model. A window is kept when each of the three is at least :data:`STANDING_SHARE`
+of its median over the log's windows.
+
+**A walk that fell** (IMU pitch or roll past
+:data:`~zmpkit.experiments.walk_trial.FALL_TILT_RAD`, the rule of ``zmpkit walk``) is cut
+:data:`~zmpkit.simfit.walk_plan.FALL_MARGIN_S` before the fall; later windows are dropped.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+from numpy.typing import NDArray
+
+from zmpkit.errors import InputFileError, ParameterError
+from zmpkit.experiments.walk_dataset import SUMMARY_FILE
+from zmpkit.experiments.walk_log import WALK_LOG_FILE, WalkLog, read_walk_log
+from zmpkit.experiments.walk_trial import FALL_TILT_RAD
+from zmpkit.robots.robot import Robot
+from zmpkit.sensors.imu import quaternion_pitch_roll
+from zmpkit.simfit.cost import spectrum_in_band
+from zmpkit.simfit.log_kinematics import FEET, LogKinematics
+from zmpkit.simfit.recorded import RecordedSignals
+from zmpkit.simfit.walk_plan import FALL_MARGIN_S
+
+__all__ = [
+    "DEFAULT_BURN_IN_S",
+    "DEFAULT_WINDOW_S",
+    "LOG_SUFFIXES",
+    "STANDING_SHARE",
+    "SLOPE_ROWS",
+    "ShootingWindow",
+    "WindowStart",
+    "log_fall_time",
+    "log_windows",
+    "read_log_windows",
+    "walk_log_path",
+]
+
+DEFAULT_WINDOW_S = 1.0
+"""Window length [s]: two steps of a small humanoid's walk, so each window holds both single
+supports (the ZMP term sees the F-T move between the feet) and its scored 0.8 s resolves the
+trunk spectrum to 1.25 Hz. Measured on an 8 s NAO ``zmpip`` walk (M, G, S; 2 parameters):
+replayed with the true parameters, the mean window cost is 0.32 with 0.4 s windows, 0.13
+with 0.6 s, 0.034 with 1.0 s and 0.018 with 1.5 s (shorter windows weigh the unmeasured
+start states and the noise more), and with 0.6 s the cost's minimum sits 5 % (PID scale)
+and 20 % (gear stiffness) off the truth, with 1.0 s within the 5 % grid step. Longer
+windows fit fewer of them in a walk and let a real robot's replay drift further."""
+DEFAULT_BURN_IN_S = 0.2
+"""Unscored start of each window [s] (module docstring)."""
+SLOPE_ROWS = 5
+"""Rows of the centred least-squares slope that gives the joint speeds [-]."""
+STANDING_SHARE = 0.25
+"""A window whose recorded variation is below this share of the log's median is dropped
+(module docstring) [-]."""
+LOG_SUFFIXES = (".csv", ".parquet")
+"""A walk log's file suffixes."""
+_MIN_SCORED_ROWS = 16
+
+
+@dataclass(frozen=True, eq=False)
+class WindowStart:
+    """What the sensors measured at a window's first row.
+
+    Attributes:
+        q_rad: encoder angles of the driven joints [rad], shape (J,).
+        dq_rad_s: their speeds (module docstring) [rad/s], shape (J,).
+        imu_quat_wxyz: IMU orientation [-], shape (4,).
+        gyro_rps: IMU angular velocity, IMU frame [rad/s], shape (3,).
+        stance: the loaded foot, an index of :data:`~zmpkit.simfit.log_kinematics.FEET`.
+    """
+
+    q_rad: NDArray[np.float64]
+    dq_rad_s: NDArray[np.float64]
+    imu_quat_wxyz: NDArray[np.float64]
+    gyro_rps: NDArray[np.float64]
+    stance: int
+
+
+@dataclass(frozen=True, eq=False)
+class ShootingWindow:
+    """One window of a walk log, replayed open loop from its measured start.
+
+    Attributes:
+        name: the log's name and the window's scored span.
+        robot: the robot that walked.
+        signals: the scored rows: commands and encoders of every driven joint, the ZMP in
+            the floor frame below the base (:mod:`~zmpkit.simfit.log_kinematics`) [m] and
+            the IMU pitch [rad].
+        start: the measured state at ``command_time_s[0]``.
+        command_time_s: times of the window's rows, burn-in included [s], shape (M,).
+        q_cmd_rad: the recorded commands of those rows [rad], shape (M, J).
+        burn_in_s: the unscored start [s].
+        log_name: the log the window comes from.
+    """
+
+    name: str
+    robot: Robot
+    signals: RecordedSignals
+    start: WindowStart
+    command_time_s: NDArray[np.float64]
+    q_cmd_rad: NDArray[np.float64]
+    burn_in_s: float
+    log_name: str = ""
+
+
+def log_fall_time(log: WalkLog) -> float | None:
+    """When the IMU's pitch or roll first passed the fall tilt [s], or None."""
+    for t, quat in zip(log.time_s, log.imu_quat_wxyz, strict=True):
+        if max(abs(a) for a in quaternion_pitch_roll(quat)) > FALL_TILT_RAD:
+            return float(t)
+    return None
+
+
+def _slope(time_s: NDArray[np.float64], q: NDArray[np.float64], row: int) -> NDArray:
+    half = SLOPE_ROWS // 2
+    lo, hi = max(0, row - half), min(len(time_s), row + half + 1)
+    t = time_s[lo:hi] - time_s[lo:hi].mean()
+    return np.asarray((t @ (q[lo:hi] - q[lo:hi].mean(axis=0))) / (t @ t))
+
+
+def _gyro(log: WalkLog, row: int) -> NDArray[np.float64]:
+    """The gyro, or the orientation's central difference in the IMU frame [rad/s]."""
+    if log.gyro_rps is not None:
+        return np.asarray(log.gyro_rps[row], dtype=np.float64)
+    lo, hi = max(0, row - 1), min(log.time_s.size - 1, row + 1)
+    q0, q1 = log.imu_quat_wxyz[lo], log.imu_quat_wxyz[hi]
+    # q1 = q0 ⊗ exp(ω dt / 2): ω ≈ 2 vec(q0* ⊗ q1) / dt in the body frame
+    w0, v0 = q0[0], -q0[1:]
+    w1, v1 = q1[0], q1[1:]
+    vec = w0 * v1 + w1 * v0 + np.cross(v0, v1)
+    return np.asarray(2.0 * vec / (log.time_s[hi] - log.time_s[lo]))
+
+
+def _recorded(
+    log: WalkLog, rows: slice, kinematics: LogKinematics, tilt: NDArray
+) -> RecordedSignals:
+    wrenches = np.stack([log.right_wrench[rows], log.left_wrench[rows]], axis=1)
+    zmp = np.array(
+        [
+            kinematics.zmp(q, quat, w)
+            for q, quat, w in zip(
+                log.q_enc_rad[rows], log.imu_quat_wxyz[rows], wrenches, strict=True
+            )
+        ]
+    ).reshape(-1, 2)
+    return RecordedSignals(
+        log.time_s[rows], log.joint_names, log.q_cmd_rad[rows], log.q_enc_rad[rows], zmp, tilt
+    )
+
+
+def log_windows(
+    log: WalkLog,
+    robot: Robot,
+    name: str,
+    window_s: float = DEFAULT_WINDOW_S,
+    burn_in_s: float = DEFAULT_BURN_IN_S,
+) -> list[ShootingWindow]:
+    """Cut ``log`` into windows (module docstring), up to shortly before a fall.
+
+    Raises:
+        ParameterError: on a window not longer than its burn-in.
+        InputFileError: on a log whose joints are not the robot's driven joints, or too
+            short (or falling too soon) for one window.
+    """
+    if not (0.0 <= burn_in_s < window_s) or not np.isfinite(window_s):
+        raise ParameterError(
+            f"the window ({window_s} s) must be finite and longer than its burn-in ({burn_in_s} s)"
+        )
+    description = robot.description("none")
+    if set(log.joint_names) != set(description.driven_joints):
+        raise InputFileError(
+            log.source or name,
+            f"the log's joints {list(log.joint_names)} are not {robot.title}'s driven "
+            f"joints {list(description.driven_joints)}",
+        )
+    order = [log.joint_names.index(j) for j in description.driven_joints]
+    log = _reordered(log, order, description.driven_joints)
+    kinematics = LogKinematics(robot.make_simulation("none").model, description)
+    fall = log_fall_time(log)
+    end = log.time_s[-1] if fall is None else fall - FALL_MARGIN_S
+    tilt = np.array([quaternion_pitch_roll(q)[0] for q in log.imu_quat_wxyz])
+    windows = []
+    a = float(log.time_s[min(SLOPE_ROWS // 2, log.time_s.size - 1)])
+    while a + window_s <= end + 1e-9:
+        window = _window(log, robot, name, kinematics, tilt, a, window_s, burn_in_s)
+        if window is not None:
+            windows.append(window)
+        a += window_s - burn_in_s
+    windows = _moving(windows)
+    if not windows:
+        fell = "" if fall is None else f" (it fell at {fall:.2f} s)"
+        raise InputFileError(
+            log.source or name,
+            f"no window of {window_s} s fits in the log's {end - log.time_s[0]:.2f} s{fell}; "
+            "give a shorter --window or a longer log",
+        )
+    return windows
+
+
+def _reordered(log: WalkLog, order: list[int], joints: tuple[str, ...]) -> WalkLog:
+    return WalkLog(
+        log.time_s, joints, log.q_cmd_rad[:, order], log.q_enc_rad[:, order],
+        log.imu_quat_wxyz, log.gyro_rps, log.right_wrench, log.left_wrench,
+        log.accel_mps2, log.source,
+    )  # fmt: skip
+
+
+def _window(
+    log: WalkLog,
+    robot: Robot,
+    name: str,
+    kinematics: LogKinematics,
+    tilt: NDArray[np.float64],
+    a: float,
+    window_s: float,
+    burn_in_s: float,
+) -> ShootingWindow | None:
+    """The window starting at the row at ``a`` [s]; None without a foot in contact there."""
+    time = log.time_s
+    first = int(np.searchsorted(time, a - 1e-9))
+    scored = int(np.searchsorted(time, a + burn_in_s - 1e-9))
+    last = int(np.searchsorted(time, a + window_s + 1e-9))
+    fz = np.array([log.wrench(f)[first, 2] for f in FEET])
+    if last - scored < _MIN_SCORED_ROWS or fz.max() < kinematics.contact_threshold_n:
+        return None
+    start = WindowStart(
+        log.q_enc_rad[first].copy(),
+        _slope(time, log.q_enc_rad, first),
+        log.imu_quat_wxyz[first].copy(),
+        _gyro(log, first),
+        int(np.argmax(fz)),
+    )
+    rows = slice(scored, last)
+    label = f"{name} [{time[scored]:.2f}-{time[last - 1]:.2f} s]"
+    signals = _recorded(log, rows, kinematics, tilt[rows])
+    return ShootingWindow(
+        label,
+        robot,
+        signals,
+        start,
+        time[first:last].copy(),
+        log.q_cmd_rad[first:last].copy(),
+        burn_in_s,
+        name,
+    )
+
+
+def _variation(signals: RecordedSignals) -> NDArray[np.float64]:
+    """Tracking error RMS [rad], ZMP spread about its trend [m], tilt spectrum norm [rad]."""
+    track = float(np.sqrt(np.mean(np.square(signals.q_meas_rad - signals.q_cmd_rad))))
+    t, zmp = signals.time_s, signals.zmp_m
+    ok = np.all(np.isfinite(zmp), axis=1)
+    spread = 0.0
+    if np.count_nonzero(ok) >= 3:
+        fit = [zmp[ok, k] - np.polyval(np.polyfit(t[ok], zmp[ok, k], 1), t[ok]) for k in (0, 1)]
+        spread = float(np.sqrt(np.mean(np.square(fit[0]) + np.square(fit[1]))))
+    spectrum = float(np.linalg.norm(spectrum_in_band(signals.trunk_tilt_rad, signals.dt_s)[1]))
+    return np.array([track, spread, spectrum])
+
+
+def _moving(windows: list[ShootingWindow]) -> list[ShootingWindow]:
+    """The windows where the robot did not stand (module docstring)."""
+    if not windows:
+        return windows
+    variation = np.array([_variation(w.signals) for w in windows])
+    floor = STANDING_SHARE * np.median(variation, axis=0)
+    return [w for w, v in zip(windows, variation, strict=True) if np.all(v >= floor)]
+
+
+def walk_log_path(path: Path) -> Path | None:
+    """The walk log ``path`` names (itself, or a folder's :data:`WALK_LOG_FILE`), or None.
+
+    A ``zmpkit walk`` folder (it holds ``summary.json``) is no log: its walk is re-simulated
+    from its command (:mod:`~zmpkit.simfit.experiments`); pass its ``walk_log.csv`` to fit
+    the log instead.
+    """
+    if path.suffix in LOG_SUFFIXES and not path.is_dir():
+        return path
+    if path.is_dir() and not (path / SUMMARY_FILE).exists():
+        for suffix in LOG_SUFFIXES:
+            found = path / Path(WALK_LOG_FILE).with_suffix(suffix).name
+            if found.exists():
+                return found
+    return None
+
+
+def read_log_windows(
+    path: Path, robot: Robot, window_s: float, burn_in_s: float
+) -> list[ShootingWindow]:
+    """:func:`log_windows` of the walk log at ``path``.
+
+    Raises:
+        InputFileError: on a log that cannot be read, or gives no window.
+    """
+    if not path.exists():
+        raise InputFileError(path, "the walk log does not exist")
+    name = path.parent.name if path.name.startswith("walk_log") else path.stem
+    return log_windows(read_walk_log(path), robot, name or path.stem, window_s, burn_in_s)
