@@ -25,7 +25,7 @@ Consecutive windows overlap by the burn-in, so their scored parts tile the log.
   (:meth:`~zmpkit.simfit.log_kinematics.LogKinematics.place_base`);
 - what no sensor sees — gear deflection, link flex, the drives' PID integral and winding
   current — starts at zero; the burn-in lets them settle (the gear's and drive's time
-  constants are milliseconds; :data:`DEFAULT_BURN_IN_S` is 40 of the NAO's 5 ms PID).
+  constants are milliseconds, the F-T filter's 8 ms).
 
 **Windows where the robot stood** are dropped: each window's cost is normalised by its own
 recorded variation (:mod:`~zmpkit.simfit.cost`: tracking error, ZMP about its trend, trunk
@@ -199,7 +199,7 @@ def log_windows(
     """
     if not (0.0 <= burn_in_s < window_s) or not np.isfinite(window_s):
         raise ParameterError(
-            f"the window ({window_s} s) must be finite and longer than its burn-in ({burn_in_s} s)"
+            f"the window ({window_s:g} s) must be finite and longer than its burn-in ({burn_in_s:g} s)"
         )
     description = robot.description("none")
     if set(log.joint_names) != set(description.driven_joints):
@@ -226,7 +226,7 @@ def log_windows(
         fell = "" if fall is None else f" (it fell at {fall:.2f} s)"
         raise InputFileError(
             log.source or name,
-            f"no window of {window_s} s fits in the log's {end - log.time_s[0]:.2f} s{fell}; "
+            f"no window of {window_s:g} s fits in the log's {end - log.time_s[0]:.2f} s{fell}; "
             "give a shorter --window or a longer log",
         )
     return windows
