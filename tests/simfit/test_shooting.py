@@ -67,7 +67,7 @@ def windows(walk: tuple[WalkRecord, Path]) -> list[ShootingWindow]:
     return log_windows(read_walk_log(walk[1]), NAO, "walk")
 
 
-def _truth():  # noqa: ANN202
+def _truth():
     return load_robot_truth(NAO, load_truth_doc(base_truth_path(NAO, None)))
 
 
@@ -180,7 +180,8 @@ def test_windows_tile_the_log_and_stop_before_a_fall(
     starts = [w.signals.time_s[0] for w in windows]
     gaps = np.diff(starts)  # whole scored spans apart (standing windows dropped), to a row
     spans = np.round(gaps / scored)
-    assert np.all(spans >= 1) and np.max(np.abs(gaps - spans * scored)) <= 0.0101
+    assert np.all(spans >= 1)
+    assert np.max(np.abs(gaps - spans * scored)) <= 0.0101
     log = read_walk_log(walk[1])
     fall_row = int(np.searchsorted(log.time_s, 3.5))
     quat = log.imu_quat_wxyz.copy()
@@ -193,7 +194,8 @@ def test_windows_tile_the_log_and_stop_before_a_fall(
     fall = log_fall_time(fallen)
     assert fall == pytest.approx(log.time_s[fall_row])
     cut = log_windows(fallen, NAO, "fell")
-    assert cut and max(w.signals.time_s[-1] for w in cut) <= fall - FALL_MARGIN_S + 1e-9
+    assert cut
+    assert max(w.signals.time_s[-1] for w in cut) <= fall - FALL_MARGIN_S + 1e-9
 
 
 def test_bad_windows_are_one_clear_error(walk: tuple[WalkRecord, Path]) -> None:
@@ -210,4 +212,5 @@ def test_a_folder_with_a_log_and_no_summary_reads_as_windows(
     walk: tuple[WalkRecord, Path],
 ) -> None:
     experiments = read_experiments([walk[1].parent], NAO)
-    assert experiments and all(isinstance(e, ShootingWindow) for e in experiments)
+    assert experiments
+    assert all(isinstance(e, ShootingWindow) for e in experiments)

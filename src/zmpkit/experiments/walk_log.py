@@ -91,7 +91,8 @@ class WalkLog:
         out |= {f"cmd_{j}": self.q_cmd_rad[:, k] for k, j in enumerate(self.joint_names)}
         out |= {f"enc_{j}": self.q_enc_rad[:, k] for k, j in enumerate(self.joint_names)}
         imu = (self.imu_quat_wxyz, self.gyro_rps, self.accel_mps2)
-        for names, values in zip((IMU_COLUMNS[:4], IMU_COLUMNS[4:7], IMU_COLUMNS[7:]), imu):
+        blocks = (IMU_COLUMNS[:4], IMU_COLUMNS[4:7], IMU_COLUMNS[7:])
+        for names, values in zip(blocks, imu, strict=True):
             if values is not None:
                 out |= {name: values[:, i] for i, name in enumerate(names)}
         wrenches = np.hstack([self.right_wrench, self.left_wrench])

@@ -21,7 +21,7 @@ import mujoco
 import numpy as np
 from numpy.typing import NDArray
 
-from zmpkit.errors import SimulationDivergedError
+from zmpkit.errors import ParameterError, SimulationDivergedError
 from zmpkit.experiments.walk_trial import start_pose
 from zmpkit.robots.robot import Robot
 from zmpkit.sim.description import RobotDescription
@@ -123,7 +123,13 @@ def _walk_key(experiment: WalkExperiment) -> tuple[Robot, float, float, float, f
 
 
 def open_loop_schedule(experiment: Experiment, sim: Simulation) -> OpenLoopSchedule:
-    """The servo setpoints [rad] of ``experiment`` for every physics step of ``sim``."""
+    """The servo setpoints [rad] of ``experiment`` for every physics step of ``sim``.
+
+    Raises:
+        ParameterError: on an experiment with no schedule (:func:`is_open_loop`).
+    """
+    if isinstance(experiment, ShootingWindow):
+        raise ParameterError(f"{experiment.name} starts from a measured state: no schedule")
     if isinstance(experiment, WalkExperiment):
         return _walk_schedule(experiment, sim)
     return _step_schedule(experiment, sim)

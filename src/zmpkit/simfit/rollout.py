@@ -52,7 +52,8 @@ def simulate_experiment(
         truth: the truth object of the experiment's robot.
         effects: effect letters switched on, e.g. ``"M,G"``.
         noise_seed: seed of the sensor noise; None: the fit's (0 open loop and for a log
-            window; the recorded walk's plus :data:`~zmpkit.simfit.closed_loop.NOISE_SEED_OFFSET` closed loop).
+            window; the recorded walk's plus
+            :data:`~zmpkit.simfit.closed_loop.NOISE_SEED_OFFSET` closed loop).
 
     Returns:
         Signals on the recorded time grid, shorter if the robot fell or the simulation diverged.

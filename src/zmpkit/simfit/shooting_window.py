@@ -40,6 +40,8 @@ of its median over the log's windows.
 
 from __future__ import annotations
 
+import math
+from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -61,13 +63,15 @@ __all__ = [
     "DEFAULT_BURN_IN_S",
     "DEFAULT_WINDOW_S",
     "LOG_SUFFIXES",
-    "STANDING_SHARE",
     "SLOPE_ROWS",
+    "STANDING_SHARE",
     "ShootingWindow",
     "WindowStart",
+    "check_window",
     "log_fall_time",
     "log_windows",
     "read_log_windows",
+    "shooting_summary",
     "walk_log_path",
 ]
 
@@ -138,6 +142,15 @@ class ShootingWindow:
     log_name: str = ""
 
 
+def check_window(window_s: float, burn_in_s: float) -> None:
+    """Raise :class:`~zmpkit.errors.ParameterError` unless 0 <= burn-in < window < inf [s]."""
+    if not (0.0 <= burn_in_s < window_s < math.inf):
+        raise ParameterError(
+            f"the window ({window_s:g} s) must be finite and longer than its burn-in "
+            f"({burn_in_s:g} s)"
+        )
+
+
 def log_fall_time(log: WalkLog) -> float | None:
     """When the IMU's pitch or roll first passed the fall tilt [s], or None."""
     for t, quat in zip(log.time_s, log.imu_quat_wxyz, strict=True):
@@ -197,10 +210,7 @@ def log_windows(
         InputFileError: on a log whose joints are not the robot's driven joints, or too
             short (or falling too soon) for one window.
     """
-    if not (0.0 <= burn_in_s < window_s) or not np.isfinite(window_s):
-        raise ParameterError(
-            f"the window ({window_s:g} s) must be finite and longer than its burn-in ({burn_in_s:g} s)"
-        )
+    check_window(window_s, burn_in_s)
     description = robot.description("none")
     if set(log.joint_names) != set(description.driven_joints):
         raise InputFileError(
@@ -331,3 +341,20 @@ def read_log_windows(
         raise InputFileError(path, "the walk log does not exist")
     name = path.parent.name if path.name.startswith("walk_log") else path.stem
     return log_windows(read_walk_log(path), robot, name or path.stem, window_s, burn_in_s)
+
+
+def shooting_summary(experiments: Sequence[object]) -> str:
+    """One sentence for a report: which logs were fitted by multiple shooting, and how.
+
+    Empty when none of ``experiments`` is a :class:`ShootingWindow`.
+    """
+    windows = [e for e in experiments if isinstance(e, ShootingWindow)]
+    if not windows:
+        return ""
+    logs = ", ".join(dict.fromkeys(w.log_name for w in windows))
+    length = windows[0].command_time_s[-1] - windows[0].command_time_s[0]
+    return (
+        f"The walk log {logs} was fitted by multiple shooting with {len(windows)} windows of "
+        f"{length:.2g} s, each replayed open loop on its recorded commands from the state its "
+        f"sensors measured, its first {windows[0].burn_in_s:g} s not scored."
+    )
