@@ -15,8 +15,8 @@ import math
 from zmpkit.analysis.provenance import capture_run
 from zmpkit.analysis.report_document import Check, Figure, ReportDocument, Section, Table, Text
 from zmpkit.pipelines.identify_sim import IdentifySimResult
+from zmpkit.simfit.log_experiment import shooting_summary
 from zmpkit.simfit.noise_intervals import NoiseInterval
-from zmpkit.simfit.shooting_window import shooting_summary
 from zmpkit.simfit.validation import AMPLITUDE_TOLERANCE, FREQUENCY_TOLERANCE_HZ, ReproductionCheck
 
 __all__ = ["identify_sim_document"]

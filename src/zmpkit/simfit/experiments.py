@@ -45,14 +45,9 @@ from zmpkit.sensors import CONTACT_FORCE_THRESHOLD_N, zmp_series
 from zmpkit.sensors.imu import tilt_from_quaternions
 from zmpkit.sim.effect_set import EffectSet
 from zmpkit.simfit.closed_loop import WalkSettings
+from zmpkit.simfit.log_experiment import read_log_windows, walk_log_path
 from zmpkit.simfit.recorded import RecordedSignals
-from zmpkit.simfit.shooting_window import (
-    DEFAULT_BURN_IN_S,
-    DEFAULT_WINDOW_S,
-    ShootingWindow,
-    read_log_windows,
-    walk_log_path,
-)
+from zmpkit.simfit.shooting_window import DEFAULT_BURN_IN_S, DEFAULT_WINDOW_S, ShootingWindow
 from zmpkit.simfit.walk_plan import match_closed_loop_plan, match_walk_plan
 from zmpkit.walking.walk_controllers import CONTROLLERS
 

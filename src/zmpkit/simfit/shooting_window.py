@@ -33,6 +33,14 @@ tilt spectrum), which while standing is the sensors' noise, so its cost would we
 not the model. A window is kept when each of the three is at least :data:`STANDING_SHARE`
 of its median over the log's windows.
 
+**The noise floor** (:mod:`~zmpkit.simfit.adequacy`) compares the fitted model's rollout
+with replicas of the experiment recorded by the fitted model itself. A replica of a window
+starts one burn-in earlier, from the state measured there (:attr:`ShootingWindow.replica`),
+so at the window's start it carries developed unmeasured states and a replay's drift, as
+the robot did, while the fit's rollout starts from the measured state: the floor holds the
+shooting's start-state error, not only the sensors' noise. A log's first window has no
+earlier state and is its own replica (its floor holds the sensors' noise only).
+
 **A walk that fell** (IMU pitch or roll past
 :data:`~zmpkit.experiments.walk_trial.FALL_TILT_RAD`, the rule of ``zmpkit walk``) is cut
 :data:`~zmpkit.simfit.walk_plan.FALL_MARGIN_S` before the fall; later windows are dropped.
@@ -41,16 +49,14 @@ of its median over the log's windows.
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
-from dataclasses import dataclass
-from pathlib import Path
+from dataclasses import dataclass, replace
+from typing import TypeVar, cast
 
 import numpy as np
 from numpy.typing import NDArray
 
 from zmpkit.errors import InputFileError, ParameterError
-from zmpkit.experiments.walk_dataset import SUMMARY_FILE
-from zmpkit.experiments.walk_log import WALK_LOG_FILE, WalkLog, read_walk_log
+from zmpkit.experiments.walk_log import WalkLog
 from zmpkit.experiments.walk_trial import FALL_TILT_RAD
 from zmpkit.robots.robot import Robot
 from zmpkit.sensors.imu import quaternion_pitch_roll
@@ -62,7 +68,6 @@ from zmpkit.simfit.walk_plan import FALL_MARGIN_S
 __all__ = [
     "DEFAULT_BURN_IN_S",
     "DEFAULT_WINDOW_S",
-    "LOG_SUFFIXES",
     "SLOPE_ROWS",
     "STANDING_SHARE",
     "ShootingWindow",
@@ -70,9 +75,7 @@ __all__ = [
     "check_window",
     "log_fall_time",
     "log_windows",
-    "read_log_windows",
-    "shooting_summary",
-    "walk_log_path",
+    "replica_experiment",
 ]
 
 DEFAULT_WINDOW_S = 1.0
@@ -91,9 +94,8 @@ SLOPE_ROWS = 5
 STANDING_SHARE = 0.25
 """A window whose recorded variation is below this share of the log's median is dropped
 (module docstring) [-]."""
-LOG_SUFFIXES = (".csv", ".parquet")
-"""A walk log's file suffixes."""
 _MIN_SCORED_ROWS = 16
+T = TypeVar("T")
 
 
 @dataclass(frozen=True, eq=False)
@@ -130,6 +132,8 @@ class ShootingWindow:
         q_cmd_rad: the recorded commands of those rows [rad], shape (M, J).
         burn_in_s: the unscored start [s].
         log_name: the log the window comes from.
+        replica: the same scored rows replayed from the state measured one burn-in earlier
+            (module docstring), for the noise floor; None for a log's first window.
     """
 
     name: str
@@ -140,6 +144,7 @@ class ShootingWindow:
     q_cmd_rad: NDArray[np.float64]
     burn_in_s: float
     log_name: str = ""
+    replica: ShootingWindow | None = None
 
 
 def check_window(window_s: float, burn_in_s: float) -> None:
@@ -250,6 +255,21 @@ def _reordered(log: WalkLog, order: list[int], joints: tuple[str, ...]) -> WalkL
     )  # fmt: skip
 
 
+def _started(log: WalkLog, a: float, threshold_n: float) -> tuple[int, WindowStart] | None:
+    """The row at ``a`` [s] and the state measured there; None without a foot in contact."""
+    first = int(np.searchsorted(log.time_s, a - 1e-9))
+    fz = np.array([log.wrench(f)[first, 2] for f in FEET])
+    if fz.max() < threshold_n:
+        return None
+    return first, WindowStart(
+        log.q_enc_rad[first].copy(),
+        _slope(log.time_s, log.q_enc_rad, first),
+        log.imu_quat_wxyz[first].copy(),
+        _gyro(log, first),
+        int(np.argmax(fz)),
+    )
+
+
 def _window(
     log: WalkLog,
     robot: Robot,
@@ -260,34 +280,45 @@ def _window(
     window_s: float,
     burn_in_s: float,
 ) -> ShootingWindow | None:
-    """The window starting at the row at ``a`` [s]; None without a foot in contact there."""
-    time = log.time_s
-    first = int(np.searchsorted(time, a - 1e-9))
+    """The window starting at the row at ``a`` [s] and its replica (module docstring).
+
+    None without a foot in contact at ``a``, or with too few scored rows.
+    """
+    time, threshold = log.time_s, kinematics.contact_threshold_n
     scored = int(np.searchsorted(time, a + burn_in_s - 1e-9))
     last = int(np.searchsorted(time, a + window_s + 1e-9))
-    fz = np.array([log.wrench(f)[first, 2] for f in FEET])
-    if last - scored < _MIN_SCORED_ROWS or fz.max() < kinematics.contact_threshold_n:
+    started = _started(log, a, threshold)
+    if last - scored < _MIN_SCORED_ROWS or started is None:
         return None
-    start = WindowStart(
-        log.q_enc_rad[first].copy(),
-        _slope(time, log.q_enc_rad, first),
-        log.imu_quat_wxyz[first].copy(),
-        _gyro(log, first),
-        int(np.argmax(fz)),
-    )
+    first, start = started
     rows = slice(scored, last)
     label = f"{name} [{time[scored]:.2f}-{time[last - 1]:.2f} s]"
     signals = _recorded(log, rows, kinematics, tilt[rows])
-    return ShootingWindow(
-        label,
-        robot,
-        signals,
-        start,
-        time[first:last].copy(),
-        log.q_cmd_rad[first:last].copy(),
-        burn_in_s,
-        name,
+    window = ShootingWindow(
+        label, robot, signals, start, time[first:last].copy(), log.q_cmd_rad[first:last].copy(),
+        burn_in_s, name,
+    )  # fmt: skip
+    lead = _started(log, a - burn_in_s, threshold)
+    if lead is None or lead[0] >= first:
+        return window
+    replica = replace(
+        window,
+        start=lead[1],
+        command_time_s=time[lead[0] : last].copy(),
+        q_cmd_rad=log.q_cmd_rad[lead[0] : last].copy(),
+        burn_in_s=float(time[scored] - time[lead[0]]),
     )
+    return replace(window, replica=replica)
+
+
+def replica_experiment(experiment: T) -> T:
+    """What a replica of ``experiment`` replays: a window's :attr:`ShootingWindow.replica`.
+
+    Any other experiment is its own.
+    """
+    if isinstance(experiment, ShootingWindow) and experiment.replica is not None:
+        return cast(T, experiment.replica)
+    return experiment
 
 
 def _variation(signals: RecordedSignals) -> NDArray[np.float64]:
@@ -310,51 +341,3 @@ def _moving(windows: list[ShootingWindow]) -> list[ShootingWindow]:
     variation = np.array([_variation(w.signals) for w in windows])
     floor = STANDING_SHARE * np.median(variation, axis=0)
     return [w for w, v in zip(windows, variation, strict=True) if np.all(v >= floor)]
-
-
-def walk_log_path(path: Path) -> Path | None:
-    """The walk log ``path`` names (itself, or a folder's :data:`WALK_LOG_FILE`), or None.
-
-    A ``zmpkit walk`` folder (it holds ``summary.json``) is no log: its walk is re-simulated
-    from its command (:mod:`~zmpkit.simfit.experiments`); pass its ``walk_log.csv`` to fit
-    the log instead.
-    """
-    if path.suffix in LOG_SUFFIXES and not path.is_dir():
-        return path
-    if path.is_dir() and not (path / SUMMARY_FILE).exists():
-        for suffix in LOG_SUFFIXES:
-            found = path / Path(WALK_LOG_FILE).with_suffix(suffix).name
-            if found.exists():
-                return found
-    return None
-
-
-def read_log_windows(
-    path: Path, robot: Robot, window_s: float, burn_in_s: float
-) -> list[ShootingWindow]:
-    """:func:`log_windows` of the walk log at ``path``.
-
-    Raises:
-        InputFileError: on a log that cannot be read, or gives no window.
-    """
-    if not path.exists():
-        raise InputFileError(path, "the walk log does not exist")
-    name = path.parent.name if path.name.startswith("walk_log") else path.stem
-    return log_windows(read_walk_log(path), robot, name or path.stem, window_s, burn_in_s)
-
-
-def shooting_summary(experiments: Sequence[object]) -> str:
-    """One sentence for a report: which logs were fitted by multiple shooting, and how.
-
-    Empty when none of ``experiments`` is a :class:`ShootingWindow`.
-    """
-    windows = [e for e in experiments if isinstance(e, ShootingWindow)]
-    if not windows:
-        return ""
-    logs = ", ".join(dict.fromkeys(w.log_name for w in windows))
-    length = windows[0].command_time_s[-1] - windows[0].command_time_s[0]
-    return (
-        f"The walk log {logs} was fitted by multiple shooting with {len(windows)} windows of "
-        f"{length:.2g} s, each replayed open loop on its recorded commands from the state its "
-        f"sensors measured, its first {windows[0].burn_in_s:g} s not scored."
-    )
