@@ -214,3 +214,35 @@ def test_a_folder_with_a_log_and_no_summary_reads_as_windows(
     experiments = read_experiments([walk[1].parent], NAO)
     assert experiments
     assert all(isinstance(e, ShootingWindow) for e in experiments)
+
+
+@pytest.mark.slow
+def test_a_closed_loop_walk_is_recovered_from_its_log_alone(tmp_path: Path) -> None:
+    """Self-test: a zmpip walk of a NAO with hidden PID scale and gear stiffness, its
+    controller unknown to the fit, fitted by multiple shooting from its sensor log."""
+    from zmpkit.pipelines.identify_sim import IdentifySimConfig, run_identify_sim
+    from zmpkit.pipelines.identify_sim_files import write_identify_sim
+    from zmpkit.simfit.self_test import perturbed_values
+    from zmpkit.simfit.truth_doc import truth_doc_with, write_truth_doc
+
+    params = default_parameters(NAO, "M,G", ("pid_gain_scale", "gear_stiffness"))
+    hidden = perturbed_values(params, 1)
+    doc = truth_doc_with(load_truth_doc(base_truth_path(NAO, None)), params, hidden)
+    truth = write_truth_doc(doc, tmp_path / "hidden_truth.yaml")
+    config = WalkConfig(
+        robot=NAO, speed_mps=0.2, duration_s=10.0, effects=EFFECTS, seed=1, figures=False,
+        controller="zmpip", truth=str(truth),
+    )  # fmt: skip
+    log = write_walk_log(
+        tmp_path / WALK_LOG_FILE, walk_log_from_record(run_walk_trial(config).record)
+    )
+    fit_config = IdentifySimConfig(data=(str(log),), robot=NAO, quick=True, workers=1)
+    result = write_identify_sim(run_identify_sim(fit_config, tmp_path / "fit"), tmp_path / "fit")
+    assert "multiple shooting" in result.files["report"].read_text(encoding="utf-8")
+    intervals = {i.name: i for i in result.intervals}
+    for p, true in zip(params, hidden, strict=True):
+        fitted, interval = result.fitted[p.name], intervals[p.name]
+        assert interval.lower <= true <= interval.upper, (p.name, fitted, true, interval)
+        assert abs(fitted - true) / true < 0.08, (p.name, fitted, true)
+    assert result.adequacy is not None
+    assert result.adequacy.explains, result.adequacy.verdict

@@ -13,8 +13,8 @@ the fitted model reaches against *itself*, recorded again with fresh sensor nois
    :data:`REPLICA_SEED` + k — a virtual repetition of the experiment on a robot that *is*
    the fitted model. A walk with feedback reacts to that noise as the robot did, so its
    floor holds the noise's propagation through the closed loop, not only the sensors'.
-   A walk-log window's replica starts one burn-in before the window, from the state
-   measured there, so the floor also holds the shooting's start-state error
+   A walk-log window's replica starts a little before the window, from the state measured
+   there, so the floor also holds the shooting's start-state error
    (:mod:`~zmpkit.simfit.shooting_window`).
    Each replica's cost :math:`c_k` is that of :math:`y_{fit}` against the replica, the
    recording's place; :math:`\bar c` and :math:`s_c` are their mean and standard deviation.
@@ -191,7 +191,7 @@ def replica_recordings(
     for k in range(replicas):
         replica = [
             simulate_experiment(
-                replica_experiment(x), truth, problem.sim_effects, noise_seed=REPLICA_SEED + k
+                replica_experiment(x, k), truth, problem.sim_effects, noise_seed=REPLICA_SEED + k
             )
             for x in problem.experiments
         ]

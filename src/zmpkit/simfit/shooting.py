@@ -32,7 +32,9 @@ from zmpkit.simfit.recorded import RecordedSignals
 from zmpkit.simfit.shooting_window import ShootingWindow
 from zmpkit.simfit.truth_doc import RobotTruth
 
-__all__ = ["simulate_window", "start_window"]
+__all__ = ["drive_integrals", "simulate_window", "start_window"]
+
+_INTEGRATING_DYN = (int(mujoco.mjtDyn.mjDYN_DCMOTOR), int(mujoco.mjtDyn.mjDYN_PID))
 
 
 def start_window(window: ShootingWindow, sim: Simulation) -> LogKinematics:
@@ -47,12 +49,46 @@ def start_window(window: ShootingWindow, sim: Simulation) -> LogKinematics:
         data.qpos[int(model.joint(joint).qposadr[0])] = start.q_rad[k]
         data.qvel[int(model.joint(joint).dofadr[0])] = start.dq_rad_s[k]
     kinematics.place_base(model, data, start.imu_quat_wxyz, start.gyro_rps, start.stance)
+    drive_integrals(sim, start.error_steps_rad_s)
     data.time = float(window.command_time_s[0])
     sim.servo.reset(window.q_cmd_rad[0].tolist())
     dt_rows = window.command_time_s[1] - window.command_time_s[0]
     sim.servo.velocity = ((window.q_cmd_rad[1] - window.q_cmd_rad[0]) / dt_rows).tolist()
     mujoco.mj_forward(model, data)
     return kinematics
+
+
+def drive_integrals(sim: Simulation, error_steps_rad_s: NDArray[np.float64]) -> None:
+    r"""Set each drive's integral state from the log's tracking-error steps.
+
+    MuJoCo's ``dcmotor`` and ``pid`` drives integrate ``ctrl - length`` (at the rotor:
+    :math:`N (q_{set} - q)`) into their first ``act`` slot, clamped to
+    :math:`\pm` ``dynprm[8]`` where that is positive; the steps are summed the same way,
+    clamped after each row [rotor rad·s]. A drive without such a state is left as it is.
+
+    Args:
+        sim: the candidate's simulation.
+        error_steps_rad_s: per row and driven joint, the integral of
+            :math:`q_{cmd} - q_{enc}` over the row [rad·s], shape (rows, J).
+    """
+    model, data = sim.model, sim.data
+    ids = [model.actuator(j).id for j in sim.joint_names]
+    integrating = [
+        k
+        for k, i in enumerate(ids)
+        if model.actuator_actnum[i] >= 1
+        and int(model.actuator_dyntype[i]) in _INTEGRATING_DYN
+    ]
+    if not integrating:
+        return
+    act = [ids[k] for k in integrating]
+    gear = model.actuator_gear[act, 0]
+    limit = model.actuator_dynprm[act, 8]
+    limit = np.where(limit > 0.0, limit, np.inf)
+    total = np.zeros(len(act))
+    for step in error_steps_rad_s[:, integrating]:
+        total = np.clip(total + gear * step, -limit, limit)
+    data.act[model.actuator_actadr[act]] = total
 
 
 def _row(sim: Simulation, kinematics: LogKinematics) -> NDArray[np.float64]:

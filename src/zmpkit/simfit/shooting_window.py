@@ -23,9 +23,15 @@ Consecutive windows overlap by the burn-in, so their scored parts tile the log.
 - base position and linear velocity: from the kinematics of the stance foot — the one with
   the larger F-T :math:`F_z` — its sole centre on the floor and at rest
   (:meth:`~zmpkit.simfit.log_kinematics.LogKinematics.place_base`);
-- what no sensor sees — gear deflection, link flex, the drives' PID integral and winding
-  current — starts at zero; the burn-in lets them settle (the gear's and drive's time
-  constants are milliseconds, the F-T filter's 8 ms).
+- the drives' integral terms: summed from the log, the integral of the commanded angle
+  minus the encoder from the log's first row (where it is taken to be zero, as a robot's
+  drives start a walk) by the trapezoid rule, clamped as the candidate's drive clamps it
+  (:mod:`~zmpkit.simfit.shooting`): the NAO's integral gain is a hundredth of its
+  proportional one per second, so its integral remembers the whole walk and no burn-in
+  would settle it;
+- what else no sensor sees — gear deflection, link flex, the winding current — starts at
+  zero. The burn-in lets it settle (the gear's and drive's time constants are
+  milliseconds, the F-T filter's 8 ms; :data:`DEFAULT_WINDOW_S` says how long was needed).
 
 **Windows where the robot stood** are dropped: each window's cost is normalised by its own
 recorded variation (:mod:`~zmpkit.simfit.cost`: tracking error, ZMP about its trend, trunk
@@ -34,12 +40,14 @@ not the model. A window is kept when each of the three is at least :data:`STANDI
 of its median over the log's windows.
 
 **The noise floor** (:mod:`~zmpkit.simfit.adequacy`) compares the fitted model's rollout
-with replicas of the experiment recorded by the fitted model itself. A replica of a window
-starts one burn-in earlier, from the state measured there (:attr:`ShootingWindow.replica`),
-so at the window's start it carries developed unmeasured states and a replay's drift, as
-the robot did, while the fit's rollout starts from the measured state: the floor holds the
-shooting's start-state error, not only the sensors' noise. A log's first window has no
-earlier state and is its own replica (its floor holds the sensors' noise only).
+with replicas of the experiment recorded by the fitted model itself. Replica ``k`` of a
+window starts :data:`REPLICA_LEADS` ``[k]`` burn-ins earlier, from the state measured there
+(:attr:`ShootingWindow.replicas`), so at the window's start it carries developed unmeasured
+states and a replay's drift, as the robot did, while the fit's rollout starts from the
+measured state: the floor holds the shooting's start-state error, and the replicas' spread
+(different leads, different start errors) the intervals'
+(:mod:`~zmpkit.simfit.noise_intervals`), not only the sensors' noise. A log's first window
+has no earlier state and is its own replica (its floor holds the sensors' noise only).
 
 **A walk that fell** (IMU pitch or roll past
 :data:`~zmpkit.experiments.walk_trial.FALL_TILT_RAD`, the rule of ``zmpkit walk``) is cut
@@ -68,6 +76,7 @@ from zmpkit.simfit.walk_plan import FALL_MARGIN_S
 __all__ = [
     "DEFAULT_BURN_IN_S",
     "DEFAULT_WINDOW_S",
+    "REPLICA_LEADS",
     "SLOPE_ROWS",
     "STANDING_SHARE",
     "ShootingWindow",
@@ -78,22 +87,26 @@ __all__ = [
     "replica_experiment",
 ]
 
-DEFAULT_WINDOW_S = 1.0
-"""Window length [s]: two steps of a small humanoid's walk, so each window holds both single
-supports (the ZMP term sees the F-T move between the feet) and its scored 0.8 s resolves the
-trunk spectrum to 1.25 Hz. Measured on an 8 s NAO ``zmpip`` walk (M, G, S; 2 parameters):
-replayed with the true parameters, the mean window cost is 0.32 with 0.4 s windows, 0.13
-with 0.6 s, 0.034 with 1.0 s and 0.018 with 1.5 s (shorter windows weigh the unmeasured
-start states and the noise more), and with 0.6 s the cost's minimum sits 5 % (PID scale)
-and 20 % (gear stiffness) off the truth, with 1.0 s within the 5 % grid step. Longer
-windows fit fewer of them in a walk and let a real robot's replay drift further."""
-DEFAULT_BURN_IN_S = 0.2
+DEFAULT_WINDOW_S = 1.2
+"""Window length [s]: a burn-in and 0.9 s scored, about two steps of a small humanoid's walk,
+so each window holds both single supports (the ZMP term sees the F-T move between the feet)
+and resolves the trunk spectrum to 1.1 Hz. Measured on 10 s NAO ``zmpip`` walks (M, G, S;
+PID scale and gear stiffness), the cost of the true parameters against ±5 % PID and ±10 %
+stiffness: with 0.4 s windows (0.1 s burn-in) the window cost at the truth is 0.32 and
+with 0.6 s 0.13, the minimum 5 % (PID) and 20 % (stiffness) off the truth; with 1.0 s and a
+0.2 s burn-in 0.03, the stiffness still 10 % low (the start transient leaks into the scored
+rows); with 1.2 s and a 0.3 s burn-in 0.021, the minimum at the truth on both (±5 %: +0.013
+and +0.015; ±10 % stiffness: +0.0035 and +0.007). Longer windows fit fewer of them in a walk
+and let a real robot's replay drift further."""
+DEFAULT_BURN_IN_S = 0.3
 """Unscored start of each window [s] (module docstring)."""
 SLOPE_ROWS = 5
 """Rows of the centred least-squares slope that gives the joint speeds [-]."""
 STANDING_SHARE = 0.25
 """A window whose recorded variation is below this share of the log's median is dropped
 (module docstring) [-]."""
+REPLICA_LEADS = (1.0, 1.25, 1.5, 1.75)
+"""How many burn-ins before its window each replica starts (module docstring) [-]."""
 _MIN_SCORED_ROWS = 16
 T = TypeVar("T")
 
@@ -108,6 +121,10 @@ class WindowStart:
         imu_quat_wxyz: IMU orientation [-], shape (4,).
         gyro_rps: IMU angular velocity, IMU frame [rad/s], shape (3,).
         stance: the loaded foot, an index of :data:`~zmpkit.simfit.log_kinematics.FEET`.
+        error_steps_rad_s: the tracking error's integral over each row from the log's
+            start, :math:`\tfrac12 (e_{i-1} + e_i)(t_i - t_{i-1})` with
+            :math:`e = q_{cmd} - q_{enc}` at the joint [rad·s], shape (rows, J): what the
+            drives' integral terms summed (module docstring).
     """
 
     q_rad: NDArray[np.float64]
@@ -115,6 +132,7 @@ class WindowStart:
     imu_quat_wxyz: NDArray[np.float64]
     gyro_rps: NDArray[np.float64]
     stance: int
+    error_steps_rad_s: NDArray[np.float64]
 
 
 @dataclass(frozen=True, eq=False)
@@ -132,8 +150,9 @@ class ShootingWindow:
         q_cmd_rad: the recorded commands of those rows [rad], shape (M, J).
         burn_in_s: the unscored start [s].
         log_name: the log the window comes from.
-        replica: the same scored rows replayed from the state measured one burn-in earlier
-            (module docstring), for the noise floor; None for a log's first window.
+        replicas: the same scored rows replayed from the states measured
+            :data:`REPLICA_LEADS` burn-ins earlier (module docstring), for the noise floor;
+            none for a log's first window.
     """
 
     name: str
@@ -144,7 +163,7 @@ class ShootingWindow:
     q_cmd_rad: NDArray[np.float64]
     burn_in_s: float
     log_name: str = ""
-    replica: ShootingWindow | None = None
+    replicas: tuple[ShootingWindow, ...] = ()
 
 
 def check_window(window_s: float, burn_in_s: float) -> None:
@@ -261,12 +280,15 @@ def _started(log: WalkLog, a: float, threshold_n: float) -> tuple[int, WindowSta
     fz = np.array([log.wrench(f)[first, 2] for f in FEET])
     if fz.max() < threshold_n:
         return None
+    error = log.q_cmd_rad[: first + 1] - log.q_enc_rad[: first + 1]
+    steps = 0.5 * (error[1:] + error[:-1]) * np.diff(log.time_s[: first + 1])[:, None]
     return first, WindowStart(
         log.q_enc_rad[first].copy(),
         _slope(log.time_s, log.q_enc_rad, first),
         log.imu_quat_wxyz[first].copy(),
         _gyro(log, first),
         int(np.argmax(fz)),
+        steps,
     )
 
 
@@ -292,32 +314,38 @@ def _window(
         return None
     first, start = started
     rows = slice(scored, last)
-    label = f"{name} [{time[scored]:.2f}-{time[last - 1]:.2f} s]"
+    label = f"{name}@{time[scored]:.2f}-{time[last - 1]:.2f}s"
     signals = _recorded(log, rows, kinematics, tilt[rows])
     window = ShootingWindow(
         label, robot, signals, start, time[first:last].copy(), log.q_cmd_rad[first:last].copy(),
         burn_in_s, name,
     )  # fmt: skip
-    lead = _started(log, a - burn_in_s, threshold)
-    if lead is None or lead[0] >= first:
-        return window
-    replica = replace(
-        window,
-        start=lead[1],
-        command_time_s=time[lead[0] : last].copy(),
-        q_cmd_rad=log.q_cmd_rad[lead[0] : last].copy(),
-        burn_in_s=float(time[scored] - time[lead[0]]),
-    )
-    return replace(window, replica=replica)
+    replicas = []
+    for lead in REPLICA_LEADS:
+        started = _started(log, a - lead * burn_in_s, threshold)
+        if started is None or started[0] >= first:
+            continue
+        row, state = started
+        replicas.append(
+            replace(
+                window,
+                start=state,
+                command_time_s=time[row:last].copy(),
+                q_cmd_rad=log.q_cmd_rad[row:last].copy(),
+                burn_in_s=float(time[scored] - time[row]),
+            )
+        )
+    return replace(window, replicas=tuple(replicas))
 
 
-def replica_experiment(experiment: T) -> T:
-    """What a replica of ``experiment`` replays: a window's :attr:`ShootingWindow.replica`.
+def replica_experiment(experiment: T, k: int) -> T:
+    """What replica ``k`` of ``experiment`` replays.
 
-    Any other experiment is its own.
+    A window's ``k``-th of its :attr:`ShootingWindow.replicas` (cyclically); any other
+    experiment is its own.
     """
-    if isinstance(experiment, ShootingWindow) and experiment.replica is not None:
-        return cast(T, experiment.replica)
+    if isinstance(experiment, ShootingWindow) and experiment.replicas:
+        return cast(T, experiment.replicas[k % len(experiment.replicas)])
     return experiment
 
 
