@@ -324,9 +324,7 @@ def read_experiments(
             out.extend(read_log_windows(log, robot, window_s, burn_in_s))
             continue
         if not folder.is_dir():
-            raise InputFileError(
-                folder, "expected an experiment folder or a walk log (.csv, .parquet)"
-            )
+            raise InputFileError(folder, "expected an experiment folder (does not exist)")
         if kind == "walk":
             out.append(read_walk_folder(folder, robot))
             continue
