@@ -27,7 +27,7 @@ from zmpkit.experiments.walk_log import (
 from zmpkit.experiments.walk_trial import WalkRecord
 from zmpkit.robots.registry import get_robot
 from zmpkit.simfit.cost import CostWeights, experiment_cost
-from zmpkit.simfit.experiments import read_experiments
+from zmpkit.simfit.experiments import WalkExperiment, read_experiments
 from zmpkit.simfit.open_loop import is_open_loop
 from zmpkit.simfit.parameters import default_parameters
 from zmpkit.simfit.problem import FitProblem, evaluate
@@ -214,6 +214,28 @@ def test_a_folder_with_a_log_and_no_summary_reads_as_windows(
     experiments = read_experiments([walk[1].parent], NAO)
     assert experiments
     assert all(isinstance(e, ShootingWindow) for e in experiments)
+
+
+def test_zmpkit_walk_writes_the_log_and_identify_sim_fits_it(tmp_path: Path) -> None:
+    """The CLI end to end: ``zmpkit walk`` writes walk_log.csv, ``identify sim`` fits it."""
+    from zmpkit.cli.app import main
+
+    walk = tmp_path / "walk"
+    argv = ["walk", "--robot", "nao", "--duration", "3", "--effects", "M,G,S", "--no-video"]
+    assert main([*argv, "--report", "md", "--out", str(walk)]) == 0
+    header = (walk / WALK_LOG_FILE).read_text(encoding="utf-8").splitlines()[0]
+    assert "torso" not in header
+    assert "zmp" not in header
+    fit = tmp_path / "fit"
+    argv = ["identify", "sim", str(walk / WALK_LOG_FILE), "--robot", "nao", "--quick"]
+    argv += ["--generations", "1", "--popsize", "4", "--workers", "1", "--report", "md"]
+    assert main([*argv, "--out", str(fit)]) == 0
+    report = (fit / "report.md").read_text(encoding="utf-8")
+    assert "fitted by multiple shooting with" in report
+    assert (fit / "fitted_parameters.yaml").exists()
+    (own,) = read_experiments([walk], NAO)  # a walk folder still reads as zmpkit's own walk
+    assert isinstance(own, WalkExperiment)
+    assert own.closed_loop is not None
 
 
 @pytest.mark.slow

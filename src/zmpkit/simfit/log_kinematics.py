@@ -48,7 +48,7 @@ def _rotation(quat_wxyz: NDArray[np.float64]) -> NDArray[np.float64]:
 
 
 def _yaw_removed(quat_wxyz: NDArray[np.float64]) -> NDArray[np.float64]:
-    r""":math:`R_z(-\\psi) R(q)` of an orientation ``q`` (its heading turned to x)."""
+    r""":math:`R_z(-\psi) R(q)` of an orientation ``q`` (its heading turned to x)."""
     psi = quaternion_yaw(quat_wxyz)
     c, s = math.cos(psi), math.sin(psi)
     return np.array([[c, s, 0.0], [-s, c, 0.0], [0.0, 0.0, 1.0]]) @ _rotation(quat_wxyz)

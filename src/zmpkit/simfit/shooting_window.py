@@ -113,7 +113,7 @@ T = TypeVar("T")
 
 @dataclass(frozen=True, eq=False)
 class WindowStart:
-    """What the sensors measured at a window's first row.
+    r"""What the sensors measured at a window's first row.
 
     Attributes:
         q_rad: encoder angles of the driven joints [rad], shape (J,).
