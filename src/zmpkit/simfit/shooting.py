@@ -76,8 +76,7 @@ def drive_integrals(sim: Simulation, error_steps_rad_s: NDArray[np.float64]) -> 
     integrating = [
         k
         for k, i in enumerate(ids)
-        if model.actuator_actnum[i] >= 1
-        and int(model.actuator_dyntype[i]) in _INTEGRATING_DYN
+        if model.actuator_actnum[i] >= 1 and int(model.actuator_dyntype[i]) in _INTEGRATING_DYN
     ]
     if not integrating:
         return
