@@ -243,11 +243,10 @@ def test_a_closed_loop_walk_is_recovered_from_its_log_alone(tmp_path: Path) -> N
     """Self-test: a zmpip walk of a NAO with hidden PID scale and gear stiffness, its
     controller unknown to the fit, fitted by multiple shooting from its sensor log.
 
-    Measured (seed 1: truth 0.797 and 1424 N·m/rad): PID scale +3 %, gear stiffness -12 %,
-    along the valley where a stiffer drive and a softer gear give the same series
-    stiffness; the replicas' intervals (±2 %, ±4 %) do not cover that bias (the start
-    state's unmeasured gear deflection moves the replicas' minimum as it moves the
-    recording's), so the test bounds the recovery, not the interval's coverage.
+    Measured (seed 1: truth 0.7968 and 1424 N·m/rad; 13 windows): 0.804 [0.747, 0.861]
+    and 1347 [1160, 1534] N·m/rad, best cost 0.0068 against a floor of 0.0073 ± 0.0009.
+    The two trade along a valley (a stiffer drive and a softer gear give the same series
+    stiffness), so the estimates are bounded at 10 %, beside their intervals.
     """
     from zmpkit.pipelines.identify_sim import IdentifySimConfig, run_identify_sim
     from zmpkit.pipelines.identify_sim_files import write_identify_sim
@@ -267,9 +266,10 @@ def test_a_closed_loop_walk_is_recovered_from_its_log_alone(tmp_path: Path) -> N
     fit_config = IdentifySimConfig(data=(str(log),), robot=NAO, quick=True, workers=1)
     result = write_identify_sim(run_identify_sim(fit_config, tmp_path / "fit"), tmp_path / "fit")
     assert "multiple shooting" in result.files["report"].read_text(encoding="utf-8")
-    within = {"pid_gain_scale": 0.05, "gear_stiffness": 0.15}
+    intervals = {i.name: i for i in result.intervals}
     for p, true in zip(params, hidden, strict=True):
-        fitted = result.fitted[p.name]
-        assert abs(fitted - true) / true < within[p.name], (p.name, fitted, true)
+        fitted, interval = result.fitted[p.name], intervals[p.name]
+        assert interval.lower <= true <= interval.upper, (p.name, fitted, true, interval)
+        assert abs(fitted - true) / true < 0.10, (p.name, fitted, true)
     assert result.adequacy is not None
     assert result.adequacy.explains, result.adequacy.verdict

@@ -3,7 +3,7 @@ r"""The robot's pose from its sensors alone: encoders, IMU orientation and the F
 A log of a controller zmpkit does not have gives no base position, so both the recorded
 ZMP and the simulated one are computed by this one function of the sensors
 (:meth:`LogKinematics.zmp`), on the robot's model with every unmeasured joint (gear
-deflection, link flex) at zero:
+deflection, link flex) at zero, relative to the feet:
 
 1. the driven joints at the encoder angles, the base at the origin with the identity
    orientation: forward kinematics gives the IMU site's rotation :math:`R^0_{imu}` and
@@ -11,11 +11,15 @@ deflection, link flex) at zero:
 2. the base orientation that puts the IMU where it reads, heading removed (the floor
    frame's x axis is the IMU's heading):
    :math:`R_b = R_z(-\psi_{imu})\, R_{imu}\, (R^0_{imu})^\top`;
-3. the floor under the loaded sole (the foot with the larger sensor :math:`F_z`): the base
-   height :math:`h = -(R_b\, p^0_{sole})_z`, so that sole lies on z = 0;
+3. the floor frame's origin :math:`o_f`: horizontally the midpoint of the two sole
+   centres :math:`R_b\, p^0_{sole}`, vertically the loaded sole's (the foot with the larger
+   sensor :math:`F_z`), so that sole lies on z = 0;
 4. the ZMP of :func:`~zmpkit.sensors.zmp.zmp_in_world` with the sensor origins
-   :math:`o = (0, 0, h) + R_b\, p^0_{ft}` and rotations :math:`R_b R^0_{ft}`: the ZMP in the
-   floor frame below the base [m].
+   :math:`R_b\, p^0_{ft} - o_f` and rotations :math:`R_b R^0_{ft}`: the ZMP between the feet
+   [m]. Relative to the feet, not to the base: a replay's base that drifts from a start
+   velocity error moves the ZMP relative to the base by the drift, but not where the
+   pressure lies under the feet (measured on a NAO walk log: the ZMP term of the true
+   parameters' cost fell from 0.021 to 0.0065).
 
 :meth:`LogKinematics.place_base` uses the same steps to start a simulation from a measured
 state (:mod:`~zmpkit.simfit.shooting`).
@@ -95,7 +99,7 @@ class LogKinematics:
         quat_wxyz: NDArray[np.float64],
         wrenches: NDArray[np.float64],
     ) -> NDArray[np.float64]:
-        """The ZMP in the floor frame below the base (module docstring) [m], shape (2,).
+        """The ZMP relative to the feet's midpoint (module docstring) [m], shape (2,).
 
         Args:
             q_enc: encoder angles of the driven joints [rad], shape (J,).
@@ -110,9 +114,9 @@ class LogKinematics:
         imu0 = data.site_xmat[self._imu_site].reshape(3, 3)
         rb = _yaw_removed(quat_wxyz) @ imu0.T
         stance = int(np.argmax(wrenches[:, 2]))
-        h = -float(rb[2] @ data.site_xpos[self._sole_site[stance]])
+        soles = data.site_xpos[self._sole_site] @ rb.T
         origin = data.site_xpos[self._ft_site] @ rb.T
-        origin[:, 2] += h
+        origin -= [*soles.mean(axis=0)[:2], soles[stance, 2]]
         xmat = np.einsum("ij,fjk->fik", rb, data.site_xmat[self._ft_site].reshape(2, 3, 3))
         force, moment = wrench_in_world(xmat.reshape(2, 9), wrenches)
         return zmp_in_world(force[None], moment[None], origin[None], self.contact_threshold_n)[0]

@@ -143,7 +143,7 @@ class ShootingWindow:
         name: the log's name and the window's scored span.
         robot: the robot that walked.
         signals: the scored rows: commands and encoders of every driven joint, the ZMP in
-            the floor frame below the base (:mod:`~zmpkit.simfit.log_kinematics`) [m] and
+            the floor frame at the feet's midpoint (:mod:`~zmpkit.simfit.log_kinematics`) [m] and
             the IMU pitch [rad].
         start: the measured state at ``command_time_s[0]``.
         command_time_s: times of the window's rows, burn-in included [s], shape (M,).
