@@ -97,6 +97,10 @@ def test_a_log_without_a_column_is_one_clear_error(walk: tuple[WalkRecord, Path]
     )
     with pytest.raises(InputFileError, match="missing columns \\['left_fz'\\]"):
         read_experiments([bad], NAO)
+    lines[5] = lines[5].replace(lines[5].split(",")[1], "abc", 1)
+    bad.write_text("\n".join(lines), encoding="utf-8")
+    with pytest.raises(InputFileError, match="expected 45 numbers per row"):
+        read_experiments([bad], NAO)
 
 
 def test_the_start_state_is_the_simulators_within_the_sensor_noise(

@@ -202,8 +202,13 @@ def _read_columns(path: Path) -> dict[str, NDArray[np.float64]]:
         with path.open(encoding="utf-8-sig") as handle:
             header = handle.readline().strip().split(",")
         data = np.loadtxt(path, delimiter=",", skiprows=1, ndmin=2)
-    except (OSError, ValueError) as exc:
+    except OSError as exc:
         raise InputFileError(path, f"cannot read the walk log: {exc}") from None
+    except ValueError as exc:
+        first = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
+        raise InputFileError(
+            path, f"expected {len(header)} numbers per row, as the header names ({first})"
+        ) from None
     except Exception as exc:  # pyarrow's own errors
         raise InputFileError(path, f"cannot read the walk log: {exc}") from None
     if data.shape[1] != len(header):
