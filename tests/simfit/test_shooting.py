@@ -202,6 +202,23 @@ def test_windows_tile_the_log_and_stop_before_a_fall(
     assert max(w.signals.time_s[-1] for w in cut) <= fall - FALL_MARGIN_S + 1e-9
 
 
+def test_a_walk_that_fell_is_fitted_up_to_its_fall() -> None:
+    """A push the log does not hold tips the NAO over; the log alone says when."""
+    from zmpkit.experiments.walk_trial import Push
+
+    config = WalkConfig(
+        robot=NAO, speed_mps=0.2, duration_s=6.0, effects=EFFECTS, figures=False,
+        pushes=(Push.parse("30@3:x"),),
+    )  # fmt: skip
+    record = run_walk_trial(config).record
+    assert record.fall_time_s is not None
+    log = walk_log_from_record(record)
+    assert log_fall_time(log) == pytest.approx(record.fall_time_s)
+    windows = log_windows(log, NAO, "fell")
+    assert windows
+    assert max(w.signals.time_s[-1] for w in windows) <= record.fall_time_s - FALL_MARGIN_S
+
+
 def test_bad_windows_are_one_clear_error(walk: tuple[WalkRecord, Path]) -> None:
     log = read_walk_log(walk[1])
     with pytest.raises(ParameterError, match="longer than its burn-in"):
