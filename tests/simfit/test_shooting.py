@@ -219,6 +219,32 @@ def test_a_walk_that_fell_is_fitted_up_to_its_fall() -> None:
     assert max(w.signals.time_s[-1] for w in windows) <= record.fall_time_s - FALL_MARGIN_S
 
 
+def test_a_log_of_other_joints_is_refused_and_one_without_gyro_is_read(
+    walk: tuple[WalkRecord, Path], tmp_path: Path
+) -> None:
+    log = read_walk_log(walk[1])
+    fewer = WalkLog(
+        log.time_s, log.joint_names[1:], log.q_cmd_rad[:, 1:], log.q_enc_rad[:, 1:],
+        log.imu_quat_wxyz, log.gyro_rps, log.right_wrench, log.left_wrench,
+    )  # fmt: skip
+    with pytest.raises(InputFileError, match="driven joints"):
+        log_windows(fewer, NAO, "fewer")
+    blind = WalkLog(
+        log.time_s, log.joint_names, log.q_cmd_rad, log.q_enc_rad, log.imu_quat_wxyz, None,
+        log.right_wrench, log.left_wrench,
+    )  # fmt: skip
+    path = write_walk_log(tmp_path / "blind.parquet", blind)
+    windows = read_experiments([path], NAO)
+    with_gyro = log_windows(log, NAO, "walk")
+    assert len(windows) == len(with_gyro)
+    for a, b in zip(windows, with_gyro, strict=True):
+        assert isinstance(a, ShootingWindow)
+        # the orientation's central difference over two rows against the gyro: the gyro's
+        # noise at five standard deviations (the difference's own error is smaller)
+        noise = NAO.description(EFFECTS).sensor_params.gyro_noise_std
+        assert np.max(np.abs(a.start.gyro_rps - b.start.gyro_rps)) < 5.0 * noise
+
+
 def test_bad_windows_are_one_clear_error(walk: tuple[WalkRecord, Path]) -> None:
     log = read_walk_log(walk[1])
     with pytest.raises(ParameterError, match="longer than its burn-in"):
