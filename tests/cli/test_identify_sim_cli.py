@@ -41,3 +41,15 @@ def test_popsize_reaches_the_fit(tmp_path: Path, seen: list) -> None:
 
 def test_restarts_reach_the_fit(tmp_path: Path, seen: list) -> None:
     assert _fit_config(tmp_path, seen, "--restarts", "3").restarts == 3
+
+
+def test_window_reaches_the_fit(tmp_path: Path, seen: list) -> None:
+    assert _fit_config(tmp_path, seen, "--window", "0.9").window_s == 0.9
+    assert _fit_config(tmp_path, seen).window_s == 1.2
+
+
+def test_a_window_not_longer_than_its_burn_in_is_refused(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    assert main(["identify", "sim", "--self-test", "--window", "0.3", "--out", str(tmp_path)]) == 2
+    assert "--window" in capsys.readouterr().err

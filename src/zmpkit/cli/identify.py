@@ -12,11 +12,12 @@ from zmpkit.cli.progress import GenerationProgress
 from zmpkit.cli.robot_option import robot_option
 from zmpkit.pipelines.identify_balance import run_identify_balance
 from zmpkit.pipelines.identify_balance_files import write_identify_balance
-from zmpkit.pipelines.identify_sim import IdentifySimConfig, run_identify_sim
+from zmpkit.pipelines.identify_sim import IdentifySimConfig, IdentifySimResult, run_identify_sim
 from zmpkit.pipelines.identify_sim_files import write_identify_sim
 from zmpkit.robots.registry import DEFAULT_FIT_ROBOT
 from zmpkit.robots.robot import Robot
 from zmpkit.simfit.optimizer import MAX_POPSIZE, MAX_RESTARTS, FitInterruptedError
+from zmpkit.simfit.shooting_window import DEFAULT_BURN_IN_S, DEFAULT_WINDOW_S
 
 __all__ = [
     "identify_balance_command",
@@ -155,6 +156,15 @@ def identify_balance_command(
     type=click.Path(path_type=Path),
     help="Recorded experiments checked but not fitted (repeatable).",
 )
+@click.option(
+    "--window",
+    "window_s",
+    type=Bounded(DEFAULT_BURN_IN_S, 60.0, "s", low_open=True),
+    default=DEFAULT_WINDOW_S,
+    show_default=True,
+    help="A walk log's multiple-shooting windows [s], each replayed from its measured state "
+    f"(its first {DEFAULT_BURN_IN_S:g} s not scored).",
+)
 @report_option
 def identify_sim_command(
     data: tuple[Path, ...],
@@ -173,9 +183,15 @@ def identify_sim_command(
     self_test: bool,
     sensor_readings: str,
     held_out: tuple[Path, ...],
+    window_s: float,
     report_format: str,
 ) -> None:
-    """Fit the simulator's effect parameters to recorded DATA (walk folders, step datasets)."""
+    """Fit the simulator's effect parameters to recorded DATA.
+
+    DATA: walk folders (zmpkit walk), step datasets, or walk logs of any controller (a
+    .csv/.parquet with time, cmd_<joint>, enc_<joint>, imu_quat_w..z and the F-T columns
+    right_fx..left_tz, or a folder holding walk_log.csv), fitted by multiple shooting.
+    """
     config = IdentifySimConfig(
         data=tuple(str(d) for d in data),
         robot=robot,
@@ -192,6 +208,7 @@ def identify_sim_command(
         quick=quick,
         self_test=self_test,
         sensor_readings=sensor_readings,
+        window_s=window_s,
     )
     try:
         with GenerationProgress() as progress:
@@ -199,7 +216,11 @@ def identify_sim_command(
     except FitInterruptedError as exc:  # Ctrl-C: every finished generation is checkpointed
         click.echo(f"zmpkit: {exc}", err=True)
         raise click.exceptions.Exit(130) from None
-    result = write_identify_sim(fit, out_dir, report_format)
+    _echo_result(write_identify_sim(fit, out_dir, report_format), out_dir)
+
+
+def _echo_result(result: IdentifySimResult, out_dir: Path) -> None:
+    """The fitted values, their intervals, the adequacy verdict and the files, on stdout."""
     intervals = {i.name: i for i in result.intervals}
     for name, value in result.fitted.items():
         interval = intervals.get(name)

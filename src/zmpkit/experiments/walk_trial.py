@@ -55,6 +55,7 @@ __all__ = [
     "FrameReading",
     "ProgressCallback",
     "WalkRecord",
+    "WalkSensors",
     "simulate_walk",
     "start_pose",
 ]
@@ -105,6 +106,24 @@ FrameHook = Callable[[int, FrameReading], "NDArray[np.float64] | None"]
 
 
 @dataclass(frozen=True)
+class WalkSensors:
+    """The raw readings of every frame, as the sensors give them (a robot's log).
+
+    Attributes:
+        imu_quat_wxyz: IMU orientation (w, x, y, z) [-], shape (N, 4).
+        gyro_rps: gyro, IMU frame [rad/s], shape (N, 3).
+        accel_mps2: accelerometer, IMU frame [m/s²], shape (N, 3).
+        ft_wrench: each foot's wrench in its sensor frame, ``record.feet`` order
+            [N, N·m], shape (N, F, 6).
+    """
+
+    imu_quat_wxyz: NDArray[np.float64]
+    gyro_rps: NDArray[np.float64]
+    accel_mps2: NDArray[np.float64]
+    ft_wrench: NDArray[np.float64]
+
+
+@dataclass(frozen=True)
 class WalkRecord:
     """Signals of one simulated walk, one row per motion frame.
 
@@ -132,6 +151,8 @@ class WalkRecord:
         trunk_yaw_rad: IMU yaw, unwrapped [rad], shape (N,); None in records made without it.
         step_events: the steps the controller adjusted to capture its DCM, and whether they
             could (:class:`~zmpkit.walking.step_adjustment.StepEvent`).
+        sensors: the raw IMU and F-T readings of every frame (what a robot's log holds);
+            None in records made without them.
     """
 
     time_s: NDArray[np.float64]
@@ -155,6 +176,7 @@ class WalkRecord:
     controller: str = "open"
     trunk_yaw_rad: NDArray[np.float64] | None = None
     step_events: tuple[StepEvent, ...] = ()
+    sensors: WalkSensors | None = None
 
     def zmp_in_world(self) -> NDArray[np.float64]:
         """The measured ZMP from the feet's F-T sensors [m], shape (N, 2); NaN without contact."""
@@ -201,6 +223,8 @@ class _Recorder:
         self.sensor, self.sole = np.zeros((n, f, 3)), np.zeros((n, f, 3))
         self.torso = np.zeros((n, 3))
         self.qpos = np.zeros((n, sim.model.nq))
+        self.imu = np.zeros((n, 10))  # gyro, accelerometer, quaternion
+        self.wrench = np.zeros((n, f, 6))
 
     def record(self, q_cmd: NDArray[np.float64]) -> tuple[float, float]:
         sim, k = self.sim, self.rows
@@ -208,13 +232,15 @@ class _Recorder:
         self.time[k] = sim.time
         self.q_cmd[k], self.q_meas[k] = q_cmd, sim.encoders()
         self.torque[k] = data.qfrc_actuator[self.dof]
-        orientation = sim.imu()[2]
+        gyro, accel, orientation = sim.imu()
+        self.imu[k] = np.concatenate((gyro, accel, orientation))
         self.pitch[k], self.roll[k] = quaternion_pitch_roll(orientation)
         self.yaw[k] = quaternion_yaw(orientation)
         for i, foot in enumerate(self.feet):
             sensor = next(f for f in sim.robot.feet if f.foot == foot)
             site = data.site(sensor.site)
-            self.force[k, i], self.moment[k, i] = wrench_in_world(site.xmat, sim.ft(foot))
+            self.wrench[k, i] = sim.ft(foot)
+            self.force[k, i], self.moment[k, i] = wrench_in_world(site.xmat, self.wrench[k, i])
             self.sensor[k, i] = site.xpos
             self.sole[k, i] = data.site(sole_site(foot)).xpos
         self.torso[k] = data.qpos[:3]
@@ -227,13 +253,15 @@ class _Recorder:
     ) -> WalkRecord:
         n = self.rows
         fall_time = float(self.time[n - 1]) if fall_kind is not None else None
+        imu = self.imu[:n]
+        sensors = WalkSensors(imu[:, 6:], imu[:, :3], imu[:, 3:6], self.wrench[:n])
         return WalkRecord(
             self.time[:n], self.sim.joint_names, self.q_cmd[:n], self.q_meas[:n],
             self.torque[:n], self.pitch[:n], self.roll[:n], self.feet, self.force[:n],
             self.moment[:n], self.sensor[:n], self.sole[:n], self.torso[:n],
             fall_kind is not None, fall_time, self.qpos[:n],
             self.sim.robot.contact_force_threshold_n, fall_kind, controller,
-            np.unwrap(self.yaw[:n]), events,
+            np.unwrap(self.yaw[:n]), events, sensors,
         )  # fmt: skip
 
     def reading(self) -> FrameReading:

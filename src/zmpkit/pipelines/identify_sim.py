@@ -125,8 +125,9 @@ def _experiments(
 ) -> tuple[list[Experiment], list[Experiment], np.ndarray | None]:
     """(fit experiments, held-out experiments, hidden truth values or None)."""
     if not config.self_test:
-        held = read_experiments(config.held_out, config.robot) if config.held_out else []
-        return read_experiments(config.data, config.robot), held, None
+        windows = (config.window_s, config.burn_in_s)
+        held = read_experiments(config.held_out, config.robot, *windows) if config.held_out else []
+        return read_experiments(config.data, config.robot, *windows), held, None
     truth = perturbed_values(parameters, config.seed)
     plan = self_test_plan(config.robot, config.quick)
     fit_dirs, held_dirs = record_experiments(

@@ -16,6 +16,7 @@ from zmpkit.simfit.cost import CostWeights
 from zmpkit.simfit.optimizer import MAX_POPSIZE, MAX_RESTARTS
 from zmpkit.simfit.parameters import FitParameter, default_parameters, parse_fit_effects
 from zmpkit.simfit.problem import check_sensor_readings
+from zmpkit.simfit.shooting_window import DEFAULT_BURN_IN_S, DEFAULT_WINDOW_S, check_window
 
 __all__ = ["DEFAULT_GENERATIONS", "QUICK_GENERATIONS", "IdentifySimConfig"]
 
@@ -65,6 +66,9 @@ class IdentifySimConfig:
             fixed seed and quantisation) or ``"expected"`` (no noise, no quantisation: a
             smooth cost; :func:`~zmpkit.simfit.truth_doc.expected_readings`).
         figures: draw the figures.
+        window_s: a walk log's multiple-shooting window [s]
+            (:mod:`~zmpkit.simfit.shooting_window`).
+        burn_in_s: the unscored start of each window [s].
     """
 
     data: tuple[str, ...] = ()
@@ -88,6 +92,8 @@ class IdentifySimConfig:
     sensor_model: bool = True
     figures: bool = True
     sensor_readings: str = "sampled"
+    window_s: float = DEFAULT_WINDOW_S
+    burn_in_s: float = DEFAULT_BURN_IN_S
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "robot", get_robot(self.robot, needs="fit"))
@@ -114,6 +120,7 @@ class IdentifySimConfig:
         if not 0.0 < self.sigma0 <= 0.5:
             raise ParameterError(f"sigma0 must be in (0, 0.5]; got {self.sigma0!r}")
         check_sensor_readings(self.sensor_readings)
+        check_window(self.window_s, self.burn_in_s)
         self.fit_parameters()  # validates the parameter names against the effects
 
     @property

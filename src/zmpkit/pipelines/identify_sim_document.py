@@ -15,6 +15,7 @@ import math
 from zmpkit.analysis.provenance import capture_run
 from zmpkit.analysis.report_document import Check, Figure, ReportDocument, Section, Table, Text
 from zmpkit.pipelines.identify_sim import IdentifySimResult
+from zmpkit.simfit.log_experiment import shooting_summary
 from zmpkit.simfit.noise_intervals import NoiseInterval
 from zmpkit.simfit.validation import AMPLITUDE_TOLERANCE, FREQUENCY_TOLERANCE_HZ, ReproductionCheck
 
@@ -98,6 +99,7 @@ def _summary(result: IdentifySimResult) -> str:
         f"reading only commanded angles, encoders, F-T ZMP and IMU; held out: "
         f"{', '.join(c.held_out) or 'none'}; simulated effects "
         f"{result.sim_effects or c.sim_effects}."
+        + (f" {shooting}" if (shooting := shooting_summary(result.problem.experiments)) else "")
         + ("" if adequacy is None else f" Verdict: {adequacy.verdict}.")
     )
 

@@ -1,4 +1,9 @@
-"""The files of ``zmpkit walk``: summary, time series, figures, video and the report."""
+"""The files of ``zmpkit walk``: summary, time series, sensor log, figures, video, report.
+
+The sensor log (:data:`~zmpkit.experiments.walk_log.WALK_LOG_FILE`: every driven joint's
+command and encoder, the IMU, both feet's F-T) is what a robot's own log holds; ``zmpkit
+identify sim`` fits it by multiple shooting as a walk of an unknown controller.
+"""
 
 from __future__ import annotations
 
@@ -14,6 +19,7 @@ from zmpkit.analysis.walk_video import (
     write_walks_side_by_side,
 )
 from zmpkit.experiments.walk_dataset import SERIES_FILE, SUMMARY_FILE, write_series, write_summary
+from zmpkit.experiments.walk_log import WALK_LOG_FILE, walk_log_from_record, write_walk_log
 from zmpkit.pipelines.walk import WalkResult
 from zmpkit.pipelines.walk_document import walk_document
 from zmpkit.pipelines.walk_figures import series_joints, write_figures
@@ -40,6 +46,8 @@ def write_walk(result: WalkResult, out_dir: str | Path, report_format: str = "ht
             out / SERIES_FILE, result.pattern, result.record, series_joints(result.config)
         ),
     }
+    if result.record.sensors is not None and set(result.record.feet) == {"right", "left"}:
+        files["log"] = write_walk_log(out / WALK_LOG_FILE, walk_log_from_record(result.record))
     if result.config.figures:
         files.update(
             write_figures(out, result.config, result.pattern, result.record, result.summary)

@@ -10,6 +10,11 @@ physical robot." One concept per module:
 - :mod:`~zmpkit.simfit.walk_plan`: a walk's commanded trajectory, re-planned (a fallen
   walk's up to its fall);
 - :mod:`~zmpkit.simfit.closed_loop`: a walk of a feedback controller, re-simulated with it;
+- :mod:`~zmpkit.simfit.shooting_window`: a walk log of any controller cut into windows,
+  each started from its measured state (multiple shooting); the log's paths
+  (:mod:`~zmpkit.simfit.log_experiment`), the pose from the sensors alone
+  (:mod:`~zmpkit.simfit.log_kinematics`) and a window's replay
+  (:mod:`~zmpkit.simfit.shooting`);
 - :mod:`~zmpkit.simfit.rollout`: replay an experiment on the simulator;
 - :mod:`~zmpkit.simfit.cost`: the normalised cost terms;
 - :mod:`~zmpkit.simfit.problem`: the problem as data, one evaluation;
@@ -37,7 +42,12 @@ from __future__ import annotations
 
 from zmpkit.simfit.backends import BACKENDS, DEFAULT_WORKERS, make_evaluator
 from zmpkit.simfit.cost import CostTerms, CostWeights, experiment_cost
-from zmpkit.simfit.experiments import StepExperiment, WalkExperiment, read_experiments
+from zmpkit.simfit.experiments import (
+    ShootingWindow,
+    StepExperiment,
+    WalkExperiment,
+    read_experiments,
+)
 from zmpkit.simfit.identifiability import (
     Identifiability,
     ParameterIdentifiability,
@@ -74,6 +84,7 @@ __all__ = [
     "RecordedSignals",
     "RecoveryRow",
     "ReproductionCheck",
+    "ShootingWindow",
     "StepExperiment",
     "WalkExperiment",
     "default_parameters",

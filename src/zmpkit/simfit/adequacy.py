@@ -13,6 +13,9 @@ the fitted model reaches against *itself*, recorded again with fresh sensor nois
    :data:`REPLICA_SEED` + k — a virtual repetition of the experiment on a robot that *is*
    the fitted model. A walk with feedback reacts to that noise as the robot did, so its
    floor holds the noise's propagation through the closed loop, not only the sensors'.
+   A walk-log window's replica starts a little before the window, from the state measured
+   there, so the floor also holds the shooting's start-state error
+   (:mod:`~zmpkit.simfit.shooting_window`).
    Each replica's cost :math:`c_k` is that of :math:`y_{fit}` against the replica, the
    recording's place; :math:`\bar c` and :math:`s_c` are their mean and standard deviation.
 3. The model **explains the data** when
@@ -55,6 +58,7 @@ from zmpkit.simfit.cost import experiment_cost
 from zmpkit.simfit.problem import FitProblem, simulate
 from zmpkit.simfit.recorded import RecordedSignals
 from zmpkit.simfit.rollout import simulate_experiment
+from zmpkit.simfit.shooting_window import replica_experiment
 from zmpkit.simfit.truth_doc import load_robot_truth, truth_doc_with
 
 __all__ = [
@@ -224,7 +228,9 @@ def replica_recordings(
     out = []
     for k in range(replicas):
         replica = [
-            simulate_experiment(x, truth, problem.sim_effects, noise_seed=REPLICA_SEED + k)
+            simulate_experiment(
+                replica_experiment(x, k), truth, problem.sim_effects, noise_seed=REPLICA_SEED + k
+            )
             for x in problem.experiments
         ]
         recorded = [x.signals for x in problem.experiments]

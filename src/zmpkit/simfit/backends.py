@@ -215,8 +215,9 @@ def _refuse_closed_loop(problem: FitProblem) -> None:
     closed = [e.name for e in problem.experiments if not is_open_loop(e)]
     if closed:
         raise ParameterError(
-            f"backend 'warp' replays open-loop experiments only; {closed[0]} walked with a "
-            "feedback controller, re-simulated in closed loop on the CPU: use --backend local"
+            f"backend 'warp' replays open-loop experiments only; {closed[0]} runs on the CPU "
+            "(a walk with a feedback controller, re-simulated in closed loop, or a walk-log "
+            "window started from its measured state): use --backend local"
         )
 
 

@@ -17,6 +17,11 @@ from the IMU. Every experiment names its robot. Two kinds of experiment:
 - :class:`StepExperiment` — one trial of a step dataset
   (:func:`~zmpkit.experiments.read_step_dataset`): the commanded setpoints of every joint are
   in the trial CSV; the robot stands ``settle_s`` before the recording starts.
+- :class:`~zmpkit.simfit.shooting_window.ShootingWindow` — a window of a walk log of a
+  controller zmpkit does not have (:mod:`zmpkit.experiments.walk_log`: a ``.csv`` or
+  ``.parquet`` file, or a folder holding ``walk_log.csv`` and no ``summary.json``): the log
+  is fitted by multiple shooting, each window replayed open loop from its measured state
+  (:mod:`~zmpkit.simfit.shooting_window`); every window is one experiment.
 
 :func:`read_experiments` reads a list of folders; every problem is an
 :class:`~zmpkit.errors.InputFileError` naming the file and what was expected.
@@ -41,12 +46,15 @@ from zmpkit.sensors import CONTACT_FORCE_THRESHOLD_N, zmp_series
 from zmpkit.sensors.imu import tilt_from_quaternions
 from zmpkit.sim.effect_set import EffectSet
 from zmpkit.simfit.closed_loop import WalkSettings
+from zmpkit.simfit.log_experiment import read_log_windows, walk_log_path
 from zmpkit.simfit.recorded import RecordedSignals
+from zmpkit.simfit.shooting_window import DEFAULT_BURN_IN_S, DEFAULT_WINDOW_S, ShootingWindow
 from zmpkit.simfit.walk_plan import match_closed_loop_plan, match_walk_plan
 from zmpkit.walking.walk_controllers import CONTROLLERS
 
 __all__ = [
     "Experiment",
+    "ShootingWindow",
     "StepExperiment",
     "WalkExperiment",
     "read_experiments",
@@ -109,7 +117,7 @@ class StepExperiment:
     contact_threshold_n: float = CONTACT_FORCE_THRESHOLD_N
 
 
-Experiment = WalkExperiment | StepExperiment
+Experiment = WalkExperiment | StepExperiment | ShootingWindow
 """Any experiment the fit takes."""
 
 
@@ -289,7 +297,12 @@ def _step_experiments(folder: Path, robot: Robot) -> list[StepExperiment]:
     return out
 
 
-def read_experiments(folders: Sequence[str | Path], robot: Robot) -> list[Experiment]:
+def read_experiments(
+    folders: Sequence[str | Path],
+    robot: Robot,
+    window_s: float = DEFAULT_WINDOW_S,
+    burn_in_s: float = DEFAULT_BURN_IN_S,
+) -> list[Experiment]:
     """Read recorded experiment folders of ``robot``; each experiment names it.
 
     The robot's fit says what it replays (:attr:`~zmpkit.robots.robot.FitSpec.experiment`):
@@ -297,7 +310,9 @@ def read_experiments(folders: Sequence[str | Path], robot: Robot) -> list[Experi
     dataset (``meta.json`` + trial CSVs), each trial one experiment. A robot that replays
     walks takes step datasets too (a designed double-support experiment,
     :mod:`zmpkit.experiments.double_support`, is one): a folder with ``meta.json`` is read as
-    one.
+    one. A walk log (a ``.csv`` or ``.parquet`` file, or a folder with ``walk_log.csv`` and
+    no ``summary.json``) is cut into windows of ``window_s`` [s] with an unscored
+    ``burn_in_s`` [s], each one experiment.
 
     Raises:
         InputFileError: naming the folder or file and what was expected.
@@ -308,6 +323,10 @@ def read_experiments(folders: Sequence[str | Path], robot: Robot) -> list[Experi
     out: list[Experiment] = []
     for item in folders:
         folder = Path(item)
+        log = walk_log_path(folder)
+        if log is not None:
+            out.extend(read_log_windows(log, robot, window_s, burn_in_s))
+            continue
         if not folder.is_dir():
             raise InputFileError(folder, "expected an experiment folder (does not exist)")
         if kind == "walk" and not (folder / META_FILE).is_file():

@@ -21,13 +21,14 @@ import mujoco
 import numpy as np
 from numpy.typing import NDArray
 
-from zmpkit.errors import SimulationDivergedError
+from zmpkit.errors import ParameterError, SimulationDivergedError
 from zmpkit.experiments.walk_trial import start_pose
 from zmpkit.robots.robot import Robot
 from zmpkit.sim.description import RobotDescription
 from zmpkit.sim.world import Simulation
 from zmpkit.simfit.experiments import Experiment, StepExperiment, WalkExperiment
 from zmpkit.simfit.rollout import setpoint_table
+from zmpkit.simfit.shooting_window import ShootingWindow
 from zmpkit.simfit.truth_doc import RobotTruth
 from zmpkit.simfit.walk_plan import walk_trajectory
 
@@ -41,7 +42,14 @@ __all__ = [
 
 
 def is_open_loop(experiment: Experiment) -> bool:
-    """Whether ``experiment``'s servo setpoints are known before its rollout (a schedule)."""
+    """Whether ``experiment`` runs as a schedule from a posed simulation (a batch's rollout).
+
+    A walk with a feedback controller does not (its commands follow the candidate); nor
+    does a walk-log window (:mod:`~zmpkit.simfit.shooting`): its commands are known, but it
+    starts from a measured state the batches do not set, so it runs on the serial path.
+    """
+    if isinstance(experiment, ShootingWindow):
+        return False
     return not isinstance(experiment, WalkExperiment) or experiment.closed_loop is None
 
 
@@ -115,7 +123,13 @@ def _walk_key(experiment: WalkExperiment) -> tuple[Robot, float, float, float, f
 
 
 def open_loop_schedule(experiment: Experiment, sim: Simulation) -> OpenLoopSchedule:
-    """The servo setpoints [rad] of ``experiment`` for every physics step of ``sim``."""
+    """The servo setpoints [rad] of ``experiment`` for every physics step of ``sim``.
+
+    Raises:
+        ParameterError: on an experiment with no schedule (:func:`is_open_loop`).
+    """
+    if isinstance(experiment, ShootingWindow):
+        raise ParameterError(f"{experiment.name} starts from a measured state: no schedule")
     if isinstance(experiment, WalkExperiment):
         return _walk_schedule(experiment, sim)
     return _step_schedule(experiment, sim)

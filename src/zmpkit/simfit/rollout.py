@@ -9,6 +9,9 @@
   commanded setpoints, linearly interpolated to every servo tick (the drive streams them at
   the physics rate); the F-T sensors, encoders and IMU are sampled at the recorded times.
 
+- A walk-log window (multiple shooting): from its measured start state, open loop on its
+  recorded commands (:mod:`~zmpkit.simfit.shooting`).
+
 A rollout that falls or diverges returns the signals up to that point; the cost charges it.
 """
 
@@ -25,6 +28,8 @@ from zmpkit.sim.world import Simulation
 from zmpkit.simfit.closed_loop import NOISE_SEED_OFFSET, simulate_closed_loop
 from zmpkit.simfit.experiments import Experiment, StepExperiment, WalkExperiment
 from zmpkit.simfit.recorded import RecordedSignals
+from zmpkit.simfit.shooting import simulate_window
+from zmpkit.simfit.shooting_window import ShootingWindow
 from zmpkit.simfit.truth_doc import RobotTruth
 from zmpkit.simfit.walk_plan import walk_trajectory
 
@@ -46,14 +51,17 @@ def simulate_experiment(
         experiment: the recorded experiment to replay.
         truth: the truth object of the experiment's robot.
         effects: effect letters switched on, e.g. ``"M,G"``.
-        noise_seed: seed of the sensor noise; None: the fit's (0 open loop; the recorded
-            walk's plus :data:`~zmpkit.simfit.closed_loop.NOISE_SEED_OFFSET` closed loop).
+        noise_seed: seed of the sensor noise; None: the fit's (0 open loop and for a log
+            window; the recorded walk's plus
+            :data:`~zmpkit.simfit.closed_loop.NOISE_SEED_OFFSET` closed loop).
 
     Returns:
         Signals on the recorded time grid, shorter if the robot fell or the simulation diverged.
     """
     if isinstance(experiment, WalkExperiment):
         return _walk(experiment, truth, effects, noise_seed)
+    if isinstance(experiment, ShootingWindow):
+        return simulate_window(experiment, truth, effects, noise_seed)
     return _step(experiment, truth, effects, noise_seed)
 
 
