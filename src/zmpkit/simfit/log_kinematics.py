@@ -18,7 +18,7 @@ deflection, link flex) at zero, relative to the feet:
    :math:`R_b\, p^0_{ft} - o_f` and rotations :math:`R_b R^0_{ft}`: the ZMP between the feet
    [m]. Relative to the feet, not to the base: a replay's base that drifts from a start
    velocity error moves the ZMP relative to the base by the drift, but not where the
-   pressure lies under the feet (measured on a NAO walk log: the ZMP term of the true
+   pressure lies under the feet (measured on the built-in walker's log: the ZMP term of the true
    parameters' cost fell from 0.021 to 0.0065).
 
 :meth:`LogKinematics.place_base` uses the same steps to start a simulation from a measured

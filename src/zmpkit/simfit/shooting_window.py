@@ -16,8 +16,8 @@ Consecutive windows overlap by the burn-in, so their scored parts tile the log.
   :math:`2k+1 =` :data:`SLOPE_ROWS` rows centred on :math:`t_0` (a first-order
   Savitzky–Golay differentiator, :math:`\dot q = \sum_i (t_i - \bar t)(q_i - \bar q) /
   \sum_i (t_i - \bar t)^2`): an encoder quantum :math:`\delta` and row period :math:`T` give
-  a speed error of about :math:`\delta / (T \sqrt{12 \sum_i i^2})` (0.014 rad/s for the NAO's
-  0.0015 rad at 100 Hz over 5 rows), and the centred fit has no lag;
+  a speed error of about :math:`\delta / (T \sqrt{12 \sum_i i^2})` (0.014 rad/s for the
+  built-in walker's 0.0015 rad at 100 Hz over 5 rows), and the centred fit has no lag;
 - base orientation and angular velocity: the IMU quaternion and gyro at :math:`t_0`
   (without a gyro, the orientation's central difference);
 - base position and linear velocity: from the kinematics of the stance foot — the one with
@@ -26,7 +26,7 @@ Consecutive windows overlap by the burn-in, so their scored parts tile the log.
 - the drives' integral terms: summed from the log, the integral of the commanded angle
   minus the encoder from the log's first row (where it is taken to be zero, as a robot's
   drives start a walk) by the trapezoid rule, clamped as the candidate's drive clamps it
-  (:mod:`~zmpkit.simfit.shooting`): the NAO's integral gain is a hundredth of its
+  (:mod:`~zmpkit.simfit.shooting`): the built-in walker's integral gain is a hundredth of its
   proportional one per second, so its integral remembers the whole walk and no burn-in
   would settle it;
 - what else no sensor sees — gear deflection, link flex, the winding current — starts at
@@ -90,9 +90,9 @@ __all__ = [
 DEFAULT_WINDOW_S = 1.2
 """Window length [s]: a burn-in and 0.9 s scored, about two steps of a small humanoid's walk,
 so each window holds both single supports (the ZMP term sees the F-T move between the feet)
-and resolves the trunk spectrum to 1.1 Hz. Measured on a 10 s NAO ``zmpip`` walk (M, G, S;
-hidden PID scale 0.797, gear stiffness 1424 N·m/rad), the mean window cost of the true
-parameters and whether it is lower than with the PID scale at ±5 % and the stiffness at
+and resolves the trunk spectrum to 1.1 Hz. Measured on a 10 s ``zmpip`` walk of the built-in
+walker (M, G, S; hidden PID scale 0.797, gear stiffness 1424 N·m/rad), the mean window cost
+of the true parameters and whether it is lower than with the PID scale at ±5 % and the stiffness at
 ±10 %: 0.6 s windows (0.1 s burn-in) 0.059, the minimum at -5 % and -10 %; 1.0 s (0.2 s)
 0.013 and 1.2 s (0.3 s) 0.0076, the minimum at the truth; 1.5 s (0.3 s) 0.0063. With a
 0.2 s burn-in an earlier version's fit still found the stiffness 10 % low (the zero start
