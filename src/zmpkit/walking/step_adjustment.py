@@ -44,8 +44,9 @@ humanoid robot Atlas", IROS 2017). Every control tick of a single support:
    the built-in walker then fell in 15 to 28 of the 32 pushes of 10 and 20 N it had
    survived 22 of.
 
-The state estimator places the robot by the feet in contact, so it is given the adjusted
-feet.
+The state estimator places the robot by the feet in contact: a moved step's foot is placed
+where it is measured, and lands where it touches down
+(:mod:`zmpkit.walking.measured_footholds`).
 
 The trigger, margins and timing limits are :class:`StepAdjustmentParameters`
 (:mod:`zmpkit.walking.step_adjustment_parameters`, with how their defaults were chosen).
@@ -64,6 +65,7 @@ from numpy.typing import NDArray
 from zmpkit.models.pendulum import STANDARD_GRAVITY_MPS2
 from zmpkit.walking.adjusted_swing import AdjustedSwing
 from zmpkit.walking.capture_step import double_support_factor, solve_capture
+from zmpkit.walking.measured_footholds import MeasuredFootholds
 from zmpkit.walking.pattern import WalkingPattern
 from zmpkit.walking.planned_steps import PlannedStep, planned_steps
 from zmpkit.walking.replanned_dcm import ReplannedDcmReference
@@ -148,6 +150,7 @@ class StepAdjustment:
         self._touchdown = 0.0
         self._active = self._modified = self._landed = self._moved = False
         self._reference: ReplannedZmpReference | None = None
+        self._footholds: MeasuredFootholds | None = None
         self.replans_dcm = False
         """Whether :meth:`update` re-plans the DCM, ZMP and CoM references (the ``dcm`` walk)."""
         self.dcm_reference = ReplannedDcmReference(self._omega, self._dt, self._t_d)
@@ -168,6 +171,11 @@ class StepAdjustment:
     def attach_reference(self, reference_by_axis: list[NDArray[np.float64]]) -> None:
         """Re-plan this ZMP reference (one writable array per axis, [m]) with the steps."""
         self._reference = ReplannedZmpReference(reference_by_axis, self._steps, self._t_d_frames)
+
+    def attach_footholds(self, footholds: MeasuredFootholds) -> None:
+        """Place a moved step's foot where it is measured (:mod:`.measured_footholds`)."""
+        if self.parameters.measured_footholds:
+            self._footholds = footholds
 
     def update(self, frame: int, before: int, dcm_x_m: float, dcm_y_m: float) -> None:
         """Adjust the step under way and write the feet's targets of ``frame``.
@@ -190,6 +198,8 @@ class StepAdjustment:
                 self._asking = False
                 asked = self._asked
                 self._land_at(j, frame, asked[1], asked[2], asked[3], asked[0])
+            if self._footholds is not None and self._modified and not self._landed:
+                self._watch_landing(j, frame)
             self._advance(j, frame)
         if self._moved:
             self._write_feet(j, frame)
@@ -328,6 +338,16 @@ class StepAdjustment:
         self._touchdown = touchdown
         self._modified = self._moved = True
 
+    def _watch_landing(self, j: int, frame: int) -> None:
+        """A moved swing that is down lands where it is measured, now."""
+        step, feet = self._steps[j], self._footholds
+        if feet is None or not feet.landed(step.foot, frame, step.lift, self._touchdown):
+            return
+        gx, gy = feet.at(step.foot, 0), feet.at(step.foot, 1)
+        self._goal[0], self._goal[1] = gx, gy
+        self._swing.land(float(frame), gx, gy)
+        self._touchdown = float(frame)
+
     def _advance(self, j: int, frame: int) -> None:
         """The swing's target of ``frame``; at touchdown, the step's placement is kept."""
         self._swing.advance(float(frame))
@@ -357,6 +377,12 @@ class StepAdjustment:
             if i == swinging:
                 swing = self._swing
                 x, y, z = swing.x_m, swing.y_m, swing.z_m
+                if self._footholds is not None and not self._landed:
+                    target[frame, 0], target[frame, 1], target[frame, 2] = x, y, z
+                    at = self._footholds.at  # anchored where it is (measured_footholds)
+                    soles[frame, i, 0], soles[frame, i, 1] = at(i, 0), at(i, 1)
+                    soles[frame, i, 2] = at(i, 2)
+                    continue
             else:
                 x = plan.item(frame, 0) + self._offsets.item(i, 0)
                 y = plan.item(frame, 1) + self._offsets.item(i, 1)

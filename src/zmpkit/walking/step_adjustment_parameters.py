@@ -46,6 +46,11 @@ class StepAdjustmentParameters:
             swing leg accelerated harder pushes the body the other way) [m/s²].
         habit_rate: α, how fast the walk's own repeated DCM deviation is learned [-]; 0: not
             learned.
+        measured_footholds: a moved step's foot is anchored where it is measured, and lands
+            at its first contact (:mod:`zmpkit.walking.measured_footholds`); False: where it
+            was commanded.
+        touchdown_contact_fraction: the share of a moved swing after which a contact is its
+            touchdown [-].
     """
 
     enabled: bool = True
@@ -58,6 +63,8 @@ class StepAdjustmentParameters:
     reach_margin: float = DEFAULT_REACH_MARGIN
     habit_rate: float = 0.25
     max_swing_acceleration_mps2: float = 5.0
+    measured_footholds: bool = True
+    touchdown_contact_fraction: float = 0.5
 
     def __post_init__(self) -> None:
         for name in ("trigger_dcm_error_m", "cop_margin_m", "landing_margin_m"):
@@ -75,6 +82,10 @@ class StepAdjustmentParameters:
         )
         _validate.in_range("StepAdjustmentParameters.reach_margin", self.reach_margin, 1e-3, 1.0)
         _validate.in_range("StepAdjustmentParameters.habit_rate", self.habit_rate, 0.0, 1.0)
+        _validate.in_range(
+            "StepAdjustmentParameters.touchdown_contact_fraction",
+            self.touchdown_contact_fraction, 0.0, 1.0,
+        )  # fmt: skip
         _validate.positive(
             "StepAdjustmentParameters.max_swing_acceleration_mps2",
             self.max_swing_acceleration_mps2, "m/s²",
