@@ -38,15 +38,13 @@ humanoid robot Atlas", IROS 2017). Every control tick of a single support:
    gets the matching DCM, ZMP and CoM references:
    ``δξ(t) = o_s + (G - S) Ξ(T' - t) - (U - S^{ref}) Ξ(T - t)`` with ``Ξ`` the DCM of the
    unit transfer (:func:`~zmpkit.walking.capture_step.transfer_dcm`), and the CoM reference
-   following it, ``δ\dot c = ω (δξ - δc)``, ``δ\ddot c = ω^2 (δc - δp)``. Re-planned every
-   tick of the swing instead, the references led the controllers to move the CoM towards
-   the new landing, which grew the measured DCM error, which moved the landing further:
-   the built-in walker then fell in 15 to 28 of the 32 pushes of 10 and 20 N it had
-   survived 22 of.
+   following it, ``δ\dot c = ω (δξ - δc)``, ``δ\ddot c = ω^2 (δc - δp)`` (re-planned every
+   tick instead, they moved the CoM towards the new landing and grew the error).
+6. **The next swing lifts early** when a step could not capture and landed early, by as
+   much (``zmpip`` only): the plan's double support follows the landing, not its clock.
 
 The state estimator places the robot by the feet in contact: a moved step's foot is placed
-where it is measured, and lands where it touches down
-(:mod:`zmpkit.walking.measured_footholds`).
+where it is measured, and lands where it touches down (:mod:`.measured_footholds`).
 
 The trigger, margins and timing limits are :class:`StepAdjustmentParameters`
 (:mod:`zmpkit.walking.step_adjustment_parameters`, with how their defaults were chosen).
@@ -65,14 +63,15 @@ from numpy.typing import NDArray
 from zmpkit.models.pendulum import STANDARD_GRAVITY_MPS2
 from zmpkit.walking.adjusted_swing import AdjustedSwing
 from zmpkit.walking.capture_step import double_support_factor, solve_capture
+from zmpkit.walking.dcm_habit import DcmHabit
 from zmpkit.walking.measured_footholds import MeasuredFootholds
 from zmpkit.walking.pattern import WalkingPattern
-from zmpkit.walking.planned_steps import PlannedStep, planned_steps
+from zmpkit.walking.planned_steps import planned_steps
 from zmpkit.walking.replanned_dcm import ReplannedDcmReference
 from zmpkit.walking.replanned_zmp import ReplannedZmpReference
 from zmpkit.walking.scalar_limits import clip
 from zmpkit.walking.step_adjustment_parameters import StepAdjustmentParameters
-from zmpkit.walking.step_events import NOT_CAPTURED, StepEvent
+from zmpkit.walking.step_events import NOT_CAPTURED, StepEvent, StepLog
 from zmpkit.walking.step_reach import StepReach
 
 __all__ = ["NOT_CAPTURED", "StepAdjustment", "StepAdjustmentParameters", "StepEvent"]
@@ -119,13 +118,9 @@ class StepAdjustment:
         for j, step in enumerate(self._steps):
             self._step_at[step.lift + 1 :] = [j] * (n - step.lift - 1)
         self._min_remaining = parameters.min_remaining_s / dt
-        self._min_swing = [
-            math.ceil(parameters.min_swing_fraction * (s.touchdown - s.lift)) for s in self._steps
-        ]
-        self._latest_trigger = [
-            s.lift + parameters.latest_trigger_fraction * (s.touchdown - s.lift)
-            for s in self._steps
-        ]
+        spans = [(s.lift, s.touchdown - s.lift) for s in self._steps]
+        self._min_swing = [math.ceil(parameters.min_swing_fraction * d) for _, d in spans]
+        self._latest_trigger = [a + parameters.latest_trigger_fraction * d for a, d in spans]
         com = pattern.com
         dcm = com.com_position_in_world + com.com_velocity_in_world / self._omega
         self._dcm_plan = np.ascontiguousarray(dcm[:, :2])
@@ -142,7 +137,7 @@ class StepAdjustment:
         self._global = np.zeros(2)
         self._swing = AdjustedSwing(step_height_m)
         self._span = -1
-        self._goal = [0.0, 0.0]
+        self._goal, self._planned_goal = [0.0, 0.0], [0.0, 0.0]
         self._shift_along = self._shift_lateral = 0.0
         self._asked = [0.0, 0.0, 0.0, 0.0]  # touchdown [frames], along, lateral, left [m]
         self._asking = False
@@ -151,22 +146,17 @@ class StepAdjustment:
         self._active = self._modified = self._landed = self._moved = False
         self._reference: ReplannedZmpReference | None = None
         self._footholds: MeasuredFootholds | None = None
+        self._lift = self._ahead = 0  # the swing's lift-off, how far ahead of the plan [frames]
+        self._early = -1  # the frame the next swing lifts early (-1: as planned)
+        self._planned_touchdown, self._uncaptured = 0.0, False  # the last capture left error
         self.replans_dcm = False
         """Whether :meth:`update` re-plans the DCM, ZMP and CoM references (the ``dcm`` walk)."""
         self.dcm_reference = ReplannedDcmReference(self._omega, self._dt, self._t_d)
         """The change of the DCM, ZMP and CoM references (:mod:`zmpkit.walking.replanned_dcm`)."""
-        self._planned_goal = [0.0, 0.0]
         self.dcm_error_in_world = np.full((self._n, 2), np.nan)
         swing = max((s.touchdown - s.lift for s in self._steps), default=1)
-        # per foot, axis, frame
-        self._habit = [[[0.0] * swing for _ in range(2)] for _ in range(nfeet)]
-        self._quiet = 0  # swings since the last adjusted one
-        m = len(self._steps)
-        self._trigger_frame = [-1] * m
-        self._trigger_error = np.zeros((m, 2))
-        self._left = np.zeros(m)
-        self._shift = np.zeros((m, 2))
-        self._landed_at = np.zeros(m)
+        self._habit = DcmHabit(nfeet, swing, self.parameters.habit_rate)
+        self._log = StepLog(len(self._steps), tuple(s.side for s in self._steps), self._dt)
 
     def attach_reference(self, reference_by_axis: list[NDArray[np.float64]]) -> None:
         """Re-plan this ZMP reference (one writable array per axis, [m]) with the steps."""
@@ -189,8 +179,12 @@ class StepAdjustment:
         if not self.parameters.enabled:
             return
         j = self._step_at[frame]
+        if j < self._span:  # the step under way lifted early
+            j = self._span
+        elif j == self._span and 0 <= self._early <= frame:
+            j += 1
         if j != self._span:
-            self._begin(j)
+            self._begin(j, frame)
         if j >= 0:
             if frame < self._touchdown - self._min_remaining:
                 self._adjust(j, frame, before, dcm_x_m, dcm_y_m)
@@ -206,27 +200,36 @@ class StepAdjustment:
         if self.replans_dcm:
             self._shift_dcm_reference(j, before)
 
-    def _begin(self, j: int) -> None:
-        """A swing lifts off: start it towards the planned landing moved by the last offset."""
-        self._span = j
+    def _begin(self, j: int, frame: int) -> None:
+        """A swing lifts off: start it towards the planned landing moved by the last offset.
+
+        It lifts at ``frame``, earlier than planned when the step before it could not
+        capture and landed early: its planned touchdown comes as much earlier.
+        """
+        self._span, self._early = j, -1
         if j < 0:
             return
         step = self._steps[j]
+        lift = frame - 1 if frame - 1 < step.lift else step.lift
+        self._lift, early = lift, step.lift - lift
+        self._ahead = early  # frames this swing runs ahead of the plan
         offsets, o = self._offsets, self._global
         ox, oy = o.item(0), o.item(1)
         self._stance_offset[0] = offsets.item(step.stance, 0)
         self._stance_offset[1] = offsets.item(step.stance, 1)
         gx, gy = step.land_x + ox, step.land_y + oy
         target = self._feet[step.foot][2]
+        self._planned_touchdown = self._touchdown = float(step.touchdown - early)
         self._swing.start(
-            float(step.lift), target.item(step.lift, 0), target.item(step.lift, 1), gx, gy,
-            float(step.touchdown),
-        )  # fmt: skip
+            float(lift), target.item(lift, 0), target.item(lift, 1), gx, gy, self._touchdown
+        )
         self._goal[0], self._goal[1] = gx, gy
         self._shift_along = self._shift_lateral = 0.0  # the landing against the plan's [m]
-        self._touchdown = float(step.touchdown)
         self._modified = offsets.item(step.foot, 0) != ox or offsets.item(step.foot, 1) != oy
-        self._quiet = 0 if self._active else self._quiet + 1
+        if early > 0:
+            self._modified = self._moved = True
+        self._uncaptured = False
+        self._habit.begin(self._active)
         self._active = self._landed = False
         if self._reference is not None:
             start = self._stance_offset
@@ -238,10 +241,11 @@ class StepAdjustment:
     def _adjust(self, j: int, frame: int, before: int, dcm_x: float, dcm_y: float) -> None:
         """Re-plan the landing and touchdown of step ``j`` from the DCM of ``before``."""
         step, par, omega, dt = self._steps[j], self.parameters, self._omega, self._dt
-        plan = self._dcm_plan
+        plan, ref = self._dcm_plan, before + self._ahead  # the plan's time of this swing
+        ref = ref if ref < self._n else self._n - 1
         ox, oy = self._stance_offset
-        ex, ey = dcm_x - plan.item(before, 0) - ox, dcm_y - plan.item(before, 1) - oy
-        ex, ey = self._unhabitual(step, before, ex, ey)
+        ex, ey = dcm_x - plan.item(ref, 0) - ox, dcm_y - plan.item(ref, 1) - oy
+        ex, ey = self._habit.remove(step.foot, before - self._lift, ex, ey, self._active)
         errors = self.dcm_error_in_world
         errors[before, 0], errors[before, 1] = ex, ey
         c, s = step.cos_yaw, step.sin_yaw
@@ -250,19 +254,20 @@ class StepAdjustment:
             trigger_x, trigger_y = par.trigger_dcm_error_m
             if -trigger_x <= along <= trigger_x and -trigger_y <= across <= trigger_y:
                 return
-            if frame > self._latest_trigger[j]:
+            if frame + self._ahead > self._latest_trigger[j]:
                 return
             self._active = True
-            self._trigger_frame[j] = before
-            self._trigger_error[j, 0], self._trigger_error[j, 1] = ex, ey
-        bx, by = plan.item(before, 0) - step.stance_x, plan.item(before, 1) - step.stance_y
-        touchdown = float(step.touchdown)
-        earliest = float(step.lift + self._min_swing[j])
+            log = self._log
+            log.trigger_frame[j] = before
+            log.trigger_error[j, 0], log.trigger_error[j, 1] = ex, ey
+        bx, by = plan.item(ref, 0) - step.stance_x, plan.item(ref, 1) - step.stance_y
+        touchdown = self._planned_touchdown
+        earliest = float(self._lift + self._min_swing[j])
         soonest = frame + self._min_remaining
         earliest = soonest if soonest > earliest else earliest
         earliest = touchdown if earliest > touchdown else earliest
         (m_x, m_y), (l_x, l_y) = par.cop_margin_m, par.landing_margin_m
-        lo_x, hi_x, lo_y, hi_y = self._box(step)  # (a call with *args builds a list)
+        lo_x, hi_x, lo_y, hi_y = self.reach.shift_box(step.along, step.lateral, step.sign)
         sigma, d_along, d_across, left = solve_capture(
             along, across, c * bx + s * by, -s * bx + c * by,
             math.exp(omega * dt * (touchdown - before)), math.exp(omega * dt * (earliest - before)),
@@ -275,30 +280,6 @@ class StepAdjustment:
         asked[1], asked[2] = step.along + d_along, step.lateral + step.sign * d_across
         asked[3] = left
         self._asking = True
-
-    def _unhabitual(
-        self, step: PlannedStep, before: int, ex: float, ey: float
-    ) -> tuple[float, float]:
-        """The DCM error less the walk's own repeated one at this point of the swing [m].
-
-        A walking robot's DCM deviates from the plan's in the same way step after step (the
-        built-in walker rocks 3 cm forward in mid-swing): the mean over the earlier swings of
-        this foot, learned (rate α) while no step is being adjusted nor was over the last two.
-        """
-        habit, i, rate = self._habit[step.foot], before - step.lift, self.parameters.habit_rate
-        hx, hy = habit[0][i], habit[1][i]
-        if not self._active and self._quiet >= 2:
-            habit[0][i], habit[1][i] = hx + rate * (ex - hx), hy + rate * (ey - hy)
-        return ex - hx, ey - hy
-
-    def _box(self, step: PlannedStep) -> tuple[float, float, float, float]:
-        """(lo, hi) of the landing's shift along and across the stance sole [m]."""
-        reach = self.reach
-        lo_x, hi_x = -reach.max_along_m - step.along, reach.max_along_m - step.along
-        lo_l, hi_l = reach.min_lateral_m - step.lateral, reach.max_lateral_m - step.lateral
-        lo_x, lo_l = (lo_x if lo_x < 0.0 else 0.0), (lo_l if lo_l < 0.0 else 0.0)
-        hi_x, hi_l = (hi_x if hi_x > 0.0 else 0.0), (hi_l if hi_l > 0.0 else 0.0)
-        return (lo_x, hi_x, lo_l, hi_l) if step.sign > 0.0 else (lo_x, hi_x, -hi_l, -lo_l)
 
     def _land_at(
         self, j: int, frame: int, along: float, lateral: float, left: float, touchdown: float
@@ -321,7 +302,9 @@ class StepAdjustment:
         moved = math.hypot(along_in - along, lateral_in - lateral)
         if moved > 1e-9:
             left += self._kappa * moved
-        self._left[j] = left if left > self._left.item(j) else self._left.item(j)
+        self._uncaptured = left > 0.0
+        logged = self._log.left
+        logged[j] = left if left > logged.item(j) else logged.item(j)
         c, s, across = step.cos_yaw, step.sin_yaw, step.sign * lateral_in
         gx = step.stance_x + self._stance_offset[0] + c * along_in - s * across
         gy = step.stance_y + self._stance_offset[1] + s * along_in + c * across
@@ -341,7 +324,7 @@ class StepAdjustment:
     def _watch_landing(self, j: int, frame: int) -> None:
         """A moved swing that is down lands where it is measured, now."""
         step, feet = self._steps[j], self._footholds
-        if feet is None or not feet.landed(step.foot, frame, step.lift, self._touchdown):
+        if feet is None or not feet.landed(step.foot, frame, self._lift, self._touchdown):
             return
         gx, gy = feet.at(step.foot, 0), feet.at(step.foot, 1)
         self._goal[0], self._goal[1] = gx, gy
@@ -357,9 +340,17 @@ class StepAdjustment:
         ox, oy = goal[0] - step.land_x, goal[1] - step.land_y
         self._offsets[step.foot, 0], self._offsets[step.foot, 1] = ox, oy
         self._global[0], self._global[1] = ox, oy
-        self._shift[j, 0], self._shift[j, 1] = ox, oy
-        self._landed_at[j] = (step.touchdown - frame) * self._dt
+        log = self._log
+        log.shift[j, 0], log.shift[j, 1] = ox, oy
+        log.landed_at[j] = (step.touchdown - frame) * self._dt
         self._landed = True
+        early = step.touchdown - frame  # [frames]; the dcm walk's references keep the timing
+        hurry = self._uncaptured and self.parameters.early_next_lift and not self.replans_dcm
+        if hurry and early > 0 and j + 1 < len(self._steps):  # its transfer after its plan's
+            early = early if early < self._min_swing[j + 1] else self._min_swing[j + 1]  # lift
+            self._early = self._steps[j + 1].lift + 1 - early
+        if self._early < 0:  # the plan's clock again: the double support lasts longer
+            self._ahead = 0
         if self._reference is not None and self._modified:
             start = self._stance_offset
             self._reference.replan(
@@ -372,16 +363,17 @@ class StepAdjustment:
     def _write_feet(self, j: int, frame: int) -> None:
         """Each foot's target of ``frame``: the swing's, or its planned place and offset."""
         swinging = self._steps[j].foot if j >= 0 and self._modified else -1
-        soles = self._soles
+        soles, now = self._soles, frame + self._ahead  # the others where the plan has them
+        now = now if now < self._n else self._n - 1
         for i, plan, target in self._feet:
             if i == swinging:
                 swing = self._swing
                 x, y, z = swing.x_m, swing.y_m, swing.z_m
-                if self._footholds is not None and not self._landed:
+                feet = self._footholds  # anchored where it is (measured_footholds)
+                if feet is not None and not self._landed:
                     target[frame, 0], target[frame, 1], target[frame, 2] = x, y, z
-                    at = self._footholds.at  # anchored where it is (measured_footholds)
-                    soles[frame, i, 0], soles[frame, i, 1] = at(i, 0), at(i, 1)
-                    soles[frame, i, 2] = at(i, 2)
+                    soles[frame, i, 0], soles[frame, i, 1] = feet.at(i, 0), feet.at(i, 1)
+                    soles[frame, i, 2] = feet.at(i, 2)
                     continue
             else:
                 x = plan.item(frame, 0) + self._offsets.item(i, 0)
@@ -398,29 +390,13 @@ class StepAdjustment:
         """
         if j < 0:
             return
-        step = self._steps[j]
-        if self._landed:
-            self.dcm_reference.update(step, before, self._stance_offset, self._goal,
-                                      self._touchdown)  # fmt: skip
-            return
-        planned = self._planned_goal
-        planned[0] = step.land_x + self._global.item(0)
-        planned[1] = step.land_y + self._global.item(1)
-        self.dcm_reference.update(step, before, self._stance_offset, planned,
-                                  float(step.touchdown))  # fmt: skip
+        step, goal, touchdown = self._steps[j], self._goal, self._touchdown
+        if not self._landed:
+            goal, touchdown = self._planned_goal, float(step.touchdown)
+            o = self._global
+            goal[0], goal[1] = step.land_x + o.item(0), step.land_y + o.item(1)
+        self.dcm_reference.update(step, before, self._stance_offset, goal, touchdown)
 
     def events(self) -> tuple[StepEvent, ...]:
         """The steps adjusted so far, in order."""
-        events = []
-        for j, step in enumerate(self._steps):
-            frame = self._trigger_frame[j]
-            if frame < 0:
-                continue
-            left = float(self._left[j])
-            events.append(StepEvent(
-                frame * self._dt, j, step.side,
-                (float(self._trigger_error[j, 0]), float(self._trigger_error[j, 1])),
-                (float(self._shift[j, 0]), float(self._shift[j, 1])),
-                float(self._landed_at[j]), left == 0.0, left,
-            ))  # fmt: skip
-        return tuple(events)
+        return self._log.events()

@@ -51,6 +51,9 @@ class StepAdjustmentParameters:
             was commanded.
         touchdown_contact_fraction: the share of a moved swing after which a contact is its
             touchdown [-].
+        early_next_lift: a step that could not capture and landed early has the next swing
+            lift as much earlier (its planned touchdown with it): the plan's double support,
+            not the plan's clock, follows the early landing (the ``zmpip`` walk only).
     """
 
     enabled: bool = True
@@ -65,6 +68,7 @@ class StepAdjustmentParameters:
     max_swing_acceleration_mps2: float = 5.0
     measured_footholds: bool = True
     touchdown_contact_fraction: float = 0.5
+    early_next_lift: bool = False
 
     def __post_init__(self) -> None:
         for name in ("trigger_dcm_error_m", "cop_margin_m", "landing_margin_m"):
