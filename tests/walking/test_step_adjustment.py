@@ -83,7 +83,7 @@ def test_a_step_that_cannot_capture_lands_early_and_the_next_lifts_as_much_earli
     steps = planned_steps(pattern, FEET)
     pushed, following = steps[PUSHED_STEP], steps[PUSHED_STEP + 1]
     at = pushed.lift + 5
-    adjustment, targets = _walk(pattern, (0.0, -0.06), at)  # outward over the stance foot
+    adjustment, targets = _walk(pattern, (0.0, -0.06), at, early_next_lift=True)  # outward
     event = next(e for e in adjustment.events() if e.step == PUSHED_STEP)
     assert not event.captured
     early = round(event.shortened_s / pattern.config.control_period_s)
@@ -104,14 +104,17 @@ def test_without_early_lift_the_next_step_keeps_its_planned_lift(pattern) -> Non
 
 
 @settings(max_examples=20, deadline=None)
-@given(ex=st.floats(-0.12, 0.12), ey=st.floats(-0.12, 0.12), phase=st.floats(0.0, 0.6))
+@given(
+    ex=st.floats(-0.12, 0.12), ey=st.floats(-0.12, 0.12), phase=st.floats(0.0, 0.6),
+    early=st.booleans(),
+)
 def test_every_landing_is_within_reach_off_the_other_leg_and_in_time(
-    pattern, ex: float, ey: float, phase: float
+    pattern, ex: float, ey: float, phase: float, early: bool
 ) -> None:
     steps = planned_steps(pattern, FEET)
     pushed = steps[PUSHED_STEP]
     at = pushed.lift + int(phase * (pushed.touchdown - pushed.lift))
-    adjustment, targets = _walk(pattern, (ex, ey), at)
+    adjustment, targets = _walk(pattern, (ex, ey), at, early_next_lift=early)
     fraction = adjustment.parameters.min_swing_fraction
     for step in steps[PUSHED_STEP : len(steps) - 1]:
         z = targets[step.side][:, 2]

@@ -11,9 +11,8 @@ humanoid robot Atlas", IROS 2017). Every control tick of a single support:
    kinematic state estimate (:mod:`zmpkit.walking.state_estimator`: encoders, IMU, the feet
    in contact), ``ξ^{ref}`` the plan's, ``o_s`` the offset the stance foot landed with and
    ``h`` the walk's own repeated deviation at this point of the swing (learned over the
-   earlier swings of the foot). The ZMP/IP observer's DCM is not used: it trusts the plan's
-   jerk, and after a 20 N push its DCM error stayed below 1 cm while the estimate from the
-   joints, IMU and feet followed the simulator's (5.3 against 5.5 cm after 0.2 s).
+   earlier swings of the foot). (The ZMP/IP observer's DCM trusts the plan's jerk: after
+   a 20 N push its error stayed below 1 cm, the estimate's 5.3, the simulator's 5.5.)
 2. **The trigger.** The built-in walker (all effects) rocks its DCM by up to 3.4 cm along and
    1.1 cm across the feet at every step; a step is adjusted once ``|e|`` passes
    :attr:`StepAdjustmentParameters.trigger_dcm_error_m` on either axis early enough in its
@@ -22,10 +21,10 @@ humanoid robot Atlas", IROS 2017). Every control tick of a single support:
 3. **Where and when.** :func:`~zmpkit.walking.capture_step.solve_capture` chooses the
    touchdown ``T' ≤ T`` and the landing ``G`` within the legs' reach
    (:mod:`zmpkit.walking.step_reach`: no crossing, no over-stretched knee) that capture the
-   DCM, or the step that leaves the least of it (then the step is reported:
-   :class:`StepEvent`, :data:`NOT_CAPTURED`). A swing leg moved fast pushes the body the
-   other way (a kid-size robot's leg is a fifth of its mass): the landing moves at most
-   ``a D² / 5.77`` from the plan's, ``D`` the time left.
+   DCM, or the step that leaves the least of it (reported: :data:`NOT_CAPTURED`), the
+   ankle holding the CoP within ``m`` of the sole's centre (default: the whole sole). A fast
+   swing leg pushes the body the other way (a kid-size robot's leg is a fifth of its mass):
+   the landing moves at most ``a D² / 5.77`` from the plan's, ``D`` the time left.
 4. **The swing** is re-planned to ``G`` at ``T'`` (:mod:`zmpkit.walking.adjusted_swing`).
 5. **The rest of the walk** moves with the step once the foot is down: every later footstep
    by ``o = G - U`` (``U`` the planned landing), and the ZMP reference with it, the transfer
@@ -112,6 +111,8 @@ class StepAdjustment:
         self._t_d = config.gait.double_support_s
         self._t_d_frames = max(self._t_d / dt, 1e-9)
         self._kappa = double_support_factor(self._omega, self._t_d)
+        foot = config.limits.foot
+        self._cop_margin = parameters.cop_margin_m or (foot.length_m / 2, foot.width_m / 2)
         self._steps = planned_steps(pattern, feet)
         self._n = n = pattern.time_s.size
         self._step_at = [-1] * n
@@ -136,13 +137,10 @@ class StepAdjustment:
         self._offsets = np.zeros((nfeet, 2))
         self._global = np.zeros(2)
         self._swing = AdjustedSwing(step_height_m)
-        self._span = -1
-        self._goal, self._planned_goal = [0.0, 0.0], [0.0, 0.0]
+        self._span, self._goal, self._planned_goal = -1, [0.0, 0.0], [0.0, 0.0]
         self._shift_along = self._shift_lateral = 0.0
         self._asked = [0.0, 0.0, 0.0, 0.0]  # touchdown [frames], along, lateral, left [m]
-        self._asking = False
-        self._stance_offset = [0.0, 0.0]
-        self._touchdown = 0.0
+        self._stance_offset, self._touchdown, self._asking = [0.0, 0.0], 0.0, False
         self._active = self._modified = self._landed = self._moved = False
         self._reference: ReplannedZmpReference | None = None
         self._footholds: MeasuredFootholds | None = None
@@ -266,7 +264,7 @@ class StepAdjustment:
         soonest = frame + self._min_remaining
         earliest = soonest if soonest > earliest else earliest
         earliest = touchdown if earliest > touchdown else earliest
-        (m_x, m_y), (l_x, l_y) = par.cop_margin_m, par.landing_margin_m
+        (m_x, m_y), (l_x, l_y) = self._cop_margin, par.landing_margin_m
         lo_x, hi_x, lo_y, hi_y = self.reach.shift_box(step.along, step.lateral, step.sign)
         sigma, d_along, d_across, left = solve_capture(
             along, across, c * bx + s * by, -s * bx + c * by,

@@ -32,7 +32,10 @@ class StepAdjustmentParameters:
         enabled: False walks the planned footsteps.
         trigger_dcm_error_m: the DCM error (along, across the stance sole) beyond which a
             step is adjusted [m].
-        cop_margin_m: m, the CoP shift left to the stance ankle (along, across) [m].
+        cop_margin_m: m, the CoP shift left to the stance ankle (along, across) [m]; None:
+            the stance sole's half length and half width (the walk's
+            :class:`~zmpkit.walking.gait.FootShape`): a step moves only for a DCM the sole
+            cannot hold.
         landing_margin_m: how far off its centre the new sole may take the DCM at the end of
             the transfer (along, across) [m].
         min_swing_fraction: the shortest swing, as a share of the planned one [-].
@@ -58,7 +61,7 @@ class StepAdjustmentParameters:
 
     enabled: bool = True
     trigger_dcm_error_m: tuple[float, float] = (0.04, 0.02)
-    cop_margin_m: tuple[float, float] = (0.06, 0.035)
+    cop_margin_m: tuple[float, float] | None = None
     landing_margin_m: tuple[float, float] = (0.0, 0.0)
     min_swing_fraction: float = 0.7
     latest_trigger_fraction: float = 0.6
@@ -72,7 +75,7 @@ class StepAdjustmentParameters:
 
     def __post_init__(self) -> None:
         for name in ("trigger_dcm_error_m", "cop_margin_m", "landing_margin_m"):
-            for value in getattr(self, name):
+            for value in getattr(self, name) or ():
                 _validate.non_negative(f"StepAdjustmentParameters.{name}", value, "m")
         _validate.in_range(
             "StepAdjustmentParameters.min_swing_fraction", self.min_swing_fraction, 0.05, 1.0
