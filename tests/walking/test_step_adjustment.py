@@ -105,7 +105,9 @@ def test_without_early_lift_the_next_step_keeps_its_planned_lift(pattern) -> Non
 
 @settings(max_examples=20, deadline=None)
 @given(
-    ex=st.floats(-0.12, 0.12), ey=st.floats(-0.12, 0.12), phase=st.floats(0.0, 0.6),
+    ex=st.floats(-0.12, 0.12),
+    ey=st.floats(-0.12, 0.12),
+    phase=st.floats(0.0, 0.6),
     early=st.booleans(),
 )
 def test_every_landing_is_within_reach_off_the_other_leg_and_in_time(
