@@ -10,8 +10,8 @@ import pytest
 
 from zmpkit.experiments.robustness import RobustnessCase
 from zmpkit.experiments.walk import run_walk_trial, walk_controller
-from zmpkit.experiments.walk_trial import simulate_walk
 from zmpkit.experiments.walk_disturbances import Push
+from zmpkit.experiments.walk_trial import simulate_walk
 from zmpkit.pipelines.walk_document import walk_checks
 from zmpkit.robots.registry import get_robot
 from zmpkit.walking import generate_pattern
