@@ -144,8 +144,7 @@ class StepAdjustment:
         self._active = self._modified = self._landed = self._moved = False
         self._reference: ReplannedZmpReference | None = None
         self._footholds: MeasuredFootholds | None = None
-        self._lift = self._ahead = 0  # the swing's lift-off, how far ahead of the plan [frames]
-        self._early = -1  # the frame the next swing lifts early (-1: as planned)
+        self._lift, self._ahead, self._early = 0, 0, -1  # lift-off, lead, next early lift [-]
         self._planned_touchdown, self._uncaptured = 0.0, False  # the last capture left error
         self.replans_dcm = False
         """Whether :meth:`update` re-plans the DCM, ZMP and CoM references (the ``dcm`` walk)."""
@@ -177,9 +176,8 @@ class StepAdjustment:
         if not self.parameters.enabled:
             return
         j = self._step_at[frame]
-        if j < self._span:  # the step under way lifted early
-            j = self._span
-        elif j == self._span and 0 <= self._early <= frame:
+        j = j if j >= self._span else self._span  # the step under way lifted early
+        if j == self._span and 0 <= self._early <= frame:
             j += 1
         if j != self._span:
             self._begin(j, frame)
@@ -239,8 +237,9 @@ class StepAdjustment:
     def _adjust(self, j: int, frame: int, before: int, dcm_x: float, dcm_y: float) -> None:
         """Re-plan the landing and touchdown of step ``j`` from the DCM of ``before``."""
         step, par, omega, dt = self._steps[j], self.parameters, self._omega, self._dt
-        plan, ref = self._dcm_plan, before + self._ahead  # the plan's time of this swing
-        ref = ref if ref < self._n else self._n - 1
+        plan, ref = self._dcm_plan, before  # the plan's time of this swing (no int made
+        if self._ahead:  # on the plan's clock: ints above 256 are objects)
+            ref = before + self._ahead if before + self._ahead < self._n else self._n - 1
         ox, oy = self._stance_offset
         ex, ey = dcm_x - plan.item(ref, 0) - ox, dcm_y - plan.item(ref, 1) - oy
         ex, ey = self._habit.remove(step.foot, before - self._lift, ex, ey, self._active)
@@ -252,7 +251,7 @@ class StepAdjustment:
             trigger_x, trigger_y = par.trigger_dcm_error_m
             if -trigger_x <= along <= trigger_x and -trigger_y <= across <= trigger_y:
                 return
-            if frame + self._ahead > self._latest_trigger[j]:
+            if (frame + self._ahead if self._ahead else frame) > self._latest_trigger[j]:
                 return
             self._active = True
             log = self._log
@@ -361,8 +360,9 @@ class StepAdjustment:
     def _write_feet(self, j: int, frame: int) -> None:
         """Each foot's target of ``frame``: the swing's, or its planned place and offset."""
         swinging = self._steps[j].foot if j >= 0 and self._modified else -1
-        soles, now = self._soles, frame + self._ahead  # the others where the plan has them
-        now = now if now < self._n else self._n - 1
+        soles, now = self._soles, frame  # the others where the plan has them
+        if self._ahead:
+            now = frame + self._ahead if frame + self._ahead < self._n else self._n - 1
         for i, plan, target in self._feet:
             if i == swinging:
                 swing = self._swing
@@ -374,9 +374,9 @@ class StepAdjustment:
                     soles[frame, i, 2] = feet.at(i, 2)
                     continue
             else:
-                x = plan.item(frame, 0) + self._offsets.item(i, 0)
-                y = plan.item(frame, 1) + self._offsets.item(i, 1)
-                z = plan.item(frame, 2)
+                x = plan.item(now, 0) + self._offsets.item(i, 0)
+                y = plan.item(now, 1) + self._offsets.item(i, 1)
+                z = plan.item(now, 2)
             target[frame, 0], target[frame, 1], target[frame, 2] = x, y, z
             soles[frame, i, 0], soles[frame, i, 1], soles[frame, i, 2] = x, y, z
 
