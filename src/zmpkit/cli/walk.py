@@ -67,7 +67,7 @@ __all__ = ["walk_compensate_command", "walk_group", "walk_sweep_command"]
 )
 @click.option(
     "--step-adjustment/--no-step-adjustment",
-    default=True,
+    default=False,
     show_default=True,
     help="Let the feedback walks move their steps (where and when the swing foot lands) to "
     "capture the DCM after a push.",
@@ -277,7 +277,7 @@ def walk_compensate_command(
 @click.option("--workers", type=int, default=2, show_default=True, help="Parallel processes.")
 @click.option(
     "--step-adjustment/--no-step-adjustment",
-    default=True,
+    default=False,
     show_default=True,
     help="Walk every case with the feedback walks' step adjustment.",
 )

@@ -115,7 +115,7 @@ class RobustnessCase:
         effects: str,
         duration_s: float,
         seed: int,
-        step_adjustment: bool = True,
+        step_adjustment: bool = False,
     ) -> WalkConfig:
         """The walk of this case on ``robot`` (``step_adjustment``: the walk moves its steps)."""
         pushes: tuple[Push, ...] = ()
@@ -232,7 +232,7 @@ def run_case(
     effects: str,
     duration_s: float,
     seed: int,
-    step_adjustment: bool = True,
+    step_adjustment: bool = False,
 ) -> RobustnessRow:
     """Walk ``case`` on ``robot`` and reduce it to its row."""
     config = case.walk_config(robot, effects, duration_s, seed, step_adjustment)

@@ -105,7 +105,7 @@ def make_controller(
     servo_damping_nm_s_per_rad: float = 0.0,
     observer_zmp_noise_m: float | None = None,
     reference_adapter: ReferenceAdapter | None = None,
-    step_adjustment: bool = True,
+    step_adjustment: bool = False,
 ) -> WalkController:
     """The walking controller ``name`` for this walk (``open``, ``zmpip`` or ``dcm``).
 

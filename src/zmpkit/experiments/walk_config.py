@@ -88,7 +88,7 @@ class WalkConfig:
     faults: tuple[SensorFault, ...] = ()
     video: bool = False
     heading_feedback: bool = True
-    step_adjustment: bool = True
+    step_adjustment: bool = False
 
     def __post_init__(self) -> None:
         walking = self.robot.require_walking()

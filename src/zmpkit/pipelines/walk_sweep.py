@@ -69,7 +69,7 @@ class SweepConfig:
     duration_s: float = 10.0
     seed: int = 0
     workers: int = 2
-    step_adjustment: bool = True
+    step_adjustment: bool = False
     cases: str = ""
 
     def __post_init__(self) -> None:

@@ -1,23 +1,27 @@
 """When and how far a feedback walk adjusts its steps (:mod:`zmpkit.walking.step_adjustment`).
 
 **How the defaults were chosen, and what they give** (the walking robot, all effects, seed 0;
-``zmpkit walk sweep --robot nao --controllers zmpip,dcm --effects all --workers 1
-[--no-step-adjustment]``). Tuning set: ``zmpip``'s 16 pushes of 20 N along ±x and ±y (6 fall
-without the adjustment: 20 N x @ 0.25, y @ 0.25 and the four -y, outward over the stance
-foot, which no step within the legs' reach and without crossing captures in the LIPM).
-Falls of 16 with the adjustment: anchored where commanded (before
+``zmpkit walk sweep --controllers zmpip,dcm --effects all --workers 1 [--no-step-adjustment]``
+on the built-in walker). Tuning set: ``zmpip``'s 16 pushes of 20 N along ±x and ±y (6 fall
+without the adjustment: 20 N x @ 0.25, y @ 0.25 and the four -y, outward over the stance foot,
+which no step within the legs' reach and without crossing captures in the LIPM). Falls of 16
+with the adjustment: anchored where commanded (before
 :mod:`~zmpkit.walking.measured_footholds`), 10; measured footholds, 8 (a contact counted as
-touchdown after 0.8 or 1.0 of the swing, 9 and 10; no shortening, 8; reach margin 0.4 or
-0.3, 8 and 9; trigger (0.06, 0.03) m, 8; CoP margins (0.07, 0.04) m, 8); the CoP margin
-the whole sole, (0.08, 0.045) m on the NAO (kept, as the sole's half size), 6; with the next
-swing lifting early after an uncaptured early landing, 9 (12 with the old margins: it is
-off). Judged, unchanged, on the cases that chose nothing (without → with): ``zmpip``'s 20 N
-diagonal pushes 4 → 3 of 16, its 30 N pushes 29 → 27 of 32, its 10 N pushes 0 → 0 of 32,
-its 20 unpushed walks 0 → 0 (none moved a step, their speed errors equal); ``dcm`` 54 → 53
-of 116 (none lost; its two sideways walks fall with and without, and move steps). In all:
-``zmpip`` 39 → 36 of 116, ``dcm`` 54 → 53. It is on by default (``--no-step-adjustment``
-turns it off); most 30 N pushes still fall: one step of the NAO's reach captures little of
-a 9 cm DCM jump, and the swing legs lag fast re-planned swings by 4–8 cm.
+touchdown after 0.8 or 1.0 of the swing, 9 and 10; no shortening, 8; reach margin 0.4 or 0.3, 8
+and 9; trigger (0.06, 0.03) m, 8; CoP margins (0.07, 0.04) m, 8); the CoP margin the whole
+sole, (0.08, 0.045) m on the built-in walker (kept, as the sole's half size), 6; with the next
+swing lifting early after an uncaptured early landing, 9 (it is off).
+Judged, unchanged, on the cases that chose nothing (without → with): ``zmpip``'s 20 N diagonal
+pushes 4 → 3 of 16, its 30 N pushes 29 → 27 of 32, its 10 N pushes 0 → 0 of 32, its 20 unpushed
+walks 0 → 0 (none moved a step, their speed errors equal); ``dcm`` 54 → 53 of 116 (none lost;
+its two sideways walks fall with and without, and move steps). In all: ``zmpip`` 39 → 36 of
+116, ``dcm`` 54 → 53. Most 30 N pushes still fall: one step of its reach captures little of a
+9 cm DCM jump, and the swing legs lag fast re-planned swings by 4–8 cm. It is not on by
+default (``--step-adjustment`` turns it on): its trigger and the reach of its steps were set
+on the built-in walker, and on a robot none of them was set on, the Berkeley Humanoid
+(``robot init`` from MuJoCo Menagerie, all effects, 10 s, not pushed), it moved all 20 steps
+(19 reported as not capturing) of a walk that moves none without it, and one of the walks of
+``tests/robots/test_unseen_humanoids.py`` fell with it (none without).
 
 Before (the references re-planned every tick, 15 to 28 of 32 pushes of 10 and 20 N; the
 exact LIPM capture, 31; CoP margins (0.04, 0.015) m, 20–21, (0.06, 0.035) m, 12; the
