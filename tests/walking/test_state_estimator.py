@@ -82,6 +82,25 @@ def test_a_foot_off_its_plan_moves_the_estimate_by_its_share_of_the_weight() -> 
     np.testing.assert_allclose(shift, [0.01 / 3.0, 0.0, 0.0], atol=1e-12)
 
 
+def test_a_swing_foot_is_placed_by_the_stance_foot_where_it_really_is() -> None:
+    """Leg odometry: the right foot alone in contact, 2 cm off where the walk says, places the
+    robot, and with it the swing (left) foot, 2 cm off its design pose: ``s_i + Δ``."""
+    joints = {"LHipPitch": -0.6, "LKneePitch": 1.0, "LAnklePitch": -0.4}  # left foot raised
+    model, data = _posed((0.1, 0.05, 0.3), (0.0, 0.0, 0.0), joints)
+    force = np.array([[0.0, 0.0, 0.0], [0.0, 0.0, 45.0]])  # the left foot carries nothing
+    m = _measurement(model, data, joints, force, np.zeros((2, 3)))
+    soles = np.array([data.site(sole_site(f)).xpos for f in FEET])
+    said = soles.copy()
+    said[1, :2] += (0.02, -0.01)  # where the walk says the stance foot is
+    said[0] += (0.3, 0.3, 0.0)  # where it says the swing foot is: not read, it has no load
+    estimator = _estimator(model)
+    estimator.update(m, said)
+    swing = [estimator.sole_in_world(0, axis) for axis in range(3)]
+    np.testing.assert_allclose(swing, soles[0] + (0.02, -0.01, 0.0), atol=1e-9)
+    stance = [estimator.sole_in_world(1, axis) for axis in range(3)]
+    np.testing.assert_allclose(stance, said[1], atol=1e-9)
+
+
 def test_no_contact_gives_no_zmp_and_keeps_the_last_anchor() -> None:
     model, data = _posed((0.0, 0.0, 0.3), (0.0, 0.0, 0.0), {})
     soles = np.array([data.site(sole_site(f)).xpos for f in FEET])

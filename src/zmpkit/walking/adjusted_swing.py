@@ -70,6 +70,11 @@ class AdjustedSwing:
         self._start, self.touchdown_frame = frame, touchdown_frame
         self.goal_m[0], self.goal_m[1] = goal_x_m, goal_y_m
 
+    def land(self, frame: float, x_m: float, y_m: float) -> None:
+        """The sole is down at ``(x, y)`` [m] from ``frame`` on (where it was measured)."""
+        self.touchdown_frame = frame
+        self.goal_m[0], self.goal_m[1] = x_m, y_m
+
     def _replan(self, frame: float, t: float, axis: int, goal: float, touchdown: float) -> None:
         """One axis's quintic from its state ``t`` frames into the current one."""
         c = self._rows[axis]

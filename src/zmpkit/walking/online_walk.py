@@ -22,6 +22,7 @@ from numpy.typing import NDArray
 from zmpkit.models.pendulum import STANDARD_GRAVITY_MPS2
 from zmpkit.walking.heading_feedback import HeadingFeedback, HeadingFeedbackGains
 from zmpkit.walking.ik import IkSettings, WalkingIk
+from zmpkit.walking.measured_footholds import MeasuredFootholds
 from zmpkit.walking.measurement import WalkMeasurement
 from zmpkit.walking.pattern import WalkingPattern
 from zmpkit.walking.state_estimator import KinematicStateEstimator
@@ -137,6 +138,8 @@ class OnlineWalk:
             {f: sides[f].position_in_world for f in self.estimator.feet}, self._soles,
         )  # fmt: skip
         """The step adjustment (:mod:`zmpkit.walking.step_adjustment`)."""
+        footholds = MeasuredFootholds(self.estimator, stepping.touchdown_contact_fraction)
+        self.stepping.attach_footholds(footholds)
 
     def step_events(self) -> tuple[StepEvent, ...]:
         """The steps this walk adjusted so far (:class:`StepEvent`)."""

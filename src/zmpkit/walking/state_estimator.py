@@ -248,6 +248,14 @@ class KinematicStateEstimator:
         else:
             self.zmp_in_world[0], self.zmp_in_world[1] = zmp
 
+    def sole_in_world(self, foot: int, axis: int) -> float:
+        """Where sole ``foot`` (index in :attr:`feet`) is now, along ``axis`` [m]: ``s_i + Δ``.
+
+        A foot in contact is where the plan put it only if it landed there: this is where the
+        estimate places it from the other feet in contact (leg odometry).
+        """
+        return self._rows[foot][3].item(axis) + self._offset.item(axis)
+
     def _pose(self, measurement: WalkMeasurement) -> None:
         """Pose the design model: the base at the origin turned by the IMU, the encoders."""
         data, model, qpos = self.data, self.model, self._qpos

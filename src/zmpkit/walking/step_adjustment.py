@@ -11,9 +11,8 @@ humanoid robot Atlas", IROS 2017). Every control tick of a single support:
    kinematic state estimate (:mod:`zmpkit.walking.state_estimator`: encoders, IMU, the feet
    in contact), ``ξ^{ref}`` the plan's, ``o_s`` the offset the stance foot landed with and
    ``h`` the walk's own repeated deviation at this point of the swing (learned over the
-   earlier swings of the foot). The ZMP/IP observer's DCM is not used: it trusts the plan's
-   jerk, and after a 20 N push its DCM error stayed below 1 cm while the estimate from the
-   joints, IMU and feet followed the simulator's (5.3 against 5.5 cm after 0.2 s).
+   earlier swings of the foot). (The ZMP/IP observer's DCM trusts the plan's jerk: after
+   a 20 N push its error stayed below 1 cm, the estimate's 5.3, the simulator's 5.5.)
 2. **The trigger.** The built-in walker (all effects) rocks its DCM by up to 3.4 cm along and
    1.1 cm across the feet at every step; a step is adjusted once ``|e|`` passes
    :attr:`StepAdjustmentParameters.trigger_dcm_error_m` on either axis early enough in its
@@ -22,10 +21,10 @@ humanoid robot Atlas", IROS 2017). Every control tick of a single support:
 3. **Where and when.** :func:`~zmpkit.walking.capture_step.solve_capture` chooses the
    touchdown ``T' ≤ T`` and the landing ``G`` within the legs' reach
    (:mod:`zmpkit.walking.step_reach`: no crossing, no over-stretched knee) that capture the
-   DCM, or the step that leaves the least of it (then the step is reported:
-   :class:`StepEvent`, :data:`NOT_CAPTURED`). A swing leg moved fast pushes the body the
-   other way (a kid-size robot's leg is a fifth of its mass): the landing moves at most
-   ``a D² / 5.77`` from the plan's, ``D`` the time left.
+   DCM, or the step that leaves the least of it (reported: :data:`NOT_CAPTURED`), the
+   ankle holding the CoP within ``m`` of the sole's centre (default: the whole sole). A fast
+   swing leg pushes the body the other way (a kid-size robot's leg is a fifth of its mass):
+   the landing moves at most ``a D² / 5.77`` from the plan's, ``D`` the time left.
 4. **The swing** is re-planned to ``G`` at ``T'`` (:mod:`zmpkit.walking.adjusted_swing`).
 5. **The rest of the walk** moves with the step once the foot is down: every later footstep
    by ``o = G - U`` (``U`` the planned landing), and the ZMP reference with it, the transfer
@@ -38,14 +37,13 @@ humanoid robot Atlas", IROS 2017). Every control tick of a single support:
    gets the matching DCM, ZMP and CoM references:
    ``δξ(t) = o_s + (G - S) Ξ(T' - t) - (U - S^{ref}) Ξ(T - t)`` with ``Ξ`` the DCM of the
    unit transfer (:func:`~zmpkit.walking.capture_step.transfer_dcm`), and the CoM reference
-   following it, ``δ\dot c = ω (δξ - δc)``, ``δ\ddot c = ω^2 (δc - δp)``. Re-planned every
-   tick of the swing instead, the references led the controllers to move the CoM towards
-   the new landing, which grew the measured DCM error, which moved the landing further:
-   the built-in walker then fell in 15 to 28 of the 32 pushes of 10 and 20 N it had
-   survived 22 of.
+   following it, ``δ\dot c = ω (δξ - δc)``, ``δ\ddot c = ω^2 (δc - δp)`` (re-planned every
+   tick instead, they moved the CoM towards the new landing and grew the error).
+6. **The next swing lifts early** when a step could not capture and landed early, by as
+   much (``zmpip`` only): the plan's double support follows the landing, not its clock.
 
-The state estimator places the robot by the feet in contact, so it is given the adjusted
-feet.
+The state estimator places the robot by the feet in contact: a moved step's foot is placed
+where it is measured, and lands where it touches down (:mod:`.measured_footholds`).
 
 The trigger, margins and timing limits are :class:`StepAdjustmentParameters`
 (:mod:`zmpkit.walking.step_adjustment_parameters`, with how their defaults were chosen).
@@ -64,13 +62,15 @@ from numpy.typing import NDArray
 from zmpkit.models.pendulum import STANDARD_GRAVITY_MPS2
 from zmpkit.walking.adjusted_swing import AdjustedSwing
 from zmpkit.walking.capture_step import double_support_factor, solve_capture
+from zmpkit.walking.dcm_habit import DcmHabit
+from zmpkit.walking.measured_footholds import MeasuredFootholds
 from zmpkit.walking.pattern import WalkingPattern
-from zmpkit.walking.planned_steps import PlannedStep, planned_steps
+from zmpkit.walking.planned_steps import planned_steps
 from zmpkit.walking.replanned_dcm import ReplannedDcmReference
 from zmpkit.walking.replanned_zmp import ReplannedZmpReference
 from zmpkit.walking.scalar_limits import clip
 from zmpkit.walking.step_adjustment_parameters import StepAdjustmentParameters
-from zmpkit.walking.step_events import NOT_CAPTURED, StepEvent
+from zmpkit.walking.step_events import NOT_CAPTURED, StepEvent, StepLog
 from zmpkit.walking.step_reach import StepReach
 
 __all__ = ["NOT_CAPTURED", "StepAdjustment", "StepAdjustmentParameters", "StepEvent"]
@@ -111,19 +111,17 @@ class StepAdjustment:
         self._t_d = config.gait.double_support_s
         self._t_d_frames = max(self._t_d / dt, 1e-9)
         self._kappa = double_support_factor(self._omega, self._t_d)
+        foot = config.limits.foot
+        self._cop_margin = parameters.cop_margin_m or (foot.length_m / 2, foot.width_m / 2)
         self._steps = planned_steps(pattern, feet)
         self._n = n = pattern.time_s.size
         self._step_at = [-1] * n
         for j, step in enumerate(self._steps):
             self._step_at[step.lift + 1 :] = [j] * (n - step.lift - 1)
         self._min_remaining = parameters.min_remaining_s / dt
-        self._min_swing = [
-            math.ceil(parameters.min_swing_fraction * (s.touchdown - s.lift)) for s in self._steps
-        ]
-        self._latest_trigger = [
-            s.lift + parameters.latest_trigger_fraction * (s.touchdown - s.lift)
-            for s in self._steps
-        ]
+        spans = [(s.lift, s.touchdown - s.lift) for s in self._steps]
+        self._min_swing = [math.ceil(parameters.min_swing_fraction * d) for _, d in spans]
+        self._latest_trigger = [a + parameters.latest_trigger_fraction * d for a, d in spans]
         com = pattern.com
         dcm = com.com_position_in_world + com.com_velocity_in_world / self._omega
         self._dcm_plan = np.ascontiguousarray(dcm[:, :2])
@@ -139,35 +137,32 @@ class StepAdjustment:
         self._offsets = np.zeros((nfeet, 2))
         self._global = np.zeros(2)
         self._swing = AdjustedSwing(step_height_m)
-        self._span = -1
-        self._goal = [0.0, 0.0]
+        self._span, self._goal, self._planned_goal = -1, [0.0, 0.0], [0.0, 0.0]
         self._shift_along = self._shift_lateral = 0.0
         self._asked = [0.0, 0.0, 0.0, 0.0]  # touchdown [frames], along, lateral, left [m]
-        self._asking = False
-        self._stance_offset = [0.0, 0.0]
-        self._touchdown = 0.0
+        self._stance_offset, self._touchdown, self._asking = [0.0, 0.0], 0.0, False
         self._active = self._modified = self._landed = self._moved = False
         self._reference: ReplannedZmpReference | None = None
+        self._footholds: MeasuredFootholds | None = None
+        self._lift, self._ahead, self._early = 0, 0, -1  # lift-off, lead, next early lift [-]
+        self._planned_touchdown, self._uncaptured = 0.0, False  # the last capture left error
         self.replans_dcm = False
         """Whether :meth:`update` re-plans the DCM, ZMP and CoM references (the ``dcm`` walk)."""
         self.dcm_reference = ReplannedDcmReference(self._omega, self._dt, self._t_d)
         """The change of the DCM, ZMP and CoM references (:mod:`zmpkit.walking.replanned_dcm`)."""
-        self._planned_goal = [0.0, 0.0]
         self.dcm_error_in_world = np.full((self._n, 2), np.nan)
         swing = max((s.touchdown - s.lift for s in self._steps), default=1)
-        # per foot, axis, frame
-        self._habit = [[[0.0] * swing for _ in range(2)] for _ in range(nfeet)]
-        self._quiet = 0  # swings since the last adjusted one
-        m = len(self._steps)
-        self._trigger_frame = [-1] * m
-        self._trigger_error = np.zeros((m, 2))
-        self._left = np.zeros(m)
-        self._shift = np.zeros((m, 2))
-        self._landed_at = np.zeros(m)
+        self._habit = DcmHabit(nfeet, swing, self.parameters.habit_rate)
+        self._log = StepLog(len(self._steps), tuple(s.side for s in self._steps), self._dt)
 
     def attach_reference(self, reference_by_axis: list[NDArray[np.float64]]) -> None:
         """Re-plan this ZMP reference (one writable array per axis, [m]) with the steps."""
         self._reference = ReplannedZmpReference(reference_by_axis, self._steps, self._t_d_frames)
+
+    def attach_footholds(self, footholds: MeasuredFootholds) -> None:
+        """Place a moved step's foot where it is measured (:mod:`.measured_footholds`)."""
+        if self.parameters.measured_footholds:
+            self._footholds = footholds
 
     def update(self, frame: int, before: int, dcm_x_m: float, dcm_y_m: float) -> None:
         """Adjust the step under way and write the feet's targets of ``frame``.
@@ -181,8 +176,11 @@ class StepAdjustment:
         if not self.parameters.enabled:
             return
         j = self._step_at[frame]
+        j = j if j >= self._span else self._span  # the step under way lifted early
+        if j == self._span and 0 <= self._early <= frame:
+            j += 1
         if j != self._span:
-            self._begin(j)
+            self._begin(j, frame)
         if j >= 0:
             if frame < self._touchdown - self._min_remaining:
                 self._adjust(j, frame, before, dcm_x_m, dcm_y_m)
@@ -190,33 +188,44 @@ class StepAdjustment:
                 self._asking = False
                 asked = self._asked
                 self._land_at(j, frame, asked[1], asked[2], asked[3], asked[0])
+            if self._footholds is not None and self._modified and not self._landed:
+                self._watch_landing(j, frame)
             self._advance(j, frame)
         if self._moved:
             self._write_feet(j, frame)
         if self.replans_dcm:
             self._shift_dcm_reference(j, before)
 
-    def _begin(self, j: int) -> None:
-        """A swing lifts off: start it towards the planned landing moved by the last offset."""
-        self._span = j
+    def _begin(self, j: int, frame: int) -> None:
+        """A swing lifts off: start it towards the planned landing moved by the last offset.
+
+        It lifts at ``frame``, earlier than planned when the step before it could not
+        capture and landed early: its planned touchdown comes as much earlier.
+        """
+        self._span, self._early = j, -1
         if j < 0:
             return
         step = self._steps[j]
+        lift = frame - 1 if frame - 1 < step.lift else step.lift
+        self._lift, early = lift, step.lift - lift
+        self._ahead = early  # frames this swing runs ahead of the plan
         offsets, o = self._offsets, self._global
         ox, oy = o.item(0), o.item(1)
         self._stance_offset[0] = offsets.item(step.stance, 0)
         self._stance_offset[1] = offsets.item(step.stance, 1)
         gx, gy = step.land_x + ox, step.land_y + oy
         target = self._feet[step.foot][2]
+        self._planned_touchdown = self._touchdown = float(step.touchdown - early)
         self._swing.start(
-            float(step.lift), target.item(step.lift, 0), target.item(step.lift, 1), gx, gy,
-            float(step.touchdown),
-        )  # fmt: skip
+            float(lift), target.item(lift, 0), target.item(lift, 1), gx, gy, self._touchdown
+        )
         self._goal[0], self._goal[1] = gx, gy
         self._shift_along = self._shift_lateral = 0.0  # the landing against the plan's [m]
-        self._touchdown = float(step.touchdown)
         self._modified = offsets.item(step.foot, 0) != ox or offsets.item(step.foot, 1) != oy
-        self._quiet = 0 if self._active else self._quiet + 1
+        if early > 0:
+            self._modified = self._moved = True
+        self._uncaptured = False
+        self._habit.begin(self._active)
         self._active = self._landed = False
         if self._reference is not None:
             start = self._stance_offset
@@ -228,10 +237,12 @@ class StepAdjustment:
     def _adjust(self, j: int, frame: int, before: int, dcm_x: float, dcm_y: float) -> None:
         """Re-plan the landing and touchdown of step ``j`` from the DCM of ``before``."""
         step, par, omega, dt = self._steps[j], self.parameters, self._omega, self._dt
-        plan = self._dcm_plan
+        plan, ref = self._dcm_plan, before  # the plan's time of this swing (no int made
+        if self._ahead:  # on the plan's clock: ints above 256 are objects)
+            ref = before + self._ahead if before + self._ahead < self._n else self._n - 1
         ox, oy = self._stance_offset
-        ex, ey = dcm_x - plan.item(before, 0) - ox, dcm_y - plan.item(before, 1) - oy
-        ex, ey = self._unhabitual(step, before, ex, ey)
+        ex, ey = dcm_x - plan.item(ref, 0) - ox, dcm_y - plan.item(ref, 1) - oy
+        ex, ey = self._habit.remove(step.foot, before - self._lift, ex, ey, self._active)
         errors = self.dcm_error_in_world
         errors[before, 0], errors[before, 1] = ex, ey
         c, s = step.cos_yaw, step.sin_yaw
@@ -240,19 +251,20 @@ class StepAdjustment:
             trigger_x, trigger_y = par.trigger_dcm_error_m
             if -trigger_x <= along <= trigger_x and -trigger_y <= across <= trigger_y:
                 return
-            if frame > self._latest_trigger[j]:
+            if (frame + self._ahead if self._ahead else frame) > self._latest_trigger[j]:
                 return
             self._active = True
-            self._trigger_frame[j] = before
-            self._trigger_error[j, 0], self._trigger_error[j, 1] = ex, ey
-        bx, by = plan.item(before, 0) - step.stance_x, plan.item(before, 1) - step.stance_y
-        touchdown = float(step.touchdown)
-        earliest = float(step.lift + self._min_swing[j])
+            log = self._log
+            log.trigger_frame[j] = before
+            log.trigger_error[j, 0], log.trigger_error[j, 1] = ex, ey
+        bx, by = plan.item(ref, 0) - step.stance_x, plan.item(ref, 1) - step.stance_y
+        touchdown = self._planned_touchdown
+        earliest = float(self._lift + self._min_swing[j])
         soonest = frame + self._min_remaining
         earliest = soonest if soonest > earliest else earliest
         earliest = touchdown if earliest > touchdown else earliest
-        (m_x, m_y), (l_x, l_y) = par.cop_margin_m, par.landing_margin_m
-        lo_x, hi_x, lo_y, hi_y = self._box(step)  # (a call with *args builds a list)
+        (m_x, m_y), (l_x, l_y) = self._cop_margin, par.landing_margin_m
+        lo_x, hi_x, lo_y, hi_y = self.reach.shift_box(step.along, step.lateral, step.sign)
         sigma, d_along, d_across, left = solve_capture(
             along, across, c * bx + s * by, -s * bx + c * by,
             math.exp(omega * dt * (touchdown - before)), math.exp(omega * dt * (earliest - before)),
@@ -265,30 +277,6 @@ class StepAdjustment:
         asked[1], asked[2] = step.along + d_along, step.lateral + step.sign * d_across
         asked[3] = left
         self._asking = True
-
-    def _unhabitual(
-        self, step: PlannedStep, before: int, ex: float, ey: float
-    ) -> tuple[float, float]:
-        """The DCM error less the walk's own repeated one at this point of the swing [m].
-
-        A walking robot's DCM deviates from the plan's in the same way step after step (the
-        built-in walker rocks 3 cm forward in mid-swing): the mean over the earlier swings of
-        this foot, learned (rate α) while no step is being adjusted nor was over the last two.
-        """
-        habit, i, rate = self._habit[step.foot], before - step.lift, self.parameters.habit_rate
-        hx, hy = habit[0][i], habit[1][i]
-        if not self._active and self._quiet >= 2:
-            habit[0][i], habit[1][i] = hx + rate * (ex - hx), hy + rate * (ey - hy)
-        return ex - hx, ey - hy
-
-    def _box(self, step: PlannedStep) -> tuple[float, float, float, float]:
-        """(lo, hi) of the landing's shift along and across the stance sole [m]."""
-        reach = self.reach
-        lo_x, hi_x = -reach.max_along_m - step.along, reach.max_along_m - step.along
-        lo_l, hi_l = reach.min_lateral_m - step.lateral, reach.max_lateral_m - step.lateral
-        lo_x, lo_l = (lo_x if lo_x < 0.0 else 0.0), (lo_l if lo_l < 0.0 else 0.0)
-        hi_x, hi_l = (hi_x if hi_x > 0.0 else 0.0), (hi_l if hi_l > 0.0 else 0.0)
-        return (lo_x, hi_x, lo_l, hi_l) if step.sign > 0.0 else (lo_x, hi_x, -hi_l, -lo_l)
 
     def _land_at(
         self, j: int, frame: int, along: float, lateral: float, left: float, touchdown: float
@@ -311,7 +299,9 @@ class StepAdjustment:
         moved = math.hypot(along_in - along, lateral_in - lateral)
         if moved > 1e-9:
             left += self._kappa * moved
-        self._left[j] = left if left > self._left.item(j) else self._left.item(j)
+        self._uncaptured = left > 0.0
+        logged = self._log.left
+        logged[j] = left if left > logged.item(j) else logged.item(j)
         c, s, across = step.cos_yaw, step.sin_yaw, step.sign * lateral_in
         gx = step.stance_x + self._stance_offset[0] + c * along_in - s * across
         gy = step.stance_y + self._stance_offset[1] + s * along_in + c * across
@@ -328,6 +318,16 @@ class StepAdjustment:
         self._touchdown = touchdown
         self._modified = self._moved = True
 
+    def _watch_landing(self, j: int, frame: int) -> None:
+        """A moved swing that is down lands where it is measured, now."""
+        step, feet = self._steps[j], self._footholds
+        if feet is None or not feet.landed(step.foot, frame, self._lift, self._touchdown):
+            return
+        gx, gy = feet.at(step.foot, 0), feet.at(step.foot, 1)
+        self._goal[0], self._goal[1] = gx, gy
+        self._swing.land(float(frame), gx, gy)
+        self._touchdown = float(frame)
+
     def _advance(self, j: int, frame: int) -> None:
         """The swing's target of ``frame``; at touchdown, the step's placement is kept."""
         self._swing.advance(float(frame))
@@ -337,9 +337,17 @@ class StepAdjustment:
         ox, oy = goal[0] - step.land_x, goal[1] - step.land_y
         self._offsets[step.foot, 0], self._offsets[step.foot, 1] = ox, oy
         self._global[0], self._global[1] = ox, oy
-        self._shift[j, 0], self._shift[j, 1] = ox, oy
-        self._landed_at[j] = (step.touchdown - frame) * self._dt
+        log = self._log
+        log.shift[j, 0], log.shift[j, 1] = ox, oy
+        log.landed_at[j] = (step.touchdown - frame) * self._dt
         self._landed = True
+        early = step.touchdown - frame  # [frames]; the dcm walk's references keep the timing
+        hurry = self._uncaptured and self.parameters.early_next_lift and not self.replans_dcm
+        if hurry and early > 0 and j + 1 < len(self._steps):  # its transfer after its plan's
+            early = early if early < self._min_swing[j + 1] else self._min_swing[j + 1]  # lift
+            self._early = self._steps[j + 1].lift + 1 - early
+        if self._early < 0:  # the plan's clock again: the double support lasts longer
+            self._ahead = 0
         if self._reference is not None and self._modified:
             start = self._stance_offset
             self._reference.replan(
@@ -352,15 +360,23 @@ class StepAdjustment:
     def _write_feet(self, j: int, frame: int) -> None:
         """Each foot's target of ``frame``: the swing's, or its planned place and offset."""
         swinging = self._steps[j].foot if j >= 0 and self._modified else -1
-        soles = self._soles
+        soles, now = self._soles, frame  # the others where the plan has them
+        if self._ahead:
+            now = frame + self._ahead if frame + self._ahead < self._n else self._n - 1
         for i, plan, target in self._feet:
             if i == swinging:
                 swing = self._swing
                 x, y, z = swing.x_m, swing.y_m, swing.z_m
+                feet = self._footholds  # anchored where it is (measured_footholds)
+                if feet is not None and not self._landed:
+                    target[frame, 0], target[frame, 1], target[frame, 2] = x, y, z
+                    soles[frame, i, 0], soles[frame, i, 1] = feet.at(i, 0), feet.at(i, 1)
+                    soles[frame, i, 2] = feet.at(i, 2)
+                    continue
             else:
-                x = plan.item(frame, 0) + self._offsets.item(i, 0)
-                y = plan.item(frame, 1) + self._offsets.item(i, 1)
-                z = plan.item(frame, 2)
+                x = plan.item(now, 0) + self._offsets.item(i, 0)
+                y = plan.item(now, 1) + self._offsets.item(i, 1)
+                z = plan.item(now, 2)
             target[frame, 0], target[frame, 1], target[frame, 2] = x, y, z
             soles[frame, i, 0], soles[frame, i, 1], soles[frame, i, 2] = x, y, z
 
@@ -372,29 +388,13 @@ class StepAdjustment:
         """
         if j < 0:
             return
-        step = self._steps[j]
-        if self._landed:
-            self.dcm_reference.update(step, before, self._stance_offset, self._goal,
-                                      self._touchdown)  # fmt: skip
-            return
-        planned = self._planned_goal
-        planned[0] = step.land_x + self._global.item(0)
-        planned[1] = step.land_y + self._global.item(1)
-        self.dcm_reference.update(step, before, self._stance_offset, planned,
-                                  float(step.touchdown))  # fmt: skip
+        step, goal, touchdown = self._steps[j], self._goal, self._touchdown
+        if not self._landed:
+            goal, touchdown = self._planned_goal, float(step.touchdown)
+            o = self._global
+            goal[0], goal[1] = step.land_x + o.item(0), step.land_y + o.item(1)
+        self.dcm_reference.update(step, before, self._stance_offset, goal, touchdown)
 
     def events(self) -> tuple[StepEvent, ...]:
         """The steps adjusted so far, in order."""
-        events = []
-        for j, step in enumerate(self._steps):
-            frame = self._trigger_frame[j]
-            if frame < 0:
-                continue
-            left = float(self._left[j])
-            events.append(StepEvent(
-                frame * self._dt, j, step.side,
-                (float(self._trigger_error[j, 0]), float(self._trigger_error[j, 1])),
-                (float(self._shift[j, 0]), float(self._shift[j, 1])),
-                float(self._landed_at[j]), left == 0.0, left,
-            ))  # fmt: skip
-        return tuple(events)
+        return self._log.events()

@@ -9,7 +9,9 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-__all__ = ["NOT_CAPTURED", "StepEvent"]
+import numpy as np
+
+__all__ = ["NOT_CAPTURED", "StepEvent", "StepLog"]
 
 NOT_CAPTURED = "no admissible step captures the DCM"
 """The event of a step that could not capture the DCM within the legs' limits."""
@@ -44,3 +46,43 @@ class StepEvent:
     def kind(self) -> str:
         """``step adjusted``, or :data:`NOT_CAPTURED`."""
         return "step adjusted" if self.captured else NOT_CAPTURED
+
+
+class StepLog:
+    """What the step adjustment did to each step, written by the tick, read as events.
+
+    Args:
+        steps: how many steps the walk has [-].
+        sides: each step's swing foot.
+        period_s: the control period [s].
+
+    Attributes (per step, written in place by the tick):
+        trigger_frame: the frame the adjustment began, -1 none [-].
+        trigger_error: the DCM error that triggered it (x, y) [m], shape (M, 2).
+        left: the DCM error it could not remove [m], shape (M,).
+        shift: where it landed against the plan (x, y) [m], shape (M, 2).
+        landed_at: how much earlier than planned it touched down [s], shape (M,).
+    """
+
+    def __init__(self, steps: int, sides: tuple[str, ...], period_s: float) -> None:
+        self._sides, self._dt = sides, period_s
+        self.trigger_frame = [-1] * steps
+        self.trigger_error = np.zeros((steps, 2))
+        self.left = np.zeros(steps)
+        self.shift = np.zeros((steps, 2))
+        self.landed_at = np.zeros(steps)
+
+    def events(self) -> tuple[StepEvent, ...]:
+        """The steps adjusted so far, in order."""
+        events = []
+        for j, frame in enumerate(self.trigger_frame):
+            if frame < 0:
+                continue
+            left = float(self.left[j])
+            events.append(StepEvent(
+                frame * self._dt, j, self._sides[j],
+                (float(self.trigger_error[j, 0]), float(self.trigger_error[j, 1])),
+                (float(self.shift[j, 0]), float(self.shift[j, 1])),
+                float(self.landed_at[j]), left == 0.0, left,
+            ))  # fmt: skip
+        return tuple(events)

@@ -66,6 +66,21 @@ class StepReach:
         """Largest outward distance of a landing from the stance sole [m]."""
         return 2.0 * (self.hip_half_width_m + self.leg_reach_m)
 
+    def shift_box(
+        self, along_m: float, lateral_m: float, sign: float
+    ) -> tuple[float, float, float, float]:
+        """``(lo_x, hi_x, lo_y, hi_y)``: the shifts of a planned landing the legs reach [m].
+
+        ``along_m`` and ``lateral_m`` the planned landing in the stance sole's frame
+        (:mod:`~zmpkit.walking.planned_steps`), ``sign`` s (+1 left swing); x along the
+        stance sole, y across it (world side); each box holds 0, the planned landing.
+        """
+        lo_x, hi_x = -self.max_along_m - along_m, self.max_along_m - along_m
+        lo_l, hi_l = self.min_lateral_m - lateral_m, self.max_lateral_m - lateral_m
+        lo_x, lo_l = (lo_x if lo_x < 0.0 else 0.0), (lo_l if lo_l < 0.0 else 0.0)
+        hi_x, hi_l = (hi_x if hi_x > 0.0 else 0.0), (hi_l if hi_l > 0.0 else 0.0)
+        return (lo_x, hi_x, lo_l, hi_l) if sign > 0.0 else (lo_x, hi_x, -hi_l, -lo_l)
+
     def limit(self, along_m: float, lateral_m: float) -> tuple[float, float]:
         """The landing ``(Δx, l)`` [m] drawn into the reach ellipse and above the no-crossing line.
 
