@@ -33,6 +33,7 @@ __all__ = [
     "walk_time_series",
     "write_series",
     "write_summary",
+    "write_walk_folder",
 ]
 
 SUMMARY_FILE = "summary.json"
@@ -112,6 +113,24 @@ def write_summary(path: Path, summary: WalkSummary) -> Path:
     """Write ``summary`` as JSON."""
     path.write_text(json.dumps(asdict(summary), indent=2) + "\n", encoding="utf-8")
     return path
+
+
+def write_walk_folder(
+    folder: Path,
+    summary: WalkSummary,
+    pattern: WalkingPattern,
+    record: WalkRecord,
+    joints: Sequence[str] = (),
+) -> Path:
+    """Write a walk as the folder the simulator fit reads; returns ``folder``.
+
+    :data:`SUMMARY_FILE` and :data:`SERIES_FILE` of ``joints`` (the robot's series joints;
+    empty: :data:`PITCH_JOINTS`).
+    """
+    folder.mkdir(parents=True, exist_ok=True)
+    write_summary(folder / SUMMARY_FILE, summary)
+    write_series(folder / SERIES_FILE, pattern, record, tuple(joints) or PITCH_JOINTS)
+    return folder
 
 
 def read_series(path: Path) -> tuple[list[str], NDArray[np.float64]]:

@@ -32,13 +32,7 @@ from zmpkit.experiments.double_support import DESIGNS, double_support_targets
 from zmpkit.experiments.double_support_record import record_double_support
 from zmpkit.experiments.walk import run_walk_trial
 from zmpkit.experiments.walk_config import WalkConfig
-from zmpkit.experiments.walk_dataset import (
-    PITCH_JOINTS,
-    SERIES_FILE,
-    SUMMARY_FILE,
-    write_series,
-    write_summary,
-)
+from zmpkit.experiments.walk_dataset import write_walk_folder
 from zmpkit.robots.robot import Robot
 from zmpkit.simfit.parameters import FitParameter
 from zmpkit.simfit.truth_doc import truth_doc_with, write_truth_doc
@@ -169,12 +163,8 @@ def record_design(
     trial = run_walk_trial(config)
     if trial.record.fell:
         return None
-    folder = out / design.name
-    folder.mkdir(parents=True, exist_ok=True)
-    write_summary(folder / SUMMARY_FILE, trial.summary)
     joints = robot.require_walking().series_joints
-    write_series(folder / SERIES_FILE, trial.pattern, trial.record, joints or PITCH_JOINTS)
-    return folder
+    return write_walk_folder(out / design.name, trial.summary, trial.pattern, trial.record, joints)
 
 
 def record_step_designs(

@@ -31,13 +31,7 @@ from numpy.typing import NDArray
 from zmpkit.experiments import StepExperimentConfig, run_step_sweep
 from zmpkit.experiments.walk import run_walk_trial
 from zmpkit.experiments.walk_config import WalkConfig
-from zmpkit.experiments.walk_dataset import (
-    PITCH_JOINTS,
-    SERIES_FILE,
-    SUMMARY_FILE,
-    write_series,
-    write_summary,
-)
+from zmpkit.experiments.walk_dataset import write_walk_folder
 from zmpkit.robots.robot import Robot
 from zmpkit.simfit.parameters import FitParameter
 from zmpkit.simfit.truth_doc import truth_doc_with, write_truth_doc
@@ -131,11 +125,10 @@ def _walks(
             figures=False,
         )
         trial = run_walk_trial(config)
-        folder.mkdir(parents=True, exist_ok=True)
-        write_summary(folder / SUMMARY_FILE, trial.summary)
         joints = robot.require_walking().series_joints
-        write_series(folder / SERIES_FILE, trial.pattern, trial.record, joints or PITCH_JOINTS)
-        folders.append(folder)
+        folders.append(
+            write_walk_folder(folder, trial.summary, trial.pattern, trial.record, joints)
+        )
     return folders
 
 
