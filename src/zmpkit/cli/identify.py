@@ -120,17 +120,17 @@ def identify_balance_command(
 @click.option(
     "--popsize",
     type=BoundedInt(4, MAX_POPSIZE),
-    help="Candidates per CMA-ES generation (default CMA-ES's 4 + 3 ln n); a wide batch "
-    "backend (warp, ray) evaluates a larger population in about the same time.",
+    help="Candidates per CMA-ES generation (default CMA-ES's 4 + 3 ln n, or what the "
+    "backend evaluates in the time of one if more: 256 on a GPU, a Ray cluster's CPUs; "
+    "with correspondingly fewer generations).",
 )
 @click.option(
     "--restarts",
     type=BoundedInt(0, MAX_RESTARTS),
-    default=0,
-    show_default=True,
     help="IPOP-CMA-ES: after a run stops, restart from a random point with twice the "
     "population, keeping the best of all runs (--generations is per run; --popsize the "
-    "first run's).",
+    "first run's). Default: as many as fit in the wall time of one run at CMA-ES's default "
+    "population on this backend.",
 )
 @click.option(
     "--workers", type=WORKERS, default=2, show_default=True, help="Local threads or processes."
@@ -176,7 +176,7 @@ def identify_sim_command(
     resume: Path | None,
     generations: int | None,
     popsize: int | None,
-    restarts: int,
+    restarts: int | None,
     workers: int,
     seed: int,
     quick: bool,

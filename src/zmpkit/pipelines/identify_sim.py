@@ -19,7 +19,7 @@ with ``self_test``, ``recovery.csv``.
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 import numpy as np
@@ -34,6 +34,7 @@ from zmpkit.simfit.identifiability import Identifiability, ParameterIdentifiabil
 from zmpkit.simfit.noise_intervals import NoiseInterval, noise_intervals
 from zmpkit.simfit.optimizer import CmaOptions, CmaResult, ProgressCallback, run_cma
 from zmpkit.simfit.parameters import FitParameter
+from zmpkit.simfit.population import PopulationPlan, cma_default_popsize, population_plan
 from zmpkit.simfit.problem import FitProblem, simulate
 from zmpkit.simfit.recorded import RecordedSignals
 from zmpkit.simfit.self_test import (
@@ -198,11 +199,17 @@ def _fit(
     progress: ProgressCallback | None,
 ) -> tuple[CmaResult, Identifiability]:
     """CMA-ES on ``problem`` (checkpointed into ``out``), then each parameter's identifiability."""
-    options = CmaOptions(
-        config.n_generations, config.popsize, config.sigma0, config.seed, config.restarts
-    )
     evaluator = make_evaluator(problem, config.backend, config.workers, config.address)
     try:
+        plan = _population(config, problem, evaluator.width, resume)
+        options = CmaOptions(
+            config.n_generations,
+            plan.popsize,
+            config.sigma0,
+            config.seed,
+            config.restarts or 0,
+            plan,
+        )
         cma_result = run_cma(problem, evaluator, options, out, resume, progress)
         judged = identifiability(
             problem, evaluator, cma_result.best_values, cma_result.best_cost, cma_result.unit_std
@@ -210,6 +217,24 @@ def _fit(
     finally:
         evaluator.close()
     return cma_result, judged
+
+
+def _population(
+    config: IdentifySimConfig, problem: FitProblem, width: int, resume: Path | None
+) -> PopulationPlan:
+    """The population, generations and restarts on a backend of ``width``.
+
+    A resumed fit whose population was sized to its backend keeps that population (the
+    checkpoint's), whatever the width of the backend it resumes on.
+    """
+    plan = population_plan(
+        len(problem.parameters), width, config.n_generations, config.popsize, config.restarts
+    )
+    if resume is not None and config.popsize is None:
+        started = load_checkpoint(resume).fingerprint.get("popsize")
+        default = cma_default_popsize(len(problem.parameters))
+        plan = replace(plan, popsize=started if isinstance(started, int) else default)
+    return plan
 
 
 def _fit_result(

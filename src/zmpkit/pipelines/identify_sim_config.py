@@ -48,11 +48,13 @@ class IdentifySimConfig:
         resume: a folder of an interrupted fit to continue (``--resume``).
         generations: CMA-ES generations; None = 40, or 30 with ``quick``.
         popsize: candidates per generation (the first run's, with restarts); None =
-            CMA-ES's 4 + 3 ln n.
+            CMA-ES's 4 + 3 ln n, or the backend's width if larger, with fewer generations
+            (:mod:`~zmpkit.simfit.population`).
         restarts: IPOP-CMA-ES restarts after the first run, each from a random mean with
             twice the previous population (0 to :data:`~zmpkit.simfit.optimizer.MAX_RESTARTS`;
             ``popsize`` times 2^restarts at most
-            :data:`~zmpkit.simfit.optimizer.MAX_POPSIZE`); ``generations`` is per run.
+            :data:`~zmpkit.simfit.optimizer.MAX_POPSIZE`); ``generations`` is per run. None
+            = as many as the fit's wall-time budget allows (:mod:`~zmpkit.simfit.population`).
         sigma0: initial CMA-ES step, fraction of each parameter's (log-)range [-].
         seed: seed of CMA-ES and, in a self-test, of the hidden truth and the sensor noise.
         quick: small fit (2–3 parameters; short experiments in a self-test).
@@ -83,7 +85,7 @@ class IdentifySimConfig:
     resume: str | None = None
     generations: int | None = None
     popsize: int | None = None
-    restarts: int = 0
+    restarts: int | None = None
     sigma0: float = 0.2
     seed: int = 1
     quick: bool = False
@@ -163,6 +165,8 @@ def _positive_int(name: str, value: object, allow_none: bool = False) -> None:
 
 
 def _check_restarts(restarts: object, popsize: int | None) -> None:
+    if restarts is None:
+        return
     if isinstance(restarts, bool) or not isinstance(restarts, int) or restarts < 0:
         raise ParameterError(f"restarts must lie in [0, {MAX_RESTARTS}]; got {restarts!r}")
     if restarts > MAX_RESTARTS:

@@ -61,9 +61,21 @@ def identify_sim_document(result: IdentifySimResult) -> ReportDocument:
         provenance=capture_run(
             c,
             result.started_s,
-            (("backend", c.backend), ("generations", str(len(result.cma.history)))),
+            (
+                ("backend", c.backend),
+                ("generations", str(len(result.cma.history))),
+                ("runs (population x generations)", _runs(result)),
+            ),
         ),
     )
+
+
+def _runs(result: IdentifySimResult) -> str:
+    """Each CMA-ES run's population and generations, e.g. ``"256 x 10, 512 x 9"``."""
+    runs: dict[int, list[int]] = {}
+    for record in result.cma.history:
+        runs.setdefault(record.restart, []).append(record.popsize)
+    return ", ".join(f"{sizes[0]} x {len(sizes)}" for sizes in runs.values())
 
 
 def _checks(result: IdentifySimResult) -> tuple[Check, ...]:

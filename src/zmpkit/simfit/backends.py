@@ -82,7 +82,16 @@ BACKENDS: tuple[str, ...] = ("local", "pool", "serial", "ray", "warp")
 
 
 class Evaluator(Protocol):
-    """Evaluates candidates: ``costs(values)[c][e]`` for candidate c, experiment e."""
+    """Evaluates candidates: ``costs(values)[c][e]`` for candidate c, experiment e.
+
+    ``width``: how many candidates it evaluates in about the wall time of one (its cores,
+    or a GPU's batch), which sizes the fit's population (:mod:`~zmpkit.simfit.population`).
+    """
+
+    @property
+    def width(self) -> int:
+        """Candidates evaluated in about the wall time of one."""
+        ...
 
     def costs(self, candidates: Sequence[ParameterValues]) -> Costs:
         """Return the cost terms ``[c][e]`` of every candidate c on every experiment e."""
@@ -98,6 +107,7 @@ class SerialEvaluator:
 
     def __init__(self, problem: FitProblem) -> None:
         self.problem = problem
+        self.width = 1
 
     def costs(self, candidates: Sequence[ParameterValues]) -> Costs:
         """Cost terms per candidate and experiment."""
@@ -182,6 +192,7 @@ class RayEvaluator:
             self._owns_ray = True
         self._problem_ref = ray.put(problem)
         self._task = ray.remote(evaluate)
+        self.width = max(1, int(ray.cluster_resources().get("CPU", 1)))
 
     def costs(self, candidates: Sequence[ParameterValues]) -> Costs:
         """Cost terms per candidate and experiment; on Ctrl-C the pending tasks are cancelled."""

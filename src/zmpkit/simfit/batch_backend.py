@@ -25,6 +25,7 @@ from zmpkit.errors import ParameterError
 from zmpkit.simfit.batched import simulate_batches
 from zmpkit.simfit.cost import CostTerms, experiment_cost
 from zmpkit.simfit.parameters import ParameterValues
+from zmpkit.simfit.population import WARP_GPU_WIDTH
 from zmpkit.simfit.problem import FitProblem
 from zmpkit.simfit.warp_batched import costs_batches_warp
 
@@ -49,6 +50,20 @@ class BatchEvaluator:
         self.problem = problem
         self.threads = threads
         self.warp_device = warp_device
+
+    @property
+    def width(self) -> int:
+        """Candidates evaluated in about the wall time of one.
+
+        The threads; on MuJoCo Warp :data:`~zmpkit.simfit.population.WARP_GPU_WIDTH` on a
+        CUDA device, 1 on Warp's CPU device.
+        """
+        if self.warp_device is None:
+            return self.threads
+        from zmpkit.sim.warp_runtime import warp_runtime
+
+        _, device = warp_runtime(self.warp_device or None)
+        return WARP_GPU_WIDTH if device.startswith("cuda") else 1
 
     def costs(self, candidates: Sequence[ParameterValues]) -> list[list[CostTerms]]:
         """Cost terms per candidate and experiment."""

@@ -10,7 +10,10 @@ as an uninterrupted one and ends exactly as it does.
 
 IPOP-CMA-ES restarts (``restarts`` > 0; :mod:`~zmpkit.simfit.restarts`): each run has up
 to ``generations`` generations; like ``generations``, ``restarts`` is a budget, so a
-finished fit resumed with more restarts goes on with the next one.
+finished fit resumed with more restarts goes on with the next one. With a
+:class:`~zmpkit.simfit.population.PopulationPlan` (``plan``) the backend's width sets the
+population, each run's generations and the restarts that fit the wall-time budget
+(:mod:`~zmpkit.simfit.population`).
 
 Ctrl-C (KeyboardInterrupt) stops the fit between or during generations; the checkpoint
 then holds every finished generation and :class:`FitInterruptedError` names it.
@@ -38,6 +41,7 @@ from zmpkit.simfit.checkpoint import (
 )
 from zmpkit.simfit.cma_state import MAX_POPSIZE, new_strategy
 from zmpkit.simfit.parameters import from_unit, to_unit
+from zmpkit.simfit.population import PopulationPlan, cma_default_popsize
 from zmpkit.simfit.problem import FitProblem
 from zmpkit.simfit.restarts import (
     global_rng,
@@ -90,6 +94,9 @@ class CmaOptions:
         seed: seed of the strategy's random draws.
         restarts: IPOP restarts after the first run (0 = one run); each run has up to
             ``generations`` generations and twice the previous run's population.
+        plan: the population sized to the backend (:mod:`~zmpkit.simfit.population`); when
+            set, its population, per-run generations and restarts replace ``popsize``,
+            ``generations`` and ``restarts``.
     """
 
     generations: int = 30
@@ -97,6 +104,26 @@ class CmaOptions:
     sigma0: float = 0.2
     seed: int = 1
     restarts: int = 0
+    plan: PopulationPlan | None = None
+
+    @property
+    def first_popsize(self) -> int | None:
+        """The first run's population (None: ``cma``'s default)."""
+        return self.plan.popsize if self.plan is not None else self.popsize
+
+    def run_generations(self, state: Checkpoint) -> int:
+        """The generations of the current run in ``state`` (its own, within the budget)."""
+        if self.plan is None:
+            return self.generations
+        before = [r.popsize for r in state.history[: state.run_start]]
+        return self.plan.run_cap(state.restart, int(state.strategy.popsize), before)
+
+    def may_restart(self, state: Checkpoint) -> bool:
+        """Whether the next IPOP run starts after the current one in ``state`` stopped."""
+        if self.plan is None:
+            return state.restart < self.restarts
+        spent = [r.popsize for r in state.history]
+        return self.plan.may_restart(state.restart + 1, 2 * int(state.strategy.popsize), spent)
 
 
 @dataclass(frozen=True)
@@ -152,7 +179,7 @@ def fingerprint(problem: FitProblem, options: CmaOptions) -> dict[str, Any]:
         "sim_effects": problem.sim_effects,
         "parameters": [(p.name, p.path, p.nominal, p.lower, p.upper) for p in problem.parameters],
         "experiments": [e.name for e in problem.experiments],
-        "popsize": options.popsize,
+        "popsize": _popsize_key(options.first_popsize, len(problem.parameters)),
         "sigma0": options.sigma0,
         "seed": options.seed,
     }
@@ -161,12 +188,17 @@ def fingerprint(problem: FitProblem, options: CmaOptions) -> dict[str, Any]:
     return out
 
 
+def _popsize_key(popsize: int | None, n: int) -> int | None:
+    """The fingerprint's population: None for ``cma``'s default, as fits before the plan."""
+    return None if popsize is None or popsize == cma_default_popsize(n) else popsize
+
+
 def _start(problem: FitProblem, options: CmaOptions) -> Checkpoint:
     x0 = to_unit(problem.parameters, [p.nominal for p in problem.parameters])
     draws = np.random.RandomState(options.seed)  # cma calls randn(lam, N); the checkpoint
     outer = global_rng()  # keeps its state
     np.random.seed(options.seed)  # noqa: NPY002 - any other draw cma makes
-    strategy = new_strategy(x0, options.sigma0, options.popsize, draws)
+    strategy = new_strategy(x0, options.sigma0, options.first_popsize, draws)
     rng = global_rng()
     set_global_rng(outer)
     return Checkpoint(
@@ -212,11 +244,16 @@ def _resume_state(problem: FitProblem, options: CmaOptions, resume: Path | None)
 
 def _progress(state: Checkpoint, options: CmaOptions, wall_per_eval_s: float) -> FitProgress:
     """Progress with the plan of the current and every later run at their full budgets."""
-    left = state.run_start + options.generations - state.generation
     popsize = int(state.strategy.popsize)
-    later = options.restarts - state.restart
-    evals = left * popsize + sum(options.generations * popsize * 2**k for k in range(1, later + 1))
-    planned = state.generation + left + later * options.generations
+    left = max(0, state.run_start + options.run_generations(state) - state.generation)
+    evals, planned = left * popsize, state.generation + left
+    spent = [r.popsize for r in state.history] + [popsize] * left
+    k, size = state.restart, popsize
+    while k < MAX_RESTARTS and _planned_restart(options, k + 1, 2 * size, spent):
+        k, size = k + 1, 2 * size
+        run = _planned_generations(options, k, size, spent)
+        evals, planned = evals + run * size, planned + run
+        spent += [size] * run
     return FitProgress(
         state.generation,
         planned,
@@ -226,6 +263,20 @@ def _progress(state: Checkpoint, options: CmaOptions, wall_per_eval_s: float) ->
         state.restart,
         popsize,
     )
+
+
+def _planned_restart(options: CmaOptions, restart: int, popsize: int, spent: list[int]) -> bool:
+    """Whether restart ``restart`` of ``popsize`` would run after ``spent`` generations."""
+    if options.plan is None:
+        return restart <= options.restarts
+    return options.plan.may_restart(restart, popsize, spent)
+
+
+def _planned_generations(options: CmaOptions, restart: int, popsize: int, spent: list[int]) -> int:
+    """The generations restart ``restart`` of ``popsize`` would run after ``spent``."""
+    if options.plan is None:
+        return options.generations
+    return options.plan.run_cap(restart, popsize, spent)
 
 
 def run_cma(
@@ -252,14 +303,14 @@ def run_cma(
     wall_s, evaluated = 0.0, 0
     try:
         while True:
-            while not run_over(state, options.generations):
+            while not run_over(state, options.run_generations(state)):
                 record = _generation(state, problem, evaluator)
                 state.history.append(record)
                 path = save_checkpoint(state, out_dir)
                 wall_s, evaluated = wall_s + record.wall_s, evaluated + record.popsize
                 if progress is not None:
                     progress(_progress(state, options, wall_s / evaluated))
-            if state.restart >= options.restarts:
+            if not options.may_restart(state):
                 break
             restart(state, options.seed, options.sigma0)
             path = save_checkpoint(state, out_dir)

@@ -68,6 +68,7 @@ class LocalPoolEvaluator:
         if isinstance(workers, bool) or not isinstance(workers, int) or workers < 1:
             raise ParameterError(f"workers must be an integer >= 1, got {workers!r}")
         self.problem = problem
+        self.width = workers
         context = multiprocessing.get_context("spawn")
         self._pool = ProcessPoolExecutor(
             workers, mp_context=context, initializer=_init_worker, initargs=(problem,)
@@ -100,6 +101,7 @@ class RoutedEvaluator:
     def __init__(self, problem: FitProblem, workers: int = DEFAULT_WORKERS) -> None:
         experiments = problem.experiments
         self.problem = problem
+        self.width = workers
         self._open = [e for e, x in enumerate(experiments) if is_open_loop(x)]
         self._closed = [e for e, x in enumerate(experiments) if not is_open_loop(x)]
         self._pool = LocalPoolEvaluator(self._part(self._closed), workers)
