@@ -171,3 +171,11 @@ def test_a_fit_resumed_on_a_narrower_backend_keeps_its_population(
     assert resumed.popsize == 64
     fresh = _population(config, problem, width=2, resume=None)
     assert fresh.popsize == cma_default_popsize(3)
+
+
+@pytest.mark.needs_warp
+def test_widths_of_the_backends(problem: FitProblem) -> None:  # noqa: F811 - the fixture
+    from zmpkit.simfit.batch_backend import BatchEvaluator
+
+    assert BatchEvaluator(problem, threads=3).width == 3
+    assert BatchEvaluator(problem, threads=3, warp_device="cpu").width == 1
