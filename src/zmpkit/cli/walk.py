@@ -13,6 +13,8 @@ from zmpkit.cli.robot_option import robot_option
 from zmpkit.cli.video_option import video_option
 from zmpkit.experiments.walk_config import WalkConfig
 from zmpkit.experiments.walk_disturbances import Push
+from zmpkit.experiments.walk_log import write_walk_log
+from zmpkit.experiments.walk_log_import import walk_log_from_source
 from zmpkit.pipelines.walk import WalkResult, run_walk
 from zmpkit.pipelines.walk_compensate import CompensateConfig, run_walk_compensate
 from zmpkit.pipelines.walk_compensate_files import write_walk_compensate
@@ -23,7 +25,7 @@ from zmpkit.robots.registry import DEFAULT_WALK_ROBOT
 from zmpkit.robots.robot import Robot
 from zmpkit.walking.walk_controllers import CONTROLLERS
 
-__all__ = ["walk_compensate_command", "walk_group", "walk_sweep_command"]
+__all__ = ["walk_compensate_command", "walk_group", "walk_import_command", "walk_sweep_command"]
 
 
 @click.group("walk", invoke_without_command=True)
@@ -324,6 +326,83 @@ def walk_sweep_command(
         click.echo(f"{controller}: {falls} of {walked} walks fell")
     click.echo(f"robustness: {Path(out_dir) / 'robustness.csv'}")
     click.echo(f"report: {result.files['report']}")
+
+
+@walk_group.command("import")
+@click.argument("source", type=click.Path(path_type=Path))
+@click.option("--right-topic", help="The right foot's WrenchStamped topic (or YARP port).")
+@click.option("--left-topic", help="The left foot's WrenchStamped topic (or YARP port).")
+@click.option(
+    "--joint-topic",
+    multiple=True,
+    required=True,
+    help="The encoders: a JointState topic, or YARP state:o ports (repeat for several limbs).",
+)
+@click.option(
+    "--command-topic",
+    multiple=True,
+    required=True,
+    help="The joint commands: a JointState topic whose positions are the commanded angles, "
+    "or YARP ports dumping them in the encoders' layout.",
+)
+@click.option("--imu-topic", required=True, help="The IMU's Imu topic (or YARP inertial port).")
+@click.option(
+    "--joint-names",
+    help="YARP only: comma-separated names of the ports' joints, in order.",
+)
+@click.option(
+    "--units",
+    "units_path",
+    type=click.Path(path_type=Path),
+    help="Units/frames YAML of the raw values (YARP streams degrees: say so).",
+)
+@click.option(
+    "--time-source",
+    type=click.Choice(("header", "receive")),
+    default="header",
+    show_default=True,
+    help="The message header (sensor) stamp or the receive time.",
+)
+@click.option(
+    "--out",
+    "out_path",
+    type=click.Path(path_type=Path),
+    required=True,
+    help="The walk log to write (.csv or .parquet).",
+)
+def walk_import_command(
+    source: Path,
+    right_topic: str | None,
+    left_topic: str | None,
+    joint_topic: tuple[str, ...],
+    command_topic: tuple[str, ...],
+    imu_topic: str,
+    joint_names: str | None,
+    units_path: Path | None,
+    time_source: str,
+    out_path: Path,
+) -> None:
+    """A walk log from a robot's ROS 2 bag or YARP dumps, for `zmpkit identify sim`.
+
+    The streams go onto the encoders' clock over the span they all cover: wrenches and
+    IMU interpolated, each command held until the next (zmpkit.experiments.walk_log_import).
+    """
+    log = walk_log_from_source(
+        source,
+        right_topic=right_topic,
+        left_topic=left_topic,
+        joint_topic=joint_topic[0] if len(joint_topic) == 1 else joint_topic,
+        command_topic=command_topic[0] if len(command_topic) == 1 else command_topic,
+        imu_topic=imu_topic,
+        joint_names=None if joint_names is None else [n.strip() for n in joint_names.split(",")],
+        units=units_path,
+        time_source=time_source,
+    )
+    out_path.parent.mkdir(parents=True, exist_ok=True)
+    write_walk_log(out_path, log)
+    span = log.time_s[-1] - log.time_s[0]
+    click.echo(f"{len(log.time_s)} rows over {span:.2f} s, {len(log.joint_names)} commanded joints")
+    click.echo(f"walk log: {out_path}")
 
 
 def _change(reduction_pct: float) -> str:
