@@ -26,10 +26,13 @@ from helpers.rosbag_data import (
     wrench_msg,
     write_bag,
 )
+from helpers.yarp_data import T0, fmt, write_dump
 from zmpkit.cli import main
 from zmpkit.errors import InputFileError
 from zmpkit.experiments.walk_log import read_walk_log
 from zmpkit.experiments.walk_log_import import walk_log_from_source
+from zmpkit.io import LogUnits
+from zmpkit.sensors import rpy_to_matrix
 
 N = 40
 PERIOD_NS = 5_000_000  # 200 Hz encoders and feet
@@ -151,3 +154,50 @@ def test_streams_that_do_not_overlap_are_refused(tmp_path: Path) -> None:
     bag = _bag(tmp_path / "bag", command_delay_ns=2 * N * PERIOD_NS)  # sent after the walk
     with pytest.raises(InputFileError, match=r"do not overlap: feet 0\.0"):
         _import(bag)
+
+
+def test_yarp_dumps_in_degrees(tmp_path: Path) -> None:
+    """Encoder and command ports in degrees, the legacy inertial port (rpy in degrees)."""
+    root, n, dt = tmp_path / "yarp", 30, 0.01
+    stamps = T0 + np.arange(n) * dt
+    k = np.arange(n)
+    wrench = [fmt(w) for w in _wrench(k, 1.0)]
+    write_dump(root / "jr3" / "ch0_o", "/jr3/ch0:o", wrench, stamps)
+    write_dump(
+        root / "jr3" / "ch1_o",
+        "/jr3/ch1:o",
+        [fmt(-np.asarray(w.split(), float)) for w in wrench],
+        stamps,
+    )
+    degrees = np.rad2deg(_encoders(k))
+    write_dump(root / "leg" / "state_o", "/leg/state:o", [fmt(q) for q in degrees], stamps)
+    sent = k[::2]
+    commands = [fmt(np.rad2deg(_commands(i))) for i in sent]
+    write_dump(root / "leg" / "command_o", "/leg/command:o", commands, stamps[sent] + 0.001)
+    rpy_deg = np.array([1.0, 3.0, -20.0])
+    imu = [
+        fmt(np.r_[rpy_deg, [0.0, 0.0, 9.81], np.rad2deg(_gyro(t)), [0.3, 0.1, -0.5]])
+        for t in k * dt
+    ]
+    write_dump(root / "imu_o", "/imu:o", imu, stamps + 0.002)
+    log = walk_log_from_source(
+        root,
+        joint_topic="/leg/state:o",
+        command_topic="/leg/command:o",
+        imu_topic="/imu:o",
+        joint_names=NAMES,
+        units=LogUnits(joint_angle_unit="deg", imu_angular_velocity_unit="deg/s"),
+    )
+    rows = np.arange(1, n)  # from the first encoder row after the first command and IMU sample
+    assert log.joint_names == tuple(NAMES)
+    np.testing.assert_allclose(log.q_enc_rad, _encoders(rows), atol=1e-12)
+    np.testing.assert_allclose(log.q_cmd_rad, _commands((rows - 1) // 2 * 2), atol=1e-12)
+    w, x, y, z = log.imu_quat_wxyz[0]
+    rotation = np.array(
+        [
+            [1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
+            [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
+            [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)],
+        ]
+    )
+    np.testing.assert_allclose(rotation, rpy_to_matrix(np.deg2rad(rpy_deg)), atol=1e-9)

@@ -11,33 +11,17 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 from scipy.spatial.transform import Rotation
 
+from helpers.yarp_data import T0, write_dump
+from helpers.yarp_data import fmt as _fmt
 from zmpkit.errors import InputFileError, ParameterError
 from zmpkit.io import LogUnits, RobotLog, read_ft_source, read_robot_source, read_yarp_imu, resample
 from zmpkit.sensors import rpy_to_matrix
 
-T0 = 1712345678.25
 DT = 0.01
 LEFT_LEG = "/teo/leftLeg/state:o"
 RIGHT_LEG = "/teo/rightLeg/state:o"
 IMU = "/teo/imu:o"
 NAMES = ("l_hip_yaw", "l_hip_roll", "l_hip_pitch", "r_hip_yaw", "r_hip_roll", "r_hip_pitch")
-
-
-def _fmt(values: np.ndarray) -> str:
-    return " ".join(repr(float(v)) for v in values)
-
-
-def write_dump(folder: Path, port: str, bodies: list[str], stamps: np.ndarray) -> Path:
-    """A yarpdatadumper folder for ``port``: info.log and data.log with these bottles."""
-    folder.mkdir(parents=True)
-    (folder / "info.log").write_text(
-        f"Type: Bottle;\nStamp: tx;\n[{T0 - 1:.6f}] {port} [connected]\n"
-    )
-    lines = [
-        f"{k} {float(t)!r} {body}" for k, (t, body) in enumerate(zip(stamps, bodies, strict=True))
-    ]
-    (folder / "data.log").write_text("\n".join(lines) + "\n")
-    return folder
 
 
 def _stamps(n: int, offset: float = 0.0) -> np.ndarray:
