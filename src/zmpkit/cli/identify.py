@@ -115,7 +115,8 @@ def identify_balance_command(
 @click.option(
     "--generations",
     type=BoundedInt(1, MAX_GENERATIONS),
-    help="CMA-ES generations (default 40; 30 quick).",
+    help="CMA-ES generations per run (default 40; 30 quick), at CMA-ES's default "
+    "population; a larger default population runs G ln(λ0)/ln(λ).",
 )
 @click.option(
     "--popsize",
