@@ -179,3 +179,18 @@ def test_widths_of_the_backends(problem: FitProblem) -> None:  # noqa: F811 - th
 
     assert BatchEvaluator(problem, threads=3).width == 3
     assert BatchEvaluator(problem, threads=3, warp_device="cpu").width == 1
+
+
+def test_a_pools_width_is_its_workers_shared_by_the_experiments(
+    problem: FitProblem,  # noqa: F811 - the fixture
+) -> None:
+    from dataclasses import replace
+
+    from zmpkit.simfit.pool_backend import LocalPoolEvaluator
+
+    three = replace(problem, experiments=(None, None, None))  # three experiments, never run
+    pool = LocalPoolEvaluator(three, workers=16)  # processes start on the first task
+    try:
+        assert pool.width == 16 // 3
+    finally:
+        pool.close()

@@ -192,7 +192,8 @@ class RayEvaluator:
             self._owns_ray = True
         self._problem_ref = ray.put(problem)
         self._task = ray.remote(evaluate)
-        self.width = max(1, int(ray.cluster_resources().get("CPU", 1)))
+        cpus = int(ray.cluster_resources().get("CPU", 1))
+        self.width = max(1, cpus // max(1, len(problem.experiments)))  # a task per experiment
 
     def costs(self, candidates: Sequence[ParameterValues]) -> Costs:
         """Cost terms per candidate and experiment; on Ctrl-C the pending tasks are cancelled."""

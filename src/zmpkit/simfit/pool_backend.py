@@ -68,7 +68,7 @@ class LocalPoolEvaluator:
         if isinstance(workers, bool) or not isinstance(workers, int) or workers < 1:
             raise ParameterError(f"workers must be an integer >= 1, got {workers!r}")
         self.problem = problem
-        self.width = workers
+        self.width = max(1, workers // max(1, len(problem.experiments)))  # a task per experiment
         context = multiprocessing.get_context("spawn")
         self._pool = ProcessPoolExecutor(
             workers, mp_context=context, initializer=_init_worker, initargs=(problem,)
@@ -101,11 +101,11 @@ class RoutedEvaluator:
     def __init__(self, problem: FitProblem, workers: int = DEFAULT_WORKERS) -> None:
         experiments = problem.experiments
         self.problem = problem
-        self.width = workers
         self._open = [e for e, x in enumerate(experiments) if is_open_loop(x)]
         self._closed = [e for e, x in enumerate(experiments) if not is_open_loop(x)]
         self._pool = LocalPoolEvaluator(self._part(self._closed), workers)
         self._batch = BatchEvaluator(self._part(self._open), workers) if self._open else None
+        self.width = self._pool.width
 
     def _part(self, indices: list[int]) -> FitProblem:
         return replace(

@@ -2,8 +2,10 @@ r"""A fit's population and generations sized to the backend's width; IPOP restar
 
 A backend's *width* :math:`W` is how many candidates it evaluates in about the wall time of
 one (:attr:`~zmpkit.simfit.backends.Evaluator.width`): 1 for the serial backend and for
-MuJoCo Warp on a CPU, the workers of the local batches and of the process pool, the CPUs of
-a Ray cluster, :data:`WARP_GPU_WIDTH` on a CUDA device. A generation of :math:`\lambda`
+MuJoCo Warp on a CPU, the threads of the local batches (each experiment one batch of every
+candidate), the process pool's workers or a Ray cluster's CPUs divided among the
+experiments (they run a task per candidate and experiment), :data:`WARP_GPU_WIDTH` on a
+CUDA device. A generation of :math:`\lambda`
 candidates costs :math:`\lceil \lambda / W \rceil` *batches* of wall time.
 
 **Population.** Unless the user sets it, the first run's population is
