@@ -31,11 +31,12 @@ from zmpkit.simfit.checkpoint import load_checkpoint
 from zmpkit.simfit.cost_hessian import CostDirection
 from zmpkit.simfit.experiments import Experiment, read_experiments, simulated_effects
 from zmpkit.simfit.identifiability import Identifiability, ParameterIdentifiability, identifiability
-from zmpkit.simfit.noise_intervals import NoiseInterval, noise_intervals
+from zmpkit.simfit.noise_intervals import noise_intervals
 from zmpkit.simfit.optimizer import CmaOptions, CmaResult, ProgressCallback, run_cma
 from zmpkit.simfit.parameters import FitParameter
 from zmpkit.simfit.problem import FitProblem, simulate
 from zmpkit.simfit.recorded import RecordedSignals
+from zmpkit.simfit.refit_intervals import ParameterInterval, refit_intervals
 from zmpkit.simfit.self_test import (
     RecoveryRow,
     perturbed_values,
@@ -94,9 +95,11 @@ class IdentifySimResult:
             :data:`~zmpkit.simfit.identifiability.IDENTIFIABLE_WITHIN`), loosest first.
         adequacy: whether the fitted model explains the data (best cost against the noise
             floor, residual structure: :mod:`~zmpkit.simfit.adequacy`); None if not checked.
-        intervals: per parameter, the 95 % interval the data's noise leaves
-            (:mod:`~zmpkit.simfit.noise_intervals`); a precision only when the model
-            explains the data.
+        intervals: per parameter, its 95 % interval: bias-corrected from replicas recorded
+            through the data's pipeline and re-fitted (:mod:`~zmpkit.simfit.refit_intervals`)
+            for walk logs of ``zmpkit walk``, else the noise-only one
+            (:mod:`~zmpkit.simfit.noise_intervals`); each says which (``method``). A
+            precision only when the model explains the data.
         sim_effects: the effects the simulator ran: the fitted ones and those the recorded
             walks ran with (:func:`~zmpkit.simfit.experiments.simulated_effects`).
     """
@@ -117,7 +120,7 @@ class IdentifySimResult:
     sloppy_directions: tuple[CostDirection, ...] = ()
     adequacy: Adequacy | None = None
     sim_effects: str = ""
-    intervals: tuple[NoiseInterval, ...] = ()
+    intervals: tuple[ParameterInterval, ...] = ()
 
 
 def _experiments(
@@ -225,7 +228,7 @@ def _fit_result(
     best, params = cma_result.best_values, problem.parameters
     replicas = replica_recordings(problem, best)
     adequacy = model_adequacy(problem, best, recordings=replicas)
-    intervals = noise_intervals(problem, best, judged.hessian, replicas)
+    intervals = _intervals(config, problem, best, judged, replicas)
     fit_replays = replay_experiments(problem, list(problem.experiments), best)
     held_replays = replay_experiments(problem, held_exps, best)
     ident = judged.parameters
@@ -251,6 +254,21 @@ def _fit_result(
         sim_effects=problem.sim_effects,
         intervals=intervals,
     )
+
+
+def _intervals(
+    config: IdentifySimConfig,
+    problem: FitProblem,
+    best: np.ndarray,
+    judged: Identifiability,
+    replicas: list[list[RecordedSignals]],
+) -> tuple[ParameterInterval, ...]:
+    """The bias-corrected intervals where the data's pipeline can be re-run, else noise-only."""
+    if config.interval_replicas > 0:
+        refits = refit_intervals(problem, best.tolist(), config.interval_replicas)
+        if refits is not None:
+            return refits
+    return noise_intervals(problem, best, judged.hessian, replicas)
 
 
 def replay_experiments(

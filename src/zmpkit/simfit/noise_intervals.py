@@ -65,6 +65,21 @@ class NoiseInterval:
     replicas: int
 
     @property
+    def bias(self) -> float:
+        """The estimator's relative bias [-]: NaN, not estimated."""
+        return math.nan
+
+    @property
+    def kind(self) -> str:
+        """``noise_only``."""
+        return "noise_only"
+
+    @property
+    def corrected(self) -> float:
+        """The interval's centre [unit]: the fitted value (no bias is estimated)."""
+        return self.value
+
+    @property
     def lower(self) -> float:
         """Lower end [unit] (NaN when not measured)."""
         return self.value * (1.0 - self.half_width)
@@ -73,6 +88,14 @@ class NoiseInterval:
     def upper(self) -> float:
         """Upper end [unit] (NaN when not measured)."""
         return self.value * (1.0 + self.half_width)
+
+    @property
+    def method(self) -> str:
+        """What the interval is, in words."""
+        return (
+            f"noise only: {self.replicas} replicas of the fitted model with fresh sensor noise,"
+            " re-fitted to first order; the estimator's bias is not in it"
+        )
 
     def covers(self, value: float) -> bool:
         """Whether ``value`` [unit] lies in the interval (False when not measured)."""

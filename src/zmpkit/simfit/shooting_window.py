@@ -153,6 +153,8 @@ class ShootingWindow:
         replicas: the same scored rows replayed from the states measured
             :data:`REPLICA_LEADS` burn-ins earlier (module docstring), for the noise floor;
             none for a log's first window.
+        source: the file of the log (``""`` when not read from a file).
+        window_s: the window length the log was cut with [s].
     """
 
     name: str
@@ -164,6 +166,8 @@ class ShootingWindow:
     burn_in_s: float
     log_name: str = ""
     replicas: tuple[ShootingWindow, ...] = ()
+    source: str = ""
+    window_s: float = DEFAULT_WINDOW_S
 
 
 def check_window(window_s: float, burn_in_s: float) -> None:
@@ -335,7 +339,7 @@ def _window(
                 burn_in_s=float(time[scored] - time[row]),
             )
         )
-    return replace(window, replicas=tuple(replicas))
+    return replace(window, replicas=tuple(replicas), source=log.source, window_s=window_s)
 
 
 def replica_experiment(experiment: T, k: int) -> T:
