@@ -19,6 +19,7 @@ with ``self_test``, ``recovery.csv``.
 from __future__ import annotations
 
 import time
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -151,7 +152,10 @@ def _experiments(
 
 
 def run_identify_sim(
-    config: IdentifySimConfig, out_dir: str | Path, progress: ProgressCallback | None = None
+    config: IdentifySimConfig,
+    out_dir: str | Path,
+    progress: ProgressCallback | None = None,
+    replica_progress: Callable[[int, int], None] | None = None,
 ) -> IdentifySimResult:
     """Fit the simulator to the recorded experiments, checkpointing into ``out_dir``.
 
@@ -161,6 +165,8 @@ def run_identify_sim(
             self-test's recordings are written there as the fit goes, nothing else.
         progress: called after every generation with a
             :class:`~zmpkit.simfit.optimizer.FitProgress`.
+        replica_progress: called with (replicas done, replicas) as the intervals' replicas
+            are walked again and re-fitted (:mod:`~zmpkit.simfit.refit_intervals`).
 
     Raises:
         InputFileError: on an unreadable experiment folder or base truth, or a checkpoint
@@ -190,7 +196,8 @@ def run_identify_sim(
         config.sensor_readings,
     )
     cma_result, judged = _fit(config, problem, out, resume, progress)
-    return _fit_result(config, problem, cma_result, judged, held_exps, truth, started_s)
+    intervals = _intervals(config, problem, cma_result.best_values, replica_progress)
+    return _fit_result(config, problem, cma_result, judged, held_exps, truth, started_s, intervals)
 
 
 def _fit(
@@ -223,12 +230,14 @@ def _fit_result(
     held_exps: list[Experiment],
     truth: np.ndarray | None,
     started_s: float,
+    intervals: tuple[ParameterInterval, ...] | None,
 ) -> IdentifySimResult:
     """The fit judged: adequacy, noise intervals, replays and, in a self-test, recovery."""
     best, params = cma_result.best_values, problem.parameters
     replicas = replica_recordings(problem, best)
     adequacy = model_adequacy(problem, best, recordings=replicas)
-    intervals = _intervals(config, problem, best, judged, replicas)
+    if intervals is None:
+        intervals = noise_intervals(problem, best, judged.hessian, replicas)
     fit_replays = replay_experiments(problem, list(problem.experiments), best)
     held_replays = replay_experiments(problem, held_exps, best)
     ident = judged.parameters
@@ -260,15 +269,12 @@ def _intervals(
     config: IdentifySimConfig,
     problem: FitProblem,
     best: np.ndarray,
-    judged: Identifiability,
-    replicas: list[list[RecordedSignals]],
-) -> tuple[ParameterInterval, ...]:
-    """The bias-corrected intervals where the data's pipeline can be re-run, else noise-only."""
-    if config.interval_replicas > 0:
-        refits = refit_intervals(problem, best.tolist(), config.interval_replicas)
-        if refits is not None:
-            return refits
-    return noise_intervals(problem, best, judged.hessian, replicas)
+    progress: Callable[[int, int], None] | None,
+) -> tuple[ParameterInterval, ...] | None:
+    """The bias-corrected intervals; None where the data's pipeline cannot be re-run."""
+    if config.interval_replicas == 0:
+        return None
+    return refit_intervals(problem, best.tolist(), config.interval_replicas, progress)
 
 
 def replay_experiments(
