@@ -12,6 +12,7 @@ from scipy.stats import t as student_t
 
 from zmpkit.errors import ParameterError
 from zmpkit.pipelines.identify_sim_config import IdentifySimConfig
+from zmpkit.simfit.identifiability import ParameterIdentifiability
 from zmpkit.simfit.local_refit import local_minimum
 from zmpkit.simfit.noise_intervals import NoiseInterval
 from zmpkit.simfit.outputs import write_intervals_csv
@@ -129,3 +130,23 @@ def test_the_intervals_csv_says_which_interval(tmp_path) -> None:
 def test_interval_replicas_is_zero_or_at_least_two(bad: object) -> None:
     with pytest.raises(ParameterError, match="interval_replicas must be 0"):
         IdentifySimConfig(data=("x",), interval_replicas=bad)  # type: ignore[arg-type]
+
+
+@pytest.mark.parametrize(
+    ("resolution", "marginal", "spread", "identifiable", "why"),
+    [
+        (0.03, 0.04, 0.002, True, "both within 10 %"),
+        (0.03, 0.25, 0.002, False, "the others compensate it beyond 10 %"),
+        (0.30, 0.40, 0.002, False, "beyond 10 %"),
+        (0.30, math.inf, 0.002, False, "no visible cost rise within ±100 %"),
+    ],
+)
+def test_identifiability_says_why(
+    resolution: float, marginal: float, spread: float, identifiable: bool, why: str
+) -> None:
+    entry = ParameterIdentifiability(
+        "k", 1.0, 0.1, 0.1, 0.1, resolution, spread, identifiable, marginal
+    )
+    assert entry.reason.endswith(why) or entry.reason.startswith(why)
+    if math.isfinite(marginal):
+        assert f"±{100 * marginal:.2g} %" in entry.reason

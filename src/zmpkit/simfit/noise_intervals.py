@@ -25,6 +25,12 @@ deviations). A Hessian that is not positive definite (a loose direction) or a mo
 that falls leaves the interval unmeasured (NaN). The interval is a precision only when the
 model explains the data (:mod:`~zmpkit.simfit.adequacy`): otherwise the misfit, not the
 noise, moves the estimate.
+
+It holds the noise, not the estimator's bias: a walk log's windows start from measured
+states with the unmeasured ones at zero, which moves the estimate whatever the noise, and
+these replicas (replays of the *data's* commands from the *data's* states) do not go
+through that start-state estimation themselves. Where the data's pipeline can be run again
+(a ``zmpkit walk`` log) the fit gives :mod:`~zmpkit.simfit.refit_intervals` instead.
 """
 
 from __future__ import annotations
