@@ -8,6 +8,7 @@ import pytest
 
 from zmpkit.cli import identify
 from zmpkit.cli.app import main
+from zmpkit.simfit.refit_intervals import REFIT_REPLICAS
 
 
 class _StopError(Exception):
@@ -18,7 +19,7 @@ class _StopError(Exception):
 def seen(monkeypatch: pytest.MonkeyPatch) -> list:
     configs: list = []
 
-    def fit(config, out_dir, progress=None):
+    def fit(config, out_dir, progress=None, replica_progress=None):
         configs.append(config)
         raise _StopError
 
@@ -46,6 +47,19 @@ def test_restarts_reach_the_fit(tmp_path: Path, seen: list) -> None:
 def test_window_reaches_the_fit(tmp_path: Path, seen: list) -> None:
     assert _fit_config(tmp_path, seen, "--window", "0.9").window_s == 0.9
     assert _fit_config(tmp_path, seen).window_s == 1.2
+
+
+def test_interval_replicas_reach_the_fit(tmp_path: Path, seen: list) -> None:
+    assert _fit_config(tmp_path, seen, "--interval-replicas", "0").interval_replicas == 0
+    assert _fit_config(tmp_path, seen).interval_replicas == REFIT_REPLICAS
+
+
+def test_one_interval_replica_is_refused(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    argv = ["identify", "sim", "--self-test", "--interval-replicas", "1", "--out", str(tmp_path)]
+    assert main(argv) == 2
+    assert "interval_replicas must be 0" in capsys.readouterr().err
 
 
 def test_a_window_not_longer_than_its_burn_in_is_refused(

@@ -224,7 +224,9 @@ def identify_sim_command(
     )
     try:
         with GenerationProgress() as progress:
-            fit = run_identify_sim(config, out_dir, progress, progress.replicas)
+            fit = run_identify_sim(
+                config, out_dir, progress=progress, replica_progress=progress.replicas
+            )
     except FitInterruptedError as exc:  # Ctrl-C: every finished generation is checkpointed
         click.echo(f"zmpkit: {exc}", err=True)
         raise click.exceptions.Exit(130) from None

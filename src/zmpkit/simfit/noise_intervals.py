@@ -76,6 +76,11 @@ class NoiseInterval:
         return math.nan
 
     @property
+    def moves(self) -> tuple[float, ...]:
+        """The replicas' relative moves [-]: not kept (only their spread)."""
+        return ()
+
+    @property
     def kind(self) -> str:
         """``noise_only``."""
         return "noise_only"

@@ -107,7 +107,8 @@ def write_fitted_parameters(
     With ``intervals``, per parameter ``interval_95`` (``[lower, upper]`` [unit], None when
     not measured), ``interval_95_half_width_pct``, ``interval_95_centre`` [unit] (the
     bias-corrected estimate), ``estimator_bias_pct`` (None when not estimated) and
-    ``interval_95_method`` (which interval it is and what it covers).
+    ``interval_95_method`` (which interval it is and what it covers), and for a
+    bias-corrected one ``replica_moves_pct``, each re-fitted replica's move [%].
 
     With ``adequacy``, the check's numbers and verdict (key ``adequacy``), and per parameter
     ``resolution_is_precision``: false when the model does not explain the data (then the
@@ -150,7 +151,7 @@ def _interval_entry(interval: ParameterInterval | None) -> dict:
         "interval_95_centre": _number(interval.corrected),
         "estimator_bias_pct": _pct_or_none(interval.bias),
         "interval_95_method": interval.method,
-    }
+    } | ({"replica_moves_pct": [100 * m for m in interval.moves]} if interval.moves else {})
 
 
 def _number(x: float) -> float | None:
