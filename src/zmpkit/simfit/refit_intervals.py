@@ -129,8 +129,9 @@ class RefitInterval:
     def method(self) -> str:
         """What the interval is, in words."""
         return (
-            f"bias-corrected: {self.replicas} replicas of the fitted model recorded through "
-            "the data's pipeline, each re-fitted; covers the noise and the estimator's bias"
+            f"bias-corrected: {self.replicas} replicas of the fitted model walked again "
+            "through the data's pipeline (controller, sensors, windows), each re-fitted; it "
+            "holds the noise and the estimator's bias as those replicas show them"
         )
 
     def covers(self, value: float) -> bool:
