@@ -8,7 +8,8 @@ import pytest
 
 from zmpkit.cli import identify
 from zmpkit.cli.app import main
-from zmpkit.simfit.refit_intervals import REFIT_REPLICAS
+from zmpkit.simfit.noise_intervals import NoiseInterval
+from zmpkit.simfit.refit_intervals import REFIT_REPLICAS, RefitInterval
 
 
 class _StopError(Exception):
@@ -67,3 +68,14 @@ def test_a_window_not_longer_than_its_burn_in_is_refused(
 ) -> None:
     assert main(["identify", "sim", "--self-test", "--window", "0.3", "--out", str(tmp_path)]) == 2
     assert "--window" in capsys.readouterr().err
+
+
+def test_the_interval_line_says_its_centre_and_bias_when_corrected() -> None:
+    refit = RefitInterval("gear", 800.0, 800.0, (0.02, 0.04, 0.03))
+    text = identify._interval_text(refit)
+    assert f"[{refit.lower:.6g}, {refit.upper:.6g}]" in text
+    assert "about the bias-corrected 776" in text
+    assert "estimator bias +3 %" in text
+    assert identify._interval_text(NoiseInterval("pid", 0.6, 0.02, 4)) == (
+        "95 % interval [0.588, 0.612] (±2 %)"
+    )
