@@ -33,7 +33,11 @@ is centred on the biased minimum whatever threshold it is given.
 
 It assumes the bias is the same at the fit as at the truth (it changes slowly with the
 parameters) and that the replicas' robot differs from the real one only in the fitted
-parameters; with fewer than two re-fitted replicas the interval is not measured (NaN).
+parameters; with fewer than two re-fitted replicas the interval is not measured (NaN). The
+replicas are re-fitted locally (:mod:`~zmpkit.simfit.local_refit`), so a global fit that
+jumps between distant minima of a multi-modal cost moves more than they show: measured on
+five held-out truths of the built-in walker (three walks each), 8 of 10 intervals covered
+the truth, both misses a stiff gear fitted 9–10 % low by CMA-ES into another minimum.
 """
 
 from __future__ import annotations
