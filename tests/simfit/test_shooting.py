@@ -13,6 +13,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+import yaml
 
 from zmpkit.errors import InputFileError, ParameterError
 from zmpkit.experiments.walk import run_walk_trial
@@ -263,8 +264,14 @@ def test_a_folder_with_a_log_and_no_summary_reads_as_windows(
     assert all(isinstance(e, ShootingWindow) for e in experiments)
 
 
-def test_zmpkit_walk_writes_the_log_and_identify_sim_fits_it(tmp_path: Path) -> None:
-    """The CLI end to end: ``zmpkit walk`` writes walk_log.csv, ``identify sim`` fits it."""
+def test_zmpkit_walk_writes_the_log_and_identify_sim_fits_it(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """The CLI end to end: ``zmpkit walk`` writes walk_log.csv, ``identify sim`` fits it.
+
+    With ``--interval-replicas 0`` its intervals are the noise-only ones, and every output
+    says so (the bias-corrected ones: ``test_pipeline_replicas``).
+    """
     from zmpkit.cli.app import main
 
     walk = tmp_path / "walk"
@@ -276,10 +283,17 @@ def test_zmpkit_walk_writes_the_log_and_identify_sim_fits_it(tmp_path: Path) -> 
     fit = tmp_path / "fit"
     argv = ["identify", "sim", str(walk / WALK_LOG_FILE), "--robot", "nao", "--quick"]
     argv += ["--generations", "1", "--popsize", "4", "--workers", "1", "--report", "md"]
-    assert main([*argv, "--out", str(fit)]) == 0
+    capsys.readouterr()
+    assert main([*argv, "--interval-replicas", "0", "--out", str(fit)]) == 0
+    assert "intervals: noise only" in capsys.readouterr().out
     report = (fit / "report.md").read_text(encoding="utf-8")
     assert "fitted by multiple shooting with" in report
-    assert (fit / "fitted_parameters.yaml").exists()
+    assert "The 95 % intervals: noise only" in report
+    fitted = yaml.safe_load((fit / "fitted_parameters.yaml").read_text(encoding="utf-8"))
+    for entry in fitted["parameters"].values():
+        assert entry["interval_95_method"].startswith("noise only")
+        assert entry["estimator_bias_pct"] is None
+    assert (fit / "intervals.csv").read_text(encoding="utf-8").count("noise_only") == 2
     (own,) = read_experiments([walk], NAO)  # a walk folder still reads as zmpkit's own walk
     assert isinstance(own, WalkExperiment)
     assert own.closed_loop is not None

@@ -17,6 +17,7 @@ from zmpkit.pipelines.identify_sim_files import write_identify_sim
 from zmpkit.robots.registry import DEFAULT_FIT_ROBOT
 from zmpkit.robots.robot import Robot
 from zmpkit.simfit.optimizer import MAX_POPSIZE, MAX_RESTARTS, FitInterruptedError
+from zmpkit.simfit.refit_intervals import REFIT_REPLICAS, ParameterInterval
 from zmpkit.simfit.shooting_window import DEFAULT_BURN_IN_S, DEFAULT_WINDOW_S
 
 __all__ = [
@@ -166,6 +167,15 @@ def identify_balance_command(
     help="A walk log's multiple-shooting windows [s], each replayed from its measured state "
     f"(its first {DEFAULT_BURN_IN_S:g} s not scored).",
 )
+@click.option(
+    "--interval-replicas",
+    type=click.IntRange(min=0),
+    default=REFIT_REPLICAS,
+    show_default=True,
+    help="Walk logs written by zmpkit walk: replicas of the fitted model walked through the "
+    "same controller, sensors and windows, each re-fitted, for 95 % intervals that hold the "
+    "estimator's bias (0: noise-only intervals).",
+)
 @report_option
 def identify_sim_command(
     data: tuple[Path, ...],
@@ -185,6 +195,7 @@ def identify_sim_command(
     sensor_readings: str,
     held_out: tuple[Path, ...],
     window_s: float,
+    interval_replicas: int,
     report_format: str,
 ) -> None:
     """Fit the simulator's effect parameters to recorded DATA.
@@ -210,10 +221,13 @@ def identify_sim_command(
         self_test=self_test,
         sensor_readings=sensor_readings,
         window_s=window_s,
+        interval_replicas=interval_replicas,
     )
     try:
         with GenerationProgress() as progress:
-            fit = run_identify_sim(config, out_dir, progress=progress)
+            fit = run_identify_sim(
+                config, out_dir, progress=progress, replica_progress=progress.replicas
+            )
     except FitInterruptedError as exc:  # Ctrl-C: every finished generation is checkpointed
         click.echo(f"zmpkit: {exc}", err=True)
         raise click.exceptions.Exit(130) from None
@@ -228,16 +242,26 @@ def _echo_result(result: IdentifySimResult, out_dir: Path) -> None:
         if interval is None or interval.half_width != interval.half_width:  # NaN: unmeasured
             click.echo(f"{name} = {value:.6g}")
         else:
-            click.echo(
-                f"{name} = {value:.6g}, 95 % interval [{interval.lower:.6g}, "
-                f"{interval.upper:.6g}] (±{100 * interval.half_width:.2g} %)"
-            )
+            click.echo(f"{name} = {value:.6g}, {_interval_text(interval)}")
+    if result.intervals:
+        click.echo(f"intervals: {result.intervals[0].method}")
     if result.adequacy is not None:
         click.echo(result.adequacy.verdict)
     if "recovery" in result.files:
         click.echo(f"recovery: {result.files['recovery']}")
     click.echo(f"fitted truth: {Path(out_dir) / 'fitted_truth.yaml'} (best cost {result.cost:.4g})")
     click.echo(f"report: {result.files['report']}")
+
+
+def _interval_text(interval: ParameterInterval) -> str:
+    """``95 % interval [lo, hi] (±w %)``, with its centre and the bias when corrected."""
+    text = f"95 % interval [{interval.lower:.6g}, {interval.upper:.6g}]"
+    if interval.bias == interval.bias:  # a bias was estimated
+        return (
+            f"{text} about the bias-corrected {interval.corrected:.6g} (estimator bias "
+            f"{100 * interval.bias:+.2g} %, ±{100 * interval.half_width:.2g} %)"
+        )
+    return f"{text} (±{100 * interval.half_width:.2g} %)"
 
 
 @identify_group.command("compare")

@@ -147,6 +147,7 @@ class GenerationProgress(_LazyDisplay):
         super().__init__(_COUNT(), "best cost {task.fields[best]}", "ETA {task.fields[eta]}")
         self._task = self._bar.add_task(label, total=None, best="–", eta="–")
         self._label = label
+        self._replicas: TaskID | None = None
 
     def __call__(self, progress: Any) -> None:
         """Show one finished generation (a ``FitProgress``)."""
@@ -161,6 +162,13 @@ class GenerationProgress(_LazyDisplay):
             best=f"{progress.best_cost:.4g}",
             eta=f"{progress.eta_s:.0f} s",
         )
+
+    def replicas(self, finished: int, total: int) -> None:
+        """Show ``finished`` of ``total`` interval replicas walked again and re-fitted."""
+        self._show()
+        if self._replicas is None:
+            self._replicas = self._bar.add_task("interval replicas", total=total, best="–", eta="–")
+        self._bar.update(self._replicas, completed=finished, total=total)
 
 
 class RichDisplays:

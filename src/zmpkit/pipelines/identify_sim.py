@@ -19,6 +19,7 @@ with ``self_test``, ``recovery.csv``.
 from __future__ import annotations
 
 import time
+from collections.abc import Callable
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 
@@ -31,12 +32,13 @@ from zmpkit.simfit.checkpoint import load_checkpoint
 from zmpkit.simfit.cost_hessian import CostDirection
 from zmpkit.simfit.experiments import Experiment, read_experiments, simulated_effects
 from zmpkit.simfit.identifiability import Identifiability, ParameterIdentifiability, identifiability
-from zmpkit.simfit.noise_intervals import NoiseInterval, noise_intervals
+from zmpkit.simfit.noise_intervals import noise_intervals
 from zmpkit.simfit.optimizer import CmaOptions, CmaResult, ProgressCallback, run_cma
 from zmpkit.simfit.parameters import FitParameter
 from zmpkit.simfit.population import PopulationPlan, cma_default_popsize, population_plan
 from zmpkit.simfit.problem import FitProblem, simulate
 from zmpkit.simfit.recorded import RecordedSignals
+from zmpkit.simfit.refit_intervals import ParameterInterval, refit_intervals
 from zmpkit.simfit.self_test import (
     RecoveryRow,
     perturbed_values,
@@ -95,9 +97,11 @@ class IdentifySimResult:
             :data:`~zmpkit.simfit.identifiability.IDENTIFIABLE_WITHIN`), loosest first.
         adequacy: whether the fitted model explains the data (best cost against the noise
             floor, residual structure: :mod:`~zmpkit.simfit.adequacy`); None if not checked.
-        intervals: per parameter, the 95 % interval the data's noise leaves
-            (:mod:`~zmpkit.simfit.noise_intervals`); a precision only when the model
-            explains the data.
+        intervals: per parameter, its 95 % interval: bias-corrected from replicas recorded
+            through the data's pipeline and re-fitted (:mod:`~zmpkit.simfit.refit_intervals`)
+            for walk logs of ``zmpkit walk``, else the noise-only one
+            (:mod:`~zmpkit.simfit.noise_intervals`); each says which (``method``). A
+            precision only when the model explains the data.
         sim_effects: the effects the simulator ran: the fitted ones and those the recorded
             walks ran with (:func:`~zmpkit.simfit.experiments.simulated_effects`).
     """
@@ -118,7 +122,7 @@ class IdentifySimResult:
     sloppy_directions: tuple[CostDirection, ...] = ()
     adequacy: Adequacy | None = None
     sim_effects: str = ""
-    intervals: tuple[NoiseInterval, ...] = ()
+    intervals: tuple[ParameterInterval, ...] = ()
 
 
 def _experiments(
@@ -149,7 +153,10 @@ def _experiments(
 
 
 def run_identify_sim(
-    config: IdentifySimConfig, out_dir: str | Path, progress: ProgressCallback | None = None
+    config: IdentifySimConfig,
+    out_dir: str | Path,
+    progress: ProgressCallback | None = None,
+    replica_progress: Callable[[int, int], None] | None = None,
 ) -> IdentifySimResult:
     """Fit the simulator to the recorded experiments, checkpointing into ``out_dir``.
 
@@ -159,6 +166,8 @@ def run_identify_sim(
             self-test's recordings are written there as the fit goes, nothing else.
         progress: called after every generation with a
             :class:`~zmpkit.simfit.optimizer.FitProgress`.
+        replica_progress: called with (replicas done, replicas) as the intervals' replicas
+            are walked again and re-fitted (:mod:`~zmpkit.simfit.refit_intervals`).
 
     Raises:
         InputFileError: on an unreadable experiment folder or base truth, or a checkpoint
@@ -188,7 +197,8 @@ def run_identify_sim(
         config.sensor_readings,
     )
     cma_result, judged = _fit(config, problem, out, resume, progress)
-    return _fit_result(config, problem, cma_result, judged, held_exps, truth, started_s)
+    intervals = _intervals(config, problem, cma_result.best_values, replica_progress)
+    return _fit_result(config, problem, cma_result, judged, held_exps, truth, started_s, intervals)
 
 
 def _fit(
@@ -245,12 +255,14 @@ def _fit_result(
     held_exps: list[Experiment],
     truth: np.ndarray | None,
     started_s: float,
+    intervals: tuple[ParameterInterval, ...] | None,
 ) -> IdentifySimResult:
     """The fit judged: adequacy, noise intervals, replays and, in a self-test, recovery."""
     best, params = cma_result.best_values, problem.parameters
     replicas = replica_recordings(problem, best)
     adequacy = model_adequacy(problem, best, recordings=replicas)
-    intervals = noise_intervals(problem, best, judged.hessian, replicas)
+    if intervals is None:
+        intervals = noise_intervals(problem, best, judged.hessian, replicas)
     fit_replays = replay_experiments(problem, list(problem.experiments), best)
     held_replays = replay_experiments(problem, held_exps, best)
     ident = judged.parameters
@@ -276,6 +288,18 @@ def _fit_result(
         sim_effects=problem.sim_effects,
         intervals=intervals,
     )
+
+
+def _intervals(
+    config: IdentifySimConfig,
+    problem: FitProblem,
+    best: np.ndarray,
+    progress: Callable[[int, int], None] | None,
+) -> tuple[ParameterInterval, ...] | None:
+    """The bias-corrected intervals; None where the data's pipeline cannot be re-run."""
+    if config.interval_replicas == 0:
+        return None
+    return refit_intervals(problem, best.tolist(), config.interval_replicas, progress)
 
 
 def replay_experiments(

@@ -16,6 +16,7 @@ from zmpkit.simfit.cost import CostWeights
 from zmpkit.simfit.optimizer import MAX_POPSIZE, MAX_RESTARTS
 from zmpkit.simfit.parameters import FitParameter, default_parameters, parse_fit_effects
 from zmpkit.simfit.problem import check_sensor_readings
+from zmpkit.simfit.refit_intervals import REFIT_REPLICAS
 from zmpkit.simfit.shooting_window import DEFAULT_BURN_IN_S, DEFAULT_WINDOW_S, check_window
 
 __all__ = ["DEFAULT_GENERATIONS", "QUICK_GENERATIONS", "IdentifySimConfig"]
@@ -71,6 +72,10 @@ class IdentifySimConfig:
         window_s: a walk log's multiple-shooting window [s]
             (:mod:`~zmpkit.simfit.shooting_window`).
         burn_in_s: the unscored start of each window [s].
+        interval_replicas: walk logs of ``zmpkit walk``: replicas recorded through the
+            data's pipeline and re-fitted for the bias-corrected 95 % intervals
+            (:mod:`~zmpkit.simfit.refit_intervals`); 0: the noise-only intervals
+            (:mod:`~zmpkit.simfit.noise_intervals`).
     """
 
     data: tuple[str, ...] = ()
@@ -96,6 +101,7 @@ class IdentifySimConfig:
     sensor_readings: str = "sampled"
     window_s: float = DEFAULT_WINDOW_S
     burn_in_s: float = DEFAULT_BURN_IN_S
+    interval_replicas: int = REFIT_REPLICAS
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "robot", get_robot(self.robot, needs="fit"))
@@ -123,6 +129,7 @@ class IdentifySimConfig:
             raise ParameterError(f"sigma0 must be in (0, 0.5]; got {self.sigma0!r}")
         check_sensor_readings(self.sensor_readings)
         check_window(self.window_s, self.burn_in_s)
+        _check_interval_replicas(self.interval_replicas)
         self.fit_parameters()  # validates the parameter names against the effects
 
     @property
@@ -162,6 +169,15 @@ def _positive_int(name: str, value: object, allow_none: bool = False) -> None:
         return
     if isinstance(value, bool) or not isinstance(value, int) or value < 1:
         raise ParameterError(f"{name} must be an integer >= 1; got {value!r}")
+
+
+def _check_interval_replicas(value: object) -> None:
+    ok = isinstance(value, int) and not isinstance(value, bool) and (value == 0 or value >= 2)
+    if not ok:
+        raise ParameterError(
+            "interval_replicas must be 0 (noise-only intervals) or an integer >= 2 (a "
+            f"scatter needs two re-fits); got {value!r}"
+        )
 
 
 def _check_restarts(restarts: object, popsize: int | None) -> None:

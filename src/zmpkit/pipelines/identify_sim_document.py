@@ -16,7 +16,7 @@ from zmpkit.analysis.provenance import capture_run
 from zmpkit.analysis.report_document import Check, Figure, ReportDocument, Section, Table, Text
 from zmpkit.pipelines.identify_sim import IdentifySimResult
 from zmpkit.simfit.log_experiment import shooting_summary
-from zmpkit.simfit.noise_intervals import NoiseInterval
+from zmpkit.simfit.refit_intervals import ParameterInterval
 from zmpkit.simfit.validation import AMPLITUDE_TOLERANCE, FREQUENCY_TOLERANCE_HZ, ReproductionCheck
 
 __all__ = ["identify_sim_document"]
@@ -122,7 +122,7 @@ def _parameters_table(result: IdentifySimResult) -> Table:
     precise = adequacy is None or adequacy.explains is not False
     intervals = {i.name: i for i in result.intervals}
     return Table(
-        ("parameter", "fitted", "unit", "95 % interval (noise)", "bounds", "identifiable"),
+        ("parameter", "fitted", "unit", "95 % interval", "bounds", "identifiable", "why"),
         tuple(
             (
                 p.name,
@@ -131,10 +131,12 @@ def _parameters_table(result: IdentifySimResult) -> Table:
                 _interval(intervals.get(p.name)),
                 f"{p.lower:.4g} … {p.upper:.4g}",
                 "yes" if i.identifiable else "no",
+                i.reason,
             )
             for p, i in zip(result.parameters, result.identifiability, strict=True)
         ),
         f"The fitted parameters (best cost {result.cost:.4g})."
+        + (f" The 95 % intervals: {result.intervals[0].method}." if result.intervals else "")
         + (
             ""
             if precise
@@ -179,10 +181,13 @@ def _data_section(result: IdentifySimResult) -> Section:
     )
 
 
-def _interval(interval: NoiseInterval | None) -> str:
+def _interval(interval: ParameterInterval | None) -> str:
     if interval is None or not math.isfinite(interval.half_width):
         return "not measured"
-    return f"{interval.lower:.5g} … {interval.upper:.5g} (±{_pct(interval.half_width)})"
+    text = f"{interval.lower:.5g} … {interval.upper:.5g} (±{_pct(interval.half_width)}"
+    if math.isfinite(interval.bias):
+        text += f" about {interval.corrected:.5g}, estimator bias {100 * interval.bias:+.2g} %"
+    return text + ")"
 
 
 def _pct(fraction: float) -> str:

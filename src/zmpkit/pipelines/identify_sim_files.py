@@ -79,6 +79,7 @@ def _fit_files(result: IdentifySimResult, out: Path) -> dict[str, Path]:
         "identifiability": outputs.write_identifiability_csv(
             out / outputs.IDENTIFIABILITY_FILE, result.identifiability
         ),
+        "intervals": outputs.write_intervals_csv(out / outputs.INTERVALS_FILE, result.intervals),
         "sloppy_directions": outputs.write_sloppy_directions_csv(
             out / outputs.SLOPPY_DIRECTIONS_FILE, result.sloppy_directions
         ),

@@ -127,6 +127,29 @@ class ParameterIdentifiability:
     identifiable: bool
     marginal_resolution: float = math.nan
 
+    @property
+    def reason(self) -> str:
+        """Why the parameter is identifiable or not, with the numbers that decided it."""
+        within = f"{100 * IDENTIFIABLE_WITHIN:g} %"
+        marginal = self.marginal_resolution
+        if not math.isfinite(marginal):
+            held = (
+                ""
+                if not math.isfinite(self.resolution)
+                else (f" ({100 * self.resolution:.2g} % with the others held)")
+            )
+            return f"no visible cost rise within ±100 % with the others re-fitted{held}"
+        numbers = (
+            f"the cost rises visibly at ±{100 * marginal:.2g} % with the others re-fitted "
+            f"({100 * self.resolution:.2g} % held), CMA-ES spread "
+            f"{100 * self.cma_relative_std:.2g} %"
+        )
+        if self.identifiable:
+            return f"{numbers}: both within {within}"
+        if marginal > IDENTIFIABLE_WITHIN >= self.resolution:
+            return f"{numbers}: the others compensate it beyond {within}"
+        return f"{numbers}: beyond {within}"
+
 
 @dataclass(frozen=True)
 class Identifiability:

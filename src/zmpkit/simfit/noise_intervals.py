@@ -25,6 +25,12 @@ deviations). A Hessian that is not positive definite (a loose direction) or a mo
 that falls leaves the interval unmeasured (NaN). The interval is a precision only when the
 model explains the data (:mod:`~zmpkit.simfit.adequacy`): otherwise the misfit, not the
 noise, moves the estimate.
+
+It holds the noise, not the estimator's bias: a walk log's windows start from measured
+states with the unmeasured ones at zero, which moves the estimate whatever the noise, and
+these replicas (replays of the *data's* commands from the *data's* states) do not go
+through that start-state estimation themselves. Where the data's pipeline can be run again
+(a ``zmpkit walk`` log) the fit gives :mod:`~zmpkit.simfit.refit_intervals` instead.
 """
 
 from __future__ import annotations
@@ -65,6 +71,26 @@ class NoiseInterval:
     replicas: int
 
     @property
+    def bias(self) -> float:
+        """The estimator's relative bias [-]: NaN, not estimated."""
+        return math.nan
+
+    @property
+    def moves(self) -> tuple[float, ...]:
+        """The replicas' relative moves [-]: not kept (only their spread)."""
+        return ()
+
+    @property
+    def kind(self) -> str:
+        """``noise_only``."""
+        return "noise_only"
+
+    @property
+    def corrected(self) -> float:
+        """The interval's centre [unit]: the fitted value (no bias is estimated)."""
+        return self.value
+
+    @property
     def lower(self) -> float:
         """Lower end [unit] (NaN when not measured)."""
         return self.value * (1.0 - self.half_width)
@@ -73,6 +99,14 @@ class NoiseInterval:
     def upper(self) -> float:
         """Upper end [unit] (NaN when not measured)."""
         return self.value * (1.0 + self.half_width)
+
+    @property
+    def method(self) -> str:
+        """What the interval is, in words."""
+        return (
+            f"noise only: {self.replicas} replicas of the fitted model with fresh sensor noise,"
+            " re-fitted to first order; the estimator's bias is not in it"
+        )
 
     def covers(self, value: float) -> bool:
         """Whether ``value`` [unit] lies in the interval (False when not measured)."""

@@ -10,6 +10,8 @@
   spread per parameter;
 - :data:`SLOPPY_DIRECTIONS_FILE`: the combinations of parameters the data leave loose
   (:mod:`~zmpkit.simfit.cost_hessian`), one row each, loosest first (header only if none);
+- :data:`INTERVALS_FILE`: per parameter its 95 % interval, its centre, the estimator's
+  bias it corrects, and which interval it is (:mod:`~zmpkit.simfit.refit_intervals`);
 - :data:`REPRODUCTION_FILE`: per fitted and held-out experiment, trunk-oscillation frequency
   and amplitude recorded vs simulated and the joint-angle RMS error.
 """
@@ -27,8 +29,8 @@ from zmpkit.simfit.adequacy import Adequacy
 from zmpkit.simfit.checkpoint import GenerationRecord
 from zmpkit.simfit.cost_hessian import CostDirection
 from zmpkit.simfit.identifiability import ParameterIdentifiability
-from zmpkit.simfit.noise_intervals import NoiseInterval
 from zmpkit.simfit.parameters import FitParameter, ParameterValues
+from zmpkit.simfit.refit_intervals import ParameterInterval
 from zmpkit.simfit.truth_doc import truth_doc_with, write_truth_doc
 from zmpkit.simfit.validation import ReproductionCheck
 
@@ -37,6 +39,7 @@ __all__ = [
     "FITTED_TRUTH_FILE",
     "HISTORY_CSV",
     "IDENTIFIABILITY_FILE",
+    "INTERVALS_FILE",
     "REPRODUCTION_FILE",
     "SLOPPY_DIRECTIONS_FILE",
     "adequacy_entry",
@@ -44,6 +47,7 @@ __all__ = [
     "write_fitted_truth",
     "write_history_csv",
     "write_identifiability_csv",
+    "write_intervals_csv",
     "write_reproduction_csv",
     "write_sloppy_directions_csv",
 ]
@@ -52,6 +56,7 @@ FITTED_TRUTH_FILE = "fitted_truth.yaml"
 FITTED_PARAMETERS_FILE = "fitted_parameters.yaml"
 HISTORY_CSV = "cost_history.csv"
 IDENTIFIABILITY_FILE = "identifiability.csv"
+INTERVALS_FILE = "intervals.csv"
 REPRODUCTION_FILE = "reproduction.csv"
 SLOPPY_DIRECTIONS_FILE = "sloppy_directions.csv"
 
@@ -95,12 +100,15 @@ def write_fitted_parameters(
     parameters: Sequence[FitParameter],
     ident: Sequence[ParameterIdentifiability],
     adequacy: Adequacy | None = None,
-    intervals: Sequence[NoiseInterval] = (),
+    intervals: Sequence[ParameterInterval] = (),
 ) -> Path:
     """Per parameter: value, unit, nominal, bounds, truth path, identifiability.
 
     With ``intervals``, per parameter ``interval_95`` (``[lower, upper]`` [unit], None when
-    not measured) and ``interval_95_half_width_pct``.
+    not measured), ``interval_95_half_width_pct``, ``interval_95_centre`` [unit] (the
+    bias-corrected estimate), ``estimator_bias_pct`` (None when not estimated) and
+    ``interval_95_method`` (which interval it is and what it covers), and for a
+    bias-corrected one ``replica_moves_pct``, each re-fitted replica's move [%].
 
     With ``adequacy``, the check's numbers and verdict (key ``adequacy``), and per parameter
     ``resolution_is_precision``: false when the model does not explain the data (then the
@@ -117,6 +125,7 @@ def write_fitted_parameters(
             "path": p.path,
             "effect": p.effect,
             "identifiable": bool(i.identifiable),
+            "identifiable_why": i.reason,
             "resolution_pct": None if not np.isfinite(i.resolution) else 100 * i.resolution,
             "marginal_resolution_pct": _pct_or_none(i.marginal_resolution),
             "cma_relative_std": float(i.cma_relative_std),
@@ -132,14 +141,17 @@ def write_fitted_parameters(
     return path
 
 
-def _interval_entry(interval: NoiseInterval | None) -> dict:
+def _interval_entry(interval: ParameterInterval | None) -> dict:
     if interval is None:
         return {}
     measured = math.isfinite(interval.half_width)
     return {
         "interval_95": [interval.lower, interval.upper] if measured else None,
         "interval_95_half_width_pct": 100 * interval.half_width if measured else None,
-    }
+        "interval_95_centre": _number(interval.corrected),
+        "estimator_bias_pct": _pct_or_none(interval.bias),
+        "interval_95_method": interval.method,
+    } | ({"replica_moves_pct": [100 * m for m in interval.moves]} if interval.moves else {})
 
 
 def _number(x: float) -> float | None:
@@ -228,6 +240,41 @@ def write_identifiability_csv(path: Path, ident: Sequence[ParameterIdentifiabili
             100 * i.marginal_resolution,
         ]
         for i in ident
+    ]
+    return _csv(path, header, rows)
+
+
+def write_intervals_csv(path: Path, intervals: Sequence[ParameterInterval]) -> Path:
+    """Per parameter: fitted value, 95 % interval, its centre, bias and half-width [%], kind.
+
+    The kind is ``pipeline_refits`` or ``noise_only``; the ``interval_95_method`` of
+    :data:`FITTED_PARAMETERS_FILE` says it in words. An empty cell: not measured (or, for
+    the bias, not estimated: a noise-only interval).
+    """
+    header = [
+        "parameter",
+        "value",
+        "lower",
+        "upper",
+        "centre",
+        "estimator_bias_pct",
+        "half_width_pct",
+        "replicas",
+        "kind",
+    ]
+    rows = [
+        [
+            i.name,
+            i.value,
+            i.lower,
+            i.upper,
+            i.corrected,
+            100 * i.bias,
+            100 * i.half_width,
+            i.replicas,
+            i.kind,
+        ]
+        for i in intervals
     ]
     return _csv(path, header, rows)
 

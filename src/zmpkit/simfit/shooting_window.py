@@ -45,8 +45,11 @@ window starts :data:`REPLICA_LEADS` ``[k]`` burn-ins earlier, from the state mea
 (:attr:`ShootingWindow.replicas`), so at the window's start it carries developed unmeasured
 states and a replay's drift, as the robot did, while the fit's rollout starts from the
 measured state: the floor holds the shooting's start-state error, and the replicas' spread
-(different leads, different start errors) the intervals'
-(:mod:`~zmpkit.simfit.noise_intervals`), not only the sensors' noise. A log's first window
+(different leads, different start errors) the noise-only intervals'
+(:mod:`~zmpkit.simfit.noise_intervals`), not only the sensors' noise. These replicas are
+not themselves cut from a log their own sensors measured, so they miss what that start-state
+estimation does to the estimate; a log ``zmpkit walk`` wrote is walked again and re-cut for
+the intervals instead (:mod:`~zmpkit.simfit.pipeline_replicas`). A log's first window
 has no earlier state and is its own replica (its floor holds the sensors' noise only).
 
 **A walk that fell** (IMU pitch or roll past
@@ -153,6 +156,8 @@ class ShootingWindow:
         replicas: the same scored rows replayed from the states measured
             :data:`REPLICA_LEADS` burn-ins earlier (module docstring), for the noise floor;
             none for a log's first window.
+        source: the file of the log (``""`` when not read from a file).
+        window_s: the window length the log was cut with [s].
     """
 
     name: str
@@ -164,6 +169,8 @@ class ShootingWindow:
     burn_in_s: float
     log_name: str = ""
     replicas: tuple[ShootingWindow, ...] = ()
+    source: str = ""
+    window_s: float = DEFAULT_WINDOW_S
 
 
 def check_window(window_s: float, burn_in_s: float) -> None:
@@ -335,7 +342,7 @@ def _window(
                 burn_in_s=float(time[scored] - time[row]),
             )
         )
-    return replace(window, replicas=tuple(replicas))
+    return replace(window, replicas=tuple(replicas), source=log.source, window_s=window_s)
 
 
 def replica_experiment(experiment: T, k: int) -> T:

@@ -1,0 +1,208 @@
+r"""95 % intervals that hold the estimator's bias: re-fits of replicas through the pipeline.
+
+The noise-only intervals (:mod:`~zmpkit.simfit.noise_intervals`) assume the estimate
+scatters about the truth. A walk log's multiple shooting does not: its windows start from
+measured states with the unmeasured ones at zero, and the estimate moves by a **bias**
+:math:`b` that no noise seed removes (:mod:`~zmpkit.simfit.pipeline_replicas`). Model the
+estimate of parameter :math:`i`, relative to a scale :math:`s_i` (:math:`|\hat\theta_i|`,
+or the parameter's range where the estimate is zero), as
+
+.. math:: \hat\theta = \theta + s\,(b + e), \qquad e \sim (0, \sigma^2),
+
+with :math:`b` constant near the fit. Replica :math:`k` is the data's pipeline run on a
+robot that *is* the fit :math:`\hat\theta` (recorded through the same controller, sensors
+and window start-state estimation, another noise seed) and re-fitted with every parameter
+free (:mod:`~zmpkit.simfit.local_refit`): :math:`\hat\theta_k = \hat\theta + s(b + e_k)`.
+Their relative moves :math:`\delta_k = (\hat\theta_k - \hat\theta) / s` estimate the bias
+and the scatter,
+
+.. math:: \hat b = \bar\delta, \qquad \hat\sigma^2 = \tfrac{1}{K-1}\textstyle\sum_k
+          (\delta_k - \bar\delta)^2 .
+
+The bias-corrected estimate :math:`\tilde\theta = \hat\theta - s\hat b = \theta + s(e - \bar e)`
+has variance :math:`s^2\sigma^2 (1 + 1/K)`, so the 95 % interval is
+
+.. math:: \hat\theta + s\left(-\hat b \pm t_{0.975,\,K-1}\,\hat\sigma\sqrt{1 + 1/K}\right)
+
+(Student's :math:`t` with the replicas' :math:`K - 1` degrees of freedom). Nothing is
+widened by a chosen factor: the width is the replicas' scatter, the shift their mean move.
+Because every parameter is re-fitted in every replica, an interval is that of a profile
+with the others re-fitted, and a trade-off between two parameters (a softer gear against a
+stiffer servo) moves both together. A profile of the data's own cost could not do this: it
+is centred on the biased minimum whatever threshold it is given.
+
+It assumes the bias is the same at the fit as at the truth (it changes slowly with the
+parameters) and that the replicas' robot differs from the real one only in the fitted
+parameters; with fewer than two re-fitted replicas the interval is not measured (NaN). The
+replicas are re-fitted locally (:mod:`~zmpkit.simfit.local_refit`), so a global fit that
+jumps between distant minima of a multi-modal cost moves more than they show: measured on
+five held-out truths of the built-in walker (three walks each), 8 of 10 intervals covered
+the truth, both misses a stiff gear fitted 9–10 % low by CMA-ES into another minimum.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+from scipy.stats import t as student_t
+
+from zmpkit.robots.fit_parameter import FitParameter
+from zmpkit.simfit.local_refit import local_refit
+from zmpkit.simfit.noise_intervals import CONFIDENCE, NoiseInterval
+from zmpkit.simfit.pipeline_replicas import pipeline_replica, walk_settings
+from zmpkit.simfit.problem import FitProblem
+
+__all__ = [
+    "REFIT_REPLICAS",
+    "ParameterInterval",
+    "RefitInterval",
+    "interval_scales",
+    "refit_intervals",
+    "replica_intervals",
+]
+
+REFIT_REPLICAS = 6
+r"""Replicas recorded and re-fitted [-]: six make the interval
+:math:`t_{0.975,5}\sqrt{7/6} = 2.78` scatters wide, four 3.56."""
+
+
+@dataclass(frozen=True)
+class RefitInterval:
+    r"""One parameter's bias-corrected 95 % interval (module docstring).
+
+    Attributes:
+        name: the parameter.
+        value: the fitted value :math:`\hat\theta` [unit].
+        scale: :math:`s` [unit].
+        moves: the replicas' relative moves :math:`\delta_k` [-].
+    """
+
+    name: str
+    value: float
+    scale: float
+    moves: tuple[float, ...]
+
+    @property
+    def replicas(self) -> int:
+        """Re-fitted replicas :math:`K` [-]."""
+        return len(self.moves)
+
+    @property
+    def bias(self) -> float:
+        r""":math:`\hat b`, the estimator's mean relative move [-]; NaN without replicas."""
+        return float(np.mean(self.moves)) if self.moves else math.nan
+
+    @property
+    def spread(self) -> float:
+        r""":math:`\hat\sigma` [-]; NaN with fewer than two replicas."""
+        return float(np.std(self.moves, ddof=1)) if len(self.moves) > 1 else math.nan
+
+    @property
+    def half_width(self) -> float:
+        r"""Relative half-width :math:`t_{0.975,K-1}\hat\sigma\sqrt{1+1/K}` [-] (NaN unmeasured)."""
+        if self.replicas < 2 or not math.isfinite(self.spread):
+            return math.nan
+        t = float(student_t.ppf(0.5 + CONFIDENCE / 2.0, self.replicas - 1))
+        return t * self.spread * math.sqrt(1.0 + 1.0 / self.replicas)
+
+    @property
+    def corrected(self) -> float:
+        r"""The bias-corrected estimate :math:`\hat\theta - s\hat b` [unit]."""
+        return self.value - self.scale * self.bias
+
+    @property
+    def lower(self) -> float:
+        """Lower end [unit] (NaN when not measured)."""
+        return self.corrected - self.scale * self.half_width
+
+    @property
+    def upper(self) -> float:
+        """Upper end [unit] (NaN when not measured)."""
+        return self.corrected + self.scale * self.half_width
+
+    @property
+    def kind(self) -> str:
+        """``pipeline_refits``."""
+        return "pipeline_refits"
+
+    @property
+    def method(self) -> str:
+        """What the interval is, in words."""
+        return (
+            f"bias-corrected: {self.replicas} replicas of the fitted model walked again "
+            "through the data's pipeline (controller, sensors, windows), each re-fitted; it "
+            "holds the noise and the estimator's bias as those replicas show them"
+        )
+
+    def covers(self, value: float) -> bool:
+        """Whether ``value`` [unit] lies in the interval (False when not measured)."""
+        return bool(self.lower <= value <= self.upper)
+
+
+ParameterInterval = NoiseInterval | RefitInterval
+"""A fitted parameter's 95 % interval, either kind (its ``method`` says which)."""
+
+
+def replica_intervals(
+    names: Sequence[str], values: Sequence[float], scales: Sequence[float], estimates: NDArray
+) -> tuple[RefitInterval, ...]:
+    r"""Every parameter's interval from the replicas' re-fits (module docstring).
+
+    Args:
+        names: the parameters.
+        values: the fit :math:`\hat\theta` [units].
+        scales: :math:`s` [units].
+        estimates: ``(K, n)`` re-fitted values :math:`\hat\theta_k` [units].
+    """
+    v, s = np.asarray(values, dtype=float), np.asarray(scales, dtype=float)
+    moves = (np.asarray(estimates, dtype=float).reshape(-1, v.size) - v) / s
+    return tuple(
+        RefitInterval(n, float(v[i]), float(s[i]), tuple(float(m) for m in moves[:, i]))
+        for i, n in enumerate(names)
+    )
+
+
+def interval_scales(parameters: Sequence[FitParameter], values: Sequence[float]) -> list[float]:
+    """:math:`s`: ``|value|``, or the parameter's range where the value is zero [units]."""
+    pairs = zip(parameters, values, strict=True)
+    return [abs(v) if v != 0.0 else p.upper - p.lower for p, v in pairs]
+
+
+def refit_intervals(
+    problem: FitProblem,
+    values: Sequence[float],
+    replicas: int = REFIT_REPLICAS,
+    progress: Callable[[int, int], None] | None = None,
+) -> tuple[RefitInterval, ...] | None:
+    """Every parameter's bias-corrected interval of the fit (module docstring).
+
+    Runs ``replicas`` recorded walks per log and a local re-fit of each, in this process.
+
+    Args:
+        problem: the fit problem.
+        values: the fitted values [units].
+        replicas: replicas to record and re-fit [-].
+        progress: called with (replicas done, replicas) after each.
+
+    Returns:
+        The intervals; None unless every experiment is a window of a log that ``zmpkit walk``
+        wrote with a feedback controller
+        (:func:`~zmpkit.simfit.pipeline_replicas.walk_settings`).
+    """
+    settings = walk_settings(problem)
+    if settings is None:
+        return None
+    estimates = []
+    for k in range(replicas):
+        replica = pipeline_replica(problem, values, k, settings)
+        if replica is not None:
+            estimates.append(local_refit(replica, values).values)
+        if progress is not None:
+            progress(k + 1, replicas)
+    names = [p.name for p in problem.parameters]
+    scales = interval_scales(problem.parameters, values)
+    return replica_intervals(names, values, scales, np.array(estimates))
