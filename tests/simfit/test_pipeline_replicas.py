@@ -85,3 +85,16 @@ def test_the_intervals_of_a_walk_log_are_bias_corrected_refits(walk: Path) -> No
         assert math.isfinite(interval.half_width)
         assert interval.lower < interval.corrected < interval.upper
         assert interval.value == value
+
+
+@pytest.mark.slow
+def test_replicas_on_two_processes_give_the_same_intervals(walk: Path) -> None:
+    problem = _problem([walk / WALK_LOG_FILE])
+    nominal = [p.nominal for p in PARAMS]
+    done: list[int] = []
+    serial = refit_intervals(problem, nominal, 2)
+    pooled = refit_intervals(problem, nominal, 2, lambda k, n: done.append(k), workers=2)
+    assert serial is not None
+    assert pooled is not None
+    assert sorted(done) == [1, 2]
+    assert [i.moves for i in pooled] == [i.moves for i in serial]

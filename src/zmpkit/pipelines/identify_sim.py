@@ -299,7 +299,9 @@ def _intervals(
     """The bias-corrected intervals; None where the data's pipeline cannot be re-run."""
     if config.interval_replicas == 0:
         return None
-    return refit_intervals(problem, best.tolist(), config.interval_replicas, progress)
+    return refit_intervals(
+        problem, best.tolist(), config.interval_replicas, progress, config.workers
+    )
 
 
 def replay_experiments(

@@ -43,7 +43,9 @@ the truth, both misses a stiff gear fitted 9–10 % low by CMA-ES into another m
 from __future__ import annotations
 
 import math
+import multiprocessing
 from collections.abc import Callable, Sequence
+from concurrent.futures import ProcessPoolExecutor, as_completed
 from dataclasses import dataclass
 
 import numpy as np
@@ -51,6 +53,7 @@ from numpy.typing import NDArray
 from scipy.stats import t as student_t
 
 from zmpkit.robots.fit_parameter import FitParameter
+from zmpkit.simfit.closed_loop import WalkSettings
 from zmpkit.simfit.local_refit import local_refit
 from zmpkit.simfit.noise_intervals import CONFIDENCE, NoiseInterval
 from zmpkit.simfit.pipeline_replicas import pipeline_replica, walk_settings
@@ -62,6 +65,7 @@ __all__ = [
     "RefitInterval",
     "interval_scales",
     "refit_intervals",
+    "replica_estimate",
     "replica_intervals",
 ]
 
@@ -177,16 +181,20 @@ def refit_intervals(
     values: Sequence[float],
     replicas: int = REFIT_REPLICAS,
     progress: Callable[[int, int], None] | None = None,
+    workers: int = 1,
 ) -> tuple[RefitInterval, ...] | None:
     """Every parameter's bias-corrected interval of the fit (module docstring).
 
-    Runs ``replicas`` recorded walks per log and a local re-fit of each, in this process.
+    Runs ``replicas`` recorded walks per log and a local re-fit of each, on ``workers``
+    processes (each replica is independent and seeded by its number, so any number of
+    workers gives the same intervals).
 
     Args:
         problem: the fit problem.
         values: the fitted values [units].
         replicas: replicas to record and re-fit [-].
         progress: called with (replicas done, replicas) after each.
+        workers: processes; 1 runs them in this process.
 
     Returns:
         The intervals; None unless every experiment is a window of a log that ``zmpkit walk``
@@ -196,13 +204,33 @@ def refit_intervals(
     settings = walk_settings(problem)
     if settings is None:
         return None
-    estimates = []
-    for k in range(replicas):
-        replica = pipeline_replica(problem, values, k, settings)
-        if replica is not None:
-            estimates.append(local_refit(replica, values).values)
-        if progress is not None:
-            progress(k + 1, replicas)
+    start = [float(v) for v in values]
+    found: dict[int, tuple[float, ...] | None] = {}
+    if workers <= 1 or replicas <= 1:
+        for k in range(replicas):
+            found[k] = replica_estimate(problem, start, k, settings)
+            if progress is not None:
+                progress(k + 1, replicas)
+    else:
+        context = multiprocessing.get_context("spawn")
+        with ProcessPoolExecutor(min(workers, replicas), mp_context=context) as pool:
+            futures = {
+                pool.submit(replica_estimate, problem, start, k, settings): k
+                for k in range(replicas)
+            }
+            for future in as_completed(futures):
+                found[futures[future]] = future.result()
+                if progress is not None:
+                    progress(len(found), replicas)
+    estimates = [found[k] for k in range(replicas) if found[k] is not None]
     names = [p.name for p in problem.parameters]
     scales = interval_scales(problem.parameters, values)
     return replica_intervals(names, values, scales, np.array(estimates))
+
+
+def replica_estimate(
+    problem: FitProblem, values: list[float], k: int, settings: dict[str, WalkSettings]
+) -> tuple[float, ...] | None:
+    """Replica ``k`` recorded by the fit at ``values`` and re-fitted; None if it diverged."""
+    replica = pipeline_replica(problem, values, k, settings)
+    return None if replica is None else local_refit(replica, values).values
