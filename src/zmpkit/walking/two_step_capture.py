@@ -24,8 +24,15 @@ nearest the plan's (``u_1^{plan}``) within it is chosen; the second then lands a
 DCM, clipped to its box. When the interval is empty no two steps of this reach capture: the
 first landing goes to the end of its box nearest the interval and the DCM error that is left is
 reported (Koolen et al. 2012's N-step capturability: with ``a_i = -R``, ``b_i = R``, ``m = l =
-0`` the DCM is two-step capturable iff ``|x_0| σ_1 ≤ R (1 + 1/σ_2)``). Scalar arithmetic only:
-a control tick's call allocates nothing; :func:`two_step_capture` wraps both axes in a result.
+0`` the DCM is two-step capturable iff ``|x_0| σ_1 ≤ R (1 + 1/σ_2)``). Scalar arithmetic only
+(no arrays, no loops; only the returned tuple, as with
+:func:`~zmpkit.walking.capture_step.solve_capture`); :func:`two_step_capture` wraps both axes
+in a result.
+
+What a second step buys: ``R/σ_2`` of capturable DCM. On the built-in walker (``z_c`` 0.25 m,
+ω 6.26 1/s, a reach of 0.25 m) a 0.5 s second step adds 1.1 cm (0.261 m against 0.25 m; the
+infinite-step limit ``R σ_2/(σ_2 - 1)`` is the same 0.261 m); shortened to 0.25 s it adds
+5.2 cm (0.302 m), to 0.2 s 7.1 cm. A second step helps only with its timing adapted.
 """
 
 from __future__ import annotations
