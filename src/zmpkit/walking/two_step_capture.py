@@ -33,6 +33,11 @@ What a second step buys: ``R/σ_2`` of capturable DCM. On the built-in walker (`
 ω 6.26 1/s, a reach of 0.25 m) a 0.5 s second step adds 1.1 cm (0.261 m against 0.25 m; the
 infinite-step limit ``R σ_2/(σ_2 - 1)`` is the same 0.261 m); shortened to 0.25 s it adds
 5.2 cm (0.302 m), to 0.2 s 7.1 cm. A second step helps only with its timing adapted.
+
+Not called by the walk yet: the step adjustment (:mod:`~zmpkit.walking.capture_step`) plans
+one step. On the built-in walker the 20 N pushes that still fall with it do so because the
+step after the push touches down mid-swing, 15-20 cm behind its plan, so a second planned
+step would not be carried out either; the swing comes first.
 """
 
 from __future__ import annotations
