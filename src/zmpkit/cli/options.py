@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
+from pathlib import Path
 from typing import Any, TypeVar
 
 import click
@@ -112,3 +113,22 @@ def report_option(function: _F) -> _F:
         show_default=True,
         help="Report format: html (report.html, one self-contained page), md (report.md), both.",
     )(function)
+
+
+def log_source_options(function: _F) -> _F:
+    """``--units PATH`` and ``--time-source header|receive``: how a recorded log is read."""
+    units = click.option(
+        "--units",
+        "units_path",
+        type=click.Path(path_type=Path),
+        help="Units/frames YAML: axis order, signs, N vs daN, N·m vs dN·m, rad vs deg, "
+        "mounting rotation.",
+    )
+    time_source = click.option(
+        "--time-source",
+        type=click.Choice(("header", "receive")),
+        default="header",
+        show_default=True,
+        help="Bags and YARP logs: the message header (sender) stamp or the receive time.",
+    )
+    return units(time_source(function))

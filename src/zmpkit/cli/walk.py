@@ -7,7 +7,7 @@ from pathlib import Path
 import click
 
 from zmpkit.cli.app import format_or_undefined
-from zmpkit.cli.options import report_option
+from zmpkit.cli.options import log_source_options, report_option
 from zmpkit.cli.progress import SimTimeProgress, StageProgress
 from zmpkit.cli.robot_option import robot_option
 from zmpkit.cli.video_option import video_option
@@ -350,19 +350,7 @@ def walk_sweep_command(
     "--joint-names",
     help="YARP only: comma-separated names of the ports' joints, in order.",
 )
-@click.option(
-    "--units",
-    "units_path",
-    type=click.Path(path_type=Path),
-    help="Units/frames YAML of the raw values (YARP streams degrees: say so).",
-)
-@click.option(
-    "--time-source",
-    type=click.Choice(("header", "receive")),
-    default="header",
-    show_default=True,
-    help="The message header (sensor) stamp or the receive time.",
-)
+@log_source_options
 @click.option(
     "--out",
     "out_path",

@@ -6,7 +6,7 @@ from pathlib import Path
 
 import click
 
-from zmpkit.cli.options import Bounded, report_option
+from zmpkit.cli.options import Bounded, log_source_options, report_option
 from zmpkit.cli.robot_option import robot_option
 from zmpkit.io import feet_from_mapping
 from zmpkit.pipelines.zmp_log import run_zmp_log
@@ -21,19 +21,7 @@ __all__ = ["zmp_command"]
 @click.argument("log", type=click.Path(path_type=Path))
 @click.option("--right-topic", help="ROS 2 bag: WrenchStamped topic of the right foot.")
 @click.option("--left-topic", help="ROS 2 bag: WrenchStamped topic of the left foot.")
-@click.option(
-    "--units",
-    "units_path",
-    type=click.Path(path_type=Path),
-    help="Units/frames YAML: axis order, signs, N vs daN, N·m vs dN·m, mounting rotation.",
-)
-@click.option(
-    "--time-source",
-    type=click.Choice(("header", "receive")),
-    default="header",
-    show_default=True,
-    help="Bags and YARP logs: the message header (sender) stamp or the receive time.",
-)
+@log_source_options
 @click.option(
     "--feet",
     "feet_path",
