@@ -111,19 +111,34 @@ class CmaOptions:
         """The first run's population (None: ``cma``'s default)."""
         return self.plan.popsize if self.plan is not None else self.popsize
 
-    def run_generations(self, state: Checkpoint) -> int:
-        """The generations of the current run in ``state`` (its own, within the budget)."""
+    def run_cap(self, restart: int, popsize: int, spent: list[int]) -> int:
+        """Generations of run ``restart`` of ``popsize``, ``spent`` generations before it."""
         if self.plan is None:
             return self.generations
-        before = [r.popsize for r in state.history[: state.run_start]]
-        return self.plan.run_cap(state.restart, int(state.strategy.popsize), before)
+        return self.plan.run_cap(restart, popsize, spent)
 
-    def may_restart(self, state: Checkpoint) -> bool:
-        """Whether the next IPOP run starts after the current one in ``state`` stopped."""
+    def restart_allowed(self, restart: int, popsize: int, spent: list[int]) -> bool:
+        """Whether restart ``restart`` of ``popsize`` runs after the generations ``spent``."""
         if self.plan is None:
-            return state.restart < self.restarts
-        spent = [r.popsize for r in state.history]
-        return self.plan.may_restart(state.restart + 1, 2 * int(state.strategy.popsize), spent)
+            return restart <= self.restarts
+        return self.plan.may_restart(restart, popsize, spent)
+
+
+def _spent(state: Checkpoint, end: int | None = None) -> list[int]:
+    """The population of each generation in ``state``'s history (up to ``end``)."""
+    return [r.popsize for r in state.history[:end]]
+
+
+def _run_generations(state: Checkpoint, options: CmaOptions) -> int:
+    """The generations of the current run in ``state`` (its own, within the budget)."""
+    popsize = int(state.strategy.popsize)
+    return options.run_cap(state.restart, popsize, _spent(state, state.run_start))
+
+
+def _may_restart(state: Checkpoint, options: CmaOptions) -> bool:
+    """Whether the next IPOP run starts after the current one in ``state`` stopped."""
+    popsize = 2 * int(state.strategy.popsize)
+    return options.restart_allowed(state.restart + 1, popsize, _spent(state))
 
 
 @dataclass(frozen=True)
@@ -245,13 +260,13 @@ def _resume_state(problem: FitProblem, options: CmaOptions, resume: Path | None)
 def _progress(state: Checkpoint, options: CmaOptions, wall_per_eval_s: float) -> FitProgress:
     """Progress with the plan of the current and every later run at their full budgets."""
     popsize = int(state.strategy.popsize)
-    left = max(0, state.run_start + options.run_generations(state) - state.generation)
+    left = max(0, state.run_start + _run_generations(state, options) - state.generation)
     evals, planned = left * popsize, state.generation + left
-    spent = [r.popsize for r in state.history] + [popsize] * left
+    spent = _spent(state) + [popsize] * left
     k, size = state.restart, popsize
-    while k < MAX_RESTARTS and _planned_restart(options, k + 1, 2 * size, spent):
+    while k < MAX_RESTARTS and options.restart_allowed(k + 1, 2 * size, spent):
         k, size = k + 1, 2 * size
-        run = _planned_generations(options, k, size, spent)
+        run = options.run_cap(k, size, spent)
         evals, planned = evals + run * size, planned + run
         spent += [size] * run
     return FitProgress(
@@ -263,20 +278,6 @@ def _progress(state: Checkpoint, options: CmaOptions, wall_per_eval_s: float) ->
         state.restart,
         popsize,
     )
-
-
-def _planned_restart(options: CmaOptions, restart: int, popsize: int, spent: list[int]) -> bool:
-    """Whether restart ``restart`` of ``popsize`` would run after ``spent`` generations."""
-    if options.plan is None:
-        return restart <= options.restarts
-    return options.plan.may_restart(restart, popsize, spent)
-
-
-def _planned_generations(options: CmaOptions, restart: int, popsize: int, spent: list[int]) -> int:
-    """The generations restart ``restart`` of ``popsize`` would run after ``spent``."""
-    if options.plan is None:
-        return options.generations
-    return options.plan.run_cap(restart, popsize, spent)
 
 
 def run_cma(
@@ -303,14 +304,14 @@ def run_cma(
     wall_s, evaluated = 0.0, 0
     try:
         while True:
-            while not run_over(state, options.run_generations(state)):
+            while not run_over(state, _run_generations(state, options)):
                 record = _generation(state, problem, evaluator)
                 state.history.append(record)
                 path = save_checkpoint(state, out_dir)
                 wall_s, evaluated = wall_s + record.wall_s, evaluated + record.popsize
                 if progress is not None:
                     progress(_progress(state, options, wall_s / evaluated))
-            if not options.may_restart(state):
+            if not _may_restart(state, options):
                 break
             restart(state, options.seed, options.sigma0)
             path = save_checkpoint(state, out_dir)
