@@ -50,6 +50,12 @@ def test_window_reaches_the_fit(tmp_path: Path, seen: list) -> None:
     assert _fit_config(tmp_path, seen).window_s == 1.2
 
 
+def test_burn_in_reaches_the_fit(tmp_path: Path, seen: list) -> None:
+    config = _fit_config(tmp_path, seen, "--window", "2", "--burn-in", "1")
+    assert (config.window_s, config.burn_in_s) == (2.0, 1.0)
+    assert _fit_config(tmp_path, seen).burn_in_s == 0.3
+
+
 def test_interval_replicas_reach_the_fit(tmp_path: Path, seen: list) -> None:
     assert _fit_config(tmp_path, seen, "--interval-replicas", "0").interval_replicas == 0
     assert _fit_config(tmp_path, seen).interval_replicas == REFIT_REPLICAS
@@ -68,6 +74,12 @@ def test_a_window_not_longer_than_its_burn_in_is_refused(
 ) -> None:
     assert main(["identify", "sim", "--self-test", "--window", "0.3", "--out", str(tmp_path)]) == 2
     assert "--window" in capsys.readouterr().err
+    argv = ["identify", "sim", "--self-test", "--window", "1", "--burn-in", "1.5"]
+    assert main([*argv, "--out", str(tmp_path / "o")]) == 2
+    error = capsys.readouterr().err
+    assert "--burn-in 1.5 s" in error
+    assert "Traceback" not in error
+    assert not (tmp_path / "o").exists()
 
 
 def test_the_interval_line_says_its_centre_and_bias_when_corrected() -> None:

@@ -161,11 +161,21 @@ def identify_balance_command(
 @click.option(
     "--window",
     "window_s",
-    type=Bounded(DEFAULT_BURN_IN_S, 60.0, "s", low_open=True),
+    type=Bounded(0.0, 60.0, "s", low_open=True),
     default=DEFAULT_WINDOW_S,
     show_default=True,
     help="A walk log's multiple-shooting windows [s], each replayed from its measured state "
-    f"(its first {DEFAULT_BURN_IN_S:g} s not scored).",
+    "(its first --burn-in not scored).",
+)
+@click.option(
+    "--burn-in",
+    "burn_in_s",
+    type=Bounded(0.0, 30.0, "s"),
+    default=DEFAULT_BURN_IN_S,
+    show_default=True,
+    help="The unscored start of each multiple-shooting window [s], shorter than --window: "
+    "long enough for what the sensors do not see to settle (longer on a heavy, compliant "
+    "robot).",
 )
 @click.option(
     "--interval-replicas",
@@ -195,6 +205,7 @@ def identify_sim_command(
     sensor_readings: str,
     held_out: tuple[Path, ...],
     window_s: float,
+    burn_in_s: float,
     interval_replicas: int,
     report_format: str,
 ) -> None:
@@ -221,6 +232,7 @@ def identify_sim_command(
         self_test=self_test,
         sensor_readings=sensor_readings,
         window_s=window_s,
+        burn_in_s=burn_in_s,
         interval_replicas=interval_replicas,
     )
     try:

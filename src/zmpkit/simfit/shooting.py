@@ -3,8 +3,9 @@ r"""One window of a walk log replayed on a candidate simulator (multiple shootin
 The candidate's simulation starts from the window's measured state
 (:class:`~zmpkit.simfit.shooting_window.WindowStart`): the driven joints at the encoder
 angles and speeds, the base placed by the IMU and the stance sole
-(:meth:`~zmpkit.simfit.log_kinematics.LogKinematics.place_base`), every unmeasured state
-(gear deflection, link flex, the drives' integral and current: MuJoCo's ``act``) at zero,
+(:meth:`~zmpkit.simfit.log_kinematics.LogKinematics.place_base`), the gear deflection and
+link flex at their equilibrium under the measured load (:mod:`~zmpkit.simfit.loaded_start`),
+the drives' integrals summed from the log, their current (MuJoCo's ``act``) at zero,
 the servo's setpoint at the first command moving at the commands' speed. Then its drives
 get the recorded commands, linearly interpolated to every physics tick as ``zmpkit walk``
 streams its frames, open loop: the same for every candidate. At each scored row the
@@ -27,6 +28,7 @@ from zmpkit.errors import SimulationDivergedError
 from zmpkit.experiments.walk_trial import FALL_TILT_RAD
 from zmpkit.sensors.imu import quaternion_pitch_roll
 from zmpkit.sim.world import Simulation
+from zmpkit.simfit.loaded_start import settle_compliance
 from zmpkit.simfit.log_kinematics import FEET, LogKinematics
 from zmpkit.simfit.recorded import RecordedSignals
 from zmpkit.simfit.shooting_window import ShootingWindow
@@ -48,6 +50,9 @@ def start_window(window: ShootingWindow, sim: Simulation) -> LogKinematics:
     for k, joint in enumerate(sim.joint_names):
         data.qpos[int(model.joint(joint).qposadr[0])] = start.q_rad[k]
         data.qvel[int(model.joint(joint).dofadr[0])] = start.dq_rad_s[k]
+    kinematics.place_base(model, data, start.imu_quat_wxyz, start.gyro_rps, start.stance)
+    wrenches = dict(zip(FEET, start.wrenches, strict=True))
+    settle_compliance(model, data, sim.robot.driven_joints, sim.robot.feet, wrenches)
     kinematics.place_base(model, data, start.imu_quat_wxyz, start.gyro_rps, start.stance)
     drive_integrals(sim, start.error_steps_rad_s)
     data.time = float(window.command_time_s[0])

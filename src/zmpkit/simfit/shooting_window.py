@@ -29,9 +29,13 @@ Consecutive windows overlap by the burn-in, so their scored parts tile the log.
   (:mod:`~zmpkit.simfit.shooting`): the built-in walker's integral gain is a hundredth of its
   proportional one per second, so its integral remembers the whole walk and no burn-in
   would settle it;
-- what else no sensor sees — gear deflection, link flex, the winding current — starts at
-  zero. The burn-in lets it settle (the gear's and drive's time constants are
-  milliseconds, the F-T filter's 8 ms; :data:`DEFAULT_WINDOW_S` says how long was needed).
+- the gear deflections and link flex, which no sensor sees: at the candidate's own
+  quasi-static equilibrium under the load the F-T sensors measured
+  (:mod:`~zmpkit.simfit.loaded_start`; started at zero, their release rang through the
+  window and pulled the fit towards stiff candidates);
+- what else no sensor sees — the winding current, the compliance's speeds — starts at
+  zero. The burn-in lets it settle (the drive's time constants are milliseconds, the F-T
+  filter's 8 ms; :data:`DEFAULT_WINDOW_S` says how long was needed).
 
 **Windows where the robot stood** are dropped: each window's cost is normalised by its own
 recorded variation (:mod:`~zmpkit.simfit.cost`: tracking error, ZMP about its trend, trunk
@@ -128,6 +132,8 @@ class WindowStart:
             start, :math:`\tfrac12 (e_{i-1} + e_i)(t_i - t_{i-1})` with
             :math:`e = q_{cmd} - q_{enc}` at the joint [rad·s], shape (rows, J): what the
             drives' integral terms summed (module docstring).
+        wrenches: the feet's F-T readings, in :data:`FEET` order [N, N·m], shape (2, 6):
+            the load the unmeasured compliance carried (:mod:`~zmpkit.simfit.loaded_start`).
     """
 
     q_rad: NDArray[np.float64]
@@ -136,6 +142,7 @@ class WindowStart:
     gyro_rps: NDArray[np.float64]
     stance: int
     error_steps_rad_s: NDArray[np.float64]
+    wrenches: NDArray[np.float64]
 
 
 @dataclass(frozen=True, eq=False)
@@ -177,8 +184,8 @@ def check_window(window_s: float, burn_in_s: float) -> None:
     """Raise :class:`~zmpkit.errors.ParameterError` unless 0 <= burn-in < window < inf [s]."""
     if not (0.0 <= burn_in_s < window_s < math.inf):
         raise ParameterError(
-            f"the window ({window_s:g} s) must be finite and longer than its burn-in "
-            f"({burn_in_s:g} s)"
+            f"the window (--window {window_s:g} s) must be finite and longer than its "
+            f"burn-in (--burn-in {burn_in_s:g} s, at least 0)"
         )
 
 
@@ -296,6 +303,7 @@ def _started(log: WalkLog, a: float, threshold_n: float) -> tuple[int, WindowSta
         _gyro(log, first),
         int(np.argmax(fz)),
         steps,
+        np.stack([log.wrench(f)[first] for f in FEET]),
     )
 
 
