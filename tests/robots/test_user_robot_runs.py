@@ -17,6 +17,7 @@ import pytest
 from helpers.biped import BIPED_MJCF, LEG_M
 from zmpkit.cli import main
 from zmpkit.errors import InputFileError, ParameterError
+from zmpkit.experiments.walk_dataset import read_series
 from zmpkit.identify.params import BalanceParams
 from zmpkit.pipelines.identify_balance import run_identify_balance
 from zmpkit.robots.registry import get_robot
@@ -59,6 +60,11 @@ def test_init_check_balance_sweep_and_walk(
     summary = json.loads((walk / "summary.json").read_text(encoding="utf-8"))
     assert not summary["fell"]
     assert summary["mean_speed_mps"] == pytest.approx(0.2, rel=0.15)
+    joints = get_robot(robot_yaml).require_walking().series_joints  # its time series reads
+    header, table = read_series(walk / "timeseries.csv", joints)  # with its own joints' columns
+    assert header[1:4] == [f"{joints[0]}_{q}" for q in ("cmd_rad", "meas_rad", "torque_nm")]
+    assert joints[0].startswith("l_")
+    assert table.shape[1] == len(header)
 
 
 @pytest.mark.slow

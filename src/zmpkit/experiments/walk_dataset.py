@@ -133,8 +133,14 @@ def write_walk_folder(
     return folder
 
 
-def read_series(path: Path) -> tuple[list[str], NDArray[np.float64]]:
+def read_series(
+    path: Path, joints: Sequence[str] = PITCH_JOINTS
+) -> tuple[list[str], NDArray[np.float64]]:
     """Read a walk's time series: its header and its rows (NaN for an empty ZMP field).
+
+    Args:
+        path: the ``timeseries.csv``.
+        joints: the walking robot's ``series_joints`` (:func:`series_columns`).
 
     Raises:
         InputFileError: on a missing column, a short row or a cell that is not a number.
@@ -144,9 +150,10 @@ def read_series(path: Path) -> tuple[list[str], NDArray[np.float64]]:
     except OSError as exc:
         raise InputFileError(path, f"cannot read the walk time series: {exc}") from None
     header = lines[0].split(",") if lines else []
-    missing = [c for c in SERIES_COLUMNS if c not in header]
+    expected = series_columns(joints)
+    missing = [c for c in expected if c not in header]
     if missing:
-        raise InputFileError(path, f"missing columns {missing[:4]}; expected {SERIES_COLUMNS}")
+        raise InputFileError(path, f"missing columns {missing[:4]}; expected {expected}")
     rows = []
     for number, line in enumerate(lines[1:], start=2):
         cells = line.split(",")

@@ -198,7 +198,7 @@ def read_walk_folder(folder: str | Path, robot: Robot) -> WalkExperiment:
     summary = _read_summary(folder)
     path = folder / SERIES_FILE
     joints = robot.require_walking().series_joints or PITCH_JOINTS
-    header, table = read_series(path)
+    header, table = read_series(path, joints)
     signals = _walk_signals(path, header, table, tuple(joints))
     speed = float(summary["commanded_speed_mps"])
     step_s = 1.0 / float(summary["step_frequency_hz"])
