@@ -21,6 +21,7 @@ from zmpkit.experiments.walk_dataset import read_series
 from zmpkit.identify.params import BalanceParams
 from zmpkit.pipelines.identify_balance import run_identify_balance
 from zmpkit.robots.registry import get_robot
+from zmpkit.simfit.experiments import read_walk_folder
 
 
 def test_the_walking_defaults_and_balance_model_come_from_the_model(robot_yaml: Path) -> None:
@@ -65,6 +66,8 @@ def test_init_check_balance_sweep_and_walk(
     assert header[1:4] == [f"{joints[0]}_{q}" for q in ("cmd_rad", "meas_rad", "torque_nm")]
     assert joints[0].startswith("l_")
     assert table.shape[1] == len(header)
+    experiment = read_walk_folder(walk, get_robot(robot_yaml))  # a fit re-plans its commands
+    assert experiment.signals.joint_names == joints
 
 
 @pytest.mark.slow

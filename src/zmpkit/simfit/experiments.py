@@ -206,7 +206,7 @@ def read_walk_folder(folder: str | Path, robot: Robot) -> WalkExperiment:
     effects = _recorded_effects(folder / SUMMARY_FILE, summary)
     settings = None
     if summary.get("controller", "open") == "open":
-        match = match_walk_plan(robot, path, speed, step_s, signals, fell)
+        match = match_walk_plan(robot, path, speed, step_s, signals, fell, effects or "all")
     else:
         settings = _walk_settings(summary, robot, speed, step_s, effects or "all")
         references = table[:, [header.index(c) for c in _REFERENCE_COLUMNS]]
@@ -311,7 +311,8 @@ def read_experiments(
     walks takes step datasets too (a designed double-support experiment,
     :mod:`zmpkit.experiments.double_support`, is one): a folder with ``meta.json`` is read as
     one. A walk log (a ``.csv`` or ``.parquet`` file, or a folder with ``walk_log.csv`` and
-    no ``summary.json``) is cut into windows of ``window_s`` [s] with an unscored
+    no ``summary.json``; on a robot that replays steps, a ``zmpkit walk`` folder's
+    ``walk_log.csv`` too) is cut into windows of ``window_s`` [s] with an unscored
     ``burn_in_s`` [s], each one experiment.
 
     Raises:
@@ -323,7 +324,7 @@ def read_experiments(
     out: list[Experiment] = []
     for item in folders:
         folder = Path(item)
-        log = walk_log_path(folder)
+        log = walk_log_path(folder, walk_folders=kind != "walk")
         if log is not None:
             out.extend(read_log_windows(log, robot, window_s, burn_in_s))
             continue

@@ -23,16 +23,17 @@ LOG_SUFFIXES = (".csv", ".parquet")
 """A walk log's file suffixes."""
 
 
-def walk_log_path(path: Path) -> Path | None:
+def walk_log_path(path: Path, walk_folders: bool = False) -> Path | None:
     """The walk log ``path`` names (itself, or a folder's :data:`WALK_LOG_FILE`), or None.
 
     A ``zmpkit walk`` folder (it holds ``summary.json``) is no log: its walk is re-simulated
     from its command (:mod:`~zmpkit.simfit.experiments`); pass its ``walk_log.csv`` to fit
-    the log instead.
+    the log instead. With ``walk_folders`` (a robot whose fit replays steps, not walks) such
+    a folder's log is returned: its walk is fitted by multiple shooting.
     """
     if path.suffix in LOG_SUFFIXES and not path.is_dir():
         return path
-    if path.is_dir() and not (path / SUMMARY_FILE).exists():
+    if path.is_dir() and (walk_folders or not (path / SUMMARY_FILE).exists()):
         for suffix in LOG_SUFFIXES:
             found = path / Path(WALK_LOG_FILE).with_suffix(suffix).name
             if found.exists():

@@ -112,13 +112,14 @@ def _pose(experiment: Experiment, sim: Simulation) -> None:
         start_pose(sim, walk_trajectory(*_walk_key(experiment)))
 
 
-def _walk_key(experiment: WalkExperiment) -> tuple[Robot, float, float, float, float]:
+def _walk_key(experiment: WalkExperiment) -> tuple[Robot, float, float, float, float, str]:
     return (
         experiment.robot,
         experiment.speed_mps,
         experiment.step_duration_s,
         experiment.duration_s,
         experiment.com_height_m,
+        experiment.effects or "all",
     )
 
 

@@ -79,6 +79,7 @@ def _walk(
                 experiment.step_duration_s,
                 experiment.duration_s,
                 experiment.com_height_m,
+                experiment.effects or "all",
             )
             sim = robot.make_simulation(effects, truth, seed=noise_seed or 0)
             record = simulate_walk(sim, trajectory)

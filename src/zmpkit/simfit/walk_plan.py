@@ -30,11 +30,14 @@ import numpy as np
 from numpy.typing import NDArray
 
 from zmpkit.errors import InputFileError
+from zmpkit.experiments.walk import soft_servo_stiffness
+from zmpkit.experiments.walk_config import WalkConfig
 from zmpkit.robots.robot import Robot
 from zmpkit.simfit.closed_loop import WalkSettings, planned_references
 from zmpkit.simfit.recorded import RecordedSignals
-from zmpkit.walking import GaitParameters, PatternConfig, WalkCommand, generate_pattern
+from zmpkit.walking import generate_pattern
 from zmpkit.walking.ik import JointTrajectory, solve_walking_ik
+from zmpkit.walking.servo_feedforward import servo_compliance_offsets
 
 __all__ = [
     "COMMAND_TOLERANCE_RAD",
@@ -116,25 +119,42 @@ def _kept_rows(path: Path, time_s: NDArray[np.float64], end: int) -> int:
 
 @lru_cache(maxsize=16)
 def walk_trajectory(
-    robot: Robot, speed_mps: float, step_duration_s: float, duration_s: float, com_height_m: float
+    robot: Robot,
+    speed_mps: float,
+    step_duration_s: float,
+    duration_s: float,
+    com_height_m: float,
+    effects: str | None = None,
 ) -> JointTrajectory:
-    """Pattern + IK of ``robot``'s walk (cached) [rad per joint per motion frame]."""
-    config = PatternConfig(
-        command=WalkCommand(v_x=speed_mps),
-        duration_s=duration_s,
-        gait=GaitParameters(step_duration_s=step_duration_s),
-        com_height_m=com_height_m,
-    )
-    return solve_walking_ik(generate_pattern(config), robot.ik_model(), robot.ik_settings)
+    r"""The joint targets of ``robot``'s open-loop walk (cached) [rad per joint per frame].
+
+    The pattern's whole-body IK; with ``effects`` (the walk's, ``summary.json``), on a robot
+    whose soft P-only servos the walk pre-loads
+    (:func:`~zmpkit.experiments.walk.soft_servo_stiffness`), plus the feed-forward offsets
+    :math:`(\tau_{ff} + b \dot q) / k` that ``zmpkit walk`` added from the first frame after
+    its start pose (the start pose is the plan's own).
+    """
+    config = WalkConfig(
+        robot, speed_mps, step_duration_s, duration_s, com_height_m=com_height_m
+    ).pattern_config()
+    pattern = generate_pattern(config)
+    trajectory = solve_walking_ik(pattern, robot.ik_model(), robot.ik_settings)
+    walking = robot.require_walking()
+    stiffness = None if effects is None else soft_servo_stiffness(walking, effects)
+    if stiffness is None:
+        return trajectory
+    offsets = servo_compliance_offsets(
+        pattern, trajectory, robot.ik_model(), robot.ik_settings, stiffness,
+        walking.servo_damping_nm_s_per_rad,
+    )  # fmt: skip
+    offsets[0] = 0.0
+    return replace(trajectory, q_rad=trajectory.q_rad + offsets)
 
 
-def _pattern_end(speed_mps: float, step_duration_s: float, duration_s: float) -> float:
-
-    config = PatternConfig(
-        command=WalkCommand(v_x=speed_mps),
-        duration_s=duration_s,
-        gait=GaitParameters(step_duration_s=step_duration_s),
-    )
+def _pattern_end(
+    robot: Robot, speed_mps: float, step_duration_s: float, duration_s: float
+) -> float:
+    config = WalkConfig(robot, speed_mps, step_duration_s, duration_s).pattern_config()
     return float(generate_pattern(config).time_s[-1])
 
 
@@ -167,19 +187,24 @@ def match_walk_plan(
     step_duration_s: float,
     signals: RecordedSignals,
     fell: bool = False,
+    effects: str | None = None,
 ) -> PlanMatch:
     """The open-loop plan whose commanded angles reproduce the recorded ones.
+
+    ``effects``: the effects the walk ran with (:func:`walk_trajectory`), None if unknown.
 
     Raises:
         InputFileError: naming ``path`` if no plan reproduces the commanded angles.
     """
-    overhead = _pattern_end(speed_mps, step_duration_s, _PROBE_DURATION_S) - _PROBE_DURATION_S
+    overhead = (
+        _pattern_end(robot, speed_mps, step_duration_s, _PROBE_DURATION_S) - _PROBE_DURATION_S
+    )
     height = robot.require_walking().com_height_m
     names = signals.joint_names
     recorded = signals.q_cmd_rad
 
     def planned_of(duration: float) -> NDArray[np.float64]:
-        trajectory = walk_trajectory(robot, speed_mps, step_duration_s, duration, height)
+        trajectory = walk_trajectory(robot, speed_mps, step_duration_s, duration, height, effects)
         return trajectory.q_rad[:, [trajectory.joint_names.index(j) for j in names]]
 
     t_last = float(signals.time_s[-1])
