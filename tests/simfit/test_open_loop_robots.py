@@ -13,7 +13,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from zmpkit.cli import main
+from zmpkit.experiments.walk import run_walk_trial
+from zmpkit.experiments.walk_config import WalkConfig
+from zmpkit.experiments.walk_dataset import SERIES_FILE, SUMMARY_FILE, write_series, write_summary
+from zmpkit.experiments.walk_log import WALK_LOG_FILE, walk_log_from_record, write_walk_log
 from zmpkit.robots.registry import get_robot
 from zmpkit.simfit.cost import experiment_cost
 from zmpkit.simfit.experiments import read_experiments, read_walk_folder
@@ -27,9 +30,17 @@ SEED = 5
 
 @pytest.fixture(scope="module")
 def op3_open_walk(tmp_path_factory: pytest.TempPathFactory) -> Path:
-    out = tmp_path_factory.mktemp("op3_open") / "walk"
-    args = ["walk", "--robot", "op3", "--controller", "open", "--effects", "M,G,S"]
-    assert main([*args, "--duration", "2", "--seed", str(SEED), "--out", str(out)]) == 0
+    """An open-loop OP3 walk written as ``zmpkit walk`` writes it (no figures, no report)."""
+    config = WalkConfig(
+        robot=OP3, duration_s=1.5, effects="M,G,S", seed=SEED, figures=False, controller="open"
+    )
+    trial = run_walk_trial(config)
+    out = tmp_path_factory.mktemp("op3_open")
+    write_summary(out / SUMMARY_FILE, trial.summary)
+    write_series(
+        out / SERIES_FILE, trial.pattern, trial.record, OP3.require_walking().series_joints
+    )
+    write_walk_log(out / WALK_LOG_FILE, walk_log_from_record(trial.record))
     return out
 
 
