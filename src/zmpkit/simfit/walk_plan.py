@@ -154,6 +154,7 @@ def walk_trajectory(
 def _pattern_end(
     robot: Robot, speed_mps: float, step_duration_s: float, duration_s: float
 ) -> float:
+    """When ``robot``'s walk of ``duration_s`` ends, its standing phases included [s]."""
     config = WalkConfig(robot, speed_mps, step_duration_s, duration_s).pattern_config()
     return float(generate_pattern(config).time_s[-1])
 
