@@ -26,6 +26,7 @@ from zmpkit.experiments.walk_trial import start_pose
 from zmpkit.robots.robot import Robot
 from zmpkit.sim.description import RobotDescription
 from zmpkit.sim.world import Simulation
+from zmpkit.simfit.candidate_worlds import CandidateWorlds
 from zmpkit.simfit.experiments import Experiment, StepExperiment, WalkExperiment
 from zmpkit.simfit.rollout import setpoint_table
 from zmpkit.simfit.shooting_window import ShootingWindow
@@ -38,6 +39,7 @@ __all__ = [
     "open_loop_schedule",
     "posed_simulation",
     "posed_simulations",
+    "posed_world_simulations",
 ]
 
 
@@ -102,6 +104,31 @@ def posed_simulations(
                 description = experiment.robot.description(effects, truth)
                 sim = Simulation(description, seed=0)
                 built[experiment.robot] = (description, sim.model)
+            _pose(experiment, sim)
+            out[e].append(sim)
+    return out
+
+
+def posed_world_simulations(
+    experiments: Sequence[Experiment], worlds: CandidateWorlds
+) -> list[list[Simulation]]:
+    """Per experiment, per candidate, :func:`posed_simulation`'s state with no compilation.
+
+    Each candidate's simulation is its description
+    (:meth:`~zmpkit.simfit.candidate_worlds.CandidateWorlds.description_of`: its F-T
+    offsets) on one host copy of the template with its fields written in
+    (:meth:`~zmpkit.sim.world_fields.WorldFields.write_into`), posed there: its data,
+    sensor channels and servo are its own, its ``model`` is that shared copy (the next
+    candidate's fields overwrite it, so read only the layout from it). The posed states
+    and readings are :func:`posed_simulations`'s, bit for bit (tested).
+    """
+    host = copy.copy(worlds.fields.template)
+    out: list[list[Simulation]] = [[] for _ in experiments]
+    for c in range(len(worlds.fields)):
+        worlds.fields.write_into(host, c)
+        description = worlds.description_of(c)
+        for e, experiment in enumerate(experiments):
+            sim = Simulation(description, seed=0, model=host)
             _pose(experiment, sim)
             out[e].append(sim)
     return out

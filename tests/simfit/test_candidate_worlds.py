@@ -1,0 +1,188 @@
+"""Candidates written into one compiled model against each candidate's own compiled MJCF.
+
+The fit's parameters of every effect the catalogues have (NAO: M, I, G, F, S, C; OP3: M, I,
+G, F) are drawn at random in their bounds (hypothesis); every numeric field of each
+candidate's world (the template with its per-world fields, derived ones included) must equal
+the field of the model compiled from that candidate's own MJCF, bit for bit, and the
+simulations on it must read what the compiled ones read, bit for bit. The Warp test
+(``needs_warp``, skipped without ``mujoco_warp``) runs a generation both ways on Warp's CPU
+device: the same costs.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import mujoco
+import numpy as np
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+from helpers.simfit_data import record_walk
+from helpers.warp_reference import model_arrays
+from zmpkit.errors import ParameterError, SimulationDivergedError
+from zmpkit.robots.fit_parameter import fit_parameter
+from zmpkit.robots.registry import get_robot
+from zmpkit.robots.robot import Robot
+from zmpkit.sim.world import Simulation
+from zmpkit.simfit.candidate_worlds import (
+    CandidateValues,
+    CandidateWorlds,
+    candidate_worlds,
+    field_map_gap,
+)
+from zmpkit.simfit.experiments import WalkExperiment, read_experiments
+from zmpkit.simfit.open_loop import posed_simulations, posed_world_simulations
+from zmpkit.simfit.parameters import robot_catalogue
+from zmpkit.simfit.truth_doc import base_truth_path, load_truth_doc
+
+NAO = get_robot("nao")
+EFFECTS = ("M,I,G,F,S", "M,G,S", "G,F", "M,I", "none")
+"""Effect sets the fields are checked under (a rule writes only what the MJCF has)."""
+
+
+def _op3() -> Robot | None:
+    from zmpkit.robots.op3.preset import op3_missing_reason
+
+    return None if op3_missing_reason() else get_robot("op3")
+
+
+OP3 = _op3()
+"""The OP3, where its model (an optional wheel) is installed."""
+
+
+def _candidates(robot: Robot, units: Sequence[Sequence[float]]) -> CandidateValues:
+    """Candidates of ``robot``'s whole catalogue at the normalised ``units``."""
+    params = robot_catalogue(robot)
+    values = np.array([[p.from_unit(u) for p, u in zip(params, row)] for row in units])
+    doc = load_truth_doc(base_truth_path(robot, None))
+    return CandidateValues(robot, params, doc, values)
+
+
+def _units(
+    nparam: int, low: float = 0.0, high: float = 1.0
+) -> st.SearchStrategy[list[list[float]]]:
+    unit = st.floats(low, high, allow_nan=False)
+    return st.lists(st.lists(unit, min_size=nparam, max_size=nparam), min_size=1, max_size=3)
+
+
+@settings(max_examples=12, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(data=st.data())
+def test_each_nao_world_is_the_candidates_compiled_model(data: st.DataObject) -> None:
+    _check_worlds(NAO, data)
+
+
+@pytest.mark.slow
+@pytest.mark.skipif(OP3 is None, reason="the OP3's model is not installed (zmpkit[robots])")
+@settings(max_examples=8, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(data=st.data())
+def test_each_op3_world_is_the_candidates_compiled_model(data: st.DataObject) -> None:
+    assert OP3 is not None
+    _check_worlds(OP3, data)
+
+
+def _check_worlds(robot: Robot, data: st.DataObject) -> None:
+    """Every field of each candidate's world equals its compiled model's, bit for bit."""
+    units = data.draw(_units(len(robot_catalogue(robot))), label="units")
+    effects = data.draw(st.sampled_from(EFFECTS), label="effects")
+    candidates = _candidates(robot, units)
+    worlds = candidate_worlds(candidates, effects)
+    for c in range(len(candidates)):
+        compiled = mujoco.MjModel.from_xml_string(
+            robot.description(effects, candidates.truth(c)).mjcf
+        )
+        want, got = model_arrays(compiled), model_arrays(worlds.fields.model(c))
+        assert want.keys() == got.keys()
+        for name, value in want.items():
+            np.testing.assert_array_equal(got[name], value, err_msg=f"{name}, candidate {c}")
+        description = robot.description(effects, candidates.truth(c))
+        mine = worlds.description_of(c)
+        for foot in description.feet:
+            assert mine.ft_offset(foot.foot) == description.ft_offset(foot.foot)
+
+
+def _run(sim: Simulation) -> list[np.ndarray] | str:
+    """The readings after 15 steps toward a lean (3 F-T samples), or why it diverged."""
+    sim.command([0.02] * len(sim.joint_names))
+    try:
+        sim.step(15)
+    except SimulationDivergedError as exc:
+        return str(exc)
+    feet = [f.foot for f in sim.robot.feet]
+    return [sim.data.qpos.copy(), sim.encoders(), *(sim.ft(f) for f in feet), *sim.imu()]
+
+
+@settings(max_examples=4, deadline=None)
+@given(units=_units(len(robot_catalogue(NAO)), 0.3, 0.7))
+def test_simulations_on_the_worlds_read_as_the_compiled_ones(units: list[list[float]]) -> None:
+    """S on: each candidate's F-T offsets, noise and filter on the host, after 15 steps.
+
+    Mid-range values (the extremes can diverge from the model's initial pose, which
+    would leave no readings to compare).
+    """
+    candidates = _candidates(NAO, units)
+    worlds = candidate_worlds(candidates, "M,I,G,F,S")
+    host = worlds.fields.model(0)
+    for c in range(len(candidates)):
+        worlds.fields.write_into(host, c)
+        got = _run(Simulation(worlds.description_of(c), seed=0, model=host))
+        want = _run(NAO.make_simulation("M,I,G,F,S", candidates.truth(c), seed=0))
+        assert not isinstance(want, str), want
+        assert not isinstance(got, str), got
+        for mine, theirs in zip(got, want, strict=True):
+            np.testing.assert_array_equal(mine, theirs)
+
+
+@pytest.fixture(scope="module")
+def walk(tmp_path_factory: pytest.TempPathFactory) -> WalkExperiment:
+    (experiment,) = read_experiments([record_walk(tmp_path_factory.mktemp("worlds_walk"))], NAO)
+    assert isinstance(experiment, WalkExperiment)
+    return experiment
+
+
+def _posed_state(sim: Simulation) -> list[np.ndarray]:
+    feet = [f.foot for f in sim.robot.feet]
+    state = np.empty(mujoco.mj_stateSize(sim.model, mujoco.mjtState.mjSTATE_FULLPHYSICS))
+    mujoco.mj_getState(sim.model, sim.data, state, mujoco.mjtState.mjSTATE_FULLPHYSICS)
+    return [state, sim.data.sensordata.copy(), *(sim.ft_channel(f).output for f in feet)]
+
+
+def test_posed_worlds_are_the_posed_simulations(walk: WalkExperiment) -> None:
+    candidates = _candidates(NAO, [[0.2] * 13, [0.8] * 13])
+    worlds = candidate_worlds(candidates, "M,I,G,F,S")
+    (mine,) = posed_world_simulations([walk], worlds)
+    (theirs,) = posed_simulations([walk], candidates.truths(), "M,I,G,F,S")
+    for a, b in zip(mine, theirs, strict=True):
+        assert a.servo.position == b.servo.position
+        for got, want in zip(_posed_state(a), _posed_state(b), strict=True):
+            np.testing.assert_array_equal(got, want)
+
+
+def test_a_robot_or_a_parameter_without_a_map_says_why() -> None:
+    teo = get_robot("teo")
+    assert "has no map" in str(field_map_gap(teo, robot_catalogue(teo)))
+    inertia = fit_parameter("G", "gear_inertia", "gear.inertia_link", 1e-3, (1e-4, 1e-2), "kg·m²")
+    gap = field_map_gap(NAO, (*robot_catalogue(NAO), inertia))
+    assert gap == "NAO's field map does not cover the parameters ['gear_inertia']"
+    assert field_map_gap(NAO, robot_catalogue(NAO)) is None
+
+
+def test_a_softening_flex_spring_is_not_mapped() -> None:
+    candidates = _candidates(NAO, [[0.5] * 13])
+    doc = dict(candidates.base_doc)
+    doc["flex"] = [
+        {**e, "softening_torque": 1.0, "stiffness": [e["stiffness"][0], 0, 0]} for e in doc["flex"]
+    ]
+    softening = CandidateValues(NAO, candidates.parameters, doc, candidates.values)
+    with pytest.raises(ParameterError, match="softening flex spring"):
+        candidate_worlds(softening, "M,G,F")
+
+
+def test_without_fitted_masses_nothing_is_derived() -> None:
+    params = tuple(p for p in robot_catalogue(NAO) if p.effect != "C")
+    doc = load_truth_doc(base_truth_path(NAO, None))
+    values = np.array([[p.nominal for p in params]] * 2)
+    worlds: CandidateWorlds = candidate_worlds(CandidateValues(NAO, params, doc, values), "M,G")
+    assert "body_mass" in worlds.fields.values
+    assert "dof_invweight0" not in worlds.fields.values
