@@ -55,7 +55,7 @@ OP3 = _op3()
 def _candidates(robot: Robot, units: Sequence[Sequence[float]]) -> CandidateValues:
     """Candidates of ``robot``'s whole catalogue at the normalised ``units``."""
     params = robot_catalogue(robot)
-    values = np.array([[p.from_unit(u) for p, u in zip(params, row)] for row in units])
+    values = np.array([[p.from_unit(u) for p, u in zip(params, row, strict=True)] for row in units])
     doc = load_truth_doc(base_truth_path(robot, None))
     return CandidateValues(robot, params, doc, values)
 
