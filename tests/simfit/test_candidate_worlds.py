@@ -25,6 +25,7 @@ from zmpkit.errors import ParameterError, SimulationDivergedError
 from zmpkit.robots.fit_parameter import fit_parameter
 from zmpkit.robots.registry import get_robot
 from zmpkit.robots.robot import Robot
+from zmpkit.sim.posed import PosedData, PosedSimulation
 from zmpkit.sim.world import Simulation
 from zmpkit.simfit.candidate_worlds import (
     CandidateValues,
@@ -141,22 +142,29 @@ def walk(tmp_path_factory: pytest.TempPathFactory) -> WalkExperiment:
     return experiment
 
 
-def _posed_state(sim: Simulation) -> list[np.ndarray]:
+def _posed_state(sim: Simulation | PosedSimulation) -> list[np.ndarray]:
+    """The posed state, readings and sensor-channel states, as a batch reads them."""
     feet = [f.foot for f in sim.robot.feet]
-    state = np.empty(mujoco.mj_stateSize(sim.model, mujoco.mjtState.mjSTATE_FULLPHYSICS))
-    mujoco.mj_getState(sim.model, sim.data, state, mujoco.mjtState.mjSTATE_FULLPHYSICS)
-    return [state, sim.data.sensordata.copy(), *(sim.ft_channel(f).output for f in feet)]
+    data = PosedData.of(sim.model, sim.data) if isinstance(sim, Simulation) else sim.data
+    arrays = [data.state, data.qpos, data.sensordata, data.site_xpos, data.site_xmat]
+    channels = [sim.ft_channel(f) for f in feet]
+    return [*arrays, *(c.output for c in channels), *(c._state for c in channels)]
 
 
 def test_posed_worlds_are_the_posed_simulations(walk: WalkExperiment) -> None:
-    candidates = _candidates(NAO, [[0.2] * 13, [0.8] * 13])
+    """Two experiments (the second restarts the same simulation), S on (the F-T filter)."""
+    candidates = _candidates(NAO, [[0.2] * 13, [0.8] * 13, [0.5] * 13])
     worlds = candidate_worlds(candidates, "M,I,G,F,S")
-    (mine,) = posed_world_simulations([walk], worlds)
-    (theirs,) = posed_simulations([walk], candidates.truths(), "M,I,G,F,S")
-    for a, b in zip(mine, theirs, strict=True):
-        assert a.servo.position == b.servo.position
-        for got, want in zip(_posed_state(a), _posed_state(b), strict=True):
-            np.testing.assert_array_equal(got, want)
+    mine = posed_world_simulations([walk, walk], worlds)
+    theirs = posed_simulations([walk, walk], candidates.truths(), "M,I,G,F,S")
+    for got_e, want_e in zip(mine, theirs, strict=True):
+        for a, b in zip(got_e, want_e, strict=True):
+            assert a.data.time == b.data.time
+            assert a.servo.position == b.servo.position
+            assert a.servo.velocity == b.servo.velocity
+            np.testing.assert_array_equal(a.encoders_of(a.data.qpos), b.encoders())
+            for got, want in zip(_posed_state(a), _posed_state(b), strict=True):
+                np.testing.assert_array_equal(got, want)
 
 
 def test_a_robot_or_a_parameter_without_a_map_says_why() -> None:

@@ -25,6 +25,7 @@ from zmpkit.errors import ParameterError, SimulationDivergedError
 from zmpkit.experiments.walk_trial import start_pose
 from zmpkit.robots.robot import Robot
 from zmpkit.sim.description import RobotDescription
+from zmpkit.sim.posed import PosedSimulation, StartedSimulation
 from zmpkit.sim.world import Simulation
 from zmpkit.simfit.candidate_worlds import CandidateWorlds
 from zmpkit.simfit.experiments import Experiment, StepExperiment, WalkExperiment
@@ -111,26 +112,26 @@ def posed_simulations(
 
 def posed_world_simulations(
     experiments: Sequence[Experiment], worlds: CandidateWorlds
-) -> list[list[Simulation]]:
+) -> list[list[PosedSimulation]]:
     """Per experiment, per candidate, :func:`posed_simulation`'s state with no compilation.
 
-    Each candidate's simulation is its description
-    (:meth:`~zmpkit.simfit.candidate_worlds.CandidateWorlds.description_of`: its F-T
-    offsets) on one host copy of the template with its fields written in
-    (:meth:`~zmpkit.sim.world_fields.WorldFields.write_into`), posed there: its data,
-    sensor channels and servo are its own, its ``model`` is that shared copy (the next
-    candidate's fields overwrite it, so read only the layout from it). The posed states
-    and readings are :func:`posed_simulations`'s, bit for bit (tested).
+    One simulation on a host copy of the template is restarted for each candidate and
+    experiment (:meth:`~zmpkit.sim.world.Simulation.restart`) with the candidate's fields
+    written into the copy (:meth:`~zmpkit.sim.world_fields.WorldFields.write_into`) and its
+    description (:meth:`~zmpkit.simfit.candidate_worlds.CandidateWorlds.description_of`:
+    its F-T offsets), posed, and frozen (:class:`~zmpkit.sim.posed.PosedSimulation`). The
+    posed states and readings are :func:`posed_simulations`'s, bit for bit (tested).
     """
-    host = copy.copy(worlds.fields.template)
-    out: list[list[Simulation]] = [[] for _ in experiments]
-    for c in range(len(worlds.fields)):
-        worlds.fields.write_into(host, c)
+    fields = worlds.fields
+    sim = Simulation(worlds.description, seed=0, model=copy.copy(fields.template))
+    out: list[list[PosedSimulation]] = [[] for _ in experiments]
+    for c in range(len(fields)):
+        fields.write_into(sim.model, c)
         description = worlds.description_of(c)
         for e, experiment in enumerate(experiments):
-            sim = Simulation(description, seed=0, model=host)
+            sim.restart(description, seed=0)
             _pose(experiment, sim)
-            out[e].append(sim)
+            out[e].append(PosedSimulation.taken_from(sim))
     return out
 
 
@@ -149,7 +150,7 @@ def _walk_key(experiment: WalkExperiment) -> tuple[Robot, float, float, float, f
     )
 
 
-def open_loop_schedule(experiment: Experiment, sim: Simulation) -> OpenLoopSchedule:
+def open_loop_schedule(experiment: Experiment, sim: StartedSimulation) -> OpenLoopSchedule:
     """The servo setpoints [rad] of ``experiment`` for every physics step of ``sim``.
 
     Raises:
@@ -167,7 +168,7 @@ _WALK_SCHEDULES: dict[tuple, OpenLoopSchedule] = {}
 _MAX_WALK_SCHEDULES = 16
 
 
-def _walk_schedule(experiment: WalkExperiment, sim: Simulation) -> OpenLoopSchedule:
+def _walk_schedule(experiment: WalkExperiment, sim: StartedSimulation) -> OpenLoopSchedule:
     """The frames of :func:`~zmpkit.experiments.walk_trial.simulate_walk`, through the servo.
 
     The same for every candidate and generation, so computed once (Python per step).
@@ -199,7 +200,7 @@ def _recorded_rows(schedule: OpenLoopSchedule, rows: int) -> OpenLoopSchedule:
     )
 
 
-def _plan_walk_schedule(experiment: WalkExperiment, sim: Simulation) -> OpenLoopSchedule:
+def _plan_walk_schedule(experiment: WalkExperiment, sim: StartedSimulation) -> OpenLoopSchedule:
 
     trajectory = walk_trajectory(*_walk_key(experiment))
     columns = [trajectory.joint_names.index(j) for j in sim.joint_names]
@@ -221,7 +222,7 @@ def _plan_walk_schedule(experiment: WalkExperiment, sim: Simulation) -> OpenLoop
     )
 
 
-def _step_schedule(experiment: StepExperiment, sim: Simulation) -> OpenLoopSchedule:
+def _step_schedule(experiment: StepExperiment, sim: StartedSimulation) -> OpenLoopSchedule:
     """The recorded setpoints, one per servo tick, sampled at the recorded times."""
     signals = experiment.signals
     if tuple(sim.joint_names) != tuple(signals.joint_names):

@@ -20,8 +20,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from zmpkit.errors import ParameterError
+from zmpkit.sim.posed import PosedSimulation, StartedSimulation
 from zmpkit.sim.solver_settings import SolverSettings
-from zmpkit.sim.world import Simulation
 from zmpkit.sim.world_fields import WorldFields
 from zmpkit.simfit.batch_reading import ft_readings, layout_groups, read_candidates
 from zmpkit.simfit.batch_rows import BatchRows
@@ -166,7 +166,7 @@ class _Posed:
         reason: why ``worlds`` is None (:func:`field_path_gap`), else empty.
     """
 
-    sims: list[list[Simulation]]
+    sims: Sequence[Sequence[StartedSimulation]]
     worlds: WorldFields | None
     reason: str = ""
 
@@ -185,13 +185,13 @@ def _posed(
         except ParameterError as exc:  # a truth document the rule cannot map
             reason = str(exc)
         else:
-            sims = posed_world_simulations(experiments, worlds)
+            posed = posed_world_simulations(experiments, worlds)
             fields = worlds.fields
             if solver is not None:  # after the pose, as on the compile path
                 template = copy.copy(fields.template)
                 solver.apply(template)
                 fields = WorldFields(template, fields.values, fields.nworld)
-            return _Posed(sims, fields)
+            return _Posed(posed, fields)
     every = truths.truths() if isinstance(truths, CandidateValues) else list(truths)
     sims = posed_simulations(experiments, every, effects)
     if solver is not None:
@@ -219,7 +219,7 @@ def _warp_batches(
     if not len(truths) or not experiments:
         return [[] for _ in experiments]
     posed = _posed(experiments, truths, effects, solver)
-    parts = [
+    parts: list[tuple[Experiment, Sequence[StartedSimulation], OpenLoopSchedule]] = [
         (experiment, sims, open_loop_schedule(experiment, sims[0]))
         for experiment, sims in zip(experiments, posed.sims, strict=True)
     ]
@@ -266,7 +266,7 @@ class _WarpPart:
     """
 
     rows: BatchRows
-    sims: Sequence[Simulation]
+    sims: Sequence[StartedSimulation]
     schedule: OpenLoopSchedule
     experiment: int
     candidates: list[int]
@@ -360,12 +360,15 @@ def _control_table(parts: Sequence[_WarpPart], shared: bool) -> NDArray[np.float
     return np.stack([np.concatenate([c, np.repeat(c[-1:], longest - len(c), 0)]) for c in controls])
 
 
-def _initial_states(sims: Sequence[Simulation]) -> NDArray[np.float64]:
+def _initial_states(sims: Sequence[StartedSimulation]) -> NDArray[np.float64]:
     """Each posed simulation's ``mjSTATE_FULLPHYSICS`` state, ``(nsims, nstate)``."""
     full = mujoco.mjtState.mjSTATE_FULLPHYSICS
     initial = np.empty((len(sims), mujoco.mj_stateSize(sims[0].model, full)))
     for i, sim in enumerate(sims):
-        mujoco.mj_getState(sim.model, sim.data, initial[i], full)
+        if isinstance(sim, PosedSimulation):
+            initial[i] = sim.data.state
+        else:
+            mujoco.mj_getState(sim.model, sim.data, initial[i], full)
     return initial
 
 

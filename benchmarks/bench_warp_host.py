@@ -1,0 +1,156 @@
+r"""Benchmark of the host's share of a Warp generation: one compilation against one each.
+
+Usage::
+
+    python benchmarks/bench_warp_host.py [--sizes 64,256,1024] [--duration S]
+                                         [--parameters quick,all] [--repeats R] [--json PATH]
+
+The generation of ``benchmarks/bench_warp_fit.py``: candidates of one recorded NAO walk at
+0.2 m/s with every effect on (:mod:`long_walk`), drawn around the hidden truth (the
+truth times :math:`e^{u}`, :math:`u \sim N(0, 0.05^2)` per parameter, seed 0), for the
+quick fit's two parameters (``quick``: PID gain scale, gear stiffness) and for the NAO's
+whole catalogue (``all``: M, I, G, F, S and C, the torso's mass and CoM, whose derived
+fields ``mj_setConst`` recomputes per candidate). Measured in the same run, best of
+``--repeats``, for each size, what the host does before the device rollout:
+
+1. **compile** (the path before issue 30, and the fallback): each candidate's truth, robot
+   description, MJCF, compiled model and pose
+   (:func:`~zmpkit.simfit.open_loop.posed_simulations`), then the comparison of the models
+   and the stacking of their differing fields (what :func:`~zmpkit.sim.warp_batch.rollout_warp`
+   does with a list of models);
+2. **fields** (the default): one compiled model, each candidate's parameters written into
+   its per-world fields (:func:`~zmpkit.simfit.candidate_worlds.candidate_worlds`), and
+   each candidate posed on a host copy of it
+   (:func:`~zmpkit.simfit.open_loop.posed_world_simulations`).
+
+Neither needs MuJoCo Warp. Printed: seconds per generation, milliseconds per candidate, the
+ratio compile / fields. The target of issue 30: fields <= 0.5 s at 1024 candidates.
+Reported, never asserted.
+"""
+
+from __future__ import annotations
+
+import tempfile
+import time
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from bench_warp_fit import candidates_near
+from harness import base_parser, print_table, write_run
+from long_walk import long_walk
+
+__all__ = ["main", "measure"]
+
+
+def _best(run: Callable[[], Any], repeats: int) -> float:
+    """Best wall time of ``run()`` over ``repeats`` runs [s]."""
+    best = float("inf")
+    for _ in range(repeats):
+        start = time.perf_counter()
+        run()
+        best = min(best, time.perf_counter() - start)
+    return best
+
+
+def _problem(case: Any, which: str) -> tuple[Any, list[list[float]]]:
+    """The fit problem with the ``quick`` or ``all`` parameters, and the truth's values."""
+    from zmpkit.simfit.parameters import robot_catalogue
+    from zmpkit.simfit.problem import FitProblem
+
+    problem = case.problem
+    if which == "quick":
+        return problem, list(case.candidates[0])
+    params = robot_catalogue(problem.robot)
+    quick = {p.name: v for p, v in zip(problem.parameters, case.candidates[0], strict=True)}
+    truth = [quick.get(p.name, p.nominal) for p in params]
+    whole = FitProblem(problem.robot, problem.sim_effects, params, problem.base_doc,
+                       problem.experiments)  # fmt: skip
+    return whole, truth
+
+
+def _compile_path(problem: Any, candidates: list[list[float]]) -> None:
+    from zmpkit.sim.warp_model import _differing_fields, _model_arrays, per_world_values
+    from zmpkit.simfit.open_loop import posed_simulations
+
+    truths = [problem.truth(c) for c in candidates]
+    sims = posed_simulations(problem.experiments, truths, problem.sim_effects)
+    models = [s.model for per in sims for s in per]
+    every = set(_model_arrays(models[0]))
+    per_world_values(models, _differing_fields(models, every))
+
+
+def _fields_path(problem: Any, candidates: list[list[float]]) -> None:
+    from zmpkit.simfit.candidate_worlds import CandidateValues, candidate_worlds
+    from zmpkit.simfit.open_loop import posed_world_simulations
+
+    values = CandidateValues(
+        problem.robot, problem.parameters, problem.simulated_base_doc, np.asarray(candidates)
+    )
+    worlds = candidate_worlds(values, problem.sim_effects)
+    posed_world_simulations(problem.experiments, worlds)
+
+
+def measure(
+    sizes: list[int], duration_s: float, parameters: list[str], repeats: int
+) -> dict[str, Any]:
+    """Wall time of both paths per size and parameter set [s]."""
+    with tempfile.TemporaryDirectory() as tmp:
+        case = long_walk(Path(tmp), duration_s)
+    rows = []
+    for which in parameters:
+        problem, truth = _problem(case, which)
+        for n in sizes:
+            candidates = candidates_near(truth, n)
+            compile_s = _best(lambda p=problem, c=candidates: _compile_path(p, c), repeats)
+            fields_s = _best(lambda p=problem, c=candidates: _fields_path(p, c), repeats)
+            rows.append(
+                {
+                    "parameters": which,
+                    "nparameters": len(problem.parameters),
+                    "candidates": n,
+                    "compile_s": compile_s,
+                    "fields_s": fields_s,
+                }
+            )
+    return {"duration_s": duration_s, "effects": case.problem.sim_effects, "rows": rows}
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Run the benchmark, print the table, write JSON if asked; returns the exit status."""
+    parser = base_parser(__doc__.splitlines()[0])
+    parser.add_argument("--sizes", default="64,256,1024", help="candidates per generation")
+    parser.add_argument("--duration", type=float, default=1.5, help="walk duration [s]")
+    parser.add_argument("--parameters", default="quick,all", help="quick, all, or both")
+    parser.add_argument("--repeats", type=int, default=2)
+    args = parser.parse_args(argv)
+    sizes = [int(s) for s in args.sizes.split(",") if s.strip()]
+    which = [w.strip() for w in args.parameters.split(",") if w.strip()]
+    if not sizes or min(sizes) < 1 or args.repeats < 1 or set(which) - {"quick", "all"}:
+        parser.error("--sizes and --repeats must be >= 1; --parameters: quick and/or all")
+    result = measure(sizes, args.duration, which, args.repeats)
+    cells = [
+        (
+            f"{r['parameters']} ({r['nparameters']})",
+            str(r["candidates"]),
+            f"{r['compile_s']:.3f}",
+            f"{r['fields_s']:.3f}",
+            f"{1e3 * r['fields_s'] / r['candidates']:.3f}",
+            f"{r['compile_s'] / r['fields_s']:.1f}",
+        )
+        for r in result["rows"]
+    ]
+    print_table(
+        f"host share of a Warp generation: NAO walk, effects {result['effects']}",
+        ("parameters", "candidates", "compile (s)", "fields (s)", "fields (ms/cand)", "ratio"),
+        cells,
+        justify=("left", "right", "right", "right", "right", "right"),
+    )
+    write_run(args, result)
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
