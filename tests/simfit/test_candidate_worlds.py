@@ -194,3 +194,44 @@ def test_without_fitted_masses_nothing_is_derived() -> None:
     worlds: CandidateWorlds = candidate_worlds(CandidateValues(NAO, params, doc, values), "M,G")
     assert "body_mass" in worlds.fields.values
     assert "dof_invweight0" not in worlds.fields.values
+
+
+def test_truth_objects_take_the_compile_path(walk: WalkExperiment) -> None:
+    from zmpkit.simfit.warp_batched import field_path_gap
+
+    candidates = _candidates(NAO, [[0.5] * 13])
+    assert field_path_gap([walk], candidates) is None
+    assert field_path_gap([walk], candidates.truths()) == (
+        "the candidates come as truth objects, not as parameter values"
+    )
+
+
+@pytest.mark.needs_warp
+@pytest.mark.slow
+def test_warp_costs_of_the_fields_are_those_of_the_compiled_models(walk: WalkExperiment) -> None:
+    """Warp's CPU device, every effect and the whole catalogue (C: derived fields too).
+
+    The per-world values are the compiled models' (tested above) and the template is the
+    first candidate's compiled model either way, so the float32 rollouts, hence the costs,
+    are the same, bit for bit: the nominal candidate, two around it, and a soft and heavy
+    one.
+    """
+    from zmpkit.simfit.cost import CostWeights
+    from zmpkit.simfit.warp_batched import costs_batches_warp, simulate_batches_warp
+
+    nominal = [p.to_unit(p.nominal) for p in robot_catalogue(NAO)]
+    soft = [0.0, 0.0, 1.0, 1.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.5, 0.5, 1.0, 1.0]  # soft, heavy
+    candidates = _candidates(NAO, [nominal, [0.45] * 13, [0.55] * 13, soft])
+    effects = "M,I,G,F,S"
+    fields = costs_batches_warp([walk], candidates, effects, "cpu", True)
+    compiled = costs_batches_warp([walk], candidates.truths(), effects, "cpu", True)
+    assert fields == compiled
+    completed = [terms.completed for terms in fields[0]]
+    assert completed[0] == 1.0, completed  # the nominal walks
+    totals = {terms.total(CostWeights()) for terms in fields[0]}
+    assert len(totals) == len(candidates)  # four different rollouts
+    signals = simulate_batches_warp([walk], candidates, effects, "cpu")
+    serial = simulate_batches_warp([walk], candidates.truths(), effects, "cpu")
+    for got, want in zip(signals[0], serial[0], strict=True):
+        for name in ("time_s", "q_meas_rad", "zmp_m", "trunk_tilt_rad"):
+            np.testing.assert_array_equal(getattr(got, name), getattr(want, name))

@@ -55,10 +55,14 @@ _TIME_CONSTANT = 0
 
 
 def mjcf_number(values: ArrayLike) -> NDArray[np.float64]:
-    """The numbers MuJoCo reads back from the builder's MJCF (``f"{v:.10g}"``), elementwise."""
+    """The numbers MuJoCo reads back from the builder's MJCF (``f"{v:.10g}"``), elementwise.
+
+    Each distinct value is printed and read once (a batch repeats its values over joints).
+    """
     array = np.asarray(values, dtype=np.float64)
-    flat = [float(f"{v:.10g}") for v in array.ravel().tolist()]
-    return np.array(flat, dtype=np.float64).reshape(array.shape)
+    distinct, where = np.unique(array.ravel(), return_inverse=True)
+    read = np.array([float(f"{v:.10g}") for v in distinct.tolist()], dtype=np.float64)
+    return read[where].reshape(array.shape)
 
 
 def _columns(values: ArrayLike, k: int) -> NDArray[np.float64]:

@@ -62,6 +62,7 @@ class Simulation:
         self._sens = {
             f.foot: self._sensor_slices(f.force_sensor, f.torque_sensor) for f in robot.feet
         }
+        self._streams: tuple[tuple[int, int], list[np.random.SeedSequence]] = ((-1, 0), [])
         self._start(seed)
 
     def restart(self, robot: RobotDescription, seed: int = 0) -> None:
@@ -81,7 +82,10 @@ class Simulation:
     def _start(self, seed: int) -> None:
         """The state of a simulation just built: noise streams, channels, servo, first sample."""
         robot = self.robot
-        streams = np.random.SeedSequence(seed).spawn(len(robot.feet) + 1)
+        key = (seed, len(robot.feet) + 1)
+        if self._streams[0] != key:  # the same children every time (generate_state is pure)
+            self._streams = (key, np.random.SeedSequence(seed).spawn(key[1]))
+        streams = self._streams[1]
         self._imu_rng = np.random.default_rng(streams[-1])
         params = robot.sensor_params
         self._ft = {

@@ -11,6 +11,7 @@ are judged as the CPU batch judges them (:mod:`~zmpkit.simfit.batch_reading`).
 from __future__ import annotations
 
 import copy
+import logging
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, TypeVar
@@ -44,6 +45,8 @@ if TYPE_CHECKING:
     from zmpkit.sim.warp_columns import QposSquareError
 
 __all__ = ["WARP_RECORDS", "costs_batches_warp", "field_path_gap", "simulate_batches_warp"]
+
+_LOG = logging.getLogger(__name__)
 
 WARP_RECORDS = ("qpos", "sensordata", "site_xpos", "site_xmat")
 """What the signals read of each row on MuJoCo Warp (the rest stays on the device)."""
@@ -192,6 +195,8 @@ def _posed(
                 solver.apply(template)
                 fields = WorldFields(template, fields.values, fields.nworld)
             return _Posed(posed, fields)
+    if isinstance(truths, CandidateValues):
+        _LOG.info("the Warp batch compiles each candidate's MJCF: %s", reason)
     every = truths.truths() if isinstance(truths, CandidateValues) else list(truths)
     sims = posed_simulations(experiments, every, effects)
     if solver is not None:
