@@ -25,7 +25,13 @@ fields ``mj_setConst`` recomputes per candidate). Measured in the same run, best
 
 Neither needs MuJoCo Warp. Printed: seconds per generation, milliseconds per candidate, the
 ratio compile / fields. The target of issue 30: fields <= 0.5 s at 1024 candidates.
-Reported, never asserted.
+
+With ``--warp-device`` (``cpu``: Warp's CPU device; needs ``mujoco_warp``), also a whole
+generation of ``--warp-candidates`` candidates (quick parameters) through the fit's
+evaluator (:class:`~zmpkit.simfit.batch_backend.BatchEvaluator`), twice (the first builds
+the Warp model and loads the kernels): its wall time, the device rollout's
+(:func:`~zmpkit.sim.warp_batch.rollout_warp`), the candidates' fields and poses, and the rest
+of the host's work (reading the rows, the costs). Reported, never asserted.
 """
 
 from __future__ import annotations
@@ -118,6 +124,50 @@ def measure(
     return {"duration_s": duration_s, "effects": case.problem.sim_effects, "rows": rows}
 
 
+def warp_generation(case: Any, device: str, n: int, calls: int = 2) -> list[dict[str, float]]:
+    """A generation of ``n`` candidates on MuJoCo Warp, ``calls`` times: where its time goes."""
+    from zmpkit.sim import warp_batch
+    from zmpkit.simfit import warp_batched
+    from zmpkit.simfit.batch_backend import BatchEvaluator
+
+    spent = {"device_s": 0.0, "fields_s": 0.0}
+
+    def timed(function: Callable[..., Any], key: str) -> Callable[..., Any]:
+        def run(*args: Any, **kwargs: Any) -> Any:
+            start = time.perf_counter()
+            try:
+                return function(*args, **kwargs)
+            finally:
+                spent[key] += time.perf_counter() - start
+
+        return run
+
+    originals = (
+        warp_batch.rollout_warp,
+        warp_batched.candidate_worlds,
+        warp_batched.posed_world_simulations,
+    )
+    warp_batch.rollout_warp = timed(originals[0], "device_s")  # imported when called
+    warp_batched.candidate_worlds = timed(originals[1], "fields_s")
+    warp_batched.posed_world_simulations = timed(originals[2], "fields_s")
+    try:
+        evaluator = BatchEvaluator(case.problem, warp_device=device)
+        candidates = candidates_near(case.candidates[0], n)
+        rows = []
+        for call in range(calls):
+            spent.update(device_s=0.0, fields_s=0.0)
+            start = time.perf_counter()
+            evaluator.costs(candidates)
+            wall = time.perf_counter() - start
+            rest = wall - spent["device_s"] - spent["fields_s"]
+            rows.append({"call": call + 1, "wall_s": wall, **spent, "rest_s": rest})
+        return rows
+    finally:
+        warp_batch.rollout_warp = originals[0]
+        warp_batched.candidate_worlds = originals[1]
+        warp_batched.posed_world_simulations = originals[2]
+
+
 def main(argv: list[str] | None = None) -> int:
     """Run the benchmark, print the table, write JSON if asked; returns the exit status."""
     parser = base_parser(__doc__.splitlines()[0])
@@ -125,12 +175,20 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--duration", type=float, default=1.5, help="walk duration [s]")
     parser.add_argument("--parameters", default="quick,all", help="quick, all, or both")
     parser.add_argument("--repeats", type=int, default=2)
+    parser.add_argument("--warp-device", help="also a generation on this Warp device (cpu)")
+    parser.add_argument("--warp-candidates", type=int, default=64)
     args = parser.parse_args(argv)
     sizes = [int(s) for s in args.sizes.split(",") if s.strip()]
     which = [w.strip() for w in args.parameters.split(",") if w.strip()]
     if not sizes or min(sizes) < 1 or args.repeats < 1 or set(which) - {"quick", "all"}:
         parser.error("--sizes and --repeats must be >= 1; --parameters: quick and/or all")
     result = measure(sizes, args.duration, which, args.repeats)
+    if args.warp_device is not None:
+        with tempfile.TemporaryDirectory() as tmp:
+            case = long_walk(Path(tmp), args.duration)
+        rows = warp_generation(case, args.warp_device, args.warp_candidates)
+        result["warp"] = {"device": args.warp_device, "candidates": args.warp_candidates}
+        result["warp"]["calls"] = rows
     cells = [
         (
             f"{r['parameters']} ({r['nparameters']})",
@@ -148,6 +206,23 @@ def main(argv: list[str] | None = None) -> int:
         cells,
         justify=("left", "right", "right", "right", "right", "right"),
     )
+    if "warp" in result:
+        print_table(
+            f"a generation on Warp ({result['warp']['device']}): "
+            f"{result['warp']['candidates']} candidates, quick parameters",
+            ("call", "wall (s)", "device rollout (s)", "fields, poses (s)", "rest of host (s)"),
+            [
+                (
+                    str(r["call"]),
+                    f"{r['wall_s']:.3f}",
+                    f"{r['device_s']:.3f}",
+                    f"{r['fields_s']:.3f}",
+                    f"{r['rest_s']:.3f}",
+                )
+                for r in result["warp"]["calls"]
+            ],
+            justify=("left", "right", "right", "right", "right"),
+        )
     write_run(args, result)
     return 0
 

@@ -11,7 +11,9 @@ loop; nothing else leaves it. A sum of squared qpos errors against targets at gi
 (:class:`QposSquareError`, a fit's joint term) can be accumulated per world on the device
 instead, so that one number per world comes back.
 The models are one MJCF with different parameters (a CMA-ES generation's candidates);
-the fields in which they differ become per-world ("batched") MuJoCo Warp model arrays.
+the fields in which they differ become per-world ("batched") MuJoCo Warp model arrays; or
+one compiled model comes with its per-world fields already written
+(:class:`~zmpkit.sim.world_fields.WorldFields`, no model per candidate).
 Runs on a CUDA device (the point) or on Warp's CPU device (tests); ``pip install
 'zmpkit[gpu]'``.
 

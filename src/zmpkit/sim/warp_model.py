@@ -4,6 +4,10 @@ The fields in which the models differ become per-world ("batched") MuJoCo Warp a
 field Warp cannot hold per world, a model feature it lacks, or a difference in a field from
 which it derives code paths (zero patterns) is a :class:`~zmpkit.errors.ParameterError`.
 
+A batch whose per-world fields are already known (a fit's candidates written into one
+compiled model, :class:`~zmpkit.sim.world_fields.WorldFields`) skips the comparison: its
+fields are only checked (:func:`world_fields_for_warp`).
+
 The comparison is vectorised over fields: each model's fields are read with one look-up per
 dtype and compared with the first model's in one numpy operation (about 0.3 ms per model of
 a 24-joint humanoid, 7 times faster than field by field; ``benchmarks/bench_warp_fields.py``).
