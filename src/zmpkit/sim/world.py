@@ -86,7 +86,8 @@ class Simulation:
         if self._streams[0] != key:  # the same children every time (generate_state is pure)
             self._streams = (key, np.random.SeedSequence(seed).spawn(key[1]))
         streams = self._streams[1]
-        self._imu_rng = np.random.default_rng(streams[-1])
+        self._imu_stream = streams[-1]
+        self._imu_rng_now: np.random.Generator | None = None  # made on first use
         params = robot.sensor_params
         self._ft = {
             f.foot: FtChannel(
@@ -230,6 +231,13 @@ class Simulation:
         """Each driven joint's address in ``qpos``, in joint order."""
         return self._qadr
 
+    @property
+    def _imu_rng(self) -> np.random.Generator:
+        """The IMU's noise stream, made on its first draw (the same draws as made at start)."""
+        if self._imu_rng_now is None:
+            self._imu_rng_now = np.random.default_rng(self._imu_stream)
+        return self._imu_rng_now
+
     def imu(self) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
         """Gyro [rad/s], accelerometer [m/s²] and orientation quaternion (w, x, y, z)."""
         names = self.robot.imu
@@ -239,8 +247,9 @@ class Simulation:
         )
         if self.robot.effects.sensors:
             p = self.robot.sensor_params
-            gyro += p.gyro_noise_std * self._imu_rng.standard_normal(3)
-            accel += p.accel_noise_std * self._imu_rng.standard_normal(3)
+            rng = self._imu_rng
+            gyro += p.gyro_noise_std * rng.standard_normal(3)
+            accel += p.accel_noise_std * rng.standard_normal(3)
         return gyro, accel, quat
 
 
