@@ -23,8 +23,10 @@ fields ``mj_setConst`` recomputes per candidate). Measured in the same run, best
    each candidate posed on a host copy of it
    (:func:`~zmpkit.simfit.open_loop.posed_world_simulations`).
 
-Neither needs MuJoCo Warp. Printed: seconds per generation, milliseconds per candidate, the
-ratio compile / fields. The target of issue 30: fields <= 0.5 s at 1024 candidates.
+Neither needs MuJoCo Warp. Printed: seconds per generation (wall; and the process's CPU
+time of the fields path, less sensitive to other processes on a shared machine),
+milliseconds per candidate, the ratio compile / fields (wall). The target of issue 30:
+fields <= 0.5 s at 1024 candidates.
 
 With ``--warp-device`` (``cpu``: Warp's CPU device; needs ``mujoco_warp``), also a whole
 generation of ``--warp-candidates`` candidates (quick parameters) through the fit's
@@ -51,14 +53,15 @@ from long_walk import long_walk
 __all__ = ["main", "measure"]
 
 
-def _best(run: Callable[[], Any], repeats: int) -> float:
-    """Best wall time of ``run()`` over ``repeats`` runs [s]."""
-    best = float("inf")
+def _best(run: Callable[[], Any], repeats: int) -> tuple[float, float]:
+    """Best wall time and best CPU time of this process of ``run()`` over ``repeats`` [s]."""
+    wall = cpu = float("inf")
     for _ in range(repeats):
-        start = time.perf_counter()
+        start, start_cpu = time.perf_counter(), time.process_time()
         run()
-        best = min(best, time.perf_counter() - start)
-    return best
+        wall = min(wall, time.perf_counter() - start)
+        cpu = min(cpu, time.process_time() - start_cpu)
+    return wall, cpu
 
 
 def _problem(case: Any, which: str) -> tuple[Any, list[list[float]]]:
@@ -110,8 +113,12 @@ def measure(
         problem, truth = _problem(case, which)
         for n in sizes:
             candidates = candidates_near(truth, n)
-            compile_s = _best(lambda p=problem, c=candidates: _compile_path(p, c), repeats)
-            fields_s = _best(lambda p=problem, c=candidates: _fields_path(p, c), repeats)
+            compile_s, compile_cpu = _best(
+                lambda p=problem, c=candidates: _compile_path(p, c), repeats
+            )
+            fields_s, fields_cpu = _best(
+                lambda p=problem, c=candidates: _fields_path(p, c), repeats
+            )
             rows.append(
                 {
                     "parameters": which,
@@ -119,6 +126,8 @@ def measure(
                     "candidates": n,
                     "compile_s": compile_s,
                     "fields_s": fields_s,
+                    "compile_cpu_s": compile_cpu,
+                    "fields_cpu_s": fields_cpu,
                 }
             )
     return {"duration_s": duration_s, "effects": case.problem.sim_effects, "rows": rows}
@@ -195,6 +204,7 @@ def main(argv: list[str] | None = None) -> int:
             str(r["candidates"]),
             f"{r['compile_s']:.3f}",
             f"{r['fields_s']:.3f}",
+            f"{r['fields_cpu_s']:.3f}",
             f"{1e3 * r['fields_s'] / r['candidates']:.3f}",
             f"{r['compile_s'] / r['fields_s']:.1f}",
         )
@@ -202,9 +212,17 @@ def main(argv: list[str] | None = None) -> int:
     ]
     print_table(
         f"host share of a Warp generation: NAO walk, effects {result['effects']}",
-        ("parameters", "candidates", "compile (s)", "fields (s)", "fields (ms/cand)", "ratio"),
+        (
+            "parameters",
+            "candidates",
+            "compile (s)",
+            "fields (s)",
+            "fields CPU (s)",
+            "fields (ms/cand)",
+            "ratio",
+        ),
         cells,
-        justify=("left", "right", "right", "right", "right", "right"),
+        justify=("left", "right", "right", "right", "right", "right", "right"),
     )
     if "warp" in result:
         print_table(
