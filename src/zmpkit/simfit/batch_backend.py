@@ -76,7 +76,9 @@ class BatchEvaluator:
                 problem.robot,
                 problem.parameters,
                 problem.simulated_base_doc,
-                np.asarray(candidates, dtype=np.float64).reshape(len(candidates), -1),
+                np.asarray(candidates, dtype=np.float64).reshape(
+                    len(candidates), len(problem.parameters)
+                ),
             )  # one compiled model, each candidate's fields written per world
             per_experiment = costs_batches_warp(
                 problem.experiments,

@@ -152,7 +152,14 @@ def field_path_gap(
     """
     if not isinstance(truths, CandidateValues):
         return "the candidates come as truth objects, not as parameter values"
-    others = sorted({e.robot.title for e in experiments if e.robot is not truths.robot})
+    robot = truths.robot
+    others = sorted(
+        {
+            e.robot.title
+            for e in experiments
+            if e.robot is not robot and e.robot.source != robot.source
+        }
+    )
     if others:
         return f"experiments of other robots than the fitted one: {others}"
     return field_map_gap(truths.robot, truths.parameters)
