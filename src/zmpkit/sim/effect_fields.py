@@ -15,8 +15,9 @@ electrical time constant ``L/R``).
 - **G** (:func:`~zmpkit.sim.builder.add_gear_compliance`): the gear tendon's ``stiffness``,
   ``damping`` and dead band ``springlength = [-b/2, b/2]`` -> ``tendon_stiffness``,
   ``tendon_damping``, ``tendon_lengthspring``.
-- **F** (:func:`~zmpkit.sim.builder.add_flex_joint`, polynomial springs): ``stiffness[0]``
-  -> ``jnt_stiffness``, ``damping`` -> ``dof_damping``.
+- **F** (:func:`~zmpkit.sim.builder.add_flex_joint`): ``stiffness[0]`` -> ``jnt_stiffness``,
+  ``damping`` -> ``dof_damping``; a softening spring's stage tendons (dead band, stiffness
+  step) too.
 - **C** (a body's ``<inertial>``): ``mass``, ``pos``, ``diaginertia`` -> ``body_mass``,
   ``body_ipos``, ``body_inertia`` (and what ``mj_setConst`` derives from them:
   :data:`~zmpkit.sim.world_fields.SETCONST_FIELDS`).
@@ -35,6 +36,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from zmpkit.sim.builder import GEAR_JOINT_SUFFIX
+from zmpkit.sim.spring import softening_breakpoints, softening_segments
 from zmpkit.sim.world_fields import FieldWrite
 
 __all__ = [
@@ -44,6 +46,7 @@ __all__ = [
     "gear_writes",
     "inertial_writes",
     "mjcf_number",
+    "softening_flex_writes",
 ]
 
 _GAINS = slice(4, 7)
@@ -173,6 +176,41 @@ def flex_writes(
         FieldWrite.of("jnt_stiffness", ids, mjcf_number(_columns(stiffness, len(ids)))),
         FieldWrite.of("dof_damping", dofs, mjcf_number(_columns(damping, len(dofs)))),
     ]
+
+
+def softening_flex_writes(
+    model: mujoco.MjModel,
+    joint: str,
+    stiffness: ArrayLike,
+    softening_torque: ArrayLike,
+    torque_range: ArrayLike,
+    stages: int,
+    damping: ArrayLike,
+) -> list[FieldWrite]:
+    """A flexible-link joint with a softening spring (F; :mod:`zmpkit.sim.spring`).
+
+    ``(ncandidate,)`` columns of its ``k0`` [N·m/rad], ``τ_s`` and ``τ_max`` [N·m] and
+    damping [N·m·s/rad]: the joint's first-segment stiffness and damping, and each stage
+    tendon's dead band ``[-δ_j, δ_j]`` [rad] and stiffness step [N·m/rad].
+    """
+    n = np.shape(stiffness)[0]
+    k0 = _columns(stiffness, 1)[:, 0]
+    points = softening_breakpoints(
+        k0, _columns(softening_torque, 1)[:, 0], _columns(torque_range, 1)[:, 0], stages
+    )
+    segments = softening_segments(points, _columns(torque_range, 1)[:, 0], stages)
+    writes = flex_writes(model, [joint], np.asarray(segments[0]).reshape(n), damping)
+    for j in range(1, stages):
+        tendon = int(model.tendon(f"{joint}_stage{j}").id)
+        edge = np.asarray(points[j])
+        band = np.stack([mjcf_number(-edge), mjcf_number(edge)], axis=-1)
+        index = _flat(model, "tendon_lengthspring", [tendon], 0)
+        step = np.asarray(segments[j] - segments[j - 1])
+        writes += [
+            FieldWrite.of("tendon_lengthspring", [index[0], index[0] + 1], band),
+            FieldWrite.of("tendon_stiffness", [tendon], mjcf_number(step)),
+        ]
+    return writes
 
 
 def inertial_writes(
