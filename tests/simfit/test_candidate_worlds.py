@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import dataclasses
 from collections.abc import Sequence
+from pathlib import Path
 
 import mujoco
 import numpy as np
@@ -34,7 +35,7 @@ from zmpkit.simfit.candidate_worlds import (
     candidate_worlds,
     field_map_gap,
 )
-from zmpkit.simfit.experiments import WalkExperiment, read_experiments
+from zmpkit.simfit.experiments import StepExperiment, WalkExperiment, read_experiments
 from zmpkit.simfit.open_loop import _pose, posed_simulations, posed_world_simulations
 from zmpkit.simfit.parameters import robot_catalogue
 from zmpkit.simfit.truth_doc import base_truth_path, load_truth_doc
@@ -276,3 +277,35 @@ def test_warp_costs_of_the_fields_are_those_of_the_compiled_models(walk: WalkExp
     for got, want in zip(signals[0], serial[0], strict=True):
         for name in ("time_s", "q_meas_rad", "zmp_m", "trunk_tilt_rad"):
             np.testing.assert_array_equal(getattr(got, name), getattr(want, name))
+
+
+@pytest.fixture(scope="module")
+def teo_step(tmp_path_factory: pytest.TempPathFactory) -> StepExperiment:
+    from zmpkit.experiments import StepExperimentConfig, run_step_sweep
+
+    config = StepExperimentConfig(
+        TEO, targets_m=(0.04,), effects="M,G,F,S", settle_s=1.0, hold_s=0.5
+    )
+    dataset = run_step_sweep(config, tmp_path_factory.mktemp("worlds_teo_step"), workers=1)
+    (experiment,) = read_experiments([Path(dataset.path)], TEO)
+    assert isinstance(experiment, StepExperiment)
+    return experiment
+
+
+@pytest.mark.needs_warp
+@pytest.mark.slow
+def test_warp_costs_of_teo_fields_are_those_of_its_compiled_models(
+    teo_step: StepExperiment,
+) -> None:
+    """TEO's step on Warp's CPU device: softening springs' stage tendons and the payload's
+    position per world; the same costs as the compiled models', bit for bit."""
+    from zmpkit.simfit.cost import CostWeights
+    from zmpkit.simfit.warp_batched import costs_batches_warp
+
+    nominal = [p.to_unit(p.nominal) for p in robot_catalogue(TEO)]
+    candidates = _candidates(TEO, [nominal, [0.4] * 13, [0.6] * 13])
+    effects = "M,I,G,F,S"
+    fields = costs_batches_warp([teo_step], candidates, effects, "cpu", True)
+    compiled = costs_batches_warp([teo_step], candidates.truths(), effects, "cpu", True)
+    assert fields == compiled
+    assert len({terms.total(CostWeights()) for terms in fields[0]}) == len(candidates)
