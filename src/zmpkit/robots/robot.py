@@ -26,6 +26,7 @@ from typing import TYPE_CHECKING, Any, Generic, TypeVar, cast
 import mujoco
 
 from zmpkit.errors import ParameterError
+from zmpkit.robots.field_rule import FieldRule
 from zmpkit.robots.fit_parameter import FitParameter
 from zmpkit.robots.ik_settings import IkSettings
 from zmpkit.sim.description import RobotDescription
@@ -225,11 +226,15 @@ class FitSpec:
         catalogue: every fit parameter, by effect letter.
         quick_parameters: the parameters of a quick (2-parameter) fit.
         experiment: the kind of experiment the fit replays: ``"walk"`` or ``"step"``.
+        fields: how the catalogue's numbers land in the compiled model, so that a batch
+            of candidates shares one compilation (:mod:`~zmpkit.robots.field_rule`); None:
+            each candidate is compiled.
     """
 
     catalogue: tuple[FitParameter, ...]
     quick_parameters: tuple[str, ...]
     experiment: str
+    fields: FieldRule | None = None
 
 
 @dataclass(frozen=True, eq=False)

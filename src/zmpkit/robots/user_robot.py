@@ -25,6 +25,7 @@ from zmpkit.robots.robot import FitSpec, Robot, TruthSpec
 from zmpkit.robots.robot_file import SIDES, RobotFile
 from zmpkit.robots.robot_file_problems import robot_file_problems
 from zmpkit.robots.robot_file_reader import draft_robot_file
+from zmpkit.robots.servo_fields import SERVO_FIELD_RULE
 from zmpkit.robots.servo_fit import SERVO_QUICK_PARAMETERS, servo_fit_catalogue
 from zmpkit.robots.servo_truth import (
     ServoTruth,
@@ -156,7 +157,7 @@ def _servo_fit(path: Path) -> FitSpec | None:
         return None
     names = {p.name for p in catalogue}
     quick = tuple(n for n in SERVO_QUICK_PARAMETERS if n in names) or (catalogue[0].name,)
-    return FitSpec(catalogue, quick, "step")
+    return FitSpec(catalogue, quick, "step", SERVO_FIELD_RULE)
 
 
 def _servo_truth_spec(path: Path) -> TruthSpec:

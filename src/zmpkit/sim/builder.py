@@ -30,6 +30,10 @@ at the motor for ``dcmotor``; rad at the joint for ``pid``].
 from __future__ import annotations
 
 import xml.etree.ElementTree as ET
+from typing import TypeAlias
+
+import numpy as np
+from numpy.typing import NDArray
 
 from zmpkit.errors import ModelError
 from zmpkit.sim.compliance import FlexJoint, GearParams
@@ -42,8 +46,12 @@ __all__ = [
     "add_gear_compliance",
     "add_ideal_servo",
     "add_motor",
+    "dcmotor_controller",
     "find_element",
 ]
+
+Number: TypeAlias = float | NDArray[np.float64]
+"""A float, or an array of them (one per candidate)."""
 
 GEAR_JOINT_SUFFIX = "_gear"
 """Name suffix of the passive gear-deflection joint that **G** adds next to a driven joint."""
@@ -92,14 +100,15 @@ def add_motor(
     """
     jel = find_element(root, "joint", joint)
     jel.set("frictionloss", _fmt(motor.coulomb_friction_link))
-    n2 = motor.gear_ratio**2
-    back_emf = motor.torque_constant**2 / motor.resistance  # [N·m·s/rad] at the rotor
-    controller = (
-        motor.kp_link / n2,
-        motor.ki_link / n2,
-        motor.kd_link / n2 + (back_emf if motor.voltage_drive else 0.0),
-        0.0,
-        motor.integral_limit_link * motor.gear_ratio,
+    controller = dcmotor_controller(
+        motor.kp_link,
+        motor.ki_link,
+        motor.kd_link,
+        motor.gear_ratio,
+        motor.torque_constant,
+        motor.resistance,
+        motor.voltage_drive,
+        motor.integral_limit_link,
         motor.voltage_limit,
     )
     attrs = {
@@ -111,11 +120,42 @@ def add_motor(
         "resistance": _fmt(motor.resistance),
         "motorconst": _fmt(motor.torque_constant, motor.torque_constant),
         "input": "pos",
-        "controller": _fmt(*controller),
+        "controller": _fmt(*(float(v) for v in controller)),
     }
     if inductance is not None:
         attrs["inductance"] = _fmt(inductance.inductance, 0.0)
     return ET.SubElement(_actuator_section(root), "dcmotor", attrs)
+
+
+def dcmotor_controller(
+    kp_link: Number,
+    ki_link: Number,
+    kd_link: Number,
+    gear_ratio: float,
+    torque_constant: float,
+    resistance: Number,
+    voltage_drive: bool,
+    integral_limit_link: float,
+    voltage_limit: float,
+) -> tuple[Number, Number, Number, float, float, float]:
+    """The ``controller`` attribute of :func:`add_motor`'s ``dcmotor``: (kp, ki, kd, 0, imax, V).
+
+    Motor-side gains ``k_link / N²`` [N·m/rad at the rotor, ...], the voltage drive's
+    ``K²/R`` added to kd, the integral clamp ``N * integral_limit_link`` [rad·s at the
+    rotor] and the voltage clamp [V]. The gains and the resistance may be numpy arrays (one
+    value per candidate): the arithmetic is the same, element by element
+    (:mod:`zmpkit.sim.effect_fields` writes them into compiled models).
+    """
+    n2 = gear_ratio**2
+    back_emf = torque_constant**2 / resistance  # [N·m·s/rad] at the rotor
+    return (
+        kp_link / n2,
+        ki_link / n2,
+        kd_link / n2 + (back_emf if voltage_drive else 0.0),
+        0.0,
+        integral_limit_link * gear_ratio,
+        voltage_limit,
+    )
 
 
 def add_ideal_servo(root: ET.Element, joint: str, servo: IdealServoParams) -> ET.Element:

@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
+from functools import lru_cache
 
 import numpy as np
 from numpy.typing import NDArray
@@ -54,14 +55,10 @@ class FtChannel:
         gain = (params.ft_gain_error,) * 6 if gain_error is None else gain_error
         self._gain = 1.0 + np.asarray(gain, dtype=np.float64)
         self._offset = np.asarray(offset, dtype=np.float64)
-        drift_std = np.asarray(params.ft_offset_drift_std, dtype=np.float64)
-        drift = drift_std * rng.standard_normal(6) if np.any(drift_std) else np.zeros(6)
+        drift_std, self._noise, self._quantum, self._alpha = _channel_constants(params)
+        drift = drift_std * rng.standard_normal(6) if drift_std is not None else np.zeros(6)
         self._drift_step = drift / params.ft_rate_hz  # offset change per sample [N, N·m]
         self._count = 0
-        self._noise = np.asarray(params.ft_noise_std, dtype=np.float64)
-        self._quantum = np.asarray(params.ft_quantisation, dtype=np.float64)
-        cutoff, rate = params.ft_cutoff_hz, params.ft_rate_hz
-        self._alpha = 1.0 - math.exp(-2.0 * math.pi * cutoff / rate) if cutoff > 0 else 1.0
         self._rng = rng
         self._state: NDArray[np.float64] | None = None
         self.output = np.zeros(6)
@@ -77,6 +74,25 @@ class FtChannel:
             self._state = self._state + self._alpha * (raw - self._state)
         self.output = quantise(self._state, self._quantum)
         return self.output
+
+
+@lru_cache(maxsize=64)
+def _channel_constants(
+    params: SensorParams,
+) -> tuple[NDArray[np.float64] | None, NDArray[np.float64], NDArray[np.float64], float]:
+    """A channel's constants of ``params``, shared by its channels (read-only arrays).
+
+    The drift rate's std [N/s, N·m/s] (None: no drift), the noise std [N, N·m], the output
+    quantum [N, N·m] and the filter factor ``alpha`` [-].
+    """
+    drift_std = np.asarray(params.ft_offset_drift_std, dtype=np.float64)
+    noise = np.asarray(params.ft_noise_std, dtype=np.float64)
+    quantum = np.asarray(params.ft_quantisation, dtype=np.float64)
+    cutoff, rate = params.ft_cutoff_hz, params.ft_rate_hz
+    alpha = 1.0 - math.exp(-2.0 * math.pi * cutoff / rate) if cutoff > 0 else 1.0
+    for array in (drift_std, noise, quantum):
+        array.flags.writeable = False
+    return (drift_std if np.any(drift_std) else None), noise, quantum, alpha
 
 
 def sample_series(

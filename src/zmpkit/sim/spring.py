@@ -30,11 +30,12 @@ from __future__ import annotations
 import itertools
 import math
 from dataclasses import dataclass
+from typing import Any
 
 from zmpkit._validate import positive
 from zmpkit.errors import ParameterError
 
-__all__ = ["SofteningSpring"]
+__all__ = ["SofteningSpring", "softening_breakpoints", "softening_segments"]
 
 
 @dataclass(frozen=True)
@@ -76,15 +77,14 @@ class SofteningSpring:
     @property
     def breakpoints(self) -> tuple[float, ...]:
         """Deflections where the torque reaches ``τ_max j / n``, j = 0 … n [rad]."""
-        n = self.stages
-        return tuple(self.law_deflection(self.torque_range * j / n) for j in range(n + 1))
+        return softening_breakpoints(
+            self.stiffness, self.softening_torque, self.torque_range, self.stages
+        )
 
     @property
     def segment_stiffness(self) -> tuple[float, ...]:
         """Tangent stiffness of each segment, the secant of the law over it [N·m/rad]."""
-        points = self.breakpoints
-        step = self.torque_range / self.stages
-        return tuple(step / (b - a) for a, b in itertools.pairwise(points))
+        return softening_segments(self.breakpoints, self.torque_range, self.stages)
 
     def torque(self, deflection: float) -> float:
         """The simulated (piecewise-linear) spring torque at a deflection [N·m]."""
@@ -98,3 +98,26 @@ class SofteningSpring:
                 break
             total += k * (min(x, end) - start)
         return math.copysign(total, deflection)
+
+
+def softening_breakpoints(
+    stiffness: Any, softening_torque: Any, torque_range: Any, stages: int
+) -> tuple[Any, ...]:
+    """:attr:`SofteningSpring.breakpoints` [rad].
+
+    The numbers may be numpy arrays (one per candidate of a fit): the same arithmetic,
+    element by element (:mod:`zmpkit.sim.effect_fields`).
+    """
+    out = []
+    for j in range(stages + 1):
+        torque = torque_range * j / stages
+        out.append((torque + torque * abs(torque) / softening_torque) / stiffness)
+    return tuple(out)
+
+
+def softening_segments(
+    breakpoints: tuple[Any, ...], torque_range: Any, stages: int
+) -> tuple[Any, ...]:
+    """:attr:`SofteningSpring.segment_stiffness` of its ``breakpoints`` [N·m/rad] (arrays too)."""
+    step = torque_range / stages
+    return tuple(step / (b - a) for a, b in itertools.pairwise(breakpoints))

@@ -11,7 +11,9 @@ loop; nothing else leaves it. A sum of squared qpos errors against targets at gi
 (:class:`QposSquareError`, a fit's joint term) can be accumulated per world on the device
 instead, so that one number per world comes back.
 The models are one MJCF with different parameters (a CMA-ES generation's candidates);
-the fields in which they differ become per-world ("batched") MuJoCo Warp model arrays.
+the fields in which they differ become per-world ("batched") MuJoCo Warp model arrays; or
+one compiled model comes with its per-world fields already written
+(:class:`~zmpkit.sim.world_fields.WorldFields`, no model per candidate).
 Runs on a CUDA device (the point) or on Warp's CPU device (tests); ``pip install
 'zmpkit[gpu]'``.
 
@@ -54,10 +56,11 @@ from numpy.typing import NDArray
 from zmpkit.errors import ModelError, ParameterError
 from zmpkit.sim.warp_columns import QposSquareError, check_square_error, record_columns
 from zmpkit.sim.warp_inputs import RECORDABLE, check_inputs, check_records, record_steps
-from zmpkit.sim.warp_model import batched_fields, check_supported
+from zmpkit.sim.warp_model import batched_fields, check_supported, world_fields_for_warp
 from zmpkit.sim.warp_runtime import import_warp, warp_device, warp_runtime
 from zmpkit.sim.warp_session import Plan, Session, clear_warp_cache, plan_for, session_for
 from zmpkit.sim.warp_step import NEVER_FAILED, one_step, run_steps
+from zmpkit.sim.world_fields import WorldFields
 
 __all__ = [
     "DEFAULT_STEPS_PER_LAUNCH",
@@ -147,7 +150,7 @@ def _overflow_check(mjw: Any, overflow: NDArray[Any], healthy: NDArray[np.bool_]
 
 
 def rollout_warp(
-    models: Sequence[mujoco.MjModel],
+    models: Sequence[mujoco.MjModel] | WorldFields,
     initial_state: NDArray[Any],
     control: NDArray[Any],
     record_every: int = 1,
@@ -165,7 +168,9 @@ def rollout_warp(
     """Roll out every model from its state under open-loop control sequences, batched.
 
     Args:
-        models: one model per item, compiled from one MJCF (fields that differ: per world).
+        models: one model per item, compiled from one MJCF (fields that differ: per world);
+            or one compiled model with its per-world fields already written
+            (:class:`~zmpkit.sim.world_fields.WorldFields`: no comparison of models).
         initial_state: ``mjSTATE_FULLPHYSICS`` state, ``(nstate,)`` shared or ``(nbatch,
             nstate)`` one each.
         control: ``ctrl`` per step (actuator units, e.g. [rad] at a dcmotor's rotor):
@@ -202,8 +207,8 @@ def rollout_warp(
         record, steps_per_launch, columns, square_error,
     )  # fmt: skip
     with wp.ScopedDevice(warp_device(wp, device)):
-        run = _run(wp, mjw, models, inputs, (nconmax, njmax), int(steps_per_launch), square_error)
-    return _rollout(mjw, models, inputs, run)
+        run = _run(wp, mjw, inputs, (nconmax, njmax), int(steps_per_launch), square_error)
+    return _rollout(mjw, inputs, run)
 
 
 @dataclass(frozen=True)
@@ -228,7 +233,6 @@ class _Run:
 def _run(
     wp: Any,
     mjw: Any,
-    models: Sequence[mujoco.MjModel],
     inputs: "_Inputs",
     buffers: tuple[int | None, int | None],
     steps_per_launch: int,
@@ -236,7 +240,7 @@ def _run(
 ) -> _Run:
     """Run the batch on the current device; ``buffers``: (nconmax, njmax) per world."""
     name = str(wp.get_device())
-    session = session_for(wp, mjw, models, inputs.fields, name, *buffers)
+    session = session_for(wp, mjw, inputs.worlds, name, *buffers)
     nstep, nrec = inputs.nstep, len(inputs.steps)
     plan = plan_for(
         wp, session, len(inputs.control), nstep, nrec, inputs.columns, inputs.square_shape
@@ -251,15 +255,16 @@ def _run(
     return _Run(out, first_bad, overflow, total, name)
 
 
-def _rollout(
-    mjw: Any, models: Sequence[mujoco.MjModel], inputs: "_Inputs", run: _Run
-) -> WarpRollout:
+def _rollout(mjw: Any, inputs: "_Inputs", run: _Run) -> WarpRollout:
     """The rollout's records as float64, with their times, valid rows and solver flags."""
     steps = inputs.steps
     recorded = {
         k: np.ascontiguousarray(v.transpose(1, 0, 2), dtype=np.float64) for k, v in run.out.items()
     }
-    timestep = np.array([mm.opt.timestep for mm in models])
+    worlds = inputs.worlds
+    timestep = np.broadcast_to(
+        worlds.values.get("opt.timestep", worlds.template.opt.timestep), (len(worlds),)
+    )
     time = inputs.state0[:, :1] + timestep[:, None] * steps[None, :]
     if "state" in recorded:
         recorded["state"][:, :, 0] = time
@@ -280,7 +285,7 @@ class _Inputs:
         groups: ``(nbatch,)`` the sequence each item runs.
         steps: ``(nrec,)`` the steps after which rows are taken.
         columns: per recorded name, the columns each row keeps.
-        fields: the model fields given per world.
+        worlds: the template and the model fields given per world.
         row_of_step: ``(nstep,)`` the row taken after each step, -1 for none.
         square_targets: the padded targets of the squared joint errors, or None.
     """
@@ -290,9 +295,14 @@ class _Inputs:
     groups: NDArray[np.int32]
     steps: NDArray[np.int64]
     columns: dict[str, tuple[int, ...]]
-    fields: tuple[str, ...]
+    worlds: WorldFields
     row_of_step: NDArray[np.int32]
     square_targets: NDArray[np.float64] | None
+
+    @property
+    def fields(self) -> tuple[str, ...]:
+        """The model fields given per world."""
+        return self.worlds.names
 
     @property
     def nstep(self) -> int:
@@ -309,7 +319,7 @@ class _Inputs:
 
 def _checked_inputs(
     mjw: Any,
-    models: Sequence[mujoco.MjModel],
+    models: Sequence[mujoco.MjModel] | WorldFields,
     initial_state: NDArray[Any],
     control: NDArray[Any],
     control_group: NDArray[Any] | Sequence[int] | None,
@@ -321,9 +331,8 @@ def _checked_inputs(
     square_error: QposSquareError | None,
 ) -> _Inputs:
     """:func:`rollout_warp`'s arguments checked (its Raises) and laid out for the device."""
-    if len(models) == 0 or not all(isinstance(m, mujoco.MjModel) for m in models):
-        raise ParameterError("models must be a non-empty sequence of mujoco.MjModel")
-    template = models[0]
+    worlds = _worlds(mjw, models)
+    template = worlds.template
     state0, ctrl, groups = check_inputs(
         template, len(models), initial_state, control, control_group
     )
@@ -332,13 +341,21 @@ def _checked_inputs(
     kept = record_columns(template, records, columns)
     state0 = np.broadcast_to(state0, (len(models), state0.shape[-1]))
     check_supported(mjw, template)
-    fields = batched_fields(mjw, models)
     nstep = int(steps[-1])
     row_of_step = np.full(nstep, -1, dtype=np.int32)
     row_of_step[steps - 1] = np.arange(len(steps), dtype=np.int32)
     check_square_error(square_error, template, len(ctrl), nstep)
     targets = None if square_error is None else square_error.padded_targets()
-    return _Inputs(state0, ctrl, groups, steps, kept, fields, row_of_step, targets)
+    return _Inputs(state0, ctrl, groups, steps, kept, worlds, row_of_step, targets)
+
+
+def _worlds(mjw: Any, models: Sequence[mujoco.MjModel] | WorldFields) -> WorldFields:
+    """The template and per-world fields of ``models`` (checked as :func:`rollout_warp` says)."""
+    if isinstance(models, WorldFields):
+        return world_fields_for_warp(mjw, models)
+    if len(models) == 0 or not all(isinstance(m, mujoco.MjModel) for m in models):
+        raise ParameterError("models must be a non-empty sequence of mujoco.MjModel")
+    return WorldFields.of_models(models, batched_fields(mjw, models))
 
 
 def _load(

@@ -4,6 +4,10 @@ The fields in which the models differ become per-world ("batched") MuJoCo Warp a
 field Warp cannot hold per world, a model feature it lacks, or a difference in a field from
 which it derives code paths (zero patterns) is a :class:`~zmpkit.errors.ParameterError`.
 
+A batch whose per-world fields are already known (a fit's candidates written into one
+compiled model, :class:`~zmpkit.sim.world_fields.WorldFields`) skips the comparison: its
+fields are only checked (:func:`world_fields_for_warp`).
+
 The comparison is vectorised over fields: each model's fields are read with one look-up per
 dtype and compared with the first model's in one numpy operation (about 0.3 ms per model of
 a 24-joint humanoid, 7 times faster than field by field; ``benchmarks/bench_warp_fields.py``).
@@ -20,6 +24,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from zmpkit.errors import ParameterError
+from zmpkit.sim.world_fields import WorldFields
 
 __all__ = [
     "assign_per_world",
@@ -29,6 +34,7 @@ __all__ = [
     "per_world_values",
     "put_models",
     "size_key",
+    "world_fields_for_warp",
 ]
 
 _OPTION_BATCHABLE = ("timestep", "gravity", "magnetic")
@@ -221,34 +227,32 @@ def per_world_values(
     return {name: np.stack([_field(model, name) for model in models]) for name in fields}
 
 
-def put_models(wp: Any, mjw: Any, models: Sequence[mujoco.MjModel], fields: Sequence[str]) -> Any:
-    """The Warp model of ``models[0]`` with ``fields`` given per world."""
-    model_fields = [f for f in fields if not f.startswith("opt.")]
+def put_models(wp: Any, mjw: Any, worlds: WorldFields) -> Any:
+    """The Warp model of ``worlds.template`` with ``worlds``'s fields given per world."""
+    model_fields = [f for f in worlds.values if not f.startswith("opt.")]
     try:
-        m = mjw.put_model(models[0], batch_sizes={f: len(models) for f in model_fields})
+        m = mjw.put_model(worlds.template, batch_sizes=dict.fromkeys(model_fields, len(worlds)))
     except NotImplementedError as exc:
         raise ParameterError(
             f"MuJoCo Warp does not support this model: {exc}; "
             "run it on the CPU (the fit's backend 'local', or mujoco.rollout)"
         ) from exc
     m.opt.warn_overflow = 0  # overflows are read from Data.overflow and raised below
-    assign_per_world(wp, m, models, fields)
+    assign_per_world(wp, m, worlds)
     return m
 
 
-def assign_per_world(
-    wp: Any, m: Any, models: Sequence[mujoco.MjModel], fields: Sequence[str]
-) -> None:
-    """Copy each of ``fields``, stacked over ``models``, into the Warp model ``m``.
+def assign_per_world(wp: Any, m: Any, worlds: WorldFields) -> None:
+    """Copy each of ``worlds``'s per-world fields into the Warp model ``m``.
 
-    Arrays that already hold one row per model are written in place (a captured graph
+    Arrays that already hold one row per world are written in place (a captured graph
     that reads them stays valid); an option still shared by all worlds is replaced by a
     per-world array.
     """
-    for name, values in per_world_values(models, fields).items():
+    for name, values in worlds.values.items():
         if name.startswith("opt."):
             current = getattr(m.opt, name[4:])
-            if current.shape[0] == len(models):
+            if current.shape[0] == len(worlds):
                 current.assign(wp.array(values, dtype=current.dtype))
             else:
                 setattr(m.opt, name[4:], wp.array(values, dtype=current.dtype))
@@ -275,6 +279,32 @@ def model_differences(model: mujoco.MjModel, other: mujoco.MjModel, allowed: Seq
     except ParameterError:
         return True
     return False
+
+
+def world_fields_for_warp(mjw: Any, worlds: WorldFields) -> WorldFields:
+    """``worlds`` without the fields MuJoCo Warp never reads, checked as :func:`batched_fields`.
+
+    Raises:
+        ParameterError: a per-world field Warp cannot batch, or one of the fields from
+            whose zero pattern Warp derives code paths with another zero pattern than the
+            template's.
+    """
+    kept = {k: v for k, v in worlds.values.items() if k not in _UNREAD_BY_WARP}
+    batchable = _batchable(mjw)
+    unbatchable = sorted(set(kept) - batchable)
+    if unbatchable:
+        raise ParameterError(
+            f"the models differ in {', '.join(map(repr, unbatchable))}, which MuJoCo Warp "
+            f"cannot give per world; per-world fields: {sorted(batchable)}"
+        )
+    for name in sorted(set(kept) & set(_SWITCH_FIELDS)):
+        zeros = _field(worlds.template, name) == 0
+        if np.any((kept[name] == 0) != zeros[None]):
+            raise ParameterError(
+                f"the models differ in which entries of {name!r} are zero; MuJoCo Warp "
+                "chooses code paths from the first model, so batch models with the same zeros"
+            )
+    return WorldFields(worlds.template, kept, worlds.nworld)
 
 
 def batched_fields(mjw: Any, models: Sequence[mujoco.MjModel]) -> tuple[str, ...]:

@@ -14,7 +14,6 @@ from __future__ import annotations
 
 import copy
 from collections import OrderedDict
-from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -23,6 +22,7 @@ import numpy as np
 
 from zmpkit.sim.warp_columns import PER_COLUMN
 from zmpkit.sim.warp_model import assign_per_world, model_differences, put_models, size_key
+from zmpkit.sim.world_fields import WorldFields
 
 __all__ = [
     "MAX_PLANS",
@@ -96,23 +96,22 @@ def clear_warp_cache() -> None:
 def session_for(
     wp: Any,
     mjw: Any,
-    models: Sequence[mujoco.MjModel],
-    fields: tuple[str, ...],
+    worlds: WorldFields,
     device: str,
     nconmax: int | None,
     njmax: int | None,
 ) -> Session:
-    """The cached Warp model and data for ``models`` (built on a miss), per-world fields set."""
-    template = models[0]
-    key = (device, size_key(template), fields, len(models), nconmax, njmax)
+    """The cached Warp model and data for ``worlds`` (built on a miss), per-world fields set."""
+    template, fields = worlds.template, worlds.names
+    key = (device, size_key(template), fields, len(worlds), nconmax, njmax)
     session = _SESSIONS.get(key)
     if session is not None and not model_differences(session.template, template, fields):
         _SESSIONS.move_to_end(key)
-        assign_per_world(wp, session.m, models, fields)
+        assign_per_world(wp, session.m, worlds)
         return session
-    m = put_models(wp, mjw, models, fields)
+    m = put_models(wp, mjw, worlds)
     d = mjw.put_data(
-        template, mujoco.MjData(template), nworld=len(models), nconmax=nconmax, njmax=njmax
+        template, mujoco.MjData(template), nworld=len(worlds), nconmax=nconmax, njmax=njmax
     )
     session = Session(copy.deepcopy(template), fields, m, d)
     _SESSIONS[key] = session

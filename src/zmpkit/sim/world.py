@@ -30,7 +30,7 @@ from zmpkit.sim.description import RobotDescription
 from zmpkit.sim.sensing import FtChannel, quantise
 from zmpkit.sim.servo import TrajectoryLimiter
 
-__all__ = ["DIVERGED_SPEED_RAD_S", "Simulation"]
+__all__ = ["DIVERGED_SPEED_RAD_S", "Simulation", "encoder_angles"]
 
 DIVERGED_SPEED_RAD_S = 200.0
 """A generalised velocity beyond this [rad/s or m/s] counts as divergence."""
@@ -62,8 +62,32 @@ class Simulation:
         self._sens = {
             f.foot: self._sensor_slices(f.force_sensor, f.torque_sensor) for f in robot.feet
         }
-        streams = np.random.SeedSequence(seed).spawn(len(robot.feet) + 1)
-        self._imu_rng = np.random.default_rng(streams[-1])
+        self._streams: tuple[tuple[int, int], list[np.random.SeedSequence]] = ((-1, 0), [])
+        self._start(seed)
+
+    def restart(self, robot: RobotDescription, seed: int = 0) -> None:
+        """Start again at the model's initial state, as a new simulation of ``robot`` would.
+
+        ``robot`` differs from the current description in its sensor errors only (same
+        MJCF, joints and feet; e.g. a fit candidate's F-T offsets), and the model's fields
+        may have been rewritten since (a candidate's, :mod:`zmpkit.sim.world_fields`). The
+        data is reset in place (no allocation: a new MjData costs ~0.3 ms) and the sensor
+        channels, servo and step count are new; the state and readings are then those of
+        ``Simulation(robot, seed, model)``, bit for bit (tested).
+        """
+        self.robot = robot
+        mujoco.mj_resetData(self.model, self.data)
+        self._start(seed)
+
+    def _start(self, seed: int) -> None:
+        """The state of a simulation just built: noise streams, channels, servo, first sample."""
+        robot = self.robot
+        key = (seed, len(robot.feet) + 1)
+        if self._streams[0] != key:  # the same children every time (generate_state is pure)
+            self._streams = (key, np.random.SeedSequence(seed).spawn(key[1]))
+        streams = self._streams[1]
+        self._imu_stream = streams[-1]
+        self._imu_rng_now: np.random.Generator | None = None  # made on first use
         params = robot.sensor_params
         self._ft = {
             f.foot: FtChannel(
@@ -200,11 +224,19 @@ class Simulation:
 
     def encoders_of(self, qpos: NDArray[np.float64]) -> NDArray[np.float64]:
         """:meth:`encoders` of recorded ``qpos`` rows, shape (..., nq) -> (..., J) [rad]."""
-        q = np.asarray(qpos)[..., self._qadr]
-        if self.robot.effects.sensors:
-            step = np.full(q.shape, self.robot.sensor_params.encoder_resolution)
-            return quantise(q, step)
-        return q.copy()
+        return encoder_angles(qpos, self._qadr, self.robot)
+
+    @property
+    def joint_qpos_addresses(self) -> list[int]:
+        """Each driven joint's address in ``qpos``, in joint order."""
+        return self._qadr
+
+    @property
+    def _imu_rng(self) -> np.random.Generator:
+        """The IMU's noise stream, made on its first draw (the same draws as made at start)."""
+        if self._imu_rng_now is None:
+            self._imu_rng_now = np.random.default_rng(self._imu_stream)
+        return self._imu_rng_now
 
     def imu(self) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
         """Gyro [rad/s], accelerometer [m/s²] and orientation quaternion (w, x, y, z)."""
@@ -215,6 +247,22 @@ class Simulation:
         )
         if self.robot.effects.sensors:
             p = self.robot.sensor_params
-            gyro += p.gyro_noise_std * self._imu_rng.standard_normal(3)
-            accel += p.accel_noise_std * self._imu_rng.standard_normal(3)
+            rng = self._imu_rng
+            gyro += p.gyro_noise_std * rng.standard_normal(3)
+            accel += p.accel_noise_std * rng.standard_normal(3)
         return gyro, accel, quat
+
+
+def encoder_angles(
+    qpos: NDArray[np.float64], addresses: Sequence[int], robot: RobotDescription
+) -> NDArray[np.float64]:
+    """What ``robot``'s encoders read of ``qpos`` rows (..., nq) -> (..., J) [rad].
+
+    The driven joints' motor-side angles at ``addresses``, quantised to the encoder
+    resolution when the sensor effect is on.
+    """
+    q = np.asarray(qpos)[..., list(addresses)]
+    if robot.effects.sensors:
+        step = np.full(q.shape, robot.sensor_params.encoder_resolution)
+        return quantise(q, step)
+    return q.copy()

@@ -9,7 +9,9 @@ With ``warp_device`` the batch runs on MuJoCo Warp instead (``pip install 'zmpki
 backend ``"warp"``): all experiments x candidates of a generation stepped together in one
 batch on a GPU (:func:`~zmpkit.simfit.warp_batched.costs_batches_warp`), many steps per graph
 launch, only the rows and columns the cost reads recorded on the device and the joint term
-summed there, the Warp model kept between generations (:mod:`zmpkit.sim.warp_batch`);
+summed there, the Warp model kept between generations (:mod:`zmpkit.sim.warp_batch`), the
+candidates' parameters written into one compiled model's per-world fields where the robot's
+field rule maps them (:mod:`~zmpkit.simfit.candidate_worlds`; else one compilation each);
 float32 physics, so the costs approximate the
 serial backend's (on the test walk within 0.1 % for candidates that walk, and the same fall
 frame for one that falls).
@@ -23,6 +25,7 @@ import numpy as np
 
 from zmpkit.errors import ParameterError
 from zmpkit.simfit.batched import simulate_batches
+from zmpkit.simfit.candidate_worlds import CandidateValues
 from zmpkit.simfit.cost import CostTerms, experiment_cost
 from zmpkit.simfit.parameters import ParameterValues
 from zmpkit.simfit.population import WARP_GPU_WIDTH
@@ -68,16 +71,24 @@ class BatchEvaluator:
     def costs(self, candidates: Sequence[ParameterValues]) -> list[list[CostTerms]]:
         """Cost terms per candidate and experiment."""
         problem = self.problem
-        truths = [problem.truth(np.asarray(c, dtype=float).tolist()) for c in candidates]
         if self.warp_device is not None:  # every experiment x candidate in one batch
+            values = CandidateValues(
+                problem.robot,
+                problem.parameters,
+                problem.simulated_base_doc,
+                np.asarray(candidates, dtype=np.float64).reshape(
+                    len(candidates), len(problem.parameters)
+                ),
+            )  # one compiled model, each candidate's fields written per world
             per_experiment = costs_batches_warp(
                 problem.experiments,
-                truths,
+                values,
                 problem.sim_effects,
                 self.warp_device,
                 problem.keeps_zmp_mean,
             )
             return [[terms[c] for terms in per_experiment] for c in range(len(candidates))]
+        truths = [problem.truth(np.asarray(c, dtype=float).tolist()) for c in candidates]
         simulated = simulate_batches(problem.experiments, truths, problem.sim_effects, self.threads)
         return [
             [

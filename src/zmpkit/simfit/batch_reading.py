@@ -17,8 +17,9 @@ import mujoco
 import numpy as np
 from numpy.typing import NDArray
 
+from zmpkit.sim.posed import StartedSimulation
 from zmpkit.sim.sensing import sample_series
-from zmpkit.sim.world import DIVERGED_SPEED_RAD_S, Simulation
+from zmpkit.sim.world import DIVERGED_SPEED_RAD_S
 from zmpkit.simfit.batch_rows import BatchRows
 
 __all__ = ["ft_readings", "layout_groups", "read_candidates"]
@@ -30,7 +31,7 @@ _LAYOUT_SIZES = (
 )  # fmt: skip
 
 
-def layout_groups(sims: Sequence[Simulation]) -> list[list[int]]:
+def layout_groups(sims: Sequence[StartedSimulation]) -> list[list[int]]:
     """Candidates whose models give MjData the same layout (one batch each)."""
     groups: dict[tuple[int, ...], list[int]] = {}
     for i, sim in enumerate(sims):
@@ -88,7 +89,10 @@ def read_candidates(
 
 
 def ft_readings(
-    rows: BatchRows, sims: Sequence[Simulation], alive: list[int], sensordata: NDArray[np.float64]
+    rows: BatchRows,
+    sims: Sequence[StartedSimulation],
+    alive: list[int],
+    sensordata: NDArray[np.float64],
 ) -> NDArray[np.float64]:
     """The F-T readings at the chunk's sample steps, (alive, samples, feet, 6).
 

@@ -17,7 +17,7 @@ from zmpkit.sensors.imu import quaternion_pitch_roll, tilt_from_quaternions
 from zmpkit.sensors.mount import wrench_in_world
 from zmpkit.sensors.zmp import zmp_in_world
 from zmpkit.sim.description import FootSensor
-from zmpkit.sim.world import Simulation
+from zmpkit.sim.posed import StartedSimulation
 from zmpkit.simfit.cost_columns import HEIGHT_QPOS, CostColumns
 from zmpkit.simfit.experiments import Experiment, StepExperiment, WalkExperiment
 from zmpkit.simfit.open_loop import OpenLoopSchedule
@@ -42,7 +42,7 @@ class BatchRows:
     def __init__(
         self,
         experiment: Experiment,
-        sims: Sequence[Simulation],
+        sims: Sequence[StartedSimulation],
         schedule: OpenLoopSchedule,
         columns: CostColumns | None = None,
     ) -> None:
@@ -218,7 +218,7 @@ class BatchRows:
         return rows["time"], zmp, tilt_from_quaternions(quats, "sagittal")
 
 
-def _ft_columns(sim: Simulation, foot: FootSensor) -> NDArray[np.int64]:
+def _ft_columns(sim: StartedSimulation, foot: FootSensor) -> NDArray[np.int64]:
     """The sensordata columns of a foot's F-T force then torque (``ft_true_of``'s order)."""
     force = sim.sensor_slice(foot.force_sensor)
     torque = sim.sensor_slice(foot.torque_sensor)

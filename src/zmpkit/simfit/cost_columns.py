@@ -18,8 +18,8 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
+from zmpkit.sim.posed import StartedSimulation
 from zmpkit.sim.warp_columns import QposSquareError
-from zmpkit.sim.world import Simulation
 
 __all__ = ["HEIGHT_QPOS", "CostColumns", "cost_columns", "joint_square_error"]
 
@@ -64,7 +64,7 @@ class CostColumns:
         }
 
 
-def cost_columns(sim: Simulation) -> CostColumns:
+def cost_columns(sim: StartedSimulation) -> CostColumns:
     """The columns of ``sim``'s model the cost reads (module docstring)."""
     robot = sim.robot
     sensors: list[int] = []
@@ -79,7 +79,7 @@ def cost_columns(sim: Simulation) -> CostColumns:
 
 
 def joint_square_error(
-    sims: Sequence[Simulation],
+    sims: Sequence[StartedSimulation],
     joints: Sequence[Sequence[str]],
     steps: Sequence[NDArray[np.int64]],
     targets: Sequence[NDArray[np.float64]],

@@ -25,7 +25,9 @@ from zmpkit.errors import ParameterError, SimulationDivergedError
 from zmpkit.experiments.walk_trial import start_pose
 from zmpkit.robots.robot import Robot
 from zmpkit.sim.description import RobotDescription
+from zmpkit.sim.posed import PosedSimulation, StartedSimulation
 from zmpkit.sim.world import Simulation
+from zmpkit.simfit.candidate_worlds import CandidateWorlds
 from zmpkit.simfit.experiments import Experiment, StepExperiment, WalkExperiment
 from zmpkit.simfit.rollout import setpoint_table
 from zmpkit.simfit.shooting_window import ShootingWindow
@@ -38,6 +40,7 @@ __all__ = [
     "open_loop_schedule",
     "posed_simulation",
     "posed_simulations",
+    "posed_world_simulations",
 ]
 
 
@@ -107,6 +110,31 @@ def posed_simulations(
     return out
 
 
+def posed_world_simulations(
+    experiments: Sequence[Experiment], worlds: CandidateWorlds
+) -> list[list[PosedSimulation]]:
+    """Per experiment, per candidate, :func:`posed_simulation`'s state with no compilation.
+
+    One simulation on a host copy of the template is restarted for each candidate and
+    experiment (:meth:`~zmpkit.sim.world.Simulation.restart`) with the candidate's fields
+    written into the copy (:meth:`~zmpkit.sim.world_fields.WorldFields.write_into`) and its
+    description (:meth:`~zmpkit.simfit.candidate_worlds.CandidateWorlds.description_of`:
+    its F-T offsets), posed, and frozen (:class:`~zmpkit.sim.posed.PosedSimulation`). The
+    posed states and readings are :func:`posed_simulations`'s, bit for bit (tested).
+    """
+    fields = worlds.fields
+    sim = Simulation(worlds.description, seed=0, model=copy.copy(fields.template))
+    out: list[list[PosedSimulation]] = [[] for _ in experiments]
+    for c in range(len(fields)):
+        fields.write_into(sim.model, c)
+        description = worlds.description_of(c)
+        for e, experiment in enumerate(experiments):
+            sim.restart(description, seed=0)
+            _pose(experiment, sim)
+            out[e].append(PosedSimulation.taken_from(sim))
+    return out
+
+
 def _pose(experiment: Experiment, sim: Simulation) -> None:
     if isinstance(experiment, WalkExperiment):
         start_pose(sim, walk_trajectory(*_walk_key(experiment)))
@@ -123,7 +151,7 @@ def _walk_key(experiment: WalkExperiment) -> tuple[Robot, float, float, float, f
     )
 
 
-def open_loop_schedule(experiment: Experiment, sim: Simulation) -> OpenLoopSchedule:
+def open_loop_schedule(experiment: Experiment, sim: StartedSimulation) -> OpenLoopSchedule:
     """The servo setpoints [rad] of ``experiment`` for every physics step of ``sim``.
 
     Raises:
@@ -141,7 +169,7 @@ _WALK_SCHEDULES: dict[tuple, OpenLoopSchedule] = {}
 _MAX_WALK_SCHEDULES = 16
 
 
-def _walk_schedule(experiment: WalkExperiment, sim: Simulation) -> OpenLoopSchedule:
+def _walk_schedule(experiment: WalkExperiment, sim: StartedSimulation) -> OpenLoopSchedule:
     """The frames of :func:`~zmpkit.experiments.walk_trial.simulate_walk`, through the servo.
 
     The same for every candidate and generation, so computed once (Python per step).
@@ -173,7 +201,7 @@ def _recorded_rows(schedule: OpenLoopSchedule, rows: int) -> OpenLoopSchedule:
     )
 
 
-def _plan_walk_schedule(experiment: WalkExperiment, sim: Simulation) -> OpenLoopSchedule:
+def _plan_walk_schedule(experiment: WalkExperiment, sim: StartedSimulation) -> OpenLoopSchedule:
 
     trajectory = walk_trajectory(*_walk_key(experiment))
     columns = [trajectory.joint_names.index(j) for j in sim.joint_names]
@@ -195,7 +223,7 @@ def _plan_walk_schedule(experiment: WalkExperiment, sim: Simulation) -> OpenLoop
     )
 
 
-def _step_schedule(experiment: StepExperiment, sim: Simulation) -> OpenLoopSchedule:
+def _step_schedule(experiment: StepExperiment, sim: StartedSimulation) -> OpenLoopSchedule:
     """The recorded setpoints, one per servo tick, sampled at the recorded times."""
     signals = experiment.signals
     if tuple(sim.joint_names) != tuple(signals.joint_names):

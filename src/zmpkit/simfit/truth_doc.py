@@ -20,7 +20,9 @@ from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
+import numpy as np
 import yaml
+from numpy.typing import NDArray
 
 from zmpkit.errors import InputFileError, ParameterError
 from zmpkit.io.yaml_file import load_yaml, yaml_error
@@ -32,6 +34,7 @@ __all__ = [
     "EXPECTED_READINGS_ZEROED",
     "RobotTruth",
     "base_truth_path",
+    "doc_with_columns",
     "expected_readings",
     "get_path",
     "load_robot_truth",
@@ -142,6 +145,35 @@ def truth_doc_with(
     doc = copy.deepcopy(dict(base))
     for parameter, value in zip(parameters, values, strict=True):
         set_path(doc, parameter.path, value)
+    return doc
+
+
+def doc_with_columns(
+    base: Mapping[str, Any],
+    parameters: Sequence[FitParameter],
+    values: NDArray[np.float64],
+) -> dict[str, Any]:
+    """A copy of ``base`` whose fitted numbers are columns: one value per candidate [units].
+
+    Args:
+        base: the base truth document.
+        parameters: the fitted parameters.
+        values: ``(ncandidate, len(parameters))`` each candidate's values [units].
+
+    Returns:
+        The document with each parameter's path (every item it addresses) holding its
+        ``(ncandidate,)`` column of float64 values, what a
+        :class:`~zmpkit.robots.field_rule.FieldRule` reads.
+    """
+    doc = copy.deepcopy(dict(base))
+    values = np.asarray(values, dtype=np.float64)
+    for k, parameter in enumerate(parameters):
+        get_path(doc, parameter.path)  # validates that numbers live there
+        nodes, last = _parents(doc, parameter.path)
+        for node in nodes:
+            keys = [last] if isinstance(last, str) else last or range(len(node))
+            for key in keys:
+                node[key] = values[:, k].copy()
     return doc
 
 

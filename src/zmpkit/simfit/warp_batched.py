@@ -10,6 +10,8 @@ are judged as the CPU batch judges them (:mod:`~zmpkit.simfit.batch_reading`).
 
 from __future__ import annotations
 
+import copy
+import logging
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, TypeVar
@@ -19,14 +21,21 @@ import numpy as np
 from numpy.typing import NDArray
 
 from zmpkit.errors import ParameterError
+from zmpkit.sim.posed import PosedSimulation, StartedSimulation
 from zmpkit.sim.solver_settings import SolverSettings
-from zmpkit.sim.world import Simulation
+from zmpkit.sim.world_fields import WorldFields
 from zmpkit.simfit.batch_reading import ft_readings, layout_groups, read_candidates
 from zmpkit.simfit.batch_rows import BatchRows
+from zmpkit.simfit.candidate_worlds import CandidateValues, candidate_worlds, field_map_gap
 from zmpkit.simfit.cost import CostTerms, experiment_cost, experiment_cost_of_parts
 from zmpkit.simfit.cost_columns import CostColumns, cost_columns, joint_square_error
 from zmpkit.simfit.experiments import Experiment
-from zmpkit.simfit.open_loop import OpenLoopSchedule, open_loop_schedule, posed_simulations
+from zmpkit.simfit.open_loop import (
+    OpenLoopSchedule,
+    open_loop_schedule,
+    posed_simulations,
+    posed_world_simulations,
+)
 from zmpkit.simfit.recorded import RecordedSignals
 from zmpkit.simfit.rollout import simulate_experiment
 from zmpkit.simfit.truth_doc import RobotTruth
@@ -35,7 +44,9 @@ if TYPE_CHECKING:
     from zmpkit.sim.warp_batch import WarpRollout
     from zmpkit.sim.warp_columns import QposSquareError
 
-__all__ = ["WARP_RECORDS", "costs_batches_warp", "simulate_batches_warp"]
+__all__ = ["WARP_RECORDS", "costs_batches_warp", "field_path_gap", "simulate_batches_warp"]
+
+_LOG = logging.getLogger(__name__)
 
 WARP_RECORDS = ("qpos", "sensordata", "site_xpos", "site_xmat")
 """What the signals read of each row on MuJoCo Warp (the rest stays on the device)."""
@@ -43,7 +54,7 @@ WARP_RECORDS = ("qpos", "sensordata", "site_xpos", "site_xmat")
 
 def simulate_batches_warp(
     experiments: Sequence[Experiment],
-    truths: Sequence[RobotTruth],
+    truths: Sequence[RobotTruth] | CandidateValues,
     effects: str,
     device: str,
     solver: SolverSettings | None = None,
@@ -56,7 +67,10 @@ def simulate_batches_warp(
 
     Args:
         experiments: the recorded experiments to replay (of one robot).
-        truths: one truth object per candidate.
+        truths: one truth object per candidate, or the candidates' parameter values
+            (:class:`~zmpkit.simfit.candidate_worlds.CandidateValues`): then, where the
+            robot's field rule maps every parameter, one compiled model with each
+            candidate's fields written per world (:func:`field_path_gap` says when not).
         effects: effect letters switched on, e.g. ``"M,G,S"``.
         device: the Warp device (``"cuda:0"``; ``"cpu"`` for testing; ``""`` for Warp's
             default).
@@ -71,7 +85,7 @@ def simulate_batches_warp(
     def signals(part: _WarpPart, i: int, c: int) -> RecordedSignals:
         experiment = experiments[part.experiment]
         if part.rows.rerun[i]:
-            return simulate_experiment(experiment, truths[c], effects)
+            return simulate_experiment(experiment, _truth(truths, c), effects)
         return part.rows.signals(i)
 
     return _warp_batches(experiments, truths, effects, device, signals, False, solver)
@@ -79,7 +93,7 @@ def simulate_batches_warp(
 
 def costs_batches_warp(
     experiments: Sequence[Experiment],
-    truths: Sequence[RobotTruth],
+    truths: Sequence[RobotTruth] | CandidateValues,
     effects: str,
     device: str,
     keep_zmp_mean: bool = False,
@@ -108,7 +122,7 @@ def costs_batches_warp(
     def cost(part: _WarpPart, i: int, c: int) -> CostTerms:
         experiment = experiments[part.experiment]
         if part.rows.rerun[i]:
-            simulated = simulate_experiment(experiment, truths[c], effects)
+            simulated = simulate_experiment(experiment, _truth(truths, c), effects)
             return experiment_cost(experiment.signals, simulated, keep_zmp_mean)
         zmp, tilt = part.rows.zmp_and_tilt(i)
         square = part.rows.posed_square[i] + part.square[i]
@@ -122,9 +136,86 @@ def costs_batches_warp(
 _Out = TypeVar("_Out")
 
 
+def _truth(truths: Sequence[RobotTruth] | CandidateValues, c: int) -> RobotTruth:
+    """Candidate ``c``'s truth object (built only for a rerun on the serial path)."""
+    return truths.truth(c) if isinstance(truths, CandidateValues) else truths[c]
+
+
+def field_path_gap(
+    experiments: Sequence[Experiment], truths: Sequence[RobotTruth] | CandidateValues
+) -> str | None:
+    """Why a batch compiles each candidate's MJCF, or None when it writes per-world fields.
+
+    It writes them when the candidates come as parameter values of one robot, every
+    experiment is of that robot, and its field rule maps every parameter
+    (:func:`~zmpkit.simfit.candidate_worlds.field_map_gap`).
+    """
+    if not isinstance(truths, CandidateValues):
+        return "the candidates come as truth objects, not as parameter values"
+    robot = truths.robot
+    others = sorted(
+        {
+            e.robot.title
+            for e in experiments
+            if e.robot is not robot and e.robot.source != robot.source
+        }
+    )
+    if others:
+        return f"experiments of other robots than the fitted one: {others}"
+    return field_map_gap(truths.robot, truths.parameters)
+
+
+@dataclass(frozen=True)
+class _Posed:
+    """Every candidate posed for every experiment.
+
+    Attributes:
+        sims: per experiment, per candidate, its posed simulation.
+        worlds: the one compiled model and each candidate's fields (one world per
+            candidate, every experiment); None: each simulation's own model.
+        reason: why ``worlds`` is None (:func:`field_path_gap`), else empty.
+    """
+
+    sims: Sequence[Sequence[StartedSimulation]]
+    worlds: WorldFields | None
+    reason: str = ""
+
+
+def _posed(
+    experiments: Sequence[Experiment],
+    truths: Sequence[RobotTruth] | CandidateValues,
+    effects: str,
+    solver: SolverSettings | None,
+) -> _Posed:
+    """The posed candidates: written into one compiled model where it can, else compiled."""
+    reason = field_path_gap(experiments, truths)
+    if reason is None and isinstance(truths, CandidateValues):
+        try:
+            worlds = candidate_worlds(truths, effects)
+        except ParameterError as exc:  # a truth document the rule cannot map
+            reason = str(exc)
+        else:
+            posed = posed_world_simulations(experiments, worlds)
+            fields = worlds.fields
+            if solver is not None:  # after the pose, as on the compile path
+                template = copy.copy(fields.template)
+                solver.apply(template)
+                fields = WorldFields(template, fields.values, fields.nworld)
+            return _Posed(posed, fields)
+    if isinstance(truths, CandidateValues):
+        _LOG.info("the Warp batch compiles each candidate's MJCF: %s", reason)
+    every = truths.truths() if isinstance(truths, CandidateValues) else list(truths)
+    sims = posed_simulations(experiments, every, effects)
+    if solver is not None:
+        for per in sims:
+            for sim in per:
+                solver.apply(sim.model)
+    return _Posed(sims, None, reason or "")
+
+
 def _warp_batches(
     experiments: Sequence[Experiment],
-    truths: Sequence[RobotTruth],
+    truths: Sequence[RobotTruth] | CandidateValues,
     effects: str,
     device: str,
     result: Callable[[_WarpPart, int, int], _Out],
@@ -137,18 +228,16 @@ def _warp_batches(
     ``on_device``: record only the cost's columns and sum the joint term on the device;
     ``solver``: set on every posed model.
     """
-    if not truths or not experiments:
+    if not len(truths) or not experiments:
         return [[] for _ in experiments]
-    parts = []
-    for experiment, sims in zip(
-        experiments, posed_simulations(experiments, truths, effects), strict=True
-    ):
-        if solver is not None:
-            for sim in sims:
-                solver.apply(sim.model)
-        parts.append((experiment, sims, open_loop_schedule(experiment, sims[0])))
-    worlds = [(e, c) for e in range(len(parts)) for c in range(len(truths))]
-    out: list[list[_Out | None]] = [[None] * len(truths) for _ in parts]
+    posed = _posed(experiments, truths, effects, solver)
+    parts: list[tuple[Experiment, Sequence[StartedSimulation], OpenLoopSchedule]] = [
+        (experiment, sims, open_loop_schedule(experiment, sims[0]))
+        for experiment, sims in zip(experiments, posed.sims, strict=True)
+    ]
+    ncand = len(truths)
+    worlds = [(e, c) for e in range(len(parts)) for c in range(ncand)]
+    out: list[list[_Out | None]] = [[None] * ncand for _ in parts]
     for group in layout_groups([parts[e][1][c] for e, c in worlds]):
         chosen = [worlds[w] for w in group]
         columns = cost_columns(parts[chosen[0][0]][1][chosen[0][1]]) if on_device else None
@@ -158,11 +247,22 @@ def _warp_batches(
             if mine:
                 rows = BatchRows(experiment, [sims[c] for c in mine], schedule, columns)
                 runs.append(_WarpPart(rows, [sims[c] for c in mine], schedule, e, mine))
-        _run_warp(runs, device, columns)
+        _run_warp(runs, device, columns, _group_models(runs, posed.worlds))
         for run in runs:
             for i, c in enumerate(run.candidates):
                 out[run.experiment][c] = result(run, i, c)
     return [[s for s in per if s is not None] for per in out]
+
+
+def _group_models(
+    runs: Sequence[_WarpPart], worlds: WorldFields | None
+) -> list[mujoco.MjModel] | WorldFields:
+    """The models of a batch's worlds: each simulation's own, or rows of ``worlds``."""
+    if worlds is None:
+        return [s.model for run in runs for s in run.sims]
+    rows = np.concatenate([np.asarray(run.candidates, dtype=np.int64) for run in runs])
+    values = {name: stack[rows] for name, stack in worlds.values.items()}
+    return WorldFields(worlds.template, values, len(rows))
 
 
 @dataclass(frozen=True)
@@ -178,7 +278,7 @@ class _WarpPart:
     """
 
     rows: BatchRows
-    sims: Sequence[Simulation]
+    sims: Sequence[StartedSimulation]
     schedule: OpenLoopSchedule
     experiment: int
     candidates: list[int]
@@ -210,17 +310,23 @@ class _WarpPart:
         ]
 
 
-def _run_warp(parts: Sequence[_WarpPart], device: str, columns: CostColumns | None) -> None:
+def _run_warp(
+    parts: Sequence[_WarpPart],
+    device: str,
+    columns: CostColumns | None,
+    models: Sequence[mujoco.MjModel] | WorldFields,
+) -> None:
     """Roll every part's candidates out on MuJoCo Warp in one batch, filling their rows.
 
     Only the rows the signals read are recorded, on the device, with ``qpos``,
     ``sensordata`` and the site kinematics (which lag one step, as after ``mj_step``), or,
     with ``columns``, only those columns, the joint term summed on the device into each
-    part's ``square``; MuJoCo Warp checks every step for divergence.
+    part's ``square``; MuJoCo Warp checks every step for divergence. ``models``: the
+    worlds' models, in the parts' order.
     """
     from zmpkit.sim.warp_batch import rollout_warp
 
-    table = _control_table(parts)
+    table = _control_table(parts, isinstance(models, WorldFields))
     sims = [s for part in parts for s in part.sims]
     group = np.repeat(np.arange(len(parts)), [len(part.sims) for part in parts])
     initial = _initial_states(sims)
@@ -229,7 +335,7 @@ def _run_warp(parts: Sequence[_WarpPart], device: str, columns: CostColumns | No
     record_steps = np.unique(np.concatenate(kept))
     square = None if columns is None else _square_error(parts)
     result = rollout_warp(
-        [s.model for s in sims],
+        models,
         initial,
         table,
         device=device or None,
@@ -247,12 +353,15 @@ def _run_warp(parts: Sequence[_WarpPart], device: str, columns: CostColumns | No
         _read_part(part, result, worlds, steps_kept, nsite, initial[worlds, 0])
 
 
-def _control_table(parts: Sequence[_WarpPart]) -> NDArray[np.float64]:
-    """Each part's controls, ``(nparts, nstep, nu)``: a shorter one holds its last row."""
+def _control_table(parts: Sequence[_WarpPart], shared: bool) -> NDArray[np.float64]:
+    """Each part's controls, ``(nparts, nstep, nu)``: a shorter one holds its last row.
+
+    ``shared``: the candidates share one model's actuator gears (no check needed).
+    """
     controls = []
     for part in parts:
         mine = part.sims[0].controls_of(part.schedule.setpoints_rad)
-        if any(
+        if not shared and any(
             not np.array_equal(s.controls_of(part.schedule.setpoints_rad), mine) for s in part.sims
         ):
             raise ParameterError(
@@ -263,12 +372,15 @@ def _control_table(parts: Sequence[_WarpPart]) -> NDArray[np.float64]:
     return np.stack([np.concatenate([c, np.repeat(c[-1:], longest - len(c), 0)]) for c in controls])
 
 
-def _initial_states(sims: Sequence[Simulation]) -> NDArray[np.float64]:
+def _initial_states(sims: Sequence[StartedSimulation]) -> NDArray[np.float64]:
     """Each posed simulation's ``mjSTATE_FULLPHYSICS`` state, ``(nsims, nstate)``."""
     full = mujoco.mjtState.mjSTATE_FULLPHYSICS
     initial = np.empty((len(sims), mujoco.mj_stateSize(sims[0].model, full)))
     for i, sim in enumerate(sims):
-        mujoco.mj_getState(sim.model, sim.data, initial[i], full)
+        if isinstance(sim, PosedSimulation):
+            initial[i] = sim.data.state
+        else:
+            mujoco.mj_getState(sim.model, sim.data, initial[i], full)
     return initial
 
 

@@ -14,6 +14,7 @@ from pathlib import Path
 from zmpkit.robots.ik_settings import IkSettings
 from zmpkit.robots.nao import fit_catalogue
 from zmpkit.robots.nao import geometry as geo
+from zmpkit.robots.nao.fit_fields import NAO_FIELD_RULE
 from zmpkit.robots.nao.model import (
     NAO_DRIVEN_JOINTS,
     NAO_LEG_JOINTS,
@@ -77,7 +78,9 @@ NAO = Robot(
             f"{s}{j}" for s in ("L", "R") for j in ("HipPitch", "KneePitch", "AnklePitch")
         ),
     ),
-    fit=FitSpec(fit_catalogue.FIT_CATALOGUE, fit_catalogue.QUICK_FIT_PARAMETERS, "walk"),
+    fit=FitSpec(
+        fit_catalogue.FIT_CATALOGUE, fit_catalogue.QUICK_FIT_PARAMETERS, "walk", NAO_FIELD_RULE
+    ),
 )
 """The virtual NAO."""
 

@@ -37,7 +37,14 @@ from zmpkit.sim.drive import IdealServoParams, InductanceParams, MotorParams
 from zmpkit.sim.sensor_errors import SensorParams
 from zmpkit.sim.truth_file import TruthReader, flex_joint, section
 
-__all__ = ["DEFAULT_TRUTH_PATH", "NaoTruth", "load_truth", "truth_from_doc"]
+__all__ = [
+    "DEFAULT_TRUTH_PATH",
+    "NaoTruth",
+    "link_gains",
+    "load_truth",
+    "torso_inertia",
+    "truth_from_doc",
+]
 
 DEFAULT_TRUTH_PATH = Path(__file__).with_name("data") / "truth.yaml"
 """The truth shipped with zmpkit."""
@@ -80,10 +87,39 @@ class NaoTruth:
 
         The inertia is the URDF's scaled by the mass ratio (same shape, denser).
         """
-        scale = self.torso_mass_kg / TORSO.mass
-        ixx, iyy, izz = TORSO.inertia
-        inertia = (scale * ixx, scale * iyy, scale * izz)
-        return Inertial(self.torso_mass_kg, self.torso_com_m, inertia)
+        return Inertial(self.torso_mass_kg, self.torso_com_m, torso_inertia(self.torso_mass_kg))
+
+
+def torso_inertia(mass_kg: Any) -> tuple[Any, Any, Any]:
+    """The real torso's (Ixx, Iyy, Izz) at its CoM: the URDF's times the mass ratio [kg·m²].
+
+    ``mass_kg`` may be a numpy array (a fit's candidates): the same arithmetic, elementwise.
+    """
+    scale = mass_kg / TORSO.mass
+    ixx, iyy, izz = TORSO.inertia
+    return (scale * ixx, scale * iyy, scale * izz)
+
+
+def link_gains(
+    stiffness: Any, torque_constant: float, ratio: Any, resistance: float, pid: Mapping[str, Any]
+) -> tuple[Any, Any, Any]:
+    """The joint-side PID gains (kp, ki, kd) of the voltage gains ``pid`` (module docstring).
+
+    ``k_link = s g K N / R`` [N·m/rad, N·m/(rad·s), N·m·s/rad]. The stiffness factor, the
+    ratio and the gains may be numpy arrays (a fit's candidates, :mod:`.fit_fields`): the
+    arithmetic is the same, element by element.
+    """
+    volts_to_torque = stiffness * torque_constant * ratio / resistance  # [N·m/V] at the joint
+    return (
+        volts_to_torque * _number(pid["p"]),
+        volts_to_torque * _number(pid["i"]),
+        volts_to_torque * _number(pid["d"]),
+    )
+
+
+def _number(value: Any) -> Any:
+    """A truth number as a float, or a candidates' column (a numpy array) as it is."""
+    return value if hasattr(value, "shape") else float(value)
 
 
 def _motor(ratio: float, doc: Mapping[str, Any], path: Path) -> MotorParams:
@@ -91,7 +127,7 @@ def _motor(ratio: float, doc: Mapping[str, Any], path: Path) -> MotorParams:
     spec, pid = section(doc, "motor", path), section(doc, "pid_volts", path)
     friction, s = section(doc, "friction", path), float(section(doc, "stiffness", path))
     k, r = float(spec["torque_constant"]), float(spec["resistance"])
-    volts_to_torque = s * k * float(ratio) / r  # [N·m/V] at the joint
+    kp, ki, kd = link_gains(s, k, float(ratio), r, pid)
     return MotorParams(
         torque_constant=k,
         resistance=r,
@@ -100,9 +136,9 @@ def _motor(ratio: float, doc: Mapping[str, Any], path: Path) -> MotorParams:
         rotor_inertia=float(spec["rotor_inertia"]),
         coulomb_friction_link=float(friction["coulomb_link"]),
         viscous_friction_motor=k * k / r if friction["back_emf_damping"] else 0.0,
-        kp_link=volts_to_torque * float(pid["p"]),
-        ki_link=volts_to_torque * float(pid["i"]),
-        kd_link=volts_to_torque * float(pid["d"]),
+        kp_link=kp,
+        ki_link=ki,
+        kd_link=kd,
         integral_limit_link=float(pid["integral_limit_link"]),
         servo_rate_hz=float(doc["servo_rate_hz"]),
     )

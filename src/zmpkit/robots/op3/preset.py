@@ -19,6 +19,7 @@ from zmpkit.errors import ParameterError
 from zmpkit.robots.op3 import fit_catalogue
 from zmpkit.robots.robot import FitSpec, Robot
 from zmpkit.robots.robot_file_reader import read_robot_file
+from zmpkit.robots.servo_fields import SERVO_FIELD_RULE
 from zmpkit.robots.user_robot import build_user_robot
 
 __all__ = [
@@ -81,5 +82,10 @@ def op3_robot() -> Robot:
         source="op3",
         # the fit replays balance steps: its XM430 servos' factory gains are P-only and soft,
         # and it walks only at its slower default speed (data/robot.yaml)
-        fit=FitSpec(fit_catalogue.FIT_CATALOGUE, fit_catalogue.QUICK_FIT_PARAMETERS, "step"),
+        fit=FitSpec(
+            fit_catalogue.FIT_CATALOGUE,
+            fit_catalogue.QUICK_FIT_PARAMETERS,
+            "step",
+            SERVO_FIELD_RULE,
+        ),
     )

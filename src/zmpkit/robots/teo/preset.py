@@ -13,6 +13,7 @@ from pathlib import Path
 from zmpkit.robots.robot import BalanceModel, FitSpec, Robot, TruthSpec
 from zmpkit.robots.teo import fit_catalogue
 from zmpkit.robots.teo import geometry as geo
+from zmpkit.robots.teo.fit_fields import TEO_FIELD_RULE
 from zmpkit.robots.teo.model import (
     TEO_BALANCE_MASS_KG,
     TEO_COM_HEIGHT_M,
@@ -61,7 +62,9 @@ TEO = Robot(
         control_period_s=0.01,
         target_span_m=0.10,  # paper A's Table 1: working points 0 ... 0.10 m
     ),
-    fit=FitSpec(fit_catalogue.FIT_CATALOGUE, fit_catalogue.QUICK_FIT_PARAMETERS, "step"),
+    fit=FitSpec(
+        fit_catalogue.FIT_CATALOGUE, fit_catalogue.QUICK_FIT_PARAMETERS, "step", TEO_FIELD_RULE
+    ),
 )
 """The virtual TEO."""
 
