@@ -16,7 +16,7 @@ fit then builds and compiles each candidate's MJCF.
 from __future__ import annotations
 
 import fnmatch
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -25,7 +25,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from zmpkit.sim.description import RobotDescription
-from zmpkit.sim.world_fields import CandidateFields
+from zmpkit.sim.effect_fields import gear_writes
+from zmpkit.sim.world_fields import CandidateFields, FieldWrite
 
 __all__ = ["FieldRule", "column", "item"]
 
@@ -64,3 +65,23 @@ def column(value: Any, n: int) -> NDArray[np.float64]:
 def item(value: Any) -> Any:
     """A truth number as the loader reads it: ``float`` of a plain number, a column as is."""
     return value if isinstance(value, np.ndarray) else float(value)
+
+
+def gear_doc_writes(
+    model: mujoco.MjModel, joints: Sequence[str], gear: Mapping[str, Any], n: int
+) -> list[FieldWrite]:
+    """The gear tendons' writes (G) from a truth document's ``gear`` block, ``n`` candidates."""
+    return gear_writes(
+        model,
+        joints,
+        column(gear["stiffness"], n),
+        column(gear["damping"], n),
+        column(gear["backlash"], n),
+    )
+
+
+def ft_offset_columns(
+    offsets: Mapping[str, Sequence[Any]], sides: Sequence[str], n: int
+) -> dict[str, NDArray[np.float64]]:
+    """Per side, the F-T offsets of ``n`` candidates [N, N·m], shape (n, 6)."""
+    return {side: np.stack([column(v, n) for v in offsets[side]], 1) for side in sides}

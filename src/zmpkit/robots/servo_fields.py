@@ -23,10 +23,10 @@ import mujoco
 import numpy as np
 
 from zmpkit.errors import ParameterError
-from zmpkit.robots.field_rule import FieldRule, column, item
+from zmpkit.robots.field_rule import FieldRule, column, gear_doc_writes, item
 from zmpkit.sim.builder import dcmotor_controller
 from zmpkit.sim.description import RobotDescription
-from zmpkit.sim.effect_fields import dcmotor_writes, flex_writes, frictionloss_writes, gear_writes
+from zmpkit.sim.effect_fields import dcmotor_writes, flex_writes, frictionloss_writes
 from zmpkit.sim.world_fields import CandidateFields, FieldWrite
 
 __all__ = ["SERVO_FIELD_RULE"]
@@ -82,14 +82,7 @@ def _write(
     if effects.motor:
         writes += _motor_writes(model, joints, doc, effects.inductance, n)
     if effects.gear:
-        gear = doc["gear"]
-        writes += gear_writes(
-            model,
-            joints,
-            column(gear["stiffness"], n),
-            column(gear["damping"], n),
-            column(gear["backlash"], n),
-        )
+        writes += gear_doc_writes(model, joints, doc["gear"], n)
     if effects.flex:
         writes += _flex_writes(model, doc, n)
     return CandidateFields(tuple(writes))

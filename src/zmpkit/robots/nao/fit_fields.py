@@ -26,7 +26,7 @@ import mujoco
 import numpy as np
 
 from zmpkit.errors import ParameterError
-from zmpkit.robots.field_rule import FieldRule, column, item
+from zmpkit.robots.field_rule import FieldRule, column, ft_offset_columns, gear_doc_writes, item
 from zmpkit.robots.nao.model import NAO_DRIVEN_JOINTS, NAO_SIDES
 from zmpkit.robots.nao.truth import link_gains, torso_inertia
 from zmpkit.sim.builder import dcmotor_controller
@@ -35,7 +35,6 @@ from zmpkit.sim.effect_fields import (
     dcmotor_writes,
     flex_writes,
     frictionloss_writes,
-    gear_writes,
     inertial_writes,
 )
 from zmpkit.sim.world_fields import CandidateFields, FieldWrite
@@ -101,23 +100,14 @@ def _write(
         if effects.inductance:
             writes += _inductance_writes(model, doc, n)
     if effects.gear:
-        gear = doc["gear"]
-        joints = NAO_DRIVEN_JOINTS
-        writes += gear_writes(
-            model,
-            joints,
-            column(gear["stiffness"], n),
-            column(gear["damping"], n),
-            column(gear["backlash"], n),
-        )
+        writes += gear_doc_writes(model, NAO_DRIVEN_JOINTS, doc["gear"], n)
     if effects.flex:
         writes += _flex_writes(model, doc, n)
     writes += _torso_writes(model, doc, n)
     torso = doc["torso"]
     fitted = [torso["mass_kg"], *torso["com_m"]]
     derived = any(isinstance(v, np.ndarray) for v in fitted)  # else the template's
-    offsets = doc["sensors"]["ft_offset"]
-    ft = {side: np.stack([column(v, n) for v in offsets[side]], 1) for side in NAO_SIDES}
+    ft = ft_offset_columns(doc["sensors"]["ft_offset"], NAO_SIDES, n)
     return CandidateFields(tuple(writes), derived=derived, ft_offsets=ft)
 
 

@@ -24,7 +24,7 @@ from typing import Any
 import mujoco
 import numpy as np
 
-from zmpkit.robots.field_rule import FieldRule, column, item
+from zmpkit.robots.field_rule import FieldRule, column, ft_offset_columns, gear_doc_writes, item
 from zmpkit.robots.teo.model import TEO_DRIVEN_JOINTS, TEO_SIDES
 from zmpkit.sim.builder import dcmotor_controller
 from zmpkit.sim.description import RobotDescription
@@ -32,7 +32,6 @@ from zmpkit.sim.effect_fields import (
     dcmotor_writes,
     flex_writes,
     frictionloss_writes,
-    gear_writes,
     mjcf_number,
     softening_flex_writes,
 )
@@ -113,20 +112,13 @@ def _write(
         writes += _motor_writes(model, doc, effects.inductance, n)
     if effects.gear:
         gear = doc["gear"]
-        writes += gear_writes(
-            model,
-            tuple(gear.get("joints", doc["joints"])),
-            column(gear["stiffness"], n),
-            column(gear["damping"], n),
-            column(gear["backlash"], n),
-        )
+        writes += gear_doc_writes(model, tuple(gear.get("joints", doc["joints"])), gear, n)
     if effects.flex:
         writes += _flex_writes(model, doc, n)
     writes += _payload_writes(model, doc, n)
     payload = doc["payload"]
     derived = any(isinstance(v, np.ndarray) for v in (payload["mass_kg"], *payload["position_m"]))
-    offsets = doc["sensors"]["ft_offset"]
-    ft = {side: np.stack([column(v, n) for v in offsets[side]], 1) for side in TEO_SIDES}
+    ft = ft_offset_columns(doc["sensors"]["ft_offset"], TEO_SIDES, n)
     return CandidateFields(tuple(writes), derived=derived, ft_offsets=ft)
 
 
