@@ -73,6 +73,11 @@ class StepAdjustmentParameters:
         early_next_lift: a step that could not capture and landed early has the next swing
             lift as much earlier (its planned touchdown with it): the plan's double support,
             not the plan's clock, follows the early landing (the ``zmpip`` walk only).
+        two_step: a triggered step lands, at its planned touchdown, nearest the plan
+            where the next step captures on the plan's timing, when two such steps exist
+            (:mod:`zmpkit.walking.two_step_capture`); else one step is re-timed and placed.
+        level_swing: the swing sole is kept level in pitch: the trunk's measured pitch
+            change is taken off it (:mod:`zmpkit.walking.level_swing`).
     """
 
     enabled: bool = True
@@ -88,6 +93,8 @@ class StepAdjustmentParameters:
     measured_footholds: bool = True
     touchdown_contact_fraction: float = 0.5
     early_next_lift: bool = False
+    two_step: bool = False
+    level_swing: bool = False
 
     def __post_init__(self) -> None:
         for name in ("trigger_dcm_error_m", "cop_margin_m", "landing_margin_m"):

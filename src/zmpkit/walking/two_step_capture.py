@@ -49,7 +49,7 @@ from zmpkit import _validate
 from zmpkit.errors import ParameterError
 from zmpkit.walking.scalar_limits import clip
 
-__all__ = ["TwoStepCapture", "solve_two_step", "two_step_capture"]
+__all__ = ["TwoStepCapture", "solve_two_step", "solve_two_step_into", "two_step_capture"]
 
 
 def _dead_band(value: float, band: float) -> float:
@@ -64,9 +64,11 @@ def _dead_band(value: float, band: float) -> float:
 def _towards(value: float, lo: float, hi: float, band: float) -> float:
     """``value`` moved towards ``[lo, hi]`` by at most ``band`` >= 0 (the CoP's share) [m]."""
     if value > hi:
-        return max(hi, value - band)
+        moved = value - band
+        return hi if hi > moved else moved
     if value < lo:
-        return min(lo, value + band)
+        moved = value + band
+        return lo if lo < moved else moved
     return value
 
 
@@ -89,6 +91,34 @@ def solve_two_step(
     m and ``landing_margin_m`` l [m]. Returns ``(u_1, u_2, left)``: the landings [m] and the DCM
     error the second step leaves outside its landing margin (0 when it captures) [m].
     """
+    out = [0.0, 0.0, 0.0]
+    solve_two_step_into(
+        out, dcm_m, sigma_first, sigma_second, planned_first_m, lo_first_m, hi_first_m,
+        lo_second_m, hi_second_m, cop_margin_m, landing_margin_m,
+    )  # fmt: skip
+    return out[0], out[1], out[2]
+
+
+def solve_two_step_into(
+    out: list[float],
+    dcm_m: float,
+    sigma_first: float,
+    sigma_second: float,
+    planned_first_m: float,
+    lo_first_m: float,
+    hi_first_m: float,
+    lo_second_m: float,
+    hi_second_m: float,
+    cop_margin_m: float,
+    landing_margin_m: float,
+) -> None:
+    """:func:`solve_two_step` written into ``out[0:3]`` (no tuple: a control tick's form).
+
+    Args: ``dcm_m`` x_0 [m]; ``sigma_first`` σ_1 >= 1, ``sigma_second`` σ_2 >= 1 [-];
+    ``planned_first_m`` u_1^{plan} [m]; the boxes ``[lo, hi]`` of u_1 and u_2 [m]; ``cop_margin_m``
+    m and ``landing_margin_m`` l [m]. Returns ``(u_1, u_2, left)``: the landings [m] and the DCM
+    error the second step leaves outside its landing margin (0 when it captures) [m].
+    """
     band_first = cop_margin_m * (sigma_first - 1.0)
     band_second = cop_margin_m * (sigma_second - 1.0)
     reach_lo = lo_second_m - landing_margin_m - band_second  # of r_1 σ_2 [m]
@@ -102,14 +132,15 @@ def solve_two_step(
     elif hi < lo_first_m:
         first = lo_first_m
     else:
-        first = clip(planned_first_m, max(lo, lo_first_m), min(hi, hi_first_m))
+        low = lo if lo > lo_first_m else lo_first_m  # (no min/max: they allocate)
+        first = clip(planned_first_m, low, hi if hi < hi_first_m else hi_first_m)
     at_first = _towards(
         base, first + reach_lo / sigma_second, first + reach_hi / sigma_second, band_first
     )
     wanted = _towards((at_first - first) * sigma_second, lo_second_m, hi_second_m, band_second)
     second = clip(wanted, lo_second_m, hi_second_m)
     left = 0.0 if captured else abs(_dead_band(wanted - second, landing_margin_m))
-    return first, second, left
+    out[0], out[1], out[2] = first, second, left
 
 
 @dataclass(frozen=True)
