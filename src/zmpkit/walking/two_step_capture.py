@@ -34,10 +34,16 @@ What a second step buys: ``R/σ_2`` of capturable DCM. On the built-in walker (`
 infinite-step limit ``R σ_2/(σ_2 - 1)`` is the same 0.261 m); shortened to 0.25 s it adds
 5.2 cm (0.302 m), to 0.2 s 7.1 cm. A second step helps only with its timing adapted.
 
-Not called by the walk yet: the step adjustment (:mod:`~zmpkit.walking.capture_step`) plans
-one step. On the built-in walker the 20 N pushes that still fall with it do so because the
-step after the push touches down mid-swing, 15-20 cm behind its plan, so a second planned
-step would not be carried out either; the swing comes first.
+Called by the walk with :attr:`~.StepAdjustmentParameters.two_step` (opt-in): a triggered
+step lands, at its planned touchdown, nearest the plan where the next step captures on the
+plan's timing (:func:`solve_two_step_into`, the tick's form). The 20 N pushes along -y (over
+the stance sole) are beyond it on the built-in walker: with the walk's own reach boxes, the
+estimated DCM 4.2 cm beyond the right sole's centre once the push is in (4.25 s, 20 N -y at
+a quarter of the seventh step) leaves 0.10 m uncaptured even with the first step at its
+earliest and the second shortened to 0.2 s (0.21 m at 0.25 s), the ankle holding the CoP at
+the sole's edge throughout; only at 4.20 s, mid-push, would a second step of 0.25 s
+capture. (An earlier note had these falls touching down mid-swing: the "touchdown" was the
+contact of a foot that never left the ground, :mod:`~zmpkit.walking.measured_footholds`.)
 """
 
 from __future__ import annotations
