@@ -131,3 +131,68 @@ def test_every_landing_is_within_reach_off_the_other_leg_and_in_time(
         assert lateral >= REACH.min_lateral_m - 1e-9  # no crossing
         u, v = 0.5 * along, 0.5 * lateral - REACH.hip_half_width_m
         assert math.hypot(u, v) <= REACH.leg_reach_m + 1e-9  # within both legs' reach
+
+
+def _walk_held(pattern, error_m: tuple[float, float], frames: range, **parameters):
+    """Run the adjustment over the whole walk; the DCM is the plan's plus ``error_m`` over
+    ``frames`` (held, not grown: what the robot's own stepping does to it is not modelled).
+    """
+    feet = {f: getattr(pattern.feet, f).position_in_world.copy() for f in FEET}
+    soles = np.stack([feet[f] for f in FEET], axis=1)
+    targets = {f: np.ascontiguousarray(soles[:, i]) for i, f in enumerate(FEET)}
+    adjustment = StepAdjustment(
+        pattern, FEET, REACH, StepAdjustmentParameters(**parameters), targets, soles
+    )
+    omega = math.sqrt(STANDARD_GRAVITY_MPS2 / pattern.config.com_height_m)
+    com = pattern.com
+    dcm = (com.com_position_in_world + com.com_velocity_in_world / omega)[:, :2]
+    for frame in range(1, pattern.time_s.size):
+        ex, ey = error_m if frame - 1 in frames else (0.0, 0.0)
+        adjustment.update(frame, frame - 1, dcm[frame - 1, 0] + ex, dcm[frame - 1, 1] + ey)
+    return adjustment, targets
+
+
+def test_two_steps_on_the_plans_timing_keep_the_touchdown_one_step_cannot(pattern) -> None:
+    """8 cm of DCM along the walk over the pushed swing: one step of the NAO's reach cannot
+    hold it and is re-timed (0.09 s early, uncaptured); the first of two steps keeps its
+    planned touchdown and the second, on the plan's timing, captures (Koolen et al.'s
+    two-step condition, :mod:`zmpkit.walking.two_step_capture`)."""
+    steps = planned_steps(pattern, FEET)
+    pushed = steps[PUSHED_STEP]
+    frames = range(pushed.lift + 5, pushed.touchdown)
+    one, _ = _walk_held(pattern, (0.08, 0.0), frames, two_step=False)
+    two, targets = _walk_held(pattern, (0.08, 0.0), frames, two_step=True)
+    first_one = next(e for e in one.events() if e.step == PUSHED_STEP)
+    first_two = next(e for e in two.events() if e.step == PUSHED_STEP)
+    assert first_one.shortened_s > 0.0
+    assert not first_one.captured
+    assert first_two.shortened_s == 0.0
+    assert first_two.captured
+    assert pushed.touchdown in _touchdowns(targets[pushed.side][:, 2])
+
+
+@settings(max_examples=15, deadline=None)
+@given(
+    ex=st.floats(-0.12, 0.12),
+    ey=st.floats(-0.12, 0.12),
+    phase=st.floats(0.0, 0.6),
+)
+def test_two_step_landings_are_within_reach_off_the_other_leg_and_in_time(
+    pattern, ex: float, ey: float, phase: float
+) -> None:
+    steps = planned_steps(pattern, FEET)
+    pushed = steps[PUSHED_STEP]
+    start = pushed.lift + int(phase * (pushed.touchdown - pushed.lift))
+    _, targets = _walk_held(pattern, (ex, ey), range(start, pushed.touchdown), two_step=True)
+    for step in steps[PUSHED_STEP : len(steps) - 1]:
+        z = targets[step.side][:, 2]
+        lift = max(k for k in _lifts(z) if k <= step.lift + 1)
+        down = min(k for k in _touchdowns(z) if k > lift)
+        assert down <= step.touchdown
+        stance, land = targets[FEET[step.stance]][down], targets[step.side][down]
+        c, s = step.cos_yaw, step.sin_yaw
+        dx, dy = land[0] - stance[0], land[1] - stance[1]
+        along, lateral = c * dx + s * dy, step.sign * (-s * dx + c * dy)
+        assert lateral >= REACH.min_lateral_m - 1e-9
+        u, v = 0.5 * along, 0.5 * lateral - REACH.hip_half_width_m
+        assert math.hypot(u, v) <= REACH.leg_reach_m + 1e-9

@@ -98,7 +98,8 @@ def parts() -> dict[str, Tick]:
     # Whole feedback steps around the IK: separate walks whose IK does nothing (the QP is
     # mink's and allocates; everything the step does around it is measured).
     walks = {}
-    always = StepAdjustmentParameters(trigger_dcm_error_m=(0.0, 0.0))  # every step adjusted
+    # every step adjusted, and the swing soles levelled (zmpkit.walking.level_swing)
+    always = StepAdjustmentParameters(trigger_dcm_error_m=(0.0, 0.0), level_swing=True)
     expected = expected_zmp_offset(model, trajectory, pattern.com.zmp_in_world)  # as walks do
     for name, walk in (
         ("zmpip step", ZmpIpWalk(pattern, model, settings, layout, sim.joint_names,

@@ -9,7 +9,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from zmpkit.errors import ParameterError
-from zmpkit.walking.two_step_capture import solve_two_step, two_step_capture
+from zmpkit.walking.two_step_capture import solve_two_step, solve_two_step_into, two_step_capture
 
 OMEGA = math.sqrt(9.80665 / 0.25)  # a walker with its CoM 0.25 m high [1/s]
 
@@ -96,3 +96,19 @@ def test_bad_box_is_refused_with_its_value() -> None:
         two_step_capture(
             (0.0, 0.0), OMEGA, 0.1, 0.3, (0.0, 0.0), (0.1, -0.1, 0.0, 0.0), (0, 0, 0, 0)
         )
+
+
+@settings(max_examples=200, deadline=None)
+@given(
+    x0=st.floats(-0.3, 0.3), t1=st.floats(0.0, 0.4), t2=st.floats(0.1, 0.6),
+    planned=st.floats(-0.1, 0.1), margin=st.floats(0.0, 0.05),
+)  # fmt: skip
+def test_the_tick_form_writes_what_the_function_returns(
+    x0: float, t1: float, t2: float, planned: float, margin: float
+) -> None:
+    """:func:`solve_two_step_into` (the control tick's, no tuple) equals :func:`solve_two_step`."""
+    args = (x0, math.exp(6.26 * t1), math.exp(6.26 * t2), planned, -0.15, 0.15, -0.25, 0.25,
+            margin, 0.0)  # fmt: skip
+    out = [0.0, 0.0, 0.0]
+    solve_two_step_into(out, *args)
+    assert tuple(out) == solve_two_step(*args)

@@ -115,16 +115,22 @@ class WalkingIk:
             damping=settings.damping,
         )
         self.configuration = self.body.configuration
+        self.foot_pitch_rad = np.zeros(len(self.body.feet))
+        """Each sole's pitch target [rad], in the order of :attr:`feet` (nose down positive;
+        0: parallel to the ground)."""
+        self.feet = tuple(self.body.feet)
+        """The soles' sides, in the order of :attr:`foot_pitch_rad`."""
         self._stop = IkStop(settings.tolerance_m, settings.max_iterations, watch_feet=True)
         self.qadr = [_qpos_address(model, name) for name in settings.joint_names]
 
     def set_targets(self, pattern: IkTargets, k: int) -> None:
         """Aim the tasks at sample ``k`` of ``pattern``: feet [m, rad], torso yaw [rad], CoM [m]."""
         feet, body = pattern.feet, self.body
-        for side, task in body.feet.items():
+        for i, (side, task) in enumerate(body.feet.items()):
             trajectory = feet.left if side == "left" else feet.right
             x, y, z = trajectory.position_in_world[k]
-            task.set_target(yaw_pose(x, y, z, trajectory.yaw_in_world[k]))
+            pitch = self.foot_pitch_rad.item(i)
+            task.set_target(yaw_pose(x, y, z, trajectory.yaw_in_world[k], pitch))
         assert body.torso is not None  # IkCosts.torso is always given
         pitch = self.settings.torso_pitch_rad
         body.torso.set_target(yaw_pose(0.0, 0.0, 0.0, feet.torso_yaw_in_world[k], pitch))

@@ -22,6 +22,7 @@ from numpy.typing import NDArray
 from zmpkit.models.pendulum import STANDARD_GRAVITY_MPS2
 from zmpkit.walking.heading_feedback import HeadingFeedback, HeadingFeedbackGains
 from zmpkit.walking.ik import IkSettings, WalkingIk
+from zmpkit.walking.level_swing import LevelSwing
 from zmpkit.walking.measured_footholds import MeasuredFootholds
 from zmpkit.walking.measurement import WalkMeasurement
 from zmpkit.walking.pattern import WalkingPattern
@@ -140,6 +141,11 @@ class OnlineWalk:
         """The step adjustment (:mod:`zmpkit.walking.step_adjustment`)."""
         footholds = MeasuredFootholds(self.estimator, stepping.touchdown_contact_fraction)
         self.stepping.attach_footholds(footholds)
+        self.level_swing = LevelSwing(stepping.enabled and stepping.level_swing)
+        """The swing soles' pitch (:mod:`zmpkit.walking.level_swing`)."""
+        self._foot_heights = tuple(
+            (i, sides[f].position_in_world) for i, f in enumerate(self.ik.feet)
+        )
 
     def step_events(self) -> tuple[StepEvent, ...]:
         """The steps this walk adjusted so far (:class:`StepEvent`)."""
@@ -148,6 +154,16 @@ class OnlineWalk:
     def _correct(self, frame: int) -> None:
         """Write the CoM target of ``frame`` into ``self.targets`` (estimates are current)."""
         raise NotImplementedError
+
+    def _level_feet(self, frame: int, measurement: WalkMeasurement) -> None:
+        """Each sole's pitch target of ``frame``: the trunk's pitch off a foot in the air."""
+        level = self.level_swing
+        if not level.enabled:
+            return
+        level.update(measurement.imu_quaternion)
+        pitch = self.ik.foot_pitch_rad
+        for i, position in self._foot_heights:
+            pitch[i] = level.foot_pitch_rad(position.item(frame, 2))
 
     def step(self, frame: int, measurement: WalkMeasurement) -> NDArray[np.float64]:
         """Joint targets of ``frame`` [rad] from the readings of ``frame - 1``."""
@@ -173,6 +189,7 @@ class OnlineWalk:
         self._correct(frame)
         targets, commanded = self.targets.com_position_in_world, self.com_target_in_world
         commanded[frame, 0], commanded[frame, 1] = targets.item(frame, 0), targets.item(frame, 1)
+        self._level_feet(frame, measurement)
         self.ik.set_targets(self.targets, frame)
         self.ik.solve(self.ik.settings.max_iterations, self.dt)
         q, q_targets = self._ik_qpos, self._q_targets

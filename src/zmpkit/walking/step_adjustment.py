@@ -72,6 +72,7 @@ from zmpkit.walking.scalar_limits import clip
 from zmpkit.walking.step_adjustment_parameters import StepAdjustmentParameters
 from zmpkit.walking.step_events import NOT_CAPTURED, StepEvent, StepLog
 from zmpkit.walking.step_reach import StepReach
+from zmpkit.walking.two_step_capture import solve_two_step_into
 
 __all__ = ["NOT_CAPTURED", "StepAdjustment", "StepAdjustmentParameters", "StepEvent"]
 
@@ -140,6 +141,11 @@ class StepAdjustment:
         self._span, self._goal, self._planned_goal = -1, [0.0, 0.0], [0.0, 0.0]
         self._shift_along = self._shift_lateral = 0.0
         self._asked = [0.0, 0.0, 0.0, 0.0]  # touchdown [frames], along, lateral, left [m]
+        self._two = [0.0, 0.0, 0.0]  # one axis's two-step capture: u_1, u_2, left [m]
+        # what the capture of a tick reads once _adjust is done: the DCM error and the plan's
+        # DCM (along, across) [m], the landing's shift box [m], touchdown, earliest [frames]
+        self._capture_inputs = [0.0] * 10
+        self._two_pending = False
         self._stance_offset, self._touchdown, self._asking = [0.0, 0.0], 0.0, False
         self._active = self._modified = self._landed = self._moved = False
         self._reference: ReplannedZmpReference | None = None
@@ -186,9 +192,13 @@ class StepAdjustment:
                 self._adjust(j, frame, before, dcm_x_m, dcm_y_m)
             if self._asking:  # (after _adjust: a tick holds fewer floats at once)
                 self._asking = False
+                if self._two_pending:
+                    self._two_pending = False
+                    if not self._two_step(j, before):
+                        self._one_step(j, before)
                 asked = self._asked
                 self._land_at(j, frame, asked[1], asked[2], asked[3], asked[0])
-            if self._footholds is not None and self._modified and not self._landed:
+            if self._footholds is not None and not self._landed:
                 self._watch_landing(j, frame)
             self._advance(j, frame)
         if self._moved:
@@ -225,6 +235,8 @@ class StepAdjustment:
         if early > 0:
             self._modified = self._moved = True
         self._uncaptured = False
+        if self._footholds is not None:
+            self._footholds.lift()
         self._habit.begin(self._active)
         self._active = self._landed = False
         if self._reference is not None:
@@ -265,18 +277,96 @@ class StepAdjustment:
         earliest = touchdown if earliest > touchdown else earliest
         (m_x, m_y), (l_x, l_y) = self._cop_margin, par.landing_margin_m
         lo_x, hi_x, lo_y, hi_y = self.reach.shift_box(step.along, step.lateral, step.sign)
+        if par.two_step:  # solved in update, once these locals are gone (fewer floats held)
+            kept = self._capture_inputs
+            kept[0], kept[1] = along, across
+            kept[2], kept[3] = c * bx + s * by, -s * bx + c * by
+            kept[4], kept[5] = lo_x, hi_x
+            kept[6], kept[7] = lo_y, hi_y
+            kept[8], kept[9] = touchdown, earliest
+            self._asking = self._two_pending = True
+            return
         sigma, d_along, d_across, left = solve_capture(
             along, across, c * bx + s * by, -s * bx + c * by,
             math.exp(omega * dt * (touchdown - before)), math.exp(omega * dt * (earliest - before)),
             self._kappa, m_x, m_y, l_x, l_y, lo_x, hi_x, lo_y, hi_y,
         )  # fmt: skip
-        landing = before + float(round(math.log(sigma) / (omega * dt)))
+        self._ask(j, before, sigma, d_along, d_across, left, touchdown, earliest)
+        self._asking = True
+
+    def _ask(
+        self, j: int, before: int, sigma: float, d_along: float, d_across: float, left: float,
+        touchdown: float, earliest: float,
+    ) -> None:  # fmt: skip
+        """Keep the one-step capture's touchdown and landing for :meth:`_land_at`."""
+        step, omega_dt = self._steps[j], self._omega * self._dt
+        landing = before + float(round(math.log(sigma) / omega_dt))
         asked = self._asked  # for _land_at, called once these locals are gone (see update)
         landing = earliest if landing < earliest else landing
         asked[0] = touchdown if landing > touchdown else landing
         asked[1], asked[2] = step.along + d_along, step.lateral + step.sign * d_across
         asked[3] = left
-        self._asking = True
+
+    def _one_step(self, j: int, before: int) -> None:
+        """The one re-timed step that captures, or leaves the least (:func:`solve_capture`)."""
+        kept, omega_dt, par = self._capture_inputs, self._omega * self._dt, self.parameters
+        (m_x, m_y), (l_x, l_y) = self._cop_margin, par.landing_margin_m
+        touchdown, earliest = kept[8], kept[9]
+        sigma, d_along, d_across, left = solve_capture(
+            kept[0], kept[1], kept[2], kept[3], math.exp(omega_dt * (touchdown - before)),
+            math.exp(omega_dt * (earliest - before)), self._kappa, m_x, m_y, l_x, l_y,
+            kept[4], kept[5], kept[6], kept[7],
+        )  # fmt: skip
+        self._ask(j, before, sigma, d_along, d_across, left, touchdown, earliest)
+
+    def _two_step(self, j: int, before: int) -> bool:
+        """Aim step ``j`` at the first of two steps that capture on the plan's timing.
+
+        Reads what :meth:`_adjust` left: ``x_0 = ξ̂ - p_0`` (along, across the stance sole)
+        [m] and the shifts of this landing the legs reach [m] (:meth:`~.StepReach.shift_box`),
+        and overwrites its one-step answer when two steps capture.
+        :func:`~zmpkit.walking.two_step_capture.solve_two_step` with the planned
+        touchdowns (σ_1 to this one, σ_2 from it to the next) keeps this touchdown and
+        lands nearest the plan where the next step, re-planned in its own swing, can
+        capture; the second step's box is the legs' reach from the first landing (no
+        crossing). False: no two steps on the plan's timing capture (then the one step,
+        re-timed, that leaves the least is taken).
+        """
+        steps, reach, par = self._steps, self.reach, self.parameters
+        if j + 1 >= len(steps):
+            return False
+        step, touchdown = steps[j], self._planned_touchdown
+        omega_dt = self._omega * self._dt
+        sigma_1 = math.exp(omega_dt * (touchdown - before))
+        sigma_2 = math.exp(omega_dt * (steps[j + 1].touchdown - step.touchdown))
+        (m_x, m_y), (l_x, l_y) = self._cop_margin, par.landing_margin_m
+        kept = self._capture_inputs
+        x0_along, x0_across = kept[0] + kept[2], kept[1] + kept[3]
+        lo_x, hi_x, lo_y, hi_y = kept[4], kept[5], kept[6], kept[7]
+        far, out = reach.max_along_m, self._two
+        solve_two_step_into(
+            out, x0_along, sigma_1, sigma_2, step.along, step.along + lo_x,
+            step.along + hi_x, -far, far, m_x, l_x,
+        )  # fmt: skip
+        if out[2] > 0.0:
+            return False
+        first_x = out[0]
+        planned = step.sign * step.lateral  # across, world side
+        near, wide = reach.min_lateral_m, reach.max_lateral_m  # the next foot's, other side
+        if step.sign > 0.0:
+            lo_2, hi_2 = -wide, -near
+        else:
+            lo_2, hi_2 = near, wide
+        solve_two_step_into(
+            out, x0_across, sigma_1, sigma_2, planned, planned + lo_y, planned + hi_y, lo_2,
+            hi_2, m_y, l_y,
+        )  # fmt: skip
+        if out[2] > 0.0:
+            return False
+        asked = self._asked
+        asked[0], asked[1] = touchdown, first_x  # (pairs: four make a tuple)
+        asked[2], asked[3] = step.sign * out[0], 0.0
+        return True
 
     def _land_at(
         self, j: int, frame: int, along: float, lateral: float, left: float, touchdown: float
@@ -319,9 +409,15 @@ class StepAdjustment:
         self._modified = self._moved = True
 
     def _watch_landing(self, j: int, frame: int) -> None:
-        """A moved swing that is down lands where it is measured, now."""
+        """A moved swing that is down lands where it is measured, now.
+
+        Every swing is watched from lift-off (a contact is a touchdown only after the foot
+        was unloaded, :mod:`.measured_footholds`); only a moved one lands where measured.
+        """
         step, feet = self._steps[j], self._footholds
         if feet is None or not feet.landed(step.foot, frame, self._lift, self._touchdown):
+            return
+        if not self._modified:
             return
         gx, gy = feet.at(step.foot, 0), feet.at(step.foot, 1)
         self._goal[0], self._goal[1] = gx, gy

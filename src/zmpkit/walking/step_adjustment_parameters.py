@@ -23,6 +23,20 @@ on the built-in walker, and on a robot none of them was set on, the Berkeley Hum
 (19 reported as not capturing) of a walk that moves none without it, and one of the walks of
 ``tests/robots/test_unseen_humanoids.py`` fell with it (none without).
 
+Issue 31, this session (``zmpip``'s 16 pushes of 20 N along the axes, all effects, the tuning
+set again; a contact counted as touchdown only after the foot was in the air): 6 fall (x @
+0.25, -x @ 0.5, the four -y), as before. Level swing soles (:attr:`level_swing`): 7; two
+steps on the plan's timing (:attr:`two_step`): 6; both: 5 (-x @ 0.5 caught); the soles
+levelled in roll as well as pitch (either sign): 9. Tried and not kept: a lift-off held while
+the stance foot is unloaded, 7 (-x @ 0.75 fell); a foot still in the air at its touchdown
+lowered at 2 z_c/s to 0.12 z_c below the ground, 7 (y @ 0 fell; the IK stopped at 2.6 cm).
+Judged on the cases that chose nothing (``zmpip``, all 116 with the adjustment, the same
+command with both on): 36 → 32 falls; 20 N diagonals 3 → 0 of 16, 30 N 27 → 27 of 32, 10 N
+and unpushed 0 → 0 (no unpushed step moved; the level soles change their speed error by up
+to +1.9 points); ``dcm`` 53 → 44 (20 N 23 → 12, 30 N 28 → 29; its unpushed turn at
+0.3 rad/s falls with them). Both opt-ins stay off: the two-step tick peaks at 96 B in
+``test_tick_allocations`` (not allocation-free yet), and the level soles act on every walk.
+
 Before (the references re-planned every tick, 15 to 28 of 32 pushes of 10 and 20 N; the
 exact LIPM capture, 31; CoP margins (0.04, 0.015) m, 20–21, (0.06, 0.035) m, 12; the
 earliest capturing touchdown preferred to the latest, 32; the swing's acceleration limited
@@ -73,6 +87,11 @@ class StepAdjustmentParameters:
         early_next_lift: a step that could not capture and landed early has the next swing
             lift as much earlier (its planned touchdown with it): the plan's double support,
             not the plan's clock, follows the early landing (the ``zmpip`` walk only).
+        two_step: a triggered step lands, at its planned touchdown, nearest the plan
+            where the next step captures on the plan's timing, when two such steps exist
+            (:mod:`zmpkit.walking.two_step_capture`); else one step is re-timed and placed.
+        level_swing: the swing sole is kept level in pitch: the trunk's measured pitch
+            change is taken off it (:mod:`zmpkit.walking.level_swing`).
     """
 
     enabled: bool = True
@@ -88,6 +107,8 @@ class StepAdjustmentParameters:
     measured_footholds: bool = True
     touchdown_contact_fraction: float = 0.5
     early_next_lift: bool = False
+    two_step: bool = False
+    level_swing: bool = False
 
     def __post_init__(self) -> None:
         for name in ("trigger_dcm_error_m", "cop_margin_m", "landing_margin_m"):

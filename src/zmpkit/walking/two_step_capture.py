@@ -34,10 +34,16 @@ What a second step buys: ``R/σ_2`` of capturable DCM. On the built-in walker (`
 infinite-step limit ``R σ_2/(σ_2 - 1)`` is the same 0.261 m); shortened to 0.25 s it adds
 5.2 cm (0.302 m), to 0.2 s 7.1 cm. A second step helps only with its timing adapted.
 
-Not called by the walk yet: the step adjustment (:mod:`~zmpkit.walking.capture_step`) plans
-one step. On the built-in walker the 20 N pushes that still fall with it do so because the
-step after the push touches down mid-swing, 15-20 cm behind its plan, so a second planned
-step would not be carried out either; the swing comes first.
+Called by the walk with :attr:`~.StepAdjustmentParameters.two_step` (opt-in): a triggered
+step lands, at its planned touchdown, nearest the plan where the next step captures on the
+plan's timing (:func:`solve_two_step_into`, the tick's form). The 20 N pushes along -y (over
+the stance sole) are beyond it on the built-in walker: with the walk's own reach boxes, the
+estimated DCM 4.2 cm beyond the right sole's centre once the push is in (4.25 s, 20 N -y at
+a quarter of the seventh step) leaves 0.10 m uncaptured even with the first step at its
+earliest and the second shortened to 0.2 s (0.21 m at 0.25 s), the ankle holding the CoP at
+the sole's edge throughout; only at 4.20 s, mid-push, would a second step of 0.25 s
+capture. (An earlier note had these falls touching down mid-swing: the "touchdown" was the
+contact of a foot that never left the ground, :mod:`~zmpkit.walking.measured_footholds`.)
 """
 
 from __future__ import annotations
@@ -49,7 +55,7 @@ from zmpkit import _validate
 from zmpkit.errors import ParameterError
 from zmpkit.walking.scalar_limits import clip
 
-__all__ = ["TwoStepCapture", "solve_two_step", "two_step_capture"]
+__all__ = ["TwoStepCapture", "solve_two_step", "solve_two_step_into", "two_step_capture"]
 
 
 def _dead_band(value: float, band: float) -> float:
@@ -64,9 +70,11 @@ def _dead_band(value: float, band: float) -> float:
 def _towards(value: float, lo: float, hi: float, band: float) -> float:
     """``value`` moved towards ``[lo, hi]`` by at most ``band`` >= 0 (the CoP's share) [m]."""
     if value > hi:
-        return max(hi, value - band)
+        moved = value - band
+        return hi if hi > moved else moved
     if value < lo:
-        return min(lo, value + band)
+        moved = value + band
+        return lo if lo < moved else moved
     return value
 
 
@@ -89,6 +97,34 @@ def solve_two_step(
     m and ``landing_margin_m`` l [m]. Returns ``(u_1, u_2, left)``: the landings [m] and the DCM
     error the second step leaves outside its landing margin (0 when it captures) [m].
     """
+    out = [0.0, 0.0, 0.0]
+    solve_two_step_into(
+        out, dcm_m, sigma_first, sigma_second, planned_first_m, lo_first_m, hi_first_m,
+        lo_second_m, hi_second_m, cop_margin_m, landing_margin_m,
+    )  # fmt: skip
+    return out[0], out[1], out[2]
+
+
+def solve_two_step_into(
+    out: list[float],
+    dcm_m: float,
+    sigma_first: float,
+    sigma_second: float,
+    planned_first_m: float,
+    lo_first_m: float,
+    hi_first_m: float,
+    lo_second_m: float,
+    hi_second_m: float,
+    cop_margin_m: float,
+    landing_margin_m: float,
+) -> None:
+    """:func:`solve_two_step` written into ``out[0:3]`` (no tuple: a control tick's form).
+
+    Args: ``dcm_m`` x_0 [m]; ``sigma_first`` σ_1 >= 1, ``sigma_second`` σ_2 >= 1 [-];
+    ``planned_first_m`` u_1^{plan} [m]; the boxes ``[lo, hi]`` of u_1 and u_2 [m]; ``cop_margin_m``
+    m and ``landing_margin_m`` l [m]. Returns ``(u_1, u_2, left)``: the landings [m] and the DCM
+    error the second step leaves outside its landing margin (0 when it captures) [m].
+    """
     band_first = cop_margin_m * (sigma_first - 1.0)
     band_second = cop_margin_m * (sigma_second - 1.0)
     reach_lo = lo_second_m - landing_margin_m - band_second  # of r_1 σ_2 [m]
@@ -102,14 +138,15 @@ def solve_two_step(
     elif hi < lo_first_m:
         first = lo_first_m
     else:
-        first = clip(planned_first_m, max(lo, lo_first_m), min(hi, hi_first_m))
+        low = lo if lo > lo_first_m else lo_first_m  # (no min/max: they allocate)
+        first = clip(planned_first_m, low, hi if hi < hi_first_m else hi_first_m)
     at_first = _towards(
         base, first + reach_lo / sigma_second, first + reach_hi / sigma_second, band_first
     )
     wanted = _towards((at_first - first) * sigma_second, lo_second_m, hi_second_m, band_second)
     second = clip(wanted, lo_second_m, hi_second_m)
     left = 0.0 if captured else abs(_dead_band(wanted - second, landing_margin_m))
-    return first, second, left
+    out[0], out[1], out[2] = first, second, left
 
 
 @dataclass(frozen=True)
