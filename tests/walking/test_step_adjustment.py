@@ -34,12 +34,8 @@ def pattern():
     )  # fmt: skip
 
 
-def _walk(pattern, error_m: tuple[float, float], at_frame: int, **parameters):
-    """Run the adjustment over the whole walk; the DCM is the plan's plus ``error_m`` from
-    ``at_frame`` on, carried by the LIPM's divergence (``e ← e^{ωT} e``) while it lasts.
-
-    Returns the adjustment and the feet's targets, {foot: (N, 3)}.
-    """
+def _planned(pattern, parameters: dict):
+    """A step adjustment on the plan's soles, its targets, ω [1/s] and the plan's DCM [m]."""
     feet = {f: getattr(pattern.feet, f).position_in_world.copy() for f in FEET}
     soles = np.stack([feet[f] for f in FEET], axis=1)
     targets = {f: np.ascontiguousarray(soles[:, i]) for i, f in enumerate(FEET)}
@@ -49,6 +45,16 @@ def _walk(pattern, error_m: tuple[float, float], at_frame: int, **parameters):
     omega = math.sqrt(STANDARD_GRAVITY_MPS2 / pattern.config.com_height_m)
     com = pattern.com
     dcm = (com.com_position_in_world + com.com_velocity_in_world / omega)[:, :2]
+    return adjustment, targets, omega, dcm
+
+
+def _walk(pattern, error_m: tuple[float, float], at_frame: int, **parameters):
+    """Run the adjustment over the whole walk; the DCM is the plan's plus ``error_m`` from
+    ``at_frame`` on, carried by the LIPM's divergence (``e ← e^{ωT} e``) while it lasts.
+
+    Returns the adjustment and the feet's targets, {foot: (N, 3)}.
+    """
+    adjustment, targets, omega, dcm = _planned(pattern, parameters)
     growth = math.exp(omega * pattern.config.control_period_s)
     error = np.zeros(2)
     for frame in range(1, pattern.time_s.size):
@@ -137,15 +143,7 @@ def _walk_held(pattern, error_m: tuple[float, float], frames: range, **parameter
     """Run the adjustment over the whole walk; the DCM is the plan's plus ``error_m`` over
     ``frames`` (held, not grown: what the robot's own stepping does to it is not modelled).
     """
-    feet = {f: getattr(pattern.feet, f).position_in_world.copy() for f in FEET}
-    soles = np.stack([feet[f] for f in FEET], axis=1)
-    targets = {f: np.ascontiguousarray(soles[:, i]) for i, f in enumerate(FEET)}
-    adjustment = StepAdjustment(
-        pattern, FEET, REACH, StepAdjustmentParameters(**parameters), targets, soles
-    )
-    omega = math.sqrt(STANDARD_GRAVITY_MPS2 / pattern.config.com_height_m)
-    com = pattern.com
-    dcm = (com.com_position_in_world + com.com_velocity_in_world / omega)[:, :2]
+    adjustment, targets, _, dcm = _planned(pattern, parameters)
     for frame in range(1, pattern.time_s.size):
         ex, ey = error_m if frame - 1 in frames else (0.0, 0.0)
         adjustment.update(frame, frame - 1, dcm[frame - 1, 0] + ex, dcm[frame - 1, 1] + ey)

@@ -24,8 +24,9 @@ import mujoco
 import numpy as np
 from numpy.typing import NDArray
 
+from zmpkit.errors import ParameterError
 from zmpkit.sim.description import RobotDescription
-from zmpkit.sim.effect_fields import gear_writes
+from zmpkit.sim.effect_fields import flex_writes, gear_writes
 from zmpkit.sim.world_fields import CandidateFields, FieldWrite
 
 __all__ = ["FieldRule", "column", "item"]
@@ -85,3 +86,21 @@ def ft_offset_columns(
 ) -> dict[str, NDArray[np.float64]]:
     """Per side, the F-T offsets of ``n`` candidates [N, N·m], shape (n, 6)."""
     return {side: np.stack([column(v, n) for v in offsets[side]], 1) for side in sides}
+
+
+def flex_doc_writes(
+    model: mujoco.MjModel, entries: Sequence[Mapping[str, Any]], n: int
+) -> list[FieldWrite]:
+    """The link-flex joints' writes (F) from a truth document's ``flex`` entries.
+
+    Raises:
+        ParameterError: on a softening spring (its tendon stages have no field map here).
+    """
+    if not entries:
+        return []
+    if any(float(e.get("softening_torque", 0.0)) != 0.0 for e in entries):
+        raise ParameterError("a softening flex spring (tendon stages) has no field map")
+    names = [str(e["name"]) for e in entries]
+    stiffness = np.stack([column(e["stiffness"][0], n) for e in entries], 1)
+    damping = np.stack([column(e.get("damping", 0.0), n) for e in entries], 1)
+    return flex_writes(model, names, stiffness, damping)

@@ -20,13 +20,11 @@ from collections.abc import Mapping
 from typing import Any
 
 import mujoco
-import numpy as np
 
-from zmpkit.errors import ParameterError
-from zmpkit.robots.field_rule import FieldRule, column, gear_doc_writes, item
+from zmpkit.robots.field_rule import FieldRule, column, flex_doc_writes, gear_doc_writes, item
 from zmpkit.sim.builder import dcmotor_controller
 from zmpkit.sim.description import RobotDescription
-from zmpkit.sim.effect_fields import dcmotor_writes, flex_writes, frictionloss_writes
+from zmpkit.sim.effect_fields import dcmotor_writes, frictionloss_writes
 from zmpkit.sim.world_fields import CandidateFields, FieldWrite
 
 __all__ = ["SERVO_FIELD_RULE"]
@@ -62,18 +60,6 @@ def _motor_writes(
     ]
 
 
-def _flex_writes(model: mujoco.MjModel, doc: Mapping[str, Any], n: int) -> list[FieldWrite]:
-    entries = doc.get("flex") or ()
-    if not entries:
-        return []
-    if any(float(e.get("softening_torque", 0.0)) != 0.0 for e in entries):
-        raise ParameterError("a softening flex spring (tendon stages) has no field map")
-    names = [str(e["name"]) for e in entries]
-    stiffness = np.stack([column(e["stiffness"][0], n) for e in entries], 1)
-    damping = np.stack([column(e.get("damping", 0.0), n) for e in entries], 1)
-    return flex_writes(model, names, stiffness, damping)
-
-
 def _write(
     model: mujoco.MjModel, description: RobotDescription, doc: Mapping[str, Any], n: int
 ) -> CandidateFields:
@@ -84,7 +70,7 @@ def _write(
     if effects.gear:
         writes += gear_doc_writes(model, joints, doc["gear"], n)
     if effects.flex:
-        writes += _flex_writes(model, doc, n)
+        writes += flex_doc_writes(model, doc.get("flex") or (), n)
     return CandidateFields(tuple(writes))
 
 

@@ -118,12 +118,9 @@ def solve_two_step_into(
     cop_margin_m: float,
     landing_margin_m: float,
 ) -> None:
-    """:func:`solve_two_step` written into ``out[0:3]`` (no tuple: a control tick's form).
+    """:func:`solve_two_step` (its arguments) written into ``out[0:3] = (u_1, u_2, left)``.
 
-    Args: ``dcm_m`` x_0 [m]; ``sigma_first`` σ_1 >= 1, ``sigma_second`` σ_2 >= 1 [-];
-    ``planned_first_m`` u_1^{plan} [m]; the boxes ``[lo, hi]`` of u_1 and u_2 [m]; ``cop_margin_m``
-    m and ``landing_margin_m`` l [m]. Returns ``(u_1, u_2, left)``: the landings [m] and the DCM
-    error the second step leaves outside its landing margin (0 when it captures) [m].
+    No tuple is built: a control tick's form.
     """
     band_first = cop_margin_m * (sigma_first - 1.0)
     band_second = cop_margin_m * (sigma_second - 1.0)

@@ -25,15 +25,20 @@ from typing import Any
 import mujoco
 import numpy as np
 
-from zmpkit.errors import ParameterError
-from zmpkit.robots.field_rule import FieldRule, column, ft_offset_columns, gear_doc_writes, item
+from zmpkit.robots.field_rule import (
+    FieldRule,
+    column,
+    flex_doc_writes,
+    ft_offset_columns,
+    gear_doc_writes,
+    item,
+)
 from zmpkit.robots.nao.model import NAO_DRIVEN_JOINTS, NAO_SIDES
 from zmpkit.robots.nao.truth import link_gains, torso_inertia
 from zmpkit.sim.builder import dcmotor_controller
 from zmpkit.sim.description import RobotDescription
 from zmpkit.sim.effect_fields import (
     dcmotor_writes,
-    flex_writes,
     frictionloss_writes,
     inertial_writes,
 )
@@ -72,16 +77,6 @@ def _inductance_writes(model: mujoco.MjModel, doc: Mapping[str, Any], n: int) ->
     return dcmotor_writes(model, NAO_DRIVEN_JOINTS, resistance=ohms, inductance=henry)
 
 
-def _flex_writes(model: mujoco.MjModel, doc: Mapping[str, Any], n: int) -> list[FieldWrite]:
-    entries = doc["flex"]
-    if any(float(e.get("softening_torque", 0.0)) != 0.0 for e in entries):
-        raise ParameterError("a softening flex spring (tendon stages) has no field map")
-    names = [str(e["name"]) for e in entries]
-    stiffness = np.stack([column(e["stiffness"][0], n) for e in entries], 1)
-    damping = np.stack([column(e.get("damping", 0.0), n) for e in entries], 1)
-    return flex_writes(model, names, stiffness, damping)
-
-
 def _torso_writes(model: mujoco.MjModel, doc: Mapping[str, Any], n: int) -> list[FieldWrite]:
     torso = doc["torso"]
     mass = column(torso["mass_kg"], n)
@@ -102,7 +97,7 @@ def _write(
     if effects.gear:
         writes += gear_doc_writes(model, NAO_DRIVEN_JOINTS, doc["gear"], n)
     if effects.flex:
-        writes += _flex_writes(model, doc, n)
+        writes += flex_doc_writes(model, doc["flex"], n)
     writes += _torso_writes(model, doc, n)
     torso = doc["torso"]
     fitted = [torso["mass_kg"], *torso["com_m"]]
