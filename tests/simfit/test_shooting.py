@@ -36,6 +36,7 @@ from zmpkit.simfit.shooting import simulate_window, start_window
 from zmpkit.simfit.shooting_window import (
     DEFAULT_BURN_IN_S,
     DEFAULT_WINDOW_S,
+    LOAD_HISTORY_S,
     SLOPE_ROWS,
     ShootingWindow,
     log_fall_time,
@@ -201,6 +202,24 @@ def test_windows_tile_the_log_and_stop_before_a_fall(
     cut = log_windows(fallen, NAO, "fell")
     assert cut
     assert max(w.signals.time_s[-1] for w in cut) <= fall - FALL_MARGIN_S + 1e-9
+
+
+def test_a_window_starts_with_the_load_history_of_the_rows_before_it(
+    walk: tuple[WalkRecord, Path], windows: list[ShootingWindow]
+) -> None:
+    """Each start carries the log's rows of the LOAD_HISTORY_S before it, as read (the stance
+    the foot with the larger F_z)."""
+    log = read_walk_log(walk[1])
+    for window in windows:
+        history, start_s = window.start.history, window.command_time_s[0]
+        assert history is not None
+        rows = (log.time_s >= start_s - LOAD_HISTORY_S - 1e-9) & (log.time_s < start_s - 1e-9)
+        np.testing.assert_array_equal(history.time_s, log.time_s[rows])
+        np.testing.assert_array_equal(history.wrenches[:, 0], log.right_wrench[rows])
+        np.testing.assert_array_equal(history.wrenches[:, 1], log.left_wrench[rows])
+        left_loaded = log.left_wrench[rows, 2] > log.right_wrench[rows, 2]
+        assert history.stance.tolist() == left_loaded.astype(int).tolist()
+        assert history.q_rad.shape == history.dq_rad_s.shape == (rows.sum(), len(log.joint_names))
 
 
 def test_a_walk_that_fell_is_fitted_up_to_its_fall() -> None:

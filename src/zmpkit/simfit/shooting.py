@@ -28,10 +28,15 @@ from zmpkit.errors import SimulationDivergedError
 from zmpkit.experiments.walk_trial import FALL_TILT_RAD
 from zmpkit.sensors.imu import quaternion_pitch_roll
 from zmpkit.sim.world import Simulation
-from zmpkit.simfit.loaded_start import settle_compliance
+from zmpkit.simfit.loaded_start import (
+    compliance_load,
+    compliant_dofs,
+    replay_compliance,
+    settle_compliance,
+)
 from zmpkit.simfit.log_kinematics import FEET, LogKinematics
 from zmpkit.simfit.recorded import RecordedSignals
-from zmpkit.simfit.shooting_window import ShootingWindow
+from zmpkit.simfit.shooting_window import ShootingWindow, WindowStart
 from zmpkit.simfit.truth_doc import RobotTruth
 
 __all__ = ["drive_integrals", "simulate_window", "start_window"]
@@ -51,8 +56,7 @@ def start_window(window: ShootingWindow, sim: Simulation) -> LogKinematics:
         data.qpos[int(model.joint(joint).qposadr[0])] = start.q_rad[k]
         data.qvel[int(model.joint(joint).dofadr[0])] = start.dq_rad_s[k]
     kinematics.place_base(model, data, start.imu_quat_wxyz, start.gyro_rps, start.stance)
-    wrenches = dict(zip(FEET, start.wrenches, strict=True))
-    settle_compliance(model, data, sim.robot.driven_joints, sim.robot.feet, wrenches)
+    _start_compliance(sim, kinematics, start, float(window.command_time_s[0]))
     kinematics.place_base(model, data, start.imu_quat_wxyz, start.gyro_rps, start.stance)
     drive_integrals(sim, start.error_steps_rad_s)
     data.time = float(window.command_time_s[0])
@@ -61,6 +65,52 @@ def start_window(window: ShootingWindow, sim: Simulation) -> LogKinematics:
     sim.servo.velocity = ((window.q_cmd_rad[1] - window.q_cmd_rad[0]) / dt_rows).tolist()
     mujoco.mj_forward(model, data)
     return kinematics
+
+
+def _start_compliance(
+    sim: Simulation, kinematics: LogKinematics, start: WindowStart, start_time_s: float
+) -> None:
+    """Set the gear deflections and link flex at the start (module docstring).
+
+    With a :class:`~zmpkit.simfit.shooting_window.LoadHistory`, the load of each of its rows
+    (measured state placed as at a start, the compliance at zero) is replayed on the
+    candidate's springs up to the start's
+    (:func:`~zmpkit.simfit.loaded_start.replay_compliance`); without, the start's equilibrium.
+    ``sim.data`` holds the start's measured state, which it keeps.
+    """
+    model, data, robot = sim.model, sim.data, sim.robot
+    wrenches = dict(zip(FEET, start.wrenches, strict=True))
+    history = start.history
+    if history is None:
+        settle_compliance(model, data, robot.driven_joints, robot.feet, wrenches)
+        return
+    joints = compliant_dofs(model, data, robot.driven_joints)
+    if joints.size == 0:
+        return
+    saved_q, saved_v = data.qpos.copy(), data.qvel.copy()
+    adr = [(int(model.joint(j).qposadr[0]), int(model.joint(j).dofadr[0])) for j in sim.joint_names]
+    qadr, dofadr = np.array([a for a, _ in adr]), np.array([d for _, d in adr])
+    loads, inertias = [], []
+    for row in range(history.time_s.size):
+        data.qpos[qadr] = history.q_rad[row]
+        data.qvel[dofadr] = history.dq_rad_s[row]
+        kinematics.place_base(
+            model, data, history.imu_quat_wxyz[row], history.gyro_rps[row], int(history.stance[row])
+        )
+        row_wrenches = dict(zip(FEET, history.wrenches[row], strict=True))
+        load, inertia = compliance_load(model, data, joints, robot.feet, row_wrenches)
+        loads.append(load)
+        inertias.append(inertia)
+    data.qpos[:], data.qvel[:] = saved_q, saved_v
+    load, inertia = compliance_load(model, data, joints, robot.feet, wrenches)
+    replay_compliance(
+        model,
+        data,
+        joints,
+        np.append(history.time_s, start_time_s),
+        np.vstack([*loads, load]),
+        np.vstack([*inertias, inertia]),
+    )
 
 
 def drive_integrals(sim: Simulation, error_steps_rad_s: NDArray[np.float64]) -> None:
