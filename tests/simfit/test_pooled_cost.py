@@ -86,6 +86,8 @@ def test_a_cost_per_experiment_is_required():
         pooled_cost([object()], [], "mean")
     with pytest.raises(ValueError, match="one cost per experiment"):
         pooled_cost([], [], "median")
+    with pytest.raises(ValueError, match="got 2 for 1"):
+        pooled_cost([_window("walk")], [0.1, 0.2], "median")
 
 
 def test_an_unknown_pooling_is_one_clear_error():

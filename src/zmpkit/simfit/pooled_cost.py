@@ -72,20 +72,25 @@ def pooled_cost(experiments: Sequence[object], costs: Sequence[float], pooling: 
     """:math:`C` of the module docstring [-].
 
     Args:
-        experiments: the problem's experiments, in the order of ``costs``.
+        experiments: the problem's experiments, in the order of ``costs`` (with ``"mean"``
+            pooling they are not read).
         costs: each experiment's cost :math:`c_e` [-].
         pooling: ``"mean"`` (every experiment alike) or ``"median"`` (the windows by their
             median).
 
     Raises:
-        ValueError: when the lengths differ or there is no experiment.
+        ValueError: without a cost, or (``"median"``) not one per experiment.
     """
-    if len(experiments) != len(costs) or not costs:
+    if not costs:
+        raise ValueError("expected one cost per experiment, got none")
+    if pooling == "mean":
+        return float(np.mean(costs))
+    if len(experiments) != len(costs):
         raise ValueError(
             f"expected one cost per experiment, got {len(costs)} for {len(experiments)}"
         )
     windows = [c for x, c in zip(experiments, costs, strict=True) if isinstance(x, ShootingWindow)]
-    if pooling == "mean" or not windows:
+    if not windows:
         return float(np.mean(costs))
     others = [
         c for x, c in zip(experiments, costs, strict=True) if not isinstance(x, ShootingWindow)
