@@ -17,6 +17,7 @@ from zmpkit.pipelines.identify_sim_files import write_identify_sim
 from zmpkit.robots.registry import DEFAULT_FIT_ROBOT
 from zmpkit.robots.robot import Robot
 from zmpkit.simfit.optimizer import MAX_POPSIZE, MAX_RESTARTS, FitInterruptedError
+from zmpkit.simfit.pooled_cost import WINDOW_POOLINGS
 from zmpkit.simfit.refit_intervals import REFIT_REPLICAS, ParameterInterval
 from zmpkit.simfit.shooting_window import DEFAULT_BURN_IN_S, DEFAULT_WINDOW_S
 
@@ -153,6 +154,15 @@ def identify_balance_command(
     "or their expected readings (no noise, no quantisation: a smoother cost).",
 )
 @click.option(
+    "--window-pooling",
+    type=click.Choice(WINDOW_POOLINGS),
+    default="mean",
+    show_default=True,
+    help="How a walk log's windows enter the cost: their mean, or their median (a window "
+    "whose replay diverged from its estimated start does not decide the fit; falls are "
+    "charged in full).",
+)
+@click.option(
     "--held-out",
     multiple=True,
     type=click.Path(path_type=Path),
@@ -203,6 +213,7 @@ def identify_sim_command(
     quick: bool,
     self_test: bool,
     sensor_readings: str,
+    window_pooling: str,
     held_out: tuple[Path, ...],
     window_s: float,
     burn_in_s: float,
@@ -231,6 +242,7 @@ def identify_sim_command(
         quick=quick,
         self_test=self_test,
         sensor_readings=sensor_readings,
+        window_pooling=window_pooling,
         window_s=window_s,
         burn_in_s=burn_in_s,
         interval_replicas=interval_replicas,

@@ -195,6 +195,7 @@ def run_identify_sim(
         tuple(fit_exps),
         config.weights,
         config.sensor_readings,
+        config.window_pooling,
     )
     cma_result, judged = _fit(config, problem, out, resume, progress)
     intervals = _intervals(config, problem, cma_result.best_values, replica_progress)
@@ -316,6 +317,7 @@ def replay_experiments(
         tuple(experiments),
         problem.weights,
         problem.sensor_readings,
+        problem.window_pooling,
     )
     replays = []
     for i, experiment in enumerate(experiments):

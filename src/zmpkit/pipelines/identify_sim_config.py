@@ -15,6 +15,7 @@ from zmpkit.simfit.backends import BACKENDS, DEFAULT_WORKERS
 from zmpkit.simfit.cost import CostWeights
 from zmpkit.simfit.optimizer import MAX_POPSIZE, MAX_RESTARTS
 from zmpkit.simfit.parameters import FitParameter, default_parameters, parse_fit_effects
+from zmpkit.simfit.pooled_cost import check_window_pooling
 from zmpkit.simfit.problem import check_sensor_readings
 from zmpkit.simfit.refit_intervals import REFIT_REPLICAS
 from zmpkit.simfit.shooting_window import DEFAULT_BURN_IN_S, DEFAULT_WINDOW_S, check_window
@@ -69,6 +70,8 @@ class IdentifySimConfig:
             fixed seed and quantisation) or ``"expected"`` (no noise, no quantisation: a
             smooth cost; :func:`~zmpkit.simfit.truth_doc.expected_readings`).
         figures: draw the figures.
+        window_pooling: how a walk log's windows enter the cost, ``"mean"`` or ``"median"``
+            (:mod:`~zmpkit.simfit.pooled_cost`).
         window_s: a walk log's multiple-shooting window [s]
             (:mod:`~zmpkit.simfit.shooting_window`).
         burn_in_s: the unscored start of each window [s].
@@ -99,6 +102,7 @@ class IdentifySimConfig:
     sensor_model: bool = True
     figures: bool = True
     sensor_readings: str = "sampled"
+    window_pooling: str = "mean"
     window_s: float = DEFAULT_WINDOW_S
     burn_in_s: float = DEFAULT_BURN_IN_S
     interval_replicas: int = REFIT_REPLICAS
@@ -128,6 +132,7 @@ class IdentifySimConfig:
         if not 0.0 < self.sigma0 <= 0.5:
             raise ParameterError(f"sigma0 must be in (0, 0.5]; got {self.sigma0!r}")
         check_sensor_readings(self.sensor_readings)
+        check_window_pooling(self.window_pooling)
         check_window(self.window_s, self.burn_in_s)
         _check_interval_replicas(self.interval_replicas)
         self.fit_parameters()  # validates the parameter names against the effects

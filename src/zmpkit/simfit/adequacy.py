@@ -194,12 +194,13 @@ def lag1_autocorrelation(residual: NDArray[np.float64]) -> float:
 def _mean_cost(
     problem: FitProblem, recorded: list[RecordedSignals], fitted: Sequence[RecordedSignals]
 ) -> float:
-    """The mean cost [-] of the fitted simulations against the recorded experiments."""
-    totals = [
-        experiment_cost(rec, sim, problem.keeps_zmp_mean).total(problem.weights)
-        for rec, sim in zip(recorded, fitted, strict=True)
-    ]
-    return float(np.mean(totals))
+    """The fit's cost [-] of the fitted simulations against the recorded experiments (pooled)."""
+    return problem.cost_of(
+        [
+            experiment_cost(rec, sim, problem.keeps_zmp_mean)
+            for rec, sim in zip(recorded, fitted, strict=True)
+        ]
+    )
 
 
 def _lag1(recorded: list[RecordedSignals], fitted: list[RecordedSignals]) -> float:

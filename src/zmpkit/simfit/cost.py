@@ -25,9 +25,10 @@ as much as the signal varies:
 
   .. math:: e_s = \lVert A_{sim} - A_{rec} \rVert_2 / \lVert A_{rec} \rVert_2.
 
-An experiment's cost is :math:`w_q e_q^2 + w_p e_p^2 + w_s e_s^2`; the fit minimises the mean
-over experiments. A rollout that falls or diverges before the recording ends costs
-:data:`FAILED_COST` times (2 − the fraction it completed), so shorter falls cost more.
+An experiment's cost is :math:`w_q e_q^2 + w_p e_p^2 + w_s e_s^2`; the fit minimises their
+mean over experiments, the logs' windows entering by their median
+(:mod:`~zmpkit.simfit.pooled_cost`). A rollout that falls or diverges before the recording
+ends costs :data:`FAILED_COST` times (2 − the fraction it completed), so shorter falls cost more.
 """
 
 from __future__ import annotations

@@ -236,7 +236,7 @@ def identifiability(
     moved = hessian_candidates(values, PROFILE_STEP)
     probes = roughness_candidates(np.asarray(values, dtype=float))
     rows = evaluator.costs(moved + probes)
-    every = [float(np.mean([t.total(problem.weights) for t in row])) for row in rows]
+    every = [problem.cost_of(row) for row in rows]
     costs, probe_costs = every[: len(moved)], np.array(every[len(moved) :])
     level, roughness = local_level(cost_opt, probe_costs)
     hessian = hessian_from_costs(costs, level, n, PROFILE_STEP)

@@ -70,9 +70,12 @@ class LocalRefit:
 
 
 def mean_cost(problem: FitProblem, values: Sequence[float]) -> float:
-    """:math:`C`: the mean cost [-] of every experiment of ``problem`` at ``values``."""
+    """:math:`C`: the fit's cost [-] of ``problem``'s experiments at ``values``.
+
+    Their mean, the logs' windows by their median (:mod:`~zmpkit.simfit.pooled_cost`).
+    """
     terms = [evaluate(problem, values, e) for e in range(len(problem.experiments))]
-    return float(np.mean([t.total(problem.weights) for t in terms]))
+    return problem.cost_of(terms)
 
 
 def local_minimum(

@@ -135,14 +135,12 @@ def linearised_shifts(
 def _mean_cost(
     problem: FitProblem, recorded: list[RecordedSignals], simulated: Sequence[RecordedSignals]
 ) -> float:
-    """The mean cost [-] of ``simulated`` against the recorded experiments."""
-    return float(
-        np.mean(
-            [
-                experiment_cost(r, s, problem.keeps_zmp_mean).total(problem.weights)
-                for r, s in zip(recorded, simulated, strict=True)
-            ]
-        )
+    """The fit's cost [-] of ``simulated`` against the recorded experiments (pooled)."""
+    return problem.cost_of(
+        [
+            experiment_cost(r, s, problem.keeps_zmp_mean)
+            for r, s in zip(recorded, simulated, strict=True)
+        ]
     )
 
 

@@ -2,8 +2,9 @@
 
 Each generation asks ``popsize`` candidates in [0, 1]^n (``cma``'s bound handling keeps
 them inside), evaluates every candidate on every experiment through an
-:class:`~zmpkit.simfit.backends.Evaluator`, tells the mean cost over the
-experiments, and writes the checkpoint (:mod:`~zmpkit.simfit.checkpoint`) before
+:class:`~zmpkit.simfit.backends.Evaluator`, tells the cost pooled over the
+experiments (:mod:`~zmpkit.simfit.pooled_cost`: their mean, the logs' windows by their
+median), and writes the checkpoint (:mod:`~zmpkit.simfit.checkpoint`) before
 reporting progress. The random draws are
 the checkpoint's (:mod:`~zmpkit.simfit.restarts`): a resumed fit draws the same candidates
 as an uninterrupted one and ends exactly as it does.
@@ -200,6 +201,8 @@ def fingerprint(problem: FitProblem, options: CmaOptions) -> dict[str, Any]:
     }
     if problem.sensor_readings != "sampled":  # a checkpoint from before the option resumes
         out["sensor_readings"] = problem.sensor_readings
+    if problem.window_pooling != "mean":
+        out["window_pooling"] = problem.window_pooling
     return out
 
 
@@ -227,7 +230,7 @@ def _generation(state: Checkpoint, problem: FitProblem, evaluator: Evaluator) ->
     candidates = with_rng(state, es.ask)
     values = [from_unit(problem.parameters, u) for u in candidates]
     per_experiment = evaluator.costs(values)
-    costs = [float(np.mean([t.total(problem.weights) for t in row])) for row in per_experiment]
+    costs = [problem.cost_of(row) for row in per_experiment]
     with_rng(state, lambda: es.tell(candidates, costs))
     best = int(np.argmin(costs))
     if costs[best] < state.best_cost:

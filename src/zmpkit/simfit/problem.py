@@ -7,6 +7,7 @@ worker (process pool) or put once in the object store (Ray).
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from functools import cached_property
 
@@ -17,6 +18,7 @@ from zmpkit.robots.robot import Robot
 from zmpkit.simfit.cost import CostTerms, CostWeights, experiment_cost
 from zmpkit.simfit.experiments import Experiment
 from zmpkit.simfit.parameters import FitParameter, ParameterValues
+from zmpkit.simfit.pooled_cost import check_window_pooling, pooled_cost
 from zmpkit.simfit.recorded import RecordedSignals
 from zmpkit.simfit.rollout import simulate_experiment
 from zmpkit.simfit.truth_doc import (
@@ -56,6 +58,8 @@ class FitProblem:
             chain (noise with a fixed seed, quantisation); ``"expected"``: their expected
             readings, without noise and quantisation
             (:func:`~zmpkit.simfit.truth_doc.expected_readings`).
+        window_pooling: how the logs' windows enter the cost, ``"mean"`` or ``"median"``
+            (:mod:`~zmpkit.simfit.pooled_cost`).
     """
 
     robot: Robot
@@ -65,9 +69,11 @@ class FitProblem:
     experiments: tuple[Experiment, ...]
     weights: CostWeights = field(default_factory=CostWeights)
     sensor_readings: str = "sampled"
+    window_pooling: str = "mean"
 
     def __post_init__(self) -> None:
         check_sensor_readings(self.sensor_readings)
+        check_window_pooling(self.window_pooling)
 
     @cached_property
     def simulated_base_doc(self) -> dict:
@@ -88,6 +94,16 @@ class FitProblem:
         models what shifts the whole ZMP.
         """
         return any(p.effect in ("S", "C") for p in self.parameters)
+
+    def cost_of(self, terms: Sequence[CostTerms]) -> float:
+        """The fit's cost [-] of one candidate from its experiments' terms, in their order.
+
+        Their weighted totals pooled as :attr:`window_pooling` says
+        (:func:`~zmpkit.simfit.pooled_cost.pooled_cost`).
+        """
+        return pooled_cost(
+            self.experiments, [t.total(self.weights) for t in terms], self.window_pooling
+        )
 
     def truth(self, values: ParameterValues) -> RobotTruth:
         """The robot's truth object with the parameters at ``values`` [units]."""
