@@ -54,7 +54,7 @@ enter: nothing of the recording's hidden truth.
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 
 import mujoco
 import numpy as np
@@ -187,14 +187,28 @@ def _equilibrium(
     model: mujoco.MjModel, data: mujoco.MjData, joints: NDArray[np.int64], load: NDArray
 ) -> NDArray[np.float64]:
     """Each spring's coordinate where its force equals ``load``, by bisection [rad or m]."""
+    # the spring force falls as the coordinate rises
+    return _bisection(model, data, joints, -DEFLECTION_BRACKET, lambda force: force > load)
+
+
+def _bisection(
+    model: mujoco.MjModel,
+    data: mujoco.MjData,
+    joints: NDArray[np.int64],
+    low_end: float,
+    below: Callable[[NDArray[np.float64]], NDArray[np.bool_]],
+) -> NDArray[np.float64]:
+    """Each coordinate's point in [``low_end``, :data:`DEFLECTION_BRACKET`] [rad or m].
+
+    The point where its spring force stops meeting ``below``: met below it, not above.
+    """
     qadr, dofadr = model.jnt_qposadr[joints], model.jnt_dofadr[joints]
-    low = np.full(joints.size, -DEFLECTION_BRACKET)
-    high = np.full(joints.size, DEFLECTION_BRACKET)
-    for _ in range(_BISECTIONS):  # the spring force falls as the coordinate rises
+    low, high = np.full(joints.size, low_end), np.full(joints.size, DEFLECTION_BRACKET)
+    for _ in range(_BISECTIONS):
         mid = 0.5 * (low + high)
-        above = _spring_force(model, data, qadr, dofadr, mid) > load
-        low = np.where(above, mid, low)
-        high = np.where(above, high, mid)
+        met = below(_spring_force(model, data, qadr, dofadr, mid))
+        low = np.where(met, mid, low)
+        high = np.where(met, high, mid)
     return 0.5 * (low + high)
 
 
@@ -274,14 +288,7 @@ def _band_edges(
     The half-width of a dead band (a fixed tendon's spring range); zero for a plain spring.
     Found by bisection on where the spring force leaves zero, on the positive side.
     """
-    qadr, dofadr = model.jnt_qposadr[joints], model.jnt_dofadr[joints]
-    low, high = np.zeros(joints.size), np.full(joints.size, DEFLECTION_BRACKET)
-    for _ in range(_BISECTIONS):
-        mid = 0.5 * (low + high)
-        free = _spring_force(model, data, qadr, dofadr, mid) == 0.0
-        low = np.where(free, mid, low)
-        high = np.where(free, high, mid)
-    return low
+    return _bisection(model, data, joints, 0.0, lambda force: force == 0.0)
 
 
 def replay_compliance(
@@ -327,27 +334,14 @@ def replay_compliance(
     """
     position = _equilibrium(model, data, joints, load[-1])
     near = np.abs(position) <= NEAR_BAND * _band_edges(model, data, joints)
-    if near.any() and time_s.size > 1:
-        position[near] = _replayed(
-            model, data, joints[near], time_s, load[:, near], inertia[:, near]
-        )
-    _place(model, data, joints, position, np.zeros(joints.size))
-    return position
-
-
-def _replayed(
-    model: mujoco.MjModel,
-    data: mujoco.MjData,
-    joints: NDArray[np.int64],
-    time_s: NDArray[np.float64],
-    load: NDArray[np.float64],
-    inertia: NDArray[np.float64],
-) -> NDArray[np.float64]:
-    """:func:`replay_compliance`'s integration of ``joints`` [rad or m], shape (K,)."""
-    qadr, dofadr = model.jnt_qposadr[joints], model.jnt_dofadr[joints]
-    damping = _damping(model, data, joints)
-    position = _equilibrium(model, data, joints, load[0])
-    speed = np.zeros(joints.size)
+    if not near.any() or time_s.size < 2:
+        _place(model, data, joints, position, np.zeros(joints.size))
+        return position
+    replayed, load, inertia = joints[near], load[:, near], inertia[:, near]
+    qadr, dofadr = model.jnt_qposadr[replayed], model.jnt_dofadr[replayed]
+    damping = _damping(model, data, replayed)
+    moving = _equilibrium(model, data, replayed, load[0])
+    speed = np.zeros(replayed.size)
     dt = float(model.opt.timestep)
     for row in range(1, time_s.size):
         span = float(time_s[row] - time_s[row - 1])
@@ -357,11 +351,13 @@ def _replayed(
         inertia_step = (inertia[row] - inertia[row - 1]) / ticks
         now_load, now_inertia = load[row - 1].copy(), inertia[row - 1].copy()
         for _ in range(ticks):
-            spring = _spring_force(model, data, qadr, dofadr, position)
+            spring = _spring_force(model, data, qadr, dofadr, moving)
             speed = (speed + h * (spring - now_load) / now_inertia) / (
                 1.0 + h * damping / now_inertia
             )
-            position = position + h * speed
+            moving = moving + h * speed
             now_load += load_step
             now_inertia += inertia_step
-    return np.minimum(np.maximum(position, -DEFLECTION_BRACKET), DEFLECTION_BRACKET)
+    position[near] = np.minimum(np.maximum(moving, -DEFLECTION_BRACKET), DEFLECTION_BRACKET)
+    _place(model, data, joints, position, np.zeros(joints.size))
+    return position
