@@ -36,6 +36,11 @@ Measured fits (``--quick``: P gain and gear stiffness, effects M, G), mean → m
 
 - the NAO above: P −2.0 % → −0.7 %, gear +10.5 % → −3.9 %; the noise-only intervals
   (±2.8 %, ±1 %) missed the truth, the median's (±5.6 %, ±6.3 %) cover it;
+- the G1 above (bias-corrected intervals): P +1.1 % → −4.0 %, gear +120 % → −4.9 %, both
+  intervals now covering, but its residuals say the model does not explain the data
+  (lag-1 0.955 against the replicas' 0.915 ± 0.003);
+- the OP3 (held out; P gain 16.07, gear 300 N·m/rad, three walks): P +0.6 %, gear −8.8 %
+  (its interval misses), against +8.3 % at the mean two versions of the start ago;
 - the slow self-test ``test_a_closed_loop_walk_is_recovered_from_its_log_alone`` (a NAO
   with P 0.797 and gear 1424 N·m/rad, one 10 s walk, 13 windows): gear −5.4 % → −3.5 %, but
   its noise-only interval shrank from ±14 % to ±3.4 % and misses the truth by 0.25 %: the
