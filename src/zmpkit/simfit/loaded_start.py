@@ -20,13 +20,13 @@ alone → with the history:
 
 - G1 (``robot.yaml``): 0.1 m/s mean 0.32 → 0.17 mrad, p90 0.64 → 0.42; 0.2 m/s 0.32 → 0.17,
   0.96 → 0.47; 0.15 m/s (held out) 0.33 → 0.17, 0.65 → 0.39;
-- NAO (P gain 0.9×, gear stiffness 0.7× the shipped robot's): 0.1 m/s 0.11 → 0.11,
+- the built-in walker (P gain 0.9×, gear stiffness 0.7× the shipped robot's): 0.1 m/s 0.11 → 0.11,
   0.22 → 0.23; 0.2 m/s 0.25 → 0.25, 0.87 → 0.65; 0.15 m/s (held out) 0.17 → 0.15,
   0.53 → 0.35.
 
 :data:`NEAR_BAND` was chosen between 1.5 and 3 on the 0.1 and 0.2 m/s walks; replaying every
-coordinate did worse on the NAO (0.2 m/s: 0.27, p90 0.79): a loaded gear's 1-D replay rings
-where the contact holds it. The history costs 9 ms of CPU a start on the NAO and 14 ms on the
+coordinate did worse on the walker (0.2 m/s: 0.27, p90 0.79): a loaded gear's 1-D replay rings
+where the contact holds it. The history costs 9 ms of CPU a start on the walker and 14 ms on the
 G1 (10 % and 5 % of a window's rollout).
 
 The equilibrium: each compliant degree of freedom :math:`p` (a hinge or slide with a spring and no

@@ -23,10 +23,10 @@ happens to diverge least; a median withstands up to half of them. Measured at th
   12 075 N·m/rad; a 5 × 5 grid of P ± 10 %, gear 8000–40 000): the mean's minimum was at
   gear 27 000 (the truth's mean cost 0.198, gear 27 000's 0.181), the median's at the
   truth (0.090 against 0.142);
-- NAO (two walks, 13 windows, not used to choose the rule; truth P 0.63, gear 840): both
-  grids' minima at the truth, but the fit at the mean found P 0.617 and gear 928
-  (+10.5 %), whose mean cost 0.0156 is below the truth's 0.0174; their medians are 0.0085
-  and 0.0048.
+- the built-in walker (two walks, 13 windows, looked at when choosing the rule; truth P
+  0.63, gear 840): both grids' minima at the truth, but the fit at the mean found P 0.617
+  and gear 928 (+10.5 %), whose mean cost 0.0156 is below the truth's 0.0174; their
+  medians are 0.0085 and 0.0048.
 
 Experiments that are not windows (designed experiments, walks re-simulated in closed
 loop, step datasets) start from a state the simulator sets, and enter at their cost: a fit
@@ -34,14 +34,15 @@ without logs has the plain mean.
 
 Measured fits (``--quick``: P gain and gear stiffness, effects M, G), mean → median:
 
-- the NAO above: P −2.0 % → −0.7 %, gear +10.5 % → −3.9 %; the noise-only intervals
+- the walker above: P −2.0 % → −0.7 %, gear +10.5 % → −3.9 %; the noise-only intervals
   (±2.8 %, ±1 %) missed the truth, the median's (±5.6 %, ±6.3 %) cover it;
 - the G1 above (bias-corrected intervals): P +1.1 % → −4.0 %, gear +120 % → −4.9 %, both
   intervals now covering, but its residuals say the model does not explain the data
   (lag-1 0.955 against the replicas' 0.915 ± 0.003);
-- the OP3 (held out; P gain 16.07, gear 300 N·m/rad, three walks): P +0.6 %, gear −8.8 %
-  (its interval misses), against +8.3 % at the mean two versions of the start ago;
-- the slow self-test ``test_a_closed_loop_walk_is_recovered_from_its_log_alone`` (a NAO
+- the built-in servo humanoid (held out; P gain 16.07, gear 300 N·m/rad, three walks):
+  P +0.6 %, gear −8.8 % (its interval misses), against +8.3 % at the mean two versions of
+  the start ago;
+- the slow self-test ``test_a_closed_loop_walk_is_recovered_from_its_log_alone`` (the walker
   with P 0.797 and gear 1424 N·m/rad, one 10 s walk, 13 windows): gear −5.4 % → −3.5 %, but
   its noise-only interval shrank from ±14 % to ±3.4 % and misses the truth by 0.25 %: the
   median leaves the estimator's bias from the start-state estimate larger than the noise,
