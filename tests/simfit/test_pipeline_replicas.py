@@ -63,11 +63,17 @@ def test_a_replica_is_the_walk_again_cut_into_the_same_windows(walk: Path, tmp_p
         np.testing.assert_allclose(a.signals.time_s, d.signals.time_s, atol=1e-9)
         # its own measured start: the encoders differ by the other noise, not by a step
         assert 0.0 < np.max(np.abs(a.start.q_rad - d.start.q_rad)) < 0.05
-    # a log with no zmpkit walk beside it cannot be walked again
+    # a log with no zmpkit walk beside it cannot be walked again: its windows are replayed
     alone = tmp_path / "alone.csv"
     alone.write_bytes((walk / WALK_LOG_FILE).read_bytes())
     assert walk_settings(_problem([alone])) is None
-    assert refit_intervals(_problem([alone]), nominal, 2) is None
+    intervals = refit_intervals(_problem([alone]), nominal, 2)
+    assert intervals is not None
+    for interval in intervals:
+        assert interval.kind == "window_refits"
+        assert interval.replicas == 2
+        assert "replaying the log's commands" in interval.method
+        assert interval.lower < interval.corrected < interval.upper
 
 
 @pytest.mark.slow

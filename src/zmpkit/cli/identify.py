@@ -192,9 +192,10 @@ def identify_balance_command(
     type=click.IntRange(min=0),
     default=REFIT_REPLICAS,
     show_default=True,
-    help="Walk logs written by zmpkit walk: replicas of the fitted model walked through the "
-    "same controller, sensors and windows, each re-fitted, for 95 % intervals that hold the "
-    "estimator's bias (0: noise-only intervals).",
+    help="Walk logs: replicas of the fitted model recorded through the data's pipeline (a "
+    "zmpkit walk log walked again with its controller; any other log's windows replayed "
+    "again from earlier and re-cut from the replica's own sensors), each re-fitted, for 95 % "
+    "intervals that hold the estimator's bias (0: noise-only intervals).",
 )
 @report_option
 def identify_sim_command(

@@ -164,7 +164,7 @@ class GenerationProgress(_LazyDisplay):
         )
 
     def replicas(self, finished: int, total: int) -> None:
-        """Show ``finished`` of ``total`` interval replicas walked again and re-fitted."""
+        """Show ``finished`` of ``total`` interval replicas recorded again and re-fitted."""
         self._show()
         if self._replicas is None:
             self._replicas = self._bar.add_task("interval replicas", total=total, best="–", eta="–")

@@ -99,7 +99,8 @@ class IdentifySimResult:
             floor, residual structure: :mod:`~zmpkit.simfit.adequacy`); None if not checked.
         intervals: per parameter, its 95 % interval: bias-corrected from replicas recorded
             through the data's pipeline and re-fitted (:mod:`~zmpkit.simfit.refit_intervals`)
-            for walk logs of ``zmpkit walk``, else the noise-only one
+            for walk logs (walked again for a log of ``zmpkit walk``, each window replayed
+            again for any other), else the noise-only one
             (:mod:`~zmpkit.simfit.noise_intervals`); each says which (``method``). A
             precision only when the model explains the data.
         sim_effects: the effects the simulator ran: the fitted ones and those the recorded
@@ -167,7 +168,7 @@ def run_identify_sim(
         progress: called after every generation with a
             :class:`~zmpkit.simfit.optimizer.FitProgress`.
         replica_progress: called with (replicas done, replicas) as the intervals' replicas
-            are walked again and re-fitted (:mod:`~zmpkit.simfit.refit_intervals`).
+            are recorded again and re-fitted (:mod:`~zmpkit.simfit.refit_intervals`).
 
     Raises:
         InputFileError: on an unreadable experiment folder or base truth, or a checkpoint

@@ -75,8 +75,9 @@ class IdentifySimConfig:
         window_s: a walk log's multiple-shooting window [s]
             (:mod:`~zmpkit.simfit.shooting_window`).
         burn_in_s: the unscored start of each window [s].
-        interval_replicas: walk logs of ``zmpkit walk``: replicas recorded through the
-            data's pipeline and re-fitted for the bias-corrected 95 % intervals
+        interval_replicas: walk logs: replicas recorded through the data's pipeline
+            (a ``zmpkit walk`` log walked again, any other log's windows replayed again) and
+            re-fitted for the bias-corrected 95 % intervals
             (:mod:`~zmpkit.simfit.refit_intervals`); 0: the noise-only intervals
             (:mod:`~zmpkit.simfit.noise_intervals`).
     """

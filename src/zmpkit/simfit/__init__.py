@@ -32,8 +32,9 @@ physical robot." One concept per module:
   noise floor, residual structure);
 - :mod:`~zmpkit.simfit.noise_intervals`: 95 % intervals the data's noise leaves;
 - :mod:`~zmpkit.simfit.refit_intervals`: 95 % intervals that hold the estimator's bias, from
-  replicas walked again through the data's pipeline
-  (:mod:`~zmpkit.simfit.pipeline_replicas`) and re-fitted (:mod:`~zmpkit.simfit.local_refit`);
+  replicas recorded again through the data's pipeline (a ``zmpkit walk`` log walked again:
+  :mod:`~zmpkit.simfit.pipeline_replicas`; any log's windows replayed again:
+  :mod:`~zmpkit.simfit.window_replicas`) and re-fitted (:mod:`~zmpkit.simfit.local_refit`);
 - :mod:`~zmpkit.simfit.validation`: trunk oscillation and joint error checks;
 - :mod:`~zmpkit.simfit.self_test`: hidden perturbed truth, recording, recovery;
 - :mod:`~zmpkit.simfit.outputs`: the files of a fit.

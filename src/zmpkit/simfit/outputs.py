@@ -247,9 +247,9 @@ def write_identifiability_csv(path: Path, ident: Sequence[ParameterIdentifiabili
 def write_intervals_csv(path: Path, intervals: Sequence[ParameterInterval]) -> Path:
     """Per parameter: fitted value, 95 % interval, its centre, bias and half-width [%], kind.
 
-    The kind is ``pipeline_refits`` or ``noise_only``; the ``interval_95_method`` of
-    :data:`FITTED_PARAMETERS_FILE` says it in words. An empty cell: not measured (or, for
-    the bias, not estimated: a noise-only interval).
+    The kind is ``pipeline_refits``, ``window_refits`` or ``noise_only``; the
+    ``interval_95_method`` of :data:`FITTED_PARAMETERS_FILE` says it in words. An empty
+    cell: not measured (or, for the bias, not estimated: a noise-only interval).
     """
     header = [
         "parameter",

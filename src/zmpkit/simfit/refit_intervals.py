@@ -10,9 +10,14 @@ or the parameter's range where the estimate is zero), as
 .. math:: \hat\theta = \theta + s\,(b + e), \qquad e \sim (0, \sigma^2),
 
 with :math:`b` constant near the fit. Replica :math:`k` is the data's pipeline run on a
-robot that *is* the fit :math:`\hat\theta` (recorded through the same controller, sensors
-and window start-state estimation, another noise seed) and re-fitted with every parameter
-free (:mod:`~zmpkit.simfit.local_refit`): :math:`\hat\theta_k = \hat\theta + s(b + e_k)`.
+robot that *is* the fit :math:`\hat\theta` (recorded through the same sensors and window
+start-state estimation, another noise seed) and re-fitted with every parameter free
+(:mod:`~zmpkit.simfit.local_refit`): :math:`\hat\theta_k = \hat\theta + s(b + e_k)`. A log
+``zmpkit walk`` wrote is walked again with its controller (:data:`PIPELINE_REFITS`,
+:mod:`~zmpkit.simfit.pipeline_replicas`); any other log's windows are replayed again from
+before their starts on the log's commands and re-cut from the replica's own sensors
+(:data:`WINDOW_REFITS`, :mod:`~zmpkit.simfit.window_replicas`): they hold the start-state
+estimation's bias but not a controller's answer to other noise.
 Their relative moves :math:`\delta_k = (\hat\theta_k - \hat\theta) / s` estimate the bias
 and the scatter,
 
@@ -58,9 +63,12 @@ from zmpkit.simfit.local_refit import local_refit
 from zmpkit.simfit.noise_intervals import CONFIDENCE, NoiseInterval
 from zmpkit.simfit.pipeline_replicas import pipeline_replica, walk_settings
 from zmpkit.simfit.problem import FitProblem
+from zmpkit.simfit.window_replicas import replayable_windows, window_replica
 
 __all__ = [
+    "PIPELINE_REFITS",
     "REFIT_REPLICAS",
+    "WINDOW_REFITS",
     "ParameterInterval",
     "RefitInterval",
     "interval_scales",
@@ -69,6 +77,11 @@ __all__ = [
     "replica_intervals",
 ]
 
+PIPELINE_REFITS = "pipeline_refits"
+"""The kind of an interval from replicas walked again (:mod:`~zmpkit.simfit.pipeline_replicas`)."""
+WINDOW_REFITS = "window_refits"
+"""The kind of an interval from a log's windows replayed again
+(:mod:`~zmpkit.simfit.window_replicas`)."""
 REFIT_REPLICAS = 6
 r"""Replicas recorded and re-fitted [-]: six make the interval
 :math:`t_{0.975,5}\sqrt{7/6} = 2.78` scatters wide, four 3.56."""
@@ -89,6 +102,7 @@ class RefitInterval:
     value: float
     scale: float
     moves: tuple[float, ...]
+    kind: str = PIPELINE_REFITS
 
     @property
     def replicas(self) -> int:
@@ -129,13 +143,15 @@ class RefitInterval:
         return self.corrected + self.scale * self.half_width
 
     @property
-    def kind(self) -> str:
-        """``pipeline_refits``."""
-        return "pipeline_refits"
-
-    @property
     def method(self) -> str:
         """What the interval is, in words."""
+        if self.kind == WINDOW_REFITS:
+            return (
+                f"bias-corrected: {self.replicas} replicas of the fitted model replaying the "
+                "log's commands from before each window, the windows re-cut from their own "
+                "sensors, each re-fitted; it holds the noise and the start-state estimation's "
+                "bias as those replicas show them, not a controller's answer to other noise"
+            )
         return (
             f"bias-corrected: {self.replicas} replicas of the fitted model walked again "
             "through the data's pipeline (controller, sensors, windows), each re-fitted; it "
@@ -152,7 +168,11 @@ ParameterInterval = NoiseInterval | RefitInterval
 
 
 def replica_intervals(
-    names: Sequence[str], values: Sequence[float], scales: Sequence[float], estimates: NDArray
+    names: Sequence[str],
+    values: Sequence[float],
+    scales: Sequence[float],
+    estimates: NDArray,
+    kind: str = PIPELINE_REFITS,
 ) -> tuple[RefitInterval, ...]:
     r"""Every parameter's interval from the replicas' re-fits (module docstring).
 
@@ -161,11 +181,12 @@ def replica_intervals(
         values: the fit :math:`\hat\theta` [units].
         scales: :math:`s` [units].
         estimates: ``(K, n)`` re-fitted values :math:`\hat\theta_k` [units].
+        kind: which replicas (:data:`PIPELINE_REFITS`, :data:`WINDOW_REFITS`).
     """
     v, s = np.asarray(values, dtype=float), np.asarray(scales, dtype=float)
     moves = (np.asarray(estimates, dtype=float).reshape(-1, v.size) - v) / s
     return tuple(
-        RefitInterval(n, float(v[i]), float(s[i]), tuple(float(m) for m in moves[:, i]))
+        RefitInterval(n, float(v[i]), float(s[i]), tuple(float(m) for m in moves[:, i]), kind)
         for i, n in enumerate(names)
     )
 
@@ -197,13 +218,16 @@ def refit_intervals(
         workers: processes; 1 runs them in this process.
 
     Returns:
-        The intervals; None unless every experiment is a window of a log that ``zmpkit walk``
-        wrote with a feedback controller
-        (:func:`~zmpkit.simfit.pipeline_replicas.walk_settings`).
+        The intervals: from walks recorded again when every experiment is a window of a
+        log that ``zmpkit walk`` wrote with a feedback controller
+        (:func:`~zmpkit.simfit.pipeline_replicas.walk_settings`), else from the windows
+        replayed again when every experiment is a window of a walk log
+        (:mod:`~zmpkit.simfit.window_replicas`); None otherwise.
     """
     settings = walk_settings(problem)
-    if settings is None:
+    if settings is None and not replayable_windows(problem):
         return None
+    kind = WINDOW_REFITS if settings is None else PIPELINE_REFITS
     start = [float(v) for v in values]
     found: dict[int, tuple[float, ...] | None] = {}
     if workers <= 1 or replicas <= 1:
@@ -225,12 +249,18 @@ def refit_intervals(
     estimates = [found[k] for k in range(replicas) if found[k] is not None]
     names = [p.name for p in problem.parameters]
     scales = interval_scales(problem.parameters, values)
-    return replica_intervals(names, values, scales, np.array(estimates))
+    return replica_intervals(names, values, scales, np.array(estimates), kind)
 
 
 def replica_estimate(
-    problem: FitProblem, values: list[float], k: int, settings: dict[str, WalkSettings]
+    problem: FitProblem, values: list[float], k: int, settings: dict[str, WalkSettings] | None
 ) -> tuple[float, ...] | None:
-    """Replica ``k`` recorded by the fit at ``values`` and re-fitted; None if it diverged."""
-    replica = pipeline_replica(problem, values, k, settings)
+    """Replica ``k`` recorded by the fit at ``values`` and re-fitted; None if it diverged.
+
+    Walked again with ``settings``; None: the log's windows replayed again.
+    """
+    if settings is None:
+        replica = window_replica(problem, values, k)
+    else:
+        replica = pipeline_replica(problem, values, k, settings)
     return None if replica is None else local_refit(replica, values).values

@@ -52,8 +52,10 @@ measured state: the floor holds the shooting's start-state error, and the replic
 (different leads, different start errors) the noise-only intervals'
 (:mod:`~zmpkit.simfit.noise_intervals`), not only the sensors' noise. These replicas are
 not themselves cut from a log their own sensors measured, so they miss what that start-state
-estimation does to the estimate; a log ``zmpkit walk`` wrote is walked again and re-cut for
-the intervals instead (:mod:`~zmpkit.simfit.pipeline_replicas`). A log's first window
+estimation does to the estimate; for the intervals a log ``zmpkit walk`` wrote is walked
+again and re-cut (:mod:`~zmpkit.simfit.pipeline_replicas`), and any other log's windows are
+replayed again and re-cut from the replica's own sensors
+(:mod:`~zmpkit.simfit.window_replicas`). A log's first window
 has no earlier state and is its own replica (its floor holds the sensors' noise only).
 
 **A walk that fell** (IMU pitch or roll past
@@ -91,6 +93,7 @@ __all__ = [
     "ShootingWindow",
     "WindowStart",
     "check_window",
+    "cut_window",
     "log_fall_time",
     "log_windows",
     "replica_experiment",
@@ -303,7 +306,7 @@ def log_windows(
     windows = []
     a = float(log.time_s[min(SLOPE_ROWS // 2, log.time_s.size - 1)])
     while a + window_s <= end + 1e-9:
-        window = _window(log, robot, name, kinematics, tilt, a, window_s, burn_in_s)
+        window = cut_window(log, robot, name, kinematics, a, window_s, burn_in_s, tilt)
         if window is not None:
             windows.append(window)
         a += window_s - burn_in_s
@@ -364,20 +367,24 @@ def _history(log: WalkLog, first: int) -> LoadHistory | None:
     )
 
 
-def _window(
+def cut_window(
     log: WalkLog,
     robot: Robot,
     name: str,
     kinematics: LogKinematics,
-    tilt: NDArray[np.float64],
     a: float,
     window_s: float,
     burn_in_s: float,
+    tilt: NDArray[np.float64] | None = None,
 ) -> ShootingWindow | None:
-    """The window starting at the row at ``a`` [s] and its replica (module docstring).
+    """The window of ``log`` starting at its row at ``a`` [s], and its replicas.
 
-    None without a foot in contact at ``a``, or with too few scored rows.
+    ``log``'s joints in ``robot``'s driven-joint order; ``tilt``: its IMU pitch per row
+    [rad] (None: computed). None without a foot in contact at ``a``, or with too few
+    scored rows (module docstring).
     """
+    if tilt is None:
+        tilt = np.array([quaternion_pitch_roll(q)[0] for q in log.imu_quat_wxyz])
     time, threshold = log.time_s, kinematics.contact_threshold_n
     scored = int(np.searchsorted(time, a + burn_in_s - 1e-9))
     last = int(np.searchsorted(time, a + window_s + 1e-9))
