@@ -20,7 +20,7 @@ robot that *is* the fitted model:
    windows exactly as the data's log was (:func:`~zmpkit.simfit.shooting_window.log_windows`,
    the same window and burn-in), each with its own measured start state.
 
-Re-fitting replica ``k`` (:mod:`~zmpkit.simfit.local_refit`) then gives an estimate that
+Re-fitting replica ``k`` (:mod:`~zmpkit.simfit.replica_refit`) then gives an estimate that
 carries the noise *and* the bias of the pipeline (:mod:`~zmpkit.simfit.refit_intervals`).
 
 Only a log written by ``zmpkit walk`` with one of its feedback controllers says how to

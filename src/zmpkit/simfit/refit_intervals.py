@@ -11,8 +11,9 @@ or the parameter's range where the estimate is zero), as
 
 with :math:`b` constant near the fit. Replica :math:`k` is the data's pipeline run on a
 robot that *is* the fit :math:`\hat\theta` (recorded through the same sensors and window
-start-state estimation, another noise seed) and re-fitted with every parameter free
-(:mod:`~zmpkit.simfit.local_refit`): :math:`\hat\theta_k = \hat\theta + s(b + e_k)`. A log
+start-state estimation, another noise seed) and re-fitted with every parameter free, by
+CMA-ES as the data was (:mod:`~zmpkit.simfit.replica_refit`):
+:math:`\hat\theta_k = \hat\theta + s(b + e_k)`. A log
 ``zmpkit walk`` wrote is walked again with its controller (:data:`PIPELINE_REFITS`,
 :mod:`~zmpkit.simfit.pipeline_replicas`); any other log's windows are replayed again from
 before their starts on the log's commands and re-cut from the replica's own sensors
@@ -38,11 +39,11 @@ is centred on the biased minimum whatever threshold it is given.
 
 It assumes the bias is the same at the fit as at the truth (it changes slowly with the
 parameters) and that the replicas' robot differs from the real one only in the fitted
-parameters; with fewer than two re-fitted replicas the interval is not measured (NaN). The
-replicas are re-fitted locally (:mod:`~zmpkit.simfit.local_refit`), so a global fit that
-jumps between distant minima of a multi-modal cost moves more than they show: measured on
-five held-out truths of the built-in walker (three walks each), 8 of 10 intervals covered
-the truth, both misses a stiff gear fitted 9–10 % low by CMA-ES into another minimum.
+parameters; with fewer than two re-fitted replicas the interval is not measured (NaN).
+Re-fitted by Nelder–Mead from the fit instead (:mod:`~zmpkit.simfit.local_refit`), the
+replicas missed the estimator's jumps between the bumps of a flat valley: on five held-out
+truths of the built-in walker (three walks each), 8 of 10 intervals covered the truth, both
+misses a stiff gear fitted 9–10 % low.
 """
 
 from __future__ import annotations
@@ -59,10 +60,10 @@ from scipy.stats import t as student_t
 
 from zmpkit.robots.fit_parameter import FitParameter
 from zmpkit.simfit.closed_loop import WalkSettings
-from zmpkit.simfit.local_refit import local_refit
 from zmpkit.simfit.noise_intervals import CONFIDENCE, NoiseInterval
 from zmpkit.simfit.pipeline_replicas import pipeline_replica, walk_settings
 from zmpkit.simfit.problem import FitProblem
+from zmpkit.simfit.replica_refit import replica_refit
 from zmpkit.simfit.window_replicas import replayable_windows, window_replica
 
 __all__ = [
@@ -263,4 +264,4 @@ def replica_estimate(
         replica = window_replica(problem, values, k)
     else:
         replica = pipeline_replica(problem, values, k, settings)
-    return None if replica is None else local_refit(replica, values).values
+    return None if replica is None else replica_refit(replica, values, k).values
