@@ -8,9 +8,10 @@ walker (hidden P gain scale 0.797, gear 1424 N·m/rad; fit 0.808, 1324), the cos
 line from the fit to the truth stays within 0.0062–0.0069 from 15 % softer to 11 % stiffer
 gears, with bumps of 0.0005 between, and the truth itself on a bump (0.0079). The fit's
 estimate is wherever CMA-ES found the lowest bump. A Nelder–Mead re-fit from the fit
-(:mod:`~zmpkit.simfit.local_refit`) stays in the basin it starts in: the replicas of that
-walk moved the gear by 2.6 % ± 1.4 % and their interval missed the truth, where CMA-ES
-re-fits moved it by 1.2 % ± 5.8 % and covered it.
+(:mod:`~zmpkit.simfit.local_refit`) stays in the basin it starts in: six replicas of that
+walk (:mod:`~zmpkit.simfit.window_replicas`) moved the gear by +2.6 % (standard deviation
+1.4 %) and their interval, [1239, 1340] N·m/rad, missed the truth; re-fitted by this
+search they moved it by −0.5 % (3.1 %), and the interval [1218, 1443] covers it.
 
 The re-fit is CMA-ES in the relative coordinates of :mod:`~zmpkit.simfit.local_refit`,
 :math:`u_i = (x_i - v_i) / s_i` from :math:`u = 0` (the fit :math:`v`), with step size
