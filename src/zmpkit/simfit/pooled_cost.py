@@ -47,7 +47,9 @@ Measured fits (``--quick``: P gain and gear stiffness, effects M, G), mean → m
   its noise-only interval shrank from ±14 % to ±3.4 % and misses the truth by 0.25 %: the
   median leaves the estimator's bias from the start-state estimate larger than the noise,
   and a noise-only interval does not hold that bias (:mod:`~zmpkit.simfit.noise_intervals`).
-  Hence not yet the default.
+  Hence not yet the default. Such a log's intervals now come from its windows replayed
+  again (:mod:`~zmpkit.simfit.window_replicas`), which hold that bias; the median has not
+  been measured with them yet.
 """
 
 from __future__ import annotations
