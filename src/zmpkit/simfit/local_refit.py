@@ -42,6 +42,7 @@ __all__ = [
     "local_minimum",
     "local_refit",
     "mean_cost",
+    "relative_values",
 ]
 
 REFIT_STEP = 0.03
@@ -105,17 +106,25 @@ def local_minimum(
     return np.asarray(result.x, dtype=float), float(result.fun), int(result.nfev)
 
 
-def local_refit(
-    problem: FitProblem, start: Sequence[float], step: float = REFIT_STEP
-) -> LocalRefit:
-    """Re-fit every parameter of ``problem`` from ``start`` [units] (module docstring)."""
+def relative_values(
+    problem: FitProblem, start: Sequence[float]
+) -> Callable[[NDArray[np.float64]], list[float]]:
+    r"""``u`` [-] to the values :math:`v + s \odot u` [units] (module docstring), in bounds."""
     v = np.asarray(start, dtype=float)
     lower = np.array([p.lower for p in problem.parameters], dtype=float)
     upper = np.array([p.upper for p in problem.parameters], dtype=float)
     scale = np.where(v != 0.0, np.abs(v), upper - lower)
 
-    def values(u: NDArray[np.float64]) -> NDArray[np.float64]:
-        return np.clip(v + scale * u, lower, upper)
+    def values(u: NDArray[np.float64]) -> list[float]:
+        return np.clip(v + scale * np.asarray(u, dtype=float), lower, upper).tolist()
 
-    u, cost, spent = local_minimum(lambda u: mean_cost(problem, values(u).tolist()), v.size, step)
-    return LocalRefit(tuple(values(u).tolist()), cost, spent)
+    return values
+
+
+def local_refit(
+    problem: FitProblem, start: Sequence[float], step: float = REFIT_STEP
+) -> LocalRefit:
+    """Re-fit every parameter of ``problem`` from ``start`` [units] (module docstring)."""
+    values = relative_values(problem, start)
+    u, cost, spent = local_minimum(lambda u: mean_cost(problem, values(u)), len(start), step)
+    return LocalRefit(tuple(values(u)), cost, spent)

@@ -31,7 +31,7 @@ import cma
 import numpy as np
 from numpy.typing import NDArray
 
-from zmpkit.simfit.local_refit import LocalRefit, mean_cost
+from zmpkit.simfit.local_refit import LocalRefit, mean_cost, relative_values
 from zmpkit.simfit.problem import FitProblem
 from zmpkit.simfit.restarts import global_rng, set_global_rng
 
@@ -82,13 +82,6 @@ def replica_refit(problem: FitProblem, start: Sequence[float], seed: int) -> Loc
         start: the data's fit :math:`v` [units].
         seed: seeds the search's draws [-].
     """
-    v = np.asarray(start, dtype=float)
-    lower = np.array([p.lower for p in problem.parameters], dtype=float)
-    upper = np.array([p.upper for p in problem.parameters], dtype=float)
-    scale = np.where(v != 0.0, np.abs(v), upper - lower)
-
-    def values(u: NDArray[np.float64]) -> list[float]:
-        return np.clip(v + scale * u, lower, upper).tolist()
-
-    u, cost, spent = cma_minimum(lambda u: mean_cost(problem, values(u)), v.size, seed)
+    values = relative_values(problem, start)
+    u, cost, spent = cma_minimum(lambda u: mean_cost(problem, values(u)), len(start), seed)
     return LocalRefit(tuple(values(u)), cost, spent)
