@@ -12,6 +12,11 @@ PYTEST_MARK := $(if $(CI),,-m "not slow")
 # module-scoped fixtures (a balance run, a recorded walk) are made once. The slowest
 # tests are listed at the end of each run.
 PYTEST_ARGS := -n auto --dist loadfile --durations=15
+COMMA := ,
+TEST_EXTRAS := $(if $(CI),test$(COMMA)ray,test)
+# Some machines set PYTHONDONTWRITEBYTECODE; the tests' subprocesses and pytest's rewritten
+# test modules then compile from source every time. The project's own commands may cache.
+unexport PYTHONDONTWRITEBYTECODE
 
 .PHONY: demo test test-slow test-lowest bench lint format clean
 
@@ -23,12 +28,13 @@ $(VENV)/.installed: pyproject.toml | $(BIN)/python
 	$(BIN)/python -m pip install --quiet -e .
 	touch $@
 
-# The tests install Ray too, so the cluster backend is exercised live (on a local instance),
-# and qibullet without its dependencies: a test reads NAO's URDF out of it (never imports it,
-# so pybullet is not needed). CI adds PAL's TALOS (URDF and meshes, 131 MB: example-robot-data
+# The tests install qibullet without its dependencies: a test reads NAO's URDF out of it
+# (never imports it, so pybullet is not needed). CI also installs Ray (about 18 s here), so
+# the cluster backend is exercised live on a local instance (locally those tests skip, saying
+# so, unless Ray is installed), and PAL's TALOS (URDF and meshes, 131 MB: example-robot-data
 # without its dependencies, none of which a test imports) for a slow test of an unseen robot.
 $(VENV)/.installed-test: pyproject.toml | $(BIN)/python
-	$(BIN)/python -m pip install --quiet -e '.[test,ray]'
+	$(BIN)/python -m pip install --quiet -e '.[$(TEST_EXTRAS)]'
 	$(BIN)/python -m pip install --quiet --no-deps 'qibullet==1.4.6'
 	$(if $(CI),$(BIN)/python -m pip install --quiet --no-deps 'example-robot-data==6.0.0')
 	touch $@ $(VENV)/.installed

@@ -60,6 +60,7 @@ def read_mp4(path: Path) -> tuple[dict, list[np.ndarray]]:
     return meta, [np.frombuffer(f, np.uint8).reshape(height, width, 3) for f in reader]
 
 
+@pytest.mark.slow
 def test_a_motion_is_written_as_an_mp4_a_browser_plays(model, gl, tmp_path: Path) -> None:
     result = write_video([sliding_block(model, "block")], tmp_path / "block.mp4", SMALL)
     meta, frames = read_mp4(tmp_path / "block.mp4")

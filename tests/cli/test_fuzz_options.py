@@ -215,6 +215,7 @@ def _run(examples: int, name: str) -> Census:
     return census
 
 
+@pytest.mark.slow
 def test_fuzz_options_fast() -> None:
     census = _run(150, "options (fast)")
     assert census.cases >= 150

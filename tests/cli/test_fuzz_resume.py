@@ -70,6 +70,7 @@ def _run(genuine: tuple[dict, dict], examples: int, name: str) -> Census:
     return census
 
 
+@pytest.mark.slow
 def test_fuzz_resume_fast(genuine: tuple[dict, dict]) -> None:
     census = _run(genuine, 60, "identify sim --resume (fast)")
     assert census.cases >= 60

@@ -56,6 +56,7 @@ def _run(examples: int, name: str) -> Census:
     return census
 
 
+@pytest.mark.slow
 def test_fuzz_zmp_fast() -> None:
     census = _run(120, "zmp (fast)")
     assert census.cases >= 120

@@ -10,6 +10,7 @@ import pytest
 from zmpkit.cli import main
 
 
+@pytest.mark.slow
 def test_a_pushed_closed_loop_walk_writes_its_controller_and_outcome(
     tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:

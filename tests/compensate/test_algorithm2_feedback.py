@@ -93,6 +93,7 @@ def test_only_zmpip_takes_a_reference_adapter() -> None:
         make_controller("dcm", PATTERN, None, None, None, None, reference_adapter=learner)  # type: ignore[arg-type]
 
 
+@pytest.mark.slow
 def test_a_feedback_walk_with_algorithm_2_tracks_its_rewritten_reference() -> None:
     """All effects, 3 s at 0.2 m/s with zmpip: p' differs from p_r only inside the walk."""
     walk = WalkSpec(duration_s=3.0, controller="zmpip", robot=get_robot("nao"))

@@ -17,6 +17,7 @@ from zmpkit.walking.ik import solve_walking_ik
 NAO_IK = get_robot("nao").ik_settings
 
 
+@pytest.mark.slow
 def test_algorithm1_reduces_the_error_on_a_short_walk() -> None:
     result = compensate_abstraction(PatternConfig(duration_s=3.0, com_height_m=0.25),
                                     nao_ik_model(), iterations=4, ik_settings=NAO_IK)  # fmt: skip
@@ -40,6 +41,7 @@ def short_walk():
     return pattern, settings, solve_walking_ik(pattern, nao_ik_model(), settings)
 
 
+@pytest.mark.slow
 def test_a_hook_that_returns_none_leaves_the_walk_unchanged(short_walk) -> None:
     _, _, trajectory = short_walk
     plain = simulate_walk(make_nao("none"), trajectory)

@@ -24,6 +24,7 @@ from zmpkit.walking import generate_pattern
 SHORT = WalkSpec(speed_mps=0.2, seed=0, duration_s=3.0, robot=get_robot("nao"))
 
 
+@pytest.mark.slow
 def test_tuning_improves_on_no_offset_and_resumes_from_its_cache(tmp_path) -> None:
     config = SHORT.walk_config().pattern_config()
     model_offset = compensate_abstraction(

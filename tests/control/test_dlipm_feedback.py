@@ -201,6 +201,7 @@ def test_the_same_pi_wraps_the_lipm_whose_model_is_l_sin_theta() -> None:
     target=st.floats(-0.12, 0.15),
     samples=st.lists(st.one_of(st.none(), st.floats(-1e6, 1e6)), min_size=1, max_size=60),
 )
+@pytest.mark.slow
 def test_output_always_within_clamps_and_finite(
     kp: float, ki: float, limit: float, target: float, samples: list[float | None]
 ) -> None:

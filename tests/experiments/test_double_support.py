@@ -62,6 +62,7 @@ def test_the_squat_keeps_the_soles_and_lowers_the_com_by_the_walking_crouch(squa
     assert crouched - after.min() == pytest.approx(0.04 * standing, abs=4e-3)
 
 
+@pytest.mark.slow
 def test_the_chirp_keeps_the_lipm_zmp_excursion_at_its_share_of_the_sole() -> None:
     """The CoM follows x(t) = A_p / (1 + ω(t)² z_c/g) sin φ(t): its sway shrinks as the
     frequency grows so that the LIPM's ZMP sways A_p at every frequency."""

@@ -122,6 +122,7 @@ def test_zmpkit_errors_survive_a_process_pool() -> None:
 # --- datasets --------------------------------------------------------------------------
 
 
+@pytest.mark.slow
 def test_same_seed_gives_an_identical_dataset_serial_or_pooled(tmp_path: Path) -> None:
     config = _config(effects="S", targets_m=(0.0, 0.03), seed=5)
     run_step_sweep(config, tmp_path / "a", workers=1)
@@ -267,6 +268,7 @@ def test_sim_push_help(capsys: pytest.CaptureFixture[str]) -> None:
     assert "--push-duration" in out
 
 
+@pytest.mark.slow
 def test_sim_push_end_to_end(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     out = tmp_path / "run"
     args = ["sim", "push", "--targets", "0,0.02", "--effects", "none", "--hold", "1.5"]

@@ -55,6 +55,7 @@ def test_a_malformed_per_sensor_gain_names_the_field() -> None:
         truth_from_doc(doc, "bad.yaml")
 
 
+@pytest.mark.slow
 def test_the_previous_lean_leaves_the_robot_elsewhere(tmp_path) -> None:
     """Hysteresis: after the lean to 0.08 m and back, the upright robot stands differently."""
     doc = yaml.safe_load(DEFAULT_TRUTH_PATH.read_text(encoding="utf-8"))

@@ -18,6 +18,7 @@ def test_the_matrix_holds_116_cases_a_controller_at_paper_b_s_figures() -> None:
     assert len({c.key for c in zmpip}) == 116  # every case its own row
 
 
+@pytest.mark.slow
 def test_a_robot_is_judged_on_its_own_speed_and_pushes_per_kilogram() -> None:
     """The OP3 walks at 0.1 m/s and weighs about 3.2 kg against paper B's robot's 0.2 m/s and
     5.3 kg: its matrix walks at half the speeds, pushed with the same force per kilogram."""

@@ -34,6 +34,7 @@ def outward_push():
     return config, run_walk_trial(config)
 
 
+@pytest.mark.slow
 def test_a_step_that_cannot_capture_is_said_so_and_does_not_cross(outward_push) -> None:
     config, trial = outward_push
     (push,) = config.pushes
@@ -58,6 +59,7 @@ def test_a_step_that_cannot_capture_is_said_so_and_does_not_cross(outward_push) 
     assert NOT_CAPTURED in check.detail
 
 
+@pytest.mark.slow
 def test_a_walk_that_is_not_pushed_moves_no_step() -> None:
     case = RobustnessCase("dcm")
     config = case.walk_config(get_robot("nao"), "all", 3.0, 0, step_adjustment=True)
@@ -72,6 +74,7 @@ def test_a_diagonal_push_is_a_unit_vector() -> None:
     assert fx < 0.0 < fy
 
 
+@pytest.mark.slow
 def test_a_moved_step_keeps_the_estimate_on_the_robot() -> None:
     """20 N × 0.1 s forward in mid-swing (the sweep's ``push 20 N x @ 0.5``), 6 s.
 

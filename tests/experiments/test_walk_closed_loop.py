@@ -82,6 +82,7 @@ def test_the_fall_height_is_a_share_of_the_robot_s_own_starting_height(monkeypat
     assert record.torso_in_world[:, 2].min() > 0.6 * record.torso_in_world[0, 2]
 
 
+@pytest.mark.slow
 def test_a_walk_that_stays_in_place_is_a_stall(rigid_walk) -> None:
     """Motion capture of a robot stepping on the spot: no progress over two steps."""
     record = rigid_walk.record
@@ -110,6 +111,7 @@ def test_half_the_commanded_progress_is_not_a_stall(rigid_walk) -> None:
     assert stall_time(rigid_walk.pattern, dataclasses.replace(record, torso_in_world=torso))
 
 
+@pytest.mark.slow
 def test_zmpip_recovers_from_a_20_n_push_that_fells_the_open_loop_walk() -> None:
     """All effects on, a 4 s walk pushed backwards with 20 N for 0.1 s at 2.2 s."""
     push = (Push(20.0, 2.2, "-x"),)

@@ -47,6 +47,7 @@ def test_a_robot_whose_crouch_is_far_from_its_limits_keeps_the_default(biped_yam
     assert choice.tried == 0
 
 
+@pytest.mark.slow
 def test_a_leaning_posture_is_what_the_ik_holds(biped_yaml: Path) -> None:
     robot = get_robot(str(biped_yaml))
     file = read_robot_file(biped_yaml)

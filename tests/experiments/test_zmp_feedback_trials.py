@@ -111,6 +111,7 @@ def fault_free_loop() -> tuple[float, str]:
     return _trial_zmp("dlipm_fb")
 
 
+@pytest.mark.slow
 def test_feedback_removes_the_offset_of_a_mis_scheduled_dlipm(
     fault_free_loop: tuple[float, str],
 ) -> None:
@@ -122,6 +123,7 @@ def test_feedback_removes_the_offset_of_a_mis_scheduled_dlipm(
 
 
 @pytest.mark.parametrize("kind", FAULT_KINDS)
+@pytest.mark.slow
 def test_feedback_loop_survives_each_fault(kind: str, fault_free_loop: tuple[float, str]) -> None:
     clean, _ = fault_free_loop
     faulty, end = _trial_zmp("dlipm_fb", (kind,))

@@ -200,6 +200,7 @@ def test_fit_recovers_paper_coefficients_with_intervals_and_picks_quadratic() ->
     assert set(fit.loo_rmse) == {"linear", "quadratic", "odd_quadratic", "cubic"}
 
 
+@pytest.mark.slow
 def test_confidence_intervals_cover_the_truth_95_percent_of_the_time() -> None:
     hits, n_runs = np.zeros(3), 400
     for seed in range(n_runs):
@@ -211,6 +212,7 @@ def test_confidence_intervals_cover_the_truth_95_percent_of_the_time() -> None:
     assert np.all((hits / n_runs > 0.91) & (hits / n_runs < 0.985))
 
 
+@pytest.mark.slow
 def test_cross_validation_picks_linear_for_linear_data() -> None:
     linear = ErrorModel("linear", (1.02, -0.0004))
     chosen = []
@@ -222,6 +224,7 @@ def test_cross_validation_picks_linear_for_linear_data() -> None:
     assert chosen.count("linear") / len(chosen) > 0.88  # ~94 % with the 20 % margin
 
 
+@pytest.mark.slow
 def test_cross_validation_picks_quadratic_for_quadratic_data() -> None:
     chosen = []
     for seed in range(200):
@@ -480,6 +483,7 @@ def test_scatter_takes_the_weight_off_the_quiet_trials_near_zero() -> None:
     assert inverse.scatter == 0.0
 
 
+@pytest.mark.slow
 def test_confidence_intervals_stay_honest_under_trial_to_trial_scatter() -> None:
     hits, n_runs = np.zeros(3), 400
     for seed in range(n_runs):

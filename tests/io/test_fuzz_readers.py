@@ -172,6 +172,7 @@ READERS = ("csv", "parquet", "yarp", "manifest", "truth", "feet", "columns", "un
 
 
 @pytest.mark.parametrize("reader", READERS)
+@pytest.mark.slow
 def test_fuzz_reader_fast(reader: str) -> None:
     census = _run(reader, 40)
     assert census.cases >= 40

@@ -67,6 +67,7 @@ def manifest(tmp_path: Path) -> Path:
     return path
 
 
+@pytest.mark.slow
 def test_manifest_trials_measure_the_recorded_zmp(manifest: Path) -> None:
     steps = read_step_manifest(manifest)
     assert [t.zmp_ref for t in steps.trials] == list(TARGETS_M)
@@ -76,6 +77,7 @@ def test_manifest_trials_measure_the_recorded_zmp(manifest: Path) -> None:
     assert settled == pytest.approx(A * 0.1**2 + B * 0.1, abs=2e-5)
 
 
+@pytest.mark.slow
 def test_identify_balance_from_recorded_logs(manifest: Path, tmp_path: Path) -> None:
     assert main(["identify", "balance", str(manifest), "--out", str(tmp_path / "out")]) == 0
     params = BalanceParams.from_yaml(tmp_path / "out" / "params.yaml")
@@ -87,6 +89,7 @@ def test_identify_balance_from_recorded_logs(manifest: Path, tmp_path: Path) -> 
     assert params.com_height == pytest.approx(0.777)
 
 
+@pytest.mark.slow
 def test_manifest_errors_name_the_field(manifest: Path, tmp_path: Path) -> None:
     bad = tmp_path / "bad.yaml"
     bad.write_text(manifest.read_text().replace("t_step_s: 2.0", "t_step: 2.0", 1))
@@ -138,6 +141,7 @@ def test_a_light_robots_threshold_counts_a_lightly_loaded_foot(tmp_path: Path) -
         ("abc", r"field 'contact_threshold_n' must be a number"),
     ],
 )
+@pytest.mark.slow
 def test_a_bad_manifest_threshold_is_one_line(
     manifest: Path, tmp_path: Path, value: str, message: str
 ) -> None:

@@ -44,6 +44,7 @@ def balance_run(tmp_path_factory: pytest.TempPathFactory):
     return out, result, write_balance(result, out)
 
 
+@pytest.mark.slow
 def test_dlipm_error_is_below_lipm_error(balance_run) -> None:
     _, result, _ = balance_run
     rows = [r for r in result.planes["sagittal"].rows if r.zmp_ref > 0]
@@ -55,6 +56,7 @@ def test_dlipm_error_is_below_lipm_error(balance_run) -> None:
     assert [r.zmp_ref for r in validation] == [0.05]  # the schedule between fitted points
 
 
+@pytest.mark.slow
 def test_artefacts_follow_their_contracts(balance_run) -> None:
     out, _, artifacts = balance_run
     with artifacts.table1.open() as f:
@@ -74,6 +76,7 @@ def test_artefacts_follow_their_contracts(balance_run) -> None:
     assert all(p.exists() for p in artifacts.figures)
 
 
+@pytest.mark.slow
 def test_rerun_resumes_every_sweep(balance_run) -> None:
     out, first, _ = balance_run
     again = run_balance(CONFIG, out, echo=lambda _: None)
@@ -81,6 +84,7 @@ def test_rerun_resumes_every_sweep(balance_run) -> None:
     assert [r.dlipm.zmp_measured for r in new] == [r.dlipm.zmp_measured for r in old]
 
 
+@pytest.mark.slow
 def test_controller_factory_pickles_for_worker_processes(balance_run) -> None:
     _, result, _ = balance_run
     factory = result.planes["sagittal"].factories["dlipm"]
@@ -91,6 +95,7 @@ def test_controller_factory_pickles_for_worker_processes(balance_run) -> None:
     assert [a.step() for _ in range(50)] == [b.step() for _ in range(50)]
 
 
+@pytest.mark.slow
 def test_identify_balance_command_on_a_recorded_dataset(
     balance_run, tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
@@ -145,6 +150,7 @@ def test_nothing_is_tuned_to_the_shipped_truth(tmp_path: Path) -> None:
             assert abs(row.dlipm.error_pct) < abs(row.lipm.error_pct)
 
 
+@pytest.mark.slow
 def test_report_and_artifacts_carry_the_verdict(balance_run) -> None:
     _, _, artifacts = balance_run
     verdict = artifacts.verdicts["sagittal"]
@@ -178,6 +184,7 @@ def test_only_strict_turns_a_missed_bar_into_a_failing_exit(
     assert says in capsys.readouterr().out
 
 
+@pytest.mark.slow
 def test_balance_video_films_the_dlipm_at_the_largest_target(balance_run, tmp_path: Path) -> None:
     skip_without_gl()
     _, result, _ = balance_run
@@ -227,6 +234,7 @@ def test_balance_bad_targets_are_one_line_exit_2(
     assert not out.exists()  # refused before any work
 
 
+@pytest.mark.slow
 def test_a_failed_plane_keeps_the_finished_ones_report(
     balance_run, monkeypatch: pytest.MonkeyPatch, tmp_path: Path
 ) -> None:

@@ -72,6 +72,7 @@ def test_a_run_module_draws_and_reports_nothing(path: Path) -> None:
     assert drawing == [], f"{path.name} imports {drawing}"
 
 
+@pytest.mark.slow
 def test_walk_does_not_import_the_balance_pipeline() -> None:
     """``zmpkit walk`` loads neither the balance pipeline nor its video, even indirectly."""
     code = (

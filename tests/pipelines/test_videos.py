@@ -29,6 +29,7 @@ def fall_mark_pixels(panel: np.ndarray) -> int:
     return int(np.count_nonzero((corner[..., 0] > 150) & (corner[..., 1] < 90)))
 
 
+@pytest.mark.slow
 def test_walk_video_writes_walk_mp4_and_says_where(
     tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
@@ -46,6 +47,7 @@ def test_walk_video_writes_walk_mp4_and_says_where(
     assert np.abs(frames[-1].astype(int) - frames[0].astype(int)).mean() > 0.5  # it moved
 
 
+@pytest.mark.slow
 def test_a_walk_has_no_video_unless_asked(tmp_path: Path) -> None:
     out = tmp_path / "walk"
     assert main(["walk", "--effects", "none", "--duration", "0.5", "--step-duration", "0.5",
@@ -54,6 +56,7 @@ def test_a_walk_has_no_video_unless_asked(tmp_path: Path) -> None:
     assert not list(out.glob("walk.*"))
 
 
+@pytest.mark.slow
 def test_rigid_and_fallen_walks_side_by_side(tmp_path: Path) -> None:
     skip_without_gl()
     rigid = WalkConfig(get_robot("nao"), duration_s=2.0, effects="none", figures=False)

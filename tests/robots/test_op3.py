@@ -76,6 +76,7 @@ def _menagerie_mass(path: object) -> float:
     return sum(float(e.get("mass", "0")) for e in root.iter("inertial"))
 
 
+@pytest.mark.slow
 def test_the_op3_model_mass_support_and_targets() -> None:
     pytest.importorskip(preset.OP3_ASSETS_PACKAGE)
     robot = get_robot("op3")
@@ -90,6 +91,7 @@ def test_the_op3_model_mass_support_and_targets() -> None:
     assert max(config.targets_m) == balance.max_target_m
 
 
+@pytest.mark.slow
 def test_the_op3_with_every_effect_compiles_and_stands() -> None:
     """All effects on: DC motors (no actuator clipped by Menagerie's position-servo defaults),
     gear joints, flexible shins; it stands 0.5 s on both feet, arms held."""

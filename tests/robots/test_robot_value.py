@@ -60,6 +60,7 @@ def test_a_robot_without_a_balance_model_is_refused_by_the_step_config() -> None
         StepExperimentConfig(get_robot("nao"))
 
 
+@pytest.mark.slow
 def test_the_op3_balance_dataset_records_the_op3s_own_threshold() -> None:
     """OP3 weighs about 31 N: 10 N, the default, would call a foot in contact at a third."""
     pytest.importorskip(preset.OP3_ASSETS_PACKAGE)

@@ -254,6 +254,7 @@ def test_frontal_lean_keeps_both_feet_flat_where_they_stand() -> None:
     assert abs(gap) == pytest.approx(2 * 0.0175 * np.sin(0.2), rel=0.01)
 
 
+@pytest.mark.slow
 def test_all_effects_zmp_error_grows_with_the_target() -> None:
     near, far = (run_lean("all", "sagittal", t, hold_s=5.0) for t in (0.02, 0.08))
     assert not near.fell

@@ -29,6 +29,7 @@ def biped_yaml(tmp_path: Path) -> Path:
     return write_biped_robot(tmp_path)
 
 
+@pytest.mark.slow
 def test_the_op3_template_takes_what_its_model_states(
     tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
@@ -58,6 +59,7 @@ def test_the_op3_template_takes_what_its_model_states(
     assert ASSUMED in lines["gear_ratio"]
 
 
+@pytest.mark.slow
 def test_a_biped_with_its_template_stands_and_walks_with_feedback(
     biped_yaml: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:

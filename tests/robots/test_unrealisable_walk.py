@@ -21,6 +21,7 @@ from zmpkit.experiments.walk import IK_REALISABLE_M, check_realisable
 from zmpkit.walking.ik import JointTrajectory
 
 
+@pytest.mark.slow
 def test_a_walk_above_the_legs_reach_is_refused_in_one_line(
     tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:

@@ -43,6 +43,7 @@ def test_the_walking_defaults_and_balance_model_come_from_the_model(robot_yaml: 
     assert balance.support_polygon_m["frontal"] == pytest.approx((-0.1, 0.1), abs=1e-6)
 
 
+@pytest.mark.slow
 def test_init_check_balance_sweep_and_walk(
     robot_yaml: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
@@ -193,6 +194,7 @@ def test_zmp_reads_a_log_with_a_users_robot_sensor_mounts(robot_yaml: Path) -> N
     assert float(zmp["zmp_y"]) == pytest.approx(0.0, abs=1e-12)
 
 
+@pytest.mark.slow
 def test_identify_balance_finds_a_users_robot_from_any_folder(
     robot_yaml: Path, tmp_path: Path, monkeypatch: pytest.MonkeyPatch,
     capsys: pytest.CaptureFixture[str],

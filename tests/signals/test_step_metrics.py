@@ -27,6 +27,7 @@ second_order_params = {"omega_n": st.floats(0.5, 20.0), "zeta": st.floats(0.11, 
 
 @settings(max_examples=25, deadline=None)
 @given(**second_order_params)
+@pytest.mark.slow
 def test_second_order_overshoot_and_peak_time_are_analytic(omega_n: float, zeta: float) -> None:
     sys, t = _second_order(omega_n, zeta)
     metrics = step_metrics(t, control.step_response(sys, t).outputs)
@@ -42,6 +43,7 @@ def test_second_order_overshoot_and_peak_time_are_analytic(omega_n: float, zeta:
 
 @settings(max_examples=25, deadline=None)
 @given(**second_order_params)
+@pytest.mark.slow
 def test_second_order_agrees_with_control_step_info(omega_n: float, zeta: float) -> None:
     sys, t = _second_order(omega_n, zeta)
     info = control.step_info(sys, t)

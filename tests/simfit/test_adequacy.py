@@ -115,6 +115,7 @@ def zmpip_problem(tmp_path_factory: pytest.TempPathFactory) -> FitProblem:
     return FitProblem(NAO, "M,G,S", params, doc, tuple(read_experiments([folder], NAO)))
 
 
+@pytest.mark.slow
 def test_the_recording_truth_explains_its_walk_and_a_wrong_model_does_not(
     zmpip_problem: FitProblem,
 ) -> None:

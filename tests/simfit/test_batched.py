@@ -60,6 +60,7 @@ def step(tmp_path_factory: pytest.TempPathFactory) -> StepExperiment:
 
 
 @pytest.mark.parametrize("effects", ["M,G,S", "M,G"])
+@pytest.mark.slow
 def test_walks_equal_the_serial_path(walk: WalkExperiment, effects: str) -> None:
     params, doc, truth = small_case()
     # nominal, the hidden truth, a candidate that falls, one that diverges at once
@@ -75,6 +76,7 @@ def test_walks_equal_the_serial_path(walk: WalkExperiment, effects: str) -> None
         _assert_same(b, s)
 
 
+@pytest.mark.slow
 def test_step_trials_equal_the_serial_path(step: StepExperiment) -> None:
     params = default_parameters(TEO, "M,G", ("pid_kp", "gear_stiffness"))
     doc = load_truth_doc(base_truth_path(TEO, None))
@@ -93,6 +95,7 @@ def test_no_candidates_give_no_signals(walk: WalkExperiment) -> None:
     assert simulate_batches([walk, walk], [], "M,G,S") == [[], []]
 
 
+@pytest.mark.slow
 def test_experiments_sharing_a_compiled_model_equal_the_serial_path(walk: WalkExperiment) -> None:
     """A candidate's second experiment starts from a copy of its first one's model."""
     params, doc, truth = small_case()

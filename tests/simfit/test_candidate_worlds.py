@@ -159,6 +159,7 @@ def walk(tmp_path_factory: pytest.TempPathFactory) -> WalkExperiment:
 @settings(max_examples=4, deadline=None)
 @given(units=_units(len(robot_catalogue(NAO))))
 @example(units=[[p.to_unit(p.nominal) for p in robot_catalogue(NAO)]])  # walks: readings
+@pytest.mark.slow
 def test_simulations_on_the_worlds_read_as_the_compiled_ones(
     walk: WalkExperiment, units: list[list[float]]
 ) -> None:

@@ -118,6 +118,7 @@ class _StopAt:
             raise KeyboardInterrupt
 
 
+@pytest.mark.slow
 def test_a_fit_resumed_after_any_generation_ends_as_the_uninterrupted_one(tmp_path: Path) -> None:
     """Population 4: cma's selective mirrors carry directions from one generation to the
     next; two restarts: a resume before, at and after each switch of run."""

@@ -56,6 +56,7 @@ def _walk(folder: Path) -> WalkExperiment:
     return experiment
 
 
+@pytest.mark.slow
 def test_a_zmpip_walk_reads_its_controller_and_settings(zmpip_walk: Path) -> None:
     experiment = _walk(zmpip_walk)
     settings = experiment.closed_loop
@@ -67,6 +68,7 @@ def test_a_zmpip_walk_reads_its_controller_and_settings(zmpip_walk: Path) -> Non
     assert not is_open_loop(experiment)
 
 
+@pytest.mark.slow
 def test_the_closed_loop_rollout_reproduces_the_walk_bit_for_bit(zmpip_walk: Path) -> None:
     """The recording's truth and noise seed: the controller's walk comes back exactly."""
     experiment = _walk(zmpip_walk)
@@ -79,6 +81,7 @@ def test_the_closed_loop_rollout_reproduces_the_walk_bit_for_bit(zmpip_walk: Pat
     assert experiment_cost(rec, same).joint < 1e-5
 
 
+@pytest.mark.slow
 def test_the_fit_reads_fresh_noise_so_its_truth_costs_the_noise_floor(zmpip_walk: Path) -> None:
     """The fit's own seed is the recorded one plus the offset: not the recorded realisation."""
     experiment = _walk(zmpip_walk)
@@ -91,6 +94,7 @@ def test_the_fit_reads_fresh_noise_so_its_truth_costs_the_noise_floor(zmpip_walk
     assert experiment_cost(experiment.signals, fit).joint > 1e-3
 
 
+@pytest.mark.slow
 def test_an_open_loop_replay_of_a_zmpip_walk_would_not_reproduce_it(zmpip_walk: Path) -> None:
     """Why a feedback walk needs its controller: the commands differ from the plan's."""
     from zmpkit.simfit.walk_plan import match_walk_plan
@@ -106,6 +110,7 @@ def test_an_open_loop_replay_of_a_zmpip_walk_would_not_reproduce_it(zmpip_walk: 
         )
 
 
+@pytest.mark.slow
 def test_the_local_backend_routes_closed_loop_walks_and_matches_serial(
     zmpip_walk: Path, open_walk: Path
 ) -> None:
@@ -154,6 +159,7 @@ def _cut_series(folder: Path, rows: int) -> None:
 
 
 @pytest.mark.parametrize("kind", ["zmpip", "open"])
+@pytest.mark.slow
 def test_a_fallen_walk_is_kept_up_to_the_margin_before_its_fall(
     kind: str, zmpip_walk: Path, open_walk: Path, tmp_path: Path
 ) -> None:

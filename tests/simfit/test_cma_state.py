@@ -120,6 +120,7 @@ def _check_continues(n: int, popsize: int | None, cost_name: str, cut: int, tmp:
 
 
 @pytest.mark.parametrize(("n", "popsize", "cost", "cut"), CASES)
+@pytest.mark.slow
 def test_a_rebuilt_strategy_continues_bit_for_bit(
     n: int, popsize: int | None, cost: str, cut: int, tmp_path: Path
 ) -> None:

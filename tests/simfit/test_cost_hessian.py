@@ -94,6 +94,7 @@ def _profiled_rise(hessian: NDArray, i: int, delta: float) -> float:
 
 @settings(max_examples=25, deadline=None)
 @given(seed=st.integers(0, 2**31 - 1), n=st.integers(1, 5), c0=st.floats(0.0, 0.1))
+@pytest.mark.slow
 def test_the_marginal_resolution_equals_a_profile_with_the_others_refitted(
     seed: int, n: int, c0: float
 ) -> None:

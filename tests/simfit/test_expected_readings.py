@@ -51,6 +51,7 @@ def test_only_the_random_and_quantising_parts_are_zeroed(robot: str) -> None:
     assert doc == load_truth_doc(base_truth_path(get_robot(robot), None))  # the input is untouched
 
 
+@pytest.mark.slow
 def test_expected_encoders_are_not_quantised(nao_walk_folder: Path) -> None:
     experiments = tuple(read_experiments([nao_walk_folder], NAO))
     params = default_parameters(NAO, "M")

@@ -31,6 +31,7 @@ def problem(walk_folder: Path) -> FitProblem:
     return FitProblem(NAO, "M,G,S", params, doc, experiments)
 
 
+@pytest.mark.slow
 def test_cost_falls_and_parameters_approach_the_truth(problem: FitProblem, tmp_path: Path) -> None:
     _, _, truth = small_case()
     nominal = np.array([p.nominal for p in problem.parameters])
@@ -61,6 +62,7 @@ class _StopAfter:
             raise KeyboardInterrupt
 
 
+@pytest.mark.slow
 def test_resumed_fit_ends_as_an_uninterrupted_one(problem: FitProblem, tmp_path: Path) -> None:
     options = CmaOptions(generations=4, seed=3)
     evaluator = make_evaluator(problem, "serial")
@@ -75,6 +77,7 @@ def test_resumed_fit_ends_as_an_uninterrupted_one(problem: FitProblem, tmp_path:
 
 
 @pytest.mark.parametrize("backend", ["local", "pool"])
+@pytest.mark.slow
 def test_local_backends_give_the_serial_costs(problem: FitProblem, backend: str) -> None:
     candidates = [[0.7, 1200.0], [0.8, 1500.0], [0.6, 900.0], [0.36, 310.0]]
     serial = make_evaluator(problem, "serial").costs(candidates)
@@ -85,6 +88,7 @@ def test_local_backends_give_the_serial_costs(problem: FitProblem, backend: str)
         evaluator.close()
 
 
+@pytest.mark.slow
 def test_pipeline_writes_a_loadable_truth_and_its_tables(walk_folder: Path, tmp_path: Path) -> None:
     from zmpkit.pipelines.identify_sim import IdentifySimConfig, run_identify_sim
     from zmpkit.pipelines.identify_sim_files import write_identify_sim

@@ -62,7 +62,8 @@ def _fit(problem: FitProblem, out: Path, **options: int) -> CmaResult:
     return run_cma(problem, RastriginEvaluator(), CmaOptions(**options), out)
 
 
-@pytest.mark.parametrize("seed", [1, pytest.param(3, marks=pytest.mark.slow)])
+@pytest.mark.slow
+@pytest.mark.parametrize("seed", [1, 3])
 def test_restarts_find_the_global_minimum_a_single_run_misses(
     problem: FitProblem, tmp_path: Path, seed: int
 ) -> None:

@@ -44,6 +44,7 @@ def op3_open_walk(tmp_path_factory: pytest.TempPathFactory) -> Path:
     return out
 
 
+@pytest.mark.slow
 def test_an_op3_open_loop_walk_is_replayed_with_the_commands_it_sent(op3_open_walk: Path):
     """Its recording's truth and noise seed bring the walk back exactly (7 CSV digits)."""
     experiment = read_walk_folder(op3_open_walk, OP3)
@@ -59,6 +60,7 @@ def test_an_op3_open_loop_walk_is_replayed_with_the_commands_it_sent(op3_open_wa
     assert experiment_cost(recorded, same).joint < 1e-5
 
 
+@pytest.mark.slow
 def test_a_walk_folder_of_a_robot_whose_fit_replays_steps_is_fitted_from_its_log(
     op3_open_walk: Path,
 ):

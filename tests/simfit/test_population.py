@@ -125,6 +125,7 @@ def test_more_candidates_never_get_more_generations(
     assert 1 <= generations_for(small, n, generations) <= generations
 
 
+@pytest.mark.slow
 def test_budget_left_by_an_early_stop_goes_to_restarts(
     problem: FitProblem,  # noqa: F811 - the fixture
     tmp_path: Path,

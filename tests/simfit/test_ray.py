@@ -47,6 +47,7 @@ def callers_ray(no_ray: None) -> Iterator[None]:
 
 
 @pytest.mark.usefixtures("callers_ray")
+@pytest.mark.slow
 def test_ray_costs_equal_serial_costs_and_ctrl_c_cancels(problem: FitProblem) -> None:
     serial = make_evaluator(problem, "serial").costs(CANDIDATES)
     evaluator = make_evaluator(problem, "ray")

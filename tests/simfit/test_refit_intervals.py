@@ -69,6 +69,7 @@ def _coverage(bias: float, sigma: float, replicas: int, trials: int, correct: bo
     return hits / trials
 
 
+@pytest.mark.slow
 def test_the_toy_estimators_interval_covers_its_truth_95_percent_of_the_time() -> None:
     # bias 4 %, noise 1 % (about the gear stiffness's on two held-out truths): 2000 trials
     # give a coverage known to about ±0.5 %

@@ -73,6 +73,7 @@ def _truth():
     return load_robot_truth(NAO, load_truth_doc(base_truth_path(NAO, None)))
 
 
+@pytest.mark.slow
 def test_the_log_holds_the_sensor_readings_only(walk: tuple[WalkRecord, Path], tmp_path) -> None:
     record, path = walk
     log = read_walk_log(path)
@@ -88,6 +89,7 @@ def test_the_log_holds_the_sensor_readings_only(walk: tuple[WalkRecord, Path], t
     assert np.array_equal(again.left_wrench, log.left_wrench)
 
 
+@pytest.mark.slow
 def test_a_log_without_a_column_is_one_clear_error(walk: tuple[WalkRecord, Path], tmp_path) -> None:
     lines = walk[1].read_text(encoding="utf-8").splitlines()
     header = lines[0].split(",")
@@ -145,6 +147,7 @@ def test_the_start_state_is_the_simulators_within_the_sensor_noise(
         assert np.max(np.abs(data.qvel[:3] - base_speed)) <= 6 * 0.35 * speed_tol
 
 
+@pytest.mark.slow
 def test_the_true_parameters_replay_the_log_to_its_noise_and_a_wrong_one_does_not(
     windows: list[ShootingWindow],
 ) -> None:
@@ -222,6 +225,7 @@ def test_a_window_starts_with_the_load_history_of_the_rows_before_it(
         assert history.q_rad.shape == history.dq_rad_s.shape == (rows.sum(), len(log.joint_names))
 
 
+@pytest.mark.slow
 def test_a_walk_that_fell_is_fitted_up_to_its_fall() -> None:
     """A push the log does not hold tips the NAO over; the log alone says when."""
     from zmpkit.experiments.walk_trial import Push
@@ -283,6 +287,7 @@ def test_a_folder_with_a_log_and_no_summary_reads_as_windows(
     assert all(isinstance(e, ShootingWindow) for e in experiments)
 
 
+@pytest.mark.slow
 def test_zmpkit_walk_writes_the_log_and_identify_sim_fits_it(
     tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:

@@ -227,6 +227,7 @@ def test_data_folder_errors_name_the_file(tmp_path: Path) -> None:
         read_experiments([tmp_path], TEO)
 
 
+@pytest.mark.slow
 def test_walk_folder_errors(nao_walk_folder: Path, tmp_path: Path) -> None:
     folder = tmp_path / "walk"
     shutil.copytree(nao_walk_folder, folder)
@@ -264,6 +265,7 @@ def nao_walk_folder(tmp_path_factory: pytest.TempPathFactory) -> Path:
     return record_walk(tmp_path_factory.mktemp("simfit_walk"))
 
 
+@pytest.mark.slow
 def test_walk_folder_reads_back_as_recorded(nao_walk_folder: Path) -> None:
     (experiment,) = read_experiments([nao_walk_folder], NAO)
     assert experiment.speed_mps == 0.2

@@ -66,6 +66,7 @@ def _truth():
 
 
 @pytest.mark.parametrize("k", [0, 3])
+@pytest.mark.slow
 def test_a_replica_window_is_measured_by_the_replays_own_sensors(
     problem: FitProblem, k: int
 ) -> None:
@@ -113,6 +114,7 @@ def test_a_replica_window_is_measured_by_the_replays_own_sensors(
         np.testing.assert_array_equal(steps[:before], data_steps[:before])
 
 
+@pytest.mark.slow
 def test_a_replica_by_the_robot_that_walked_starts_within_its_sensor_noise(
     problem: FitProblem,
 ) -> None:

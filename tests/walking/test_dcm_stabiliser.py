@@ -127,6 +127,7 @@ def test_a_robot_on_its_plan_gets_no_correction(
     gain=st.floats(2.0, 8.0),
     admittance=st.floats(0.0, 30.0),
 )
+@pytest.mark.slow
 def test_a_displaced_robot_is_brought_back_to_its_plan(
     displacement: float, gain: float, admittance: float
 ) -> None:
@@ -145,6 +146,7 @@ def test_a_displaced_robot_is_brought_back_to_its_plan(
     gain=st.floats(3.0, 8.0),
     admittance=st.floats(0.0, 30.0),
 )
+@pytest.mark.slow
 def test_a_steady_zmp_error_settles_where_the_closed_form_says(
     zmp_error: float, gain: float, admittance: float
 ) -> None:

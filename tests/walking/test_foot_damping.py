@@ -153,6 +153,7 @@ def _zmp_error_rms_x(admittance_x: float) -> float:
     return float(np.sqrt(np.mean((desired[:n, 0][ok] - measured[:n, 0][ok]) ** 2)))
 
 
+@pytest.mark.slow
 def test_on_the_walking_robot_the_ankles_bring_the_measured_zmp_towards_the_asked_one() -> None:
     """The physical sign: with the sagittal admittance on, ``p^d - p`` shrinks (all effects)."""
     assert _zmp_error_rms_x(0.1) < 0.8 * _zmp_error_rms_x(0.0)

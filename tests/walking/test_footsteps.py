@@ -215,6 +215,7 @@ def feet_on_ground(plan: FootstepPlan, t: float) -> list[Footstep]:
 
 @settings(max_examples=80, deadline=None)
 @given(commands, gaits, st.integers(2, 8))
+@pytest.mark.slow
 def test_zmp_reference_stays_in_the_support_polygon(command, gait, n) -> None:
     plan = plan_footsteps(command, gait, n_steps=n)
     reference = linear_zmp_reference(plan, 0.01)

@@ -105,6 +105,7 @@ def test_gain_zero_leaves_the_plan() -> None:
 
 
 @given(st.lists(st.floats(-math.pi, math.pi), min_size=N, max_size=N))
+@pytest.mark.slow
 def test_the_correction_and_its_steps_stay_within_their_limits(yaws: list[float]) -> None:
     gains = HeadingFeedbackGains()
     feedback = HeadingFeedback(_feet(), gains)

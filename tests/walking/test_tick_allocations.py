@@ -211,6 +211,7 @@ def yardsticks(parts: dict[str, Tick]) -> tuple[int, int]:
 @pytest.mark.parametrize(
     "part", ["estimator", "zmpip observer", "dcm law", "heading", "zmpip step", "dcm step"]
 )
+@pytest.mark.slow
 def test_a_tick_creates_no_numpy_object_and_keeps_nothing(
     parts: dict[str, Tick], yardsticks: tuple[int, int], part: str
 ) -> None:
@@ -223,6 +224,7 @@ def test_a_tick_creates_no_numpy_object_and_keeps_nothing(
 
 
 @pytest.mark.parametrize("part", ["zmpip stepping", "dcm stepping"])
+@pytest.mark.slow
 def test_a_stepping_tick_creates_no_numpy_object_and_keeps_nothing(
     parts: dict[str, Tick], yardsticks: tuple[int, int], part: str
 ) -> None:

@@ -144,6 +144,7 @@ class _Chain:
         ]  # fmt: skip
 
 
+@pytest.mark.slow
 def test_the_recorded_walk_meets_every_fault(walk: _Walk) -> None:
     forces = np.array([m.force_in_sensor for m in walk.readings])
     assert len(walk.frames) == walk.pattern.time_s.size - 1  # it did not fall
@@ -152,6 +153,7 @@ def test_the_recorded_walk_meets_every_fault(walk: _Walk) -> None:
     assert np.nanmax(forces[..., 2]) > 400.0  # the spike
 
 
+@pytest.mark.slow
 def test_the_tick_computes_what_the_reference_tick_did(walk: _Walk) -> None:
     new, old = _Chain.of(walk, reference=False), _Chain.of(walk, reference=True)
     undefined_zmp = 0
