@@ -4,8 +4,10 @@ Verbatim copies (renamed) of :class:`~zmpkit.walking.state_estimator.KinematicSt
 :class:`~zmpkit.walking.zmp_observer.ObservedPreviewControl`,
 :class:`~zmpkit.walking.heading_feedback.HeadingFeedback` and
 :func:`~zmpkit.sensors.zmp.zmp_in_world_now` as of commit 443946f, before their per-tick
-numpy views and scalar temporaries were removed. ``tests/walking/test_tick_reference.py``
-runs both on the same recorded walk and asserts equal outputs.
+numpy views and scalar temporaries were removed, with one change made to both since: the
+estimator's CoM velocity is the CoM's relative to the loaded feet (not the finite difference
+of the anchored estimate). ``tests/walking/test_tick_reference.py`` runs both on the same
+recorded walk and asserts equal outputs.
 """
 
 from __future__ import annotations
@@ -139,6 +141,7 @@ class ReferenceEstimator:
         self.force_z_n = np.zeros(f)
         """Each foot's vertical force in the world [N], shape (F,)."""
         self._started = False
+        self._relative_before = np.zeros((f, 3))  # c_fk - s_i of the last tick [m]
         self.yaw_correction_rad = 0.0
         """The turn last applied to the IMU's yaw from the feet [rad]."""
         # Views made once, so that a tick creates no array (module docstring of update).
@@ -259,11 +262,25 @@ class ReferenceEstimator:
         com = self._com
         np.add(self._root_com, offset, out=com)
         estimate, velocity = self.com_in_world, self.com_velocity_in_world
+        relative = self._root_com[None, :] - np.array([row[2] for row in self._rows])
+        loaded = force_z >= threshold
         if self._started:
             blend, period = self._blend, self.period_s
+            weight = 0.0
+            rates = [0.0, 0.0, 0.0]
+            for i in np.flatnonzero(loaded):  # Σ F_z,i Δ(c - s_i) / T, foot after foot
+                fz = float(force_z[i])
+                for axis in range(3):
+                    moved = float(relative[i, axis]) - float(self._relative_before[i, axis])
+                    rates[axis] += fz * moved / period
+                weight += fz
             for axis in range(3):
-                rate = (com.item(axis) - estimate.item(axis)) / period
+                if weight > 0.0:
+                    rate = rates[axis] / weight
+                else:
+                    rate = (com.item(axis) - estimate.item(axis)) / period
                 velocity[axis] += blend * (rate - velocity.item(axis))
+        self._relative_before[:] = relative
         self._started = True
         np.copyto(estimate, com)
         zmp = _reference_zmp_in_world_now(self._force, self._moment, self._origin, threshold)

@@ -142,3 +142,47 @@ def test_the_feet_give_the_yaw_that_a_drifting_imu_gets_wrong(imu_yaw_error_rad:
     unaided.update(m, soles)  # the IMU's yaw alone
     miss = np.linalg.norm(unaided.com_in_world[:2] - data.subtree_com[1][:2])
     assert (miss > 1e-3) == (imu_yaw_error_rad != 0.0)
+
+
+def test_weight_moving_onto_a_foot_off_its_plan_is_no_velocity() -> None:
+    """A robot standing still whose weight moves, over ten ticks, from its right foot (where
+    planned) to its left foot (1 cm ahead of its plan): the anchored CoM estimate moves by
+    the 1 cm (its anchor's share), its velocity stays zero, as the robot's does."""
+    model, data = _posed((0.0, 0.0, 0.3), (0.0, 0.0, 0.0), {})
+    soles = np.array([data.site(sole_site(f)).xpos for f in FEET])
+    soles[0, 0] -= 0.01  # the plan puts the left foot 1 cm behind where it stands
+    estimator = KinematicStateEstimator(
+        model, NAO_DRIVEN_JOINTS, {f: sole_site(f) for f in FEET},
+        {f: ft_site(f) for f in FEET}, IMU_SITE, 5.0, 0.01, velocity_time_constant_s=0.0,
+    )  # fmt: skip
+    first = None
+    for share in np.linspace(0.0, 1.0, 11):  # of 45 N on the left foot
+        force = np.array([[0.0, 0.0, 45.0 * share], [0.0, 0.0, 45.0 * (1.0 - share)]])
+        estimator.update(_measurement(model, data, {}, force, np.zeros((2, 3))), soles)
+        first = estimator.com_in_world.copy() if first is None else first
+        np.testing.assert_allclose(estimator.com_velocity_in_world, 0.0, atol=1e-12)
+    np.testing.assert_allclose(estimator.com_in_world - first, [-0.01, 0.0, 0.0], atol=1e-12)
+
+
+def test_the_velocity_is_the_coms_relative_to_the_loaded_feet() -> None:
+    """τ_v = 0: the velocity is Σ F_z,i Δ(c - s_i) / (T Σ F_z,i) of two posed ticks, from
+    the design model's own forward kinematics (the feet carry 1:3 of the weight)."""
+    period = 0.01
+    before = {"LHipPitch": -0.4, "LKneePitch": 0.8, "RHipPitch": -0.5, "RKneePitch": 0.9}
+    after = {"LHipPitch": -0.41, "LKneePitch": 0.81, "RHipPitch": -0.49, "RKneePitch": 0.88,
+             "LAnklePitch": 0.01}  # fmt: skip
+    force = np.array([[0.0, 0.0, 10.0], [0.0, 0.0, 30.0]])
+    estimator = KinematicStateEstimator(
+        model := nao_ik_model(), NAO_DRIVEN_JOINTS, {f: sole_site(f) for f in FEET},
+        {f: ft_site(f) for f in FEET}, IMU_SITE, 5.0, period, velocity_time_constant_s=0.0,
+    )  # fmt: skip
+    relative = []
+    for joints in (before, after):
+        model, data = _posed((0.0, 0.0, 0.3), (0.0, 0.0, 0.0), joints)
+        soles = np.array([data.site(sole_site(f)).xpos for f in FEET])
+        relative.append(data.subtree_com[1] - soles)  # c - s_i, each foot a row
+        estimator.update(_measurement(model, data, joints, force, np.zeros((2, 3))), soles)
+    rates = (relative[1] - relative[0]) / period
+    expected = (10.0 * rates[0] + 30.0 * rates[1]) / 40.0
+    assert np.linalg.norm(expected) > 0.05  # the posture change moves the CoM
+    np.testing.assert_allclose(estimator.com_velocity_in_world, expected, atol=1e-9)
