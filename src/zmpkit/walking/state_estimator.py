@@ -26,9 +26,10 @@ anchor and low-passed with time constant ``τ_v``:
 
 It is not the finite difference of ``\hat c``: while the weight moves from one foot to a foot
 that landed a few millimetres from its plan, the anchor ``Δ`` moves by those millimetres
-within a few ticks, and its rate (0.2–0.4 m/s on the OP3 at each touchdown, a 3–6 cm jump
-of the DCM ``\hat c + \hat v/ω``) is no motion of the robot. Without a foot in contact the
-finite difference of ``\hat c`` is used.
+within a few ticks, and its rate (up to 0.4 m/s at a touchdown after a push on a 3 kg
+humanoid, 0.1 m/s in its unpushed walk: the DCM ``\hat c + \hat v/ω`` off by up to 6 cm) is
+no motion of the robot. Without a foot in contact the finite difference of ``\hat c`` is
+used.
 
 The IMU gives the base's roll and pitch, which gravity keeps honest; its yaw is the
 integral of a gyroscope and drifts with its bias (0.05 rad/s turns it 0.5 rad in 10 s, and
