@@ -20,6 +20,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from zmpkit.models.pendulum import STANDARD_GRAVITY_MPS2
+from zmpkit.walking.early_touchdown import EarlyTouchdown
 from zmpkit.walking.heading_feedback import HeadingFeedback, HeadingFeedbackGains
 from zmpkit.walking.ik import IkSettings, WalkingIk
 from zmpkit.walking.level_swing import LevelSwing
@@ -32,7 +33,7 @@ from zmpkit.walking.step_adjustment_parameters import StepAdjustmentParameters
 from zmpkit.walking.step_events import StepEvent
 from zmpkit.walking.step_reach import step_reach
 
-__all__ = ["YAW_FROM_FEET", "OnlineWalk", "SensorLayout", "WalkPlant"]
+__all__ = ["EARLY_TOUCHDOWN", "YAW_FROM_FEET", "OnlineWalk", "SensorLayout", "WalkPlant"]
 
 
 @dataclass(frozen=True)
@@ -54,6 +55,10 @@ class SensorLayout:
 
 YAW_FROM_FEET = True
 """Whether the feedback walks take the base's yaw from the feet in contact (not the IMU)."""
+
+EARLY_TOUCHDOWN = True
+"""Whether the feedback walks stop a swing sole's descent where it met the floor before its
+planned touchdown (:mod:`zmpkit.walking.early_touchdown`)."""
 
 
 class _OnlineTargets:
@@ -146,6 +151,15 @@ class OnlineWalk:
         self._foot_heights = tuple(
             (i, sides[f].position_in_world) for i, f in enumerate(self.ik.feet)
         )
+        planned = {"left": pattern.feet.left, "right": pattern.feet.right}
+        self.early_touchdown: EarlyTouchdown | None = None
+        """The early touchdowns' held sole heights (:mod:`zmpkit.walking.early_touchdown`)."""
+        if EARLY_TOUCHDOWN:
+            self.early_touchdown = EarlyTouchdown(
+                [planned[f].position_in_world[:, 2] for f in self.estimator.feet],
+                [sides[f].position_in_world[:, 2] for f in self.estimator.feet],
+                self.dt,
+            )
 
     def step_events(self) -> tuple[StepEvent, ...]:
         """The steps this walk adjusted so far (:class:`StepEvent`)."""
@@ -190,6 +204,9 @@ class OnlineWalk:
         targets, commanded = self.targets.com_position_in_world, self.com_target_in_world
         commanded[frame, 0], commanded[frame, 1] = targets.item(frame, 0), targets.item(frame, 1)
         self._level_feet(frame, measurement)
+        if self.early_touchdown is not None:
+            est = self.estimator
+            self.early_touchdown.update(now, est.force_z_n, est.threshold_n)
         self.ik.set_targets(self.targets, frame)
         self.ik.solve(self.ik.settings.max_iterations, self.dt)
         q, q_targets = self._ik_qpos, self._q_targets
