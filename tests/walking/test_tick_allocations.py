@@ -27,7 +27,10 @@ before: 216 B, 272 B, and 80 B or 432 B at a lift-off),
 the DCM stabiliser's law (:mod:`zmpkit.walking.dcm_stabiliser`) at 80 B (before: 272 B: a
 view of its error state's row and ``min``/``max``), and the whole feedback steps of the
 ``zmpip`` and ``dcm`` walks around the whole-body IK, whose target setting and QP solve
-are stubbed here (mink's, which allocate): 80 B (before: over 360 B — mink's ``q``
+are stubbed here (mink's, which allocate), the early touchdown hold included
+(:mod:`zmpkit.walking.early_touchdown`: the harness's fixed readings load both feet, so it
+holds each descending swing sole, 14 times in the ``zmpip`` step's 800 ticks): 80 B
+(before: over 360 B — mink's ``q``
 property copies the configuration, a view of the planned soles, row copies into the logs,
 ``min``, ``super()`` and frame arithmetic on ints above 256). The same steps with the step
 adjustment of :mod:`zmpkit.walking.step_adjustment` triggered at every step (its capture,
