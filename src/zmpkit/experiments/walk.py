@@ -134,8 +134,9 @@ def make_controller(
         plant: WalkPlant = (pattern, model, settings, layout, sim.joint_names)
         noise = (observer_com_noise_m, observer_zmp_noise_m)
         controller = _feedback_walk(
-            name, plant, trajectory, heading_feedback, noise, reference_adapter, step_adjustment
-        )
+            name, plant, trajectory, heading_feedback, noise, reference_adapter,
+            step_adjustment, servo_stiffness_nm_per_rad,
+        )  # fmt: skip
     if servo_stiffness_nm_per_rad is None:
         return controller
     offsets = servo_compliance_offsets(
@@ -153,10 +154,13 @@ def _feedback_walk(
     noise: tuple[float | None, float | None],
     reference_adapter: ReferenceAdapter | None,
     step_adjustment: bool,
+    servo_stiffness_nm_per_rad: float | None = None,
 ) -> WalkController:
     """The feedback walk ``name`` (``zmpip`` or ``dcm``) of :func:`make_controller`.
 
     ``noise``: the observer's σ_c and σ_p [m] (None: its default).
+    ``servo_stiffness_nm_per_rad``: the soft servos' gain, whose ZMP shift ``zmpip`` feeds
+    forward (:mod:`zmpkit.walking.zmp_shift_feedforward`; None: none).
     """
     heading = None if heading_feedback else HeadingFeedbackGains(gain_per_step=0.0)
     observer = ZmpObserverParameters()
@@ -173,6 +177,7 @@ def _feedback_walk(
             *plant, parameters=observer, heading_gains=heading,
             reference_adapter=reference_adapter, stepping=stepping,
             expected_zmp_offset_in_world=expected,
+            servo_stiffness_nm_per_rad=servo_stiffness_nm_per_rad,
         )  # fmt: skip
     dcm = DcmParameters(observer=observer)
     return DcmWalk(*plant, parameters=dcm, heading_gains=heading, stepping=stepping)

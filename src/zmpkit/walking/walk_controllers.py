@@ -23,7 +23,9 @@ a robot whose control loop runs at the motion-frame rate). Three are built in:
   that ZMP ``p^d``.
 
 Any of them may carry per-frame joint offsets (:class:`OffsetWalk`), such as the soft
-servos' feed-forward of :mod:`zmpkit.walking.servo_feedforward`.
+servos' feed-forward of :mod:`zmpkit.walking.servo_feedforward`; on soft servos the ZMP/IP
+walk also feeds forward the torques of the ZMP shift its feedback asks for
+(:mod:`zmpkit.walking.zmp_shift_feedforward`).
 
 Both feedback walks also keep their heading: the IMU's yaw turns the feet still to land back
 to the plan (:mod:`zmpkit.walking.heading_feedback`).
@@ -52,9 +54,11 @@ from zmpkit.walking.step_adjustment import StepAdjustmentParameters
 from zmpkit.walking.step_events import StepEvent
 from zmpkit.walking.zmp_observer import ObservedPreviewControl, ZmpObserverParameters
 from zmpkit.walking.zmp_prefilter import ZMP_FILTER_HZ, ZmpPrefilter
+from zmpkit.walking.zmp_shift_feedforward import ZmpShiftFeedforward
 
 __all__ = [
     "CONTROLLERS",
+    "ZMP_SHIFT_FEEDFORWARD",
     "DcmParameters",
     "DcmWalk",
     "OffsetWalk",
@@ -68,6 +72,10 @@ __all__ = [
 
 CONTROLLERS: tuple[str, ...] = ("zmpip", "dcm", "open")
 """Names of the walking controllers, the default first."""
+
+ZMP_SHIFT_FEEDFORWARD = True
+"""Whether the ZMP/IP walk of a robot with soft servos feeds forward the torques of the ZMP
+shift its feedback asks for (:mod:`zmpkit.walking.zmp_shift_feedforward`)."""
 
 
 class WalkController(Protocol):
@@ -157,6 +165,9 @@ class ZmpIpWalk(OnlineWalk):
             subtracted (:mod:`zmpkit.walking.zmp_prefilter`).
         zmp_filter_hz: the cut-off of the low-pass the observer reads the measured ZMP
             through [Hz] (:data:`~zmpkit.walking.zmp_prefilter.ZMP_FILTER_HZ`); None: none.
+        servo_stiffness_nm_per_rad: the P gain of the robot's soft servos [N·m/rad]: the
+            targets then carry the torques of the ZMP shift the controller asks for beyond
+            the reference (:mod:`zmpkit.walking.zmp_shift_feedforward`); None: stiff servos.
     """
 
     name = "zmpip"
@@ -170,9 +181,10 @@ class ZmpIpWalk(OnlineWalk):
         stepping: StepAdjustmentParameters | None = None,
         expected_zmp_offset_in_world: NDArray[np.float64] | None = None,
         zmp_filter_hz: float | None = ZMP_FILTER_HZ,
+        servo_stiffness_nm_per_rad: float | None = None,
     ) -> None:
         super().__init__(*plant, heading_gains, stepping)
-        pattern = plant[0]
+        pattern, model, settings, sensors = plant[0], plant[1], plant[2], plant[3]
         self.reference_adapter = reference_adapter
         self.zmp_prefilter = ZmpPrefilter(
             pattern.config.control_period_s, expected_zmp_offset_in_world, zmp_filter_hz
@@ -191,6 +203,26 @@ class ZmpIpWalk(OnlineWalk):
         self.stepping.attach_reference(self.control.reference_by_axis)
         self.offset_in_world = np.full((pattern.time_s.size, 2), np.nan)
         """The estimated ZMP offset ``d̂`` of each frame [m], shape (N, 2)."""
+        self.zmp_shift: ZmpShiftFeedforward | None = None
+        """The soft servos' feed-forward of the ZMP shift (None: stiff servos)."""
+        if servo_stiffness_nm_per_rad is not None and ZMP_SHIFT_FEEDFORWARD:
+            self.zmp_shift = ZmpShiftFeedforward(
+                model, self.ik.configuration.data,
+                [sensors.sole_sites[f] for f in self.estimator.feet],
+                settings.joint_names, servo_stiffness_nm_per_rad, self.dt,
+                pattern.config.gait.step_duration_s,
+            )  # fmt: skip
+        self._shift_xy = [0.0, 0.0]
+
+    def step(self, frame: int, measurement: WalkMeasurement) -> NDArray[np.float64]:
+        """Joint targets of ``frame`` [rad]; with soft servos, pre-loaded with the ZMP shift."""
+        q_targets = OnlineWalk.step(self, frame, measurement)  # super() allocates
+        shift = self.zmp_shift
+        if shift is not None:
+            est = self.estimator
+            x, y = self._shift_xy
+            shift.apply(q_targets, x, y, est.force_z_n, est.threshold_n)
+        return q_targets
 
     def _correct(self, frame: int) -> None:
         est = self.estimator
@@ -204,6 +236,11 @@ class ZmpIpWalk(OnlineWalk):
         offsets[k, 0], offsets[k, 1] = offset.item(0), offset.item(1)
         targets = self.targets.com_position_in_world
         targets[frame, 0], targets[frame, 1] = com.item(0), com.item(1)
+        if self.zmp_shift is not None:  # what the controller asks of the ZMP at ``frame``
+            control, shift = self.control, self._shift_xy
+            reference = control.reference_by_axis
+            shift[0] = control.model_zmp(0) - reference[0].item(frame)
+            shift[1] = control.model_zmp(1) - reference[1].item(frame)
 
 
 class DcmWalk(OnlineWalk):

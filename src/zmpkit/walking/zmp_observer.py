@@ -209,6 +209,15 @@ class ObservedPreviewControl:
         """The estimated ZMP offset d̂ (x, y) [m], a view (the same one every time)."""
         return self._offset
 
+    def model_zmp(self, axis: int) -> float:
+        r"""The ZMP of the current state along ``axis`` (0: x, 1: y) [m].
+
+        :math:`c - (z_c/g)\,\ddot c + \hat d`: the cart table's ZMP with the estimated
+        offset; after :meth:`update`, the ZMP the controller asks for at period ``k + 1``.
+        """
+        z = self._state_rows[axis]
+        return z.item(0) - self._zc_over_g * z.item(2) + z.item(3)
+
     def update(
         self, k: int, com_in_world: NDArray[np.float64], zmp_in_world: NDArray[np.float64]
     ) -> NDArray[np.float64]:
