@@ -33,11 +33,11 @@ holds each descending swing sole, 14 times in the ``zmpip`` step's 800 ticks): 8
 (before: over 360 B — mink's ``q``
 property copies the configuration, a view of the planned soles, row copies into the logs,
 ``min``, ``super()`` and frame arithmetic on ints above 256). The same steps with the step
-adjustment of :mod:`zmpkit.walking.step_adjustment` triggered at every step
-(its own test below), and the ``zmpip`` step of a robot with soft servos, whose targets carry
-the torques of the ZMP shift (:mod:`zmpkit.walking.zmp_shift_feedforward`, a gain of 20
-N·m/rad on this robot's model; both feet loaded by the harness's readings) (its capture,
-the re-planned swing, the ZMP reference and DCM references re-planned at each touchdown).
+adjustment of :mod:`zmpkit.walking.step_adjustment` triggered at every step (its capture,
+the re-planned swing, the ZMP reference and DCM references re-planned at each touchdown;
+their own test below). The same steps of a robot with soft servos, whose targets carry the
+torques of the ZMP shift (:mod:`zmpkit.walking.zmp_shift_feedforward`, a gain of 20 N·m/rad
+on this robot's model; both feet loaded by the harness's readings).
 """
 
 from __future__ import annotations
@@ -114,6 +114,8 @@ def parts() -> dict[str, Tick]:
         ("zmpip soft step", ZmpIpWalk(pattern, model, settings, layout, sim.joint_names,
                                       expected_zmp_offset_in_world=expected,
                                       servo_stiffness_nm_per_rad=20.0)),
+        ("dcm soft step", DcmWalk(pattern, model, settings, layout, sim.joint_names,
+                                  servo_stiffness_nm_per_rad=20.0)),
         ("zmpip stepping", ZmpIpWalk(pattern, model, settings, layout, sim.joint_names,
                                      stepping=always, expected_zmp_offset_in_world=expected)),
         ("dcm stepping", DcmWalk(pattern, model, settings, layout, sim.joint_names,
@@ -132,6 +134,9 @@ def parts() -> dict[str, Tick]:
     def zmpip_soft_step(k: int) -> None:
         walks["zmpip soft step"].step(k, measurement)
 
+    def dcm_soft_step(k: int) -> None:
+        walks["dcm soft step"].step(k, measurement)
+
     def zmpip_stepping(k: int) -> None:
         walks["zmpip stepping"].step(k, measurement)
 
@@ -147,7 +152,7 @@ def parts() -> dict[str, Tick]:
     estimate(0)
     return {"estimator": estimate, "zmpip observer": observe, "dcm law": stabilise,
             "heading": heading, "zmpip step": zmpip_step, "dcm step": dcm_step,
-            "zmpip soft step": zmpip_soft_step,
+            "zmpip soft step": zmpip_soft_step, "dcm soft step": dcm_soft_step,
             "zmpip stepping": zmpip_stepping, "dcm stepping": dcm_stepping,
             "nothing": nothing, "one view": one_view}  # fmt: skip
 
@@ -224,7 +229,7 @@ def yardsticks(parts: dict[str, Tick]) -> tuple[int, int]:
 @pytest.mark.parametrize(
     "part",
     ["estimator", "zmpip observer", "dcm law", "heading", "zmpip step", "dcm step",
-     "zmpip soft step"],
+     "zmpip soft step", "dcm soft step"],
 )  # fmt: skip
 @pytest.mark.slow
 def test_a_tick_creates_no_numpy_object_and_keeps_nothing(

@@ -159,8 +159,8 @@ def _feedback_walk(
     """The feedback walk ``name`` (``zmpip`` or ``dcm``) of :func:`make_controller`.
 
     ``noise``: the observer's σ_c and σ_p [m] (None: its default).
-    ``servo_stiffness_nm_per_rad``: the soft servos' gain, whose ZMP shift ``zmpip`` feeds
-    forward (:mod:`zmpkit.walking.zmp_shift_feedforward`; None: none).
+    ``servo_stiffness_nm_per_rad``: the soft servos' gain, over which both walks feed the
+    ZMP shift they ask for forward (:mod:`zmpkit.walking.zmp_shift_feedforward`; None: none).
     """
     heading = None if heading_feedback else HeadingFeedbackGains(gain_per_step=0.0)
     observer = ZmpObserverParameters()
@@ -180,7 +180,10 @@ def _feedback_walk(
             servo_stiffness_nm_per_rad=servo_stiffness_nm_per_rad,
         )  # fmt: skip
     dcm = DcmParameters(observer=observer)
-    return DcmWalk(*plant, parameters=dcm, heading_gains=heading, stepping=stepping)
+    return DcmWalk(
+        *plant, parameters=dcm, heading_gains=heading, stepping=stepping,
+        servo_stiffness_nm_per_rad=servo_stiffness_nm_per_rad,
+    )  # fmt: skip
 
 
 def soft_servo_stiffness(walking: WalkingDefaults, effects: str) -> float | None:

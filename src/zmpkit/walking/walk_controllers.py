@@ -252,6 +252,9 @@ class DcmWalk(OnlineWalk):
         parameters: gains and limits.
         heading_gains: the IMU yaw feedback to the footsteps (default gains; gain 0: off).
         stepping: the step adjustment's trigger and limits (default: off).
+        servo_stiffness_nm_per_rad: the P gain of the robot's soft servos [N·m/rad]: the
+            targets then carry the torques of the ZMP the stabiliser asks for beyond the
+            reference (:mod:`zmpkit.walking.zmp_shift_feedforward`); None: stiff servos.
     """
 
     name = "dcm"
@@ -262,6 +265,7 @@ class DcmWalk(OnlineWalk):
         parameters: DcmParameters | None = None,
         heading_gains: HeadingFeedbackGains | None = None,
         stepping: StepAdjustmentParameters | None = None,
+        servo_stiffness_nm_per_rad: float | None = None,
     ) -> None:
         super().__init__(*plant, heading_gains, stepping)
         pattern, model, ik_settings, sensors, _ = plant
@@ -287,12 +291,30 @@ class DcmWalk(OnlineWalk):
             self._threshold_n = sensors.contact_threshold_n
             self._zmp_error = np.zeros(2)
             self._foot_yaw = np.zeros(len(ankles))
+        self.zmp_shift: ZmpShiftFeedforward | None = None
+        """The soft servos' feed-forward of the ZMP shift (None: stiff servos)."""
+        if servo_stiffness_nm_per_rad is not None and ZMP_SHIFT_FEEDFORWARD:
+            self.zmp_shift = ZmpShiftFeedforward(
+                model, self.ik.configuration.data,
+                [sensors.sole_sites[f] for f in self.estimator.feet],
+                ik_settings.joint_names, servo_stiffness_nm_per_rad, self.dt,
+                pattern.config.gait.step_duration_s,
+            )  # fmt: skip
+        self._shift_xy = [0.0, 0.0]
 
     def step(self, frame: int, measurement: WalkMeasurement) -> NDArray[np.float64]:
-        """Joint targets of ``frame`` [rad]: the IK's, with the ankles' CoP tracking added."""
+        """Joint targets of ``frame`` [rad]: the IK's, with the ankles' CoP tracking added.
+
+        On soft servos they are pre-loaded with the ZMP shift the stabiliser asks for.
+        """
         q = OnlineWalk.step(self, frame, measurement)  # (super() would make an object)
         if self.foot_damping is not None:
             self.foot_damping.apply(q)
+        shift = self.zmp_shift
+        if shift is not None:
+            est = self.estimator
+            x, y = self._shift_xy
+            shift.apply(q, x, y, est.force_z_n, est.threshold_n)
         return q
 
     def _correct(self, frame: int) -> None:
@@ -304,6 +326,10 @@ class DcmWalk(OnlineWalk):
         moved = self._com_shift  # the re-planned CoM of an adjusted step
         targets[frame, 0] = plan.item(frame, 0) + shift.item(0) + moved.item(0)
         targets[frame, 1] = plan.item(frame, 1) + shift.item(1) + moved.item(1)
+        if self.zmp_shift is not None:  # what the stabiliser asks of the ZMP beyond the plan
+            desired, reference = self.desired_zmp_in_world, self.pattern.zmp_reference_in_world
+            self._shift_xy[0] = desired.item(k, 0) - reference.item(k, 0)
+            self._shift_xy[1] = desired.item(k, 1) - reference.item(k, 1)
         if self.foot_damping is not None:
             np.subtract(self.desired_zmp_in_world[k], zmp, out=self._zmp_error)
             for i, yaws in enumerate(self._sole_yaws):
