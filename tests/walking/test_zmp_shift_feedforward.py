@@ -15,7 +15,7 @@ from zmpkit.experiments.walk import run_walk_trial
 from zmpkit.experiments.walk_config import WalkConfig
 from zmpkit.experiments.walk_disturbances import Push
 from zmpkit.robots.registry import get_robot
-from zmpkit.walking import walk_controllers
+from zmpkit.walking import online_walk
 from zmpkit.walking.zmp_shift_feedforward import (
     SAGITTAL_CUTOFF_PER_STEP_HZ,
     ZmpShiftFeedforward,
@@ -155,5 +155,5 @@ def test_a_soft_robot_stands_a_push_it_fell_from_without_the_feedforward(monkeyp
         pushes=(Push(11.91, 4.0, "y"),), figures=False,
     )  # fmt: skip
     assert not run_walk_trial(config).record.fell
-    monkeypatch.setattr(walk_controllers, "ZMP_SHIFT_FEEDFORWARD", False)
+    monkeypatch.setattr(online_walk, "ZMP_SHIFT_FEEDFORWARD", False)
     assert run_walk_trial(config).record.fell

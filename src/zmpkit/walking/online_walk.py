@@ -32,8 +32,16 @@ from zmpkit.walking.step_adjustment import StepAdjustment
 from zmpkit.walking.step_adjustment_parameters import StepAdjustmentParameters
 from zmpkit.walking.step_events import StepEvent
 from zmpkit.walking.step_reach import step_reach
+from zmpkit.walking.zmp_shift_feedforward import ZmpShiftFeedforward
 
-__all__ = ["EARLY_TOUCHDOWN", "YAW_FROM_FEET", "OnlineWalk", "SensorLayout", "WalkPlant"]
+__all__ = [
+    "EARLY_TOUCHDOWN",
+    "YAW_FROM_FEET",
+    "ZMP_SHIFT_FEEDFORWARD",
+    "OnlineWalk",
+    "SensorLayout",
+    "WalkPlant",
+]
 
 
 @dataclass(frozen=True)
@@ -60,6 +68,10 @@ EARLY_TOUCHDOWN = True
 """Whether the feedback walks stop a swing sole's descent where it met the floor before its
 planned touchdown (:mod:`zmpkit.walking.early_touchdown`)."""
 
+ZMP_SHIFT_FEEDFORWARD = True
+"""Whether the feedback walks of a robot with soft servos feed forward the torques of the ZMP
+shift they ask for (:mod:`zmpkit.walking.zmp_shift_feedforward`)."""
+
 
 class _OnlineTargets:
     """What the IK reads of a pattern: the CoM, the feet and their yaw, written frame by frame."""
@@ -84,7 +96,13 @@ measurement's order."""
 
 
 class OnlineWalk:
-    """A feedback walk: estimate, correct the CoM of the next frame, solve the IK for it."""
+    """A feedback walk: estimate, correct the CoM of the next frame, solve the IK for it.
+
+    With ``servo_stiffness_nm_per_rad`` (the P gain of the robot's soft servos [N·m/rad]) the
+    targets carry the torques of the ZMP shift the walk asks for beyond the reference, which
+    :meth:`_correct` writes in :attr:`zmp_shift_in_world`
+    (:mod:`zmpkit.walking.zmp_shift_feedforward`); None: stiff servos.
+    """
 
     name = "online"
     reads_sensors = True
@@ -98,6 +116,7 @@ class OnlineWalk:
         joint_names: tuple[str, ...],
         heading_gains: HeadingFeedbackGains | None = None,
         stepping: StepAdjustmentParameters | None = None,
+        servo_stiffness_nm_per_rad: float | None = None,
     ) -> None:
         self.pattern = pattern
         self.dt = pattern.config.control_period_s
@@ -161,6 +180,18 @@ class OnlineWalk:
                 self.dt,
             )
 
+        self.zmp_shift: ZmpShiftFeedforward | None = None
+        """The soft servos' feed-forward of the ZMP shift (None: stiff servos)."""
+        if servo_stiffness_nm_per_rad is not None and ZMP_SHIFT_FEEDFORWARD:
+            self.zmp_shift = ZmpShiftFeedforward(
+                model, self.ik.configuration.data,
+                [sensors.sole_sites[f] for f in self.estimator.feet], ik_settings.joint_names,
+                servo_stiffness_nm_per_rad, self.dt, pattern.config.gait.step_duration_s,
+            )  # fmt: skip
+        self.zmp_shift_in_world = [0.0, 0.0]
+        """The ZMP shift (x, y) the walk asks for beyond the reference [m], written by
+        :meth:`_correct` when :attr:`zmp_shift` is set."""
+
     def step_events(self) -> tuple[StepEvent, ...]:
         """The steps this walk adjusted so far (:class:`StepEvent`)."""
         return self.stepping.events()
@@ -212,4 +243,8 @@ class OnlineWalk:
         q, q_targets = self._ik_qpos, self._q_targets
         for j, address in self._q_sources:  # element by element: take() makes temporaries
             q_targets[j] = q.item(address)
+        if self.zmp_shift is not None:
+            x, y = self.zmp_shift_in_world
+            est = self.estimator
+            self.zmp_shift.apply(q_targets, x, y, est.force_z_n, est.threshold_n)
         return q_targets

@@ -23,9 +23,9 @@ a robot whose control loop runs at the motion-frame rate). Three are built in:
   that ZMP ``p^d``.
 
 Any of them may carry per-frame joint offsets (:class:`OffsetWalk`), such as the soft
-servos' feed-forward of :mod:`zmpkit.walking.servo_feedforward`; on soft servos the ZMP/IP
-walk also feeds forward the torques of the ZMP shift its feedback asks for
-(:mod:`zmpkit.walking.zmp_shift_feedforward`).
+servos' feed-forward of :mod:`zmpkit.walking.servo_feedforward`; on soft servos both
+feedback walks also feed forward the torques of the ZMP shift they ask for
+(:mod:`zmpkit.walking.zmp_shift_feedforward`, in :class:`OnlineWalk`).
 
 Both feedback walks also keep their heading: the IMU's yaw turns the feet still to land back
 to the plan (:mod:`zmpkit.walking.heading_feedback`).
@@ -54,11 +54,9 @@ from zmpkit.walking.step_adjustment import StepAdjustmentParameters
 from zmpkit.walking.step_events import StepEvent
 from zmpkit.walking.zmp_observer import ObservedPreviewControl, ZmpObserverParameters
 from zmpkit.walking.zmp_prefilter import ZMP_FILTER_HZ, ZmpPrefilter
-from zmpkit.walking.zmp_shift_feedforward import ZmpShiftFeedforward
 
 __all__ = [
     "CONTROLLERS",
-    "ZMP_SHIFT_FEEDFORWARD",
     "DcmParameters",
     "DcmWalk",
     "OffsetWalk",
@@ -72,10 +70,6 @@ __all__ = [
 
 CONTROLLERS: tuple[str, ...] = ("zmpip", "dcm", "open")
 """Names of the walking controllers, the default first."""
-
-ZMP_SHIFT_FEEDFORWARD = True
-"""Whether the ZMP/IP walk of a robot with soft servos feeds forward the torques of the ZMP
-shift its feedback asks for (:mod:`zmpkit.walking.zmp_shift_feedforward`)."""
 
 
 class WalkController(Protocol):
@@ -183,8 +177,8 @@ class ZmpIpWalk(OnlineWalk):
         zmp_filter_hz: float | None = ZMP_FILTER_HZ,
         servo_stiffness_nm_per_rad: float | None = None,
     ) -> None:
-        super().__init__(*plant, heading_gains, stepping)
-        pattern, model, settings, sensors = plant[0], plant[1], plant[2], plant[3]
+        super().__init__(*plant, heading_gains, stepping, servo_stiffness_nm_per_rad)
+        pattern = plant[0]
         self.reference_adapter = reference_adapter
         self.zmp_prefilter = ZmpPrefilter(
             pattern.config.control_period_s, expected_zmp_offset_in_world, zmp_filter_hz
@@ -203,26 +197,6 @@ class ZmpIpWalk(OnlineWalk):
         self.stepping.attach_reference(self.control.reference_by_axis)
         self.offset_in_world = np.full((pattern.time_s.size, 2), np.nan)
         """The estimated ZMP offset ``d̂`` of each frame [m], shape (N, 2)."""
-        self.zmp_shift: ZmpShiftFeedforward | None = None
-        """The soft servos' feed-forward of the ZMP shift (None: stiff servos)."""
-        if servo_stiffness_nm_per_rad is not None and ZMP_SHIFT_FEEDFORWARD:
-            self.zmp_shift = ZmpShiftFeedforward(
-                model, self.ik.configuration.data,
-                [sensors.sole_sites[f] for f in self.estimator.feet],
-                settings.joint_names, servo_stiffness_nm_per_rad, self.dt,
-                pattern.config.gait.step_duration_s,
-            )  # fmt: skip
-        self._shift_xy = [0.0, 0.0]
-
-    def step(self, frame: int, measurement: WalkMeasurement) -> NDArray[np.float64]:
-        """Joint targets of ``frame`` [rad]; with soft servos, pre-loaded with the ZMP shift."""
-        q_targets = OnlineWalk.step(self, frame, measurement)  # super() allocates
-        shift = self.zmp_shift
-        if shift is not None:
-            est = self.estimator
-            x, y = self._shift_xy
-            shift.apply(q_targets, x, y, est.force_z_n, est.threshold_n)
-        return q_targets
 
     def _correct(self, frame: int) -> None:
         est = self.estimator
@@ -237,7 +211,7 @@ class ZmpIpWalk(OnlineWalk):
         targets = self.targets.com_position_in_world
         targets[frame, 0], targets[frame, 1] = com.item(0), com.item(1)
         if self.zmp_shift is not None:  # what the controller asks of the ZMP at ``frame``
-            control, shift = self.control, self._shift_xy
+            control, shift = self.control, self.zmp_shift_in_world
             reference = control.reference_by_axis
             shift[0] = control.model_zmp(0) - reference[0].item(frame)
             shift[1] = control.model_zmp(1) - reference[1].item(frame)
@@ -267,7 +241,7 @@ class DcmWalk(OnlineWalk):
         stepping: StepAdjustmentParameters | None = None,
         servo_stiffness_nm_per_rad: float | None = None,
     ) -> None:
-        super().__init__(*plant, heading_gains, stepping)
+        super().__init__(*plant, heading_gains, stepping, servo_stiffness_nm_per_rad)
         pattern, model, ik_settings, sensors, _ = plant
         self.parameters = parameters or DcmParameters()
         com = pattern.com
@@ -291,30 +265,12 @@ class DcmWalk(OnlineWalk):
             self._threshold_n = sensors.contact_threshold_n
             self._zmp_error = np.zeros(2)
             self._foot_yaw = np.zeros(len(ankles))
-        self.zmp_shift: ZmpShiftFeedforward | None = None
-        """The soft servos' feed-forward of the ZMP shift (None: stiff servos)."""
-        if servo_stiffness_nm_per_rad is not None and ZMP_SHIFT_FEEDFORWARD:
-            self.zmp_shift = ZmpShiftFeedforward(
-                model, self.ik.configuration.data,
-                [sensors.sole_sites[f] for f in self.estimator.feet],
-                ik_settings.joint_names, servo_stiffness_nm_per_rad, self.dt,
-                pattern.config.gait.step_duration_s,
-            )  # fmt: skip
-        self._shift_xy = [0.0, 0.0]
 
     def step(self, frame: int, measurement: WalkMeasurement) -> NDArray[np.float64]:
-        """Joint targets of ``frame`` [rad]: the IK's, with the ankles' CoP tracking added.
-
-        On soft servos they are pre-loaded with the ZMP shift the stabiliser asks for.
-        """
+        """Joint targets of ``frame`` [rad]: the IK's, with the ankles' CoP tracking added."""
         q = OnlineWalk.step(self, frame, measurement)  # (super() would make an object)
         if self.foot_damping is not None:
             self.foot_damping.apply(q)
-        shift = self.zmp_shift
-        if shift is not None:
-            est = self.estimator
-            x, y = self._shift_xy
-            shift.apply(q, x, y, est.force_z_n, est.threshold_n)
         return q
 
     def _correct(self, frame: int) -> None:
@@ -328,8 +284,8 @@ class DcmWalk(OnlineWalk):
         targets[frame, 1] = plan.item(frame, 1) + shift.item(1) + moved.item(1)
         if self.zmp_shift is not None:  # what the stabiliser asks of the ZMP beyond the plan
             desired, reference = self.desired_zmp_in_world, self.pattern.zmp_reference_in_world
-            self._shift_xy[0] = desired.item(k, 0) - reference.item(k, 0)
-            self._shift_xy[1] = desired.item(k, 1) - reference.item(k, 1)
+            self.zmp_shift_in_world[0] = desired.item(k, 0) - reference.item(k, 0)
+            self.zmp_shift_in_world[1] = desired.item(k, 1) - reference.item(k, 1)
         if self.foot_damping is not None:
             np.subtract(self.desired_zmp_in_world[k], zmp, out=self._zmp_error)
             for i, yaws in enumerate(self._sole_yaws):
