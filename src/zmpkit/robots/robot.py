@@ -154,8 +154,10 @@ class WalkingDefaults:
         speed_mps: the walk's default forward speed [m/s] (paper B's walk: 0.2).
         servo_stiffness_nm_per_rad: the proportional gain the user set on the leg servos,
             at the joint [N·m/rad], when they are P-only and soft: the walk then pre-loads
-            them with the planned joint torques (:mod:`zmpkit.walking.servo_feedforward`);
-            None: the servos track (no feed-forward).
+            them with the planned joint torques (:mod:`zmpkit.walking.servo_feedforward`)
+            and the feedback walks with those of the ZMP shift they ask for
+            (:mod:`zmpkit.walking.zmp_shift_feedforward`); None: the servos track (no
+            feed-forward).
         servo_damping_nm_s_per_rad: the leg servos' velocity damping at the joint
             [N·m·s/rad] (a PWM drive's back-EMF: stall torque over no-load speed), which the
             feed-forward also inverts; 0 with no ``servo_stiffness_nm_per_rad``.
