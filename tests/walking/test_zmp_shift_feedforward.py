@@ -34,6 +34,7 @@ def _data() -> mujoco.MjData:
     data.qpos[:] = MODEL.qpos0
     data.qpos[2] = 0.3  # the base somewhere above the floor; the axes do not depend on it
     data.qpos[7:] = np.linspace(-0.2, 0.2, MODEL.nq - 7)  # a bent posture, not the zero one
+    mujoco.mj_kinematics(MODEL, data)  # as the IK leaves its data after a step
     return data
 
 

@@ -58,7 +58,8 @@ class ZmpShiftFeedforward:
 
     Args:
         model: the design model (the IK's).
-        data: its data, the IK's: read at the IK's solution (its kinematics computed here).
+        data: its data, the IK's, read at the IK's solution (whose kinematics the IK
+            updates after every step: mink's ``Configuration.update``).
         sole_sites: the soles' sites, in the order of the loads given to :meth:`apply`.
         joint_names: the driven joints, in the order of the targets.
         stiffness_nm_per_rad: the servos' P gain at the joint ``k`` [N·m/rad].
@@ -84,7 +85,6 @@ class ZmpShiftFeedforward:
         self.sagittal_cutoff_hz = SAGITTAL_CUTOFF_PER_STEP_HZ / step
         """The sagittal shift's low-pass cut-off [Hz]."""
         self._alpha = 1.0 - math.exp(-2.0 * math.pi * self.sagittal_cutoff_hz * dt)
-        self._model, self._data = model, data
         self._xaxis = data.xaxis  # a view, made once: the hinges' axes in the world
         sites = [model.site(name).id for name in sole_sites]
         hinge = int(mujoco.mjtJoint.mjJNT_HINGE)
@@ -151,7 +151,6 @@ class ZmpShiftFeedforward:
                 moment_x[i] = moment_y[i] = 0.0
         if not loaded:
             return
-        mujoco.mj_kinematics(self._model, self._data)
         axis, k = self._xaxis, self.stiffness_nm_per_rad
         for j, joint, i in self._terms:  # Δτ_j = -a_j · Δm_i
             tau = -(axis.item(joint, 0) * moment_x[i] + axis.item(joint, 1) * moment_y[i])
