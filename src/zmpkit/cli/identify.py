@@ -16,6 +16,7 @@ from zmpkit.pipelines.identify_sim import IdentifySimConfig, IdentifySimResult, 
 from zmpkit.pipelines.identify_sim_files import write_identify_sim
 from zmpkit.robots.registry import DEFAULT_FIT_ROBOT
 from zmpkit.robots.robot import Robot
+from zmpkit.simfit.least_squares_refit import REFINEMENTS
 from zmpkit.simfit.optimizer import MAX_POPSIZE, MAX_RESTARTS, FitInterruptedError
 from zmpkit.simfit.pooled_cost import WINDOW_POOLINGS
 from zmpkit.simfit.refit_intervals import REFIT_REPLICAS, ParameterInterval
@@ -146,6 +147,20 @@ def identify_balance_command(
     help="Record experiments from a seed-perturbed robot, fit them, write recovery.csv.",
 )
 @click.option(
+    "--designed",
+    is_flag=True,
+    help="With --self-test: also record and fit the designed double-support experiments "
+    "(crouch_hold, squat, sway_sagittal, sway_frontal; see zmpkit identify plan).",
+)
+@click.option(
+    "--refine",
+    type=click.Choice(REFINEMENTS),
+    default="none",
+    show_default=True,
+    help="After CMA-ES: lm refines its best by Levenberg-Marquardt on the cost's residuals "
+    "(a Jacobian a batch; kept where cheaper; refinement.json), on this machine's CPUs.",
+)
+@click.option(
     "--sensor-readings",
     type=click.Choice(("sampled", "expected")),
     default="sampled",
@@ -213,6 +228,8 @@ def identify_sim_command(
     seed: int,
     quick: bool,
     self_test: bool,
+    designed: bool,
+    refine: str,
     sensor_readings: str,
     window_pooling: str,
     held_out: tuple[Path, ...],
@@ -242,6 +259,8 @@ def identify_sim_command(
         seed=seed,
         quick=quick,
         self_test=self_test,
+        designed=designed,
+        refine=refine,
         sensor_readings=sensor_readings,
         window_pooling=window_pooling,
         window_s=window_s,

@@ -13,6 +13,7 @@ from zmpkit.robots.registry import DEFAULT_FIT_ROBOT, get_robot
 from zmpkit.robots.robot import Robot
 from zmpkit.simfit.backends import BACKENDS, DEFAULT_WORKERS
 from zmpkit.simfit.cost import CostWeights
+from zmpkit.simfit.least_squares_refit import REFINEMENTS
 from zmpkit.simfit.optimizer import MAX_POPSIZE, MAX_RESTARTS
 from zmpkit.simfit.parameters import FitParameter, default_parameters, parse_fit_effects
 from zmpkit.simfit.pooled_cost import check_window_pooling
@@ -62,6 +63,11 @@ class IdentifySimConfig:
         quick: small fit (2–3 parameters; short experiments in a self-test).
         self_test: record experiments from a virtual robot with hidden perturbed truth,
             fit them, and compare (``recovery.csv``).
+        designed: a self-test also records and fits the designed double-support
+            experiments (:mod:`zmpkit.experiments.double_support`).
+        refine: after CMA-ES, ``"lm"`` refines its best by Levenberg–Marquardt on the cost's
+            residuals (:mod:`~zmpkit.simfit.least_squares_refit`), kept where cheaper;
+            ``"none"`` does not.
         weights: weights of the cost terms.
         sensor_model: simulate the sensors as the base truth describes them (S: F-T filter,
             rate, quantisation, noise with a fixed seed; encoder resolution), so the
@@ -99,6 +105,8 @@ class IdentifySimConfig:
     seed: int = 1
     quick: bool = False
     self_test: bool = False
+    designed: bool = False
+    refine: str = "none"
     weights: CostWeights = field(default_factory=CostWeights)
     sensor_model: bool = True
     figures: bool = True
@@ -118,6 +126,15 @@ class IdentifySimConfig:
             )
         if self.address is not None and self.backend != "ray":
             raise ParameterError(f"--address is for --backend ray; got backend {self.backend!r}")
+        if self.refine not in REFINEMENTS:
+            raise ParameterError(
+                f"refine must be one of {', '.join(REFINEMENTS)}; got {self.refine!r}"
+            )
+        if self.designed and not self.self_test:
+            raise ParameterError(
+                "--designed belongs to --self-test (a recording of the designed experiments "
+                "is given as DATA: a step dataset)"
+            )
         if self.self_test and self.data:
             raise ParameterError("--self-test records its own experiments; give no DATA with it")
         if not self.self_test and not self.data:

@@ -28,6 +28,7 @@ __all__ = [
     "ParameterValues",
     "default_parameters",
     "from_unit",
+    "nominal_values",
     "parse_fit_effects",
     "robot_catalogue",
     "to_unit",
@@ -50,6 +51,11 @@ ParameterValues: TypeAlias = Sequence[float] | NDArray[np.float64]
 def from_unit(parameters: Sequence[FitParameter], u: Sequence[float]) -> NDArray[np.float64]:
     """Values [units] of a normalised vector ``u``."""
     return np.array([p.from_unit(x) for p, x in zip(parameters, u, strict=True)])
+
+
+def nominal_values(parameters: Sequence[FitParameter]) -> NDArray[np.float64]:
+    """The catalogue's nominal value of each parameter [units]."""
+    return np.array([p.nominal for p in parameters], dtype=np.float64)
 
 
 def to_unit(parameters: Sequence[FitParameter], values: Sequence[float]) -> NDArray[np.float64]:

@@ -12,8 +12,13 @@ r"""Self-test of the simulator fit: a virtual robot with hidden, perturbed truth
    reads those folders like any recorded data and never sees the truth.
 3. :func:`recovery_rows` compares truth and fit per parameter (``recovery.csv``).
 
-Plans (:func:`self_test_plan`): walks at several speeds, or ZMP steps. Held-out
-experiments are recorded the same way but never fitted.
+Plans (:func:`self_test_plan`): walks at several speeds, or ZMP steps; with ``designed``,
+also the designed double-support experiments (:mod:`zmpkit.experiments.double_support`:
+a crouch held, a squat, a sagittal chirp sway, a frontal sway), recorded from the truth as
+a real robot runs their protocol
+(:func:`~zmpkit.experiments.double_support_record.record_double_support`) and fitted beside
+the walks or steps. Held-out experiments are recorded the same way but
+never fitted.
 """
 
 from __future__ import annotations
@@ -28,7 +33,10 @@ import numpy as np
 import yaml
 from numpy.typing import NDArray
 
+from zmpkit.errors import ParameterError
 from zmpkit.experiments import StepExperimentConfig, run_step_sweep
+from zmpkit.experiments.double_support import DESIGNS, double_support_targets
+from zmpkit.experiments.double_support_record import record_double_support
 from zmpkit.experiments.walk import run_walk_trial
 from zmpkit.experiments.walk_config import WalkConfig
 from zmpkit.experiments.walk_dataset import write_walk_folder
@@ -61,28 +69,40 @@ class SelfTestPlan:
         held_out: the same for the held-out experiments.
         hold_s: steps only: recorded time after the step [s].
         held_out_hold_s: steps only: recorded time after the held-out step [s].
+        designs: designed double-support experiments fitted too
+            (:data:`~zmpkit.experiments.double_support.DESIGNS`).
     """
 
     fit: tuple
     held_out: tuple
     hold_s: float = 3.0
     held_out_hold_s: float = 8.0
+    designs: tuple[str, ...] = ()
 
 
-def self_test_plan(robot: Robot, quick: bool) -> SelfTestPlan:
+def self_test_plan(robot: Robot, quick: bool, designed: bool = False) -> SelfTestPlan:
     """The plan for ``robot``; ``quick`` keeps it small (2 short walks or 3 steps).
 
     Step targets are shares of the robot's largest balance target
-    (:attr:`~zmpkit.robots.robot.BalanceModel.max_target_m`).
+    (:attr:`~zmpkit.robots.robot.BalanceModel.max_target_m`). ``designed`` adds every
+    designed double-support experiment to the fitted ones.
     """
+    designs = tuple(DESIGNS) if designed else ()
     if _replays_walks(robot):
         if quick:
-            return SelfTestPlan(((0.2, 3.0), (0.15, 3.0)), ((0.175, 10.0),))
-        return SelfTestPlan(((0.1, 6.0), (0.15, 6.0), (0.2, 6.0)), ((0.175, 10.0), (0.2, 10.0)))
+            return SelfTestPlan(((0.2, 3.0), (0.15, 3.0)), ((0.175, 10.0),), designs=designs)
+        return SelfTestPlan(
+            ((0.1, 6.0), (0.15, 6.0), (0.2, 6.0)), ((0.175, 10.0), (0.2, 10.0)), designs=designs
+        )
     span = robot.require_balance().max_target_m
     if quick:
-        return SelfTestPlan(_shares((0.2, 0.5, 0.8), span), _shares((0.65,), span))
-    return SelfTestPlan(_shares((0.2, 0.4, 0.6, 0.8), span), _shares((0.3, 0.7), span), hold_s=5.0)
+        return SelfTestPlan(_shares((0.2, 0.5, 0.8), span), _shares((0.65,), span), designs=designs)
+    return SelfTestPlan(
+        _shares((0.2, 0.4, 0.6, 0.8), span),
+        _shares((0.3, 0.7), span),
+        hold_s=5.0,
+        designs=designs,
+    )
 
 
 def _shares(shares: tuple[float, ...], span_m: float) -> tuple[float, ...]:
@@ -176,10 +196,11 @@ def record_experiments(
     hidden = Path(tempfile.gettempdir()) / f"zmpkit-hidden-truth-{digest}"
     hidden.mkdir(exist_ok=True)
     truth = write_truth_doc(doc, hidden / "truth.yaml")
+    designed = _designs(robot, plan.designs, truth, recorded, seed + 200, out / "designed")
     if _replays_walks(robot):
         fit = _walks(robot, plan.fit, truth, recorded, seed, out / "fit")
         held = _walks(robot, plan.held_out, truth, recorded, seed + 100, out / "held_out")
-        return fit, held
+        return [*fit, *designed], held
     fit_dir = _steps(robot, plan.fit, plan.hold_s, truth, recorded, seed, out / "fit_steps")
     held_dir = _steps(
         robot,
@@ -190,7 +211,30 @@ def record_experiments(
         seed + 100,
         out / "held_out_steps",
     )
-    return [fit_dir], [held_dir]
+    return [fit_dir, *designed], [held_dir]
+
+
+def _designs(
+    robot: Robot, designs: tuple[str, ...], truth: Path, effects: str, seed: int, out: Path
+) -> list[Path]:
+    """Record each designed double-support experiment from the truth into ``out/<name>``.
+
+    Raises:
+        ParameterError: when the truth cannot run one (it fell or diverged): a self-test
+            whose truth cannot stand in double support has nothing to fit there.
+    """
+    folders = []
+    for k, name in enumerate(designs):
+        folder = out / name
+        targets = double_support_targets(robot, name)
+        written = record_double_support(robot, targets, effects, str(truth), seed + k, folder)
+        if written is None:
+            raise ParameterError(
+                f"the self-test's hidden truth (seed {seed - 200}) fell or diverged in the "
+                f"designed experiment {name!r}; try another --seed"
+            )
+        folders.append(written)
+    return folders
 
 
 @dataclass(frozen=True)

@@ -1,0 +1,216 @@
+"""The cost as residuals, and the Gauss–Newton refinement built on them."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from zmpkit.robots.fit_parameter import fit_parameter
+from zmpkit.simfit.cost import FAILED_COST, CostWeights, experiment_cost
+from zmpkit.simfit.cost_residuals import experiment_residuals, stacked_residuals
+from zmpkit.simfit.least_squares_refit import refine_fit
+from zmpkit.simfit.recorded import RecordedSignals
+
+JOINTS = ("a", "b", "c")
+
+
+def _random_signals(rng: np.random.Generator, n: int, gaps: float) -> RecordedSignals:
+    t = np.arange(n) * 0.01
+    cmd = 0.1 * np.sin(np.outer(t, [1.0, 2.0, 3.0]))
+    meas = cmd + 0.01 * rng.standard_normal(cmd.shape)
+    zmp = np.column_stack([0.05 * t + 0.01 * np.sin(7 * t), 0.02 * np.sin(3 * t)])
+    zmp = zmp + 0.002 * rng.standard_normal(zmp.shape)
+    zmp[rng.random(n) < gaps] = np.nan
+    tilt = 0.01 * np.sin(2 * np.pi * 2 * t) + 0.001 * rng.standard_normal(n)
+    return RecordedSignals(t, JOINTS, cmd, meas, zmp, tilt)
+
+
+@settings(max_examples=40, deadline=None)
+@given(
+    seed=st.integers(0, 2**31),
+    gaps=st.floats(0.0, 0.3),
+    keep=st.booleans(),
+    w=st.tuples(st.floats(0.0, 3.0), st.floats(0.0, 3.0), st.floats(0.0, 3.0)),
+)
+def test_the_squared_residual_norm_is_the_cost(seed: int, gaps: float, keep: bool, w) -> None:
+    rng = np.random.default_rng(seed)
+    recorded, simulated = _random_signals(rng, 300, gaps), _random_signals(rng, 300, gaps)
+    weights = CostWeights(*w)
+    r = experiment_residuals(recorded, simulated, weights, keep)
+    assert r is not None
+    cost = experiment_cost(recorded, simulated, keep).total(weights)
+    assert float(r @ r) == pytest.approx(cost, rel=1e-9, abs=1e-15)
+    # the vector's length does not depend on the candidate: a Jacobian is defined
+    other = _random_signals(rng, 300, 0.5)
+    r2 = experiment_residuals(recorded, other, weights, keep)
+    assert r2 is not None
+    assert r2.shape == r.shape
+
+
+def test_a_rollout_that_fell_has_no_residuals_and_the_stack_is_the_mean() -> None:
+    rng = np.random.default_rng(0)
+    rec = _random_signals(rng, 200, 0.0)
+    assert experiment_residuals(rec, rec.head(150), CostWeights()) is None
+    a = experiment_residuals(rec, _random_signals(rng, 200, 0.0), CostWeights())
+    b = experiment_residuals(rec, _random_signals(rng, 200, 0.0), CostWeights())
+    assert a is not None
+    assert b is not None
+    stacked = stacked_residuals([a, b])
+    assert stacked is not None
+    assert float(stacked @ stacked) == pytest.approx(0.5 * (a @ a + b @ b))
+    assert stacked_residuals([a, None]) is None
+
+
+class _Problem:
+    """A stand-in with the two things :func:`refine_fit` reads: parameters and bounds."""
+
+    def __init__(self) -> None:
+        self.parameters = (
+            fit_parameter("M", "k", "k", 2.0, (0.5, 8.0), "-"),
+            fit_parameter("M", "b", "b", 0.0, (-1.0, 1.0), "-", False),
+        )
+
+
+def _model(values: np.ndarray, t: np.ndarray) -> np.ndarray:
+    return np.exp(-values[0] * t) + values[1] * t
+
+
+def test_refinement_recovers_a_nonlinear_least_squares_truth() -> None:
+    """Against a closed form: data made by a known model, noise-free, is fitted exactly."""
+    t = np.linspace(0.0, 2.0, 50)
+    truth = np.array([3.3, -0.4])
+    data = _model(truth, t)
+    calls = []
+
+    def residuals(candidates):
+        calls.append(len(candidates))
+        return [_model(np.asarray(c), t) - data for c in candidates]
+
+    out = refine_fit(_Problem(), [2.0, 0.0], residuals)  # type: ignore[arg-type]
+    assert out.improved
+    np.testing.assert_allclose(out.values, truth, rtol=2e-3, atol=2e-3)
+    assert out.cost < 1e-6 * out.start_cost
+    assert out.jacobian.shape == (t.size, 2)
+    # one candidate per trial point, the Jacobian's columns as one batch of n
+    assert set(calls) <= {1, 2}
+    assert 2 in calls
+    assert out.rollouts == sum(calls)
+
+
+def test_refinement_backs_away_from_a_fall_and_stays_in_bounds() -> None:
+    t = np.linspace(0.0, 2.0, 50)
+    truth = np.array([6.0, 0.9])
+    data = _model(truth, t)
+
+    def residuals(candidates):
+        # candidates with k above 4 "fall": no residuals
+        return [None if c[0] > 4.0 else _model(np.asarray(c), t) - data for c in candidates]
+
+    out = refine_fit(_Problem(), [2.0, 0.0], residuals)  # type: ignore[arg-type]
+    assert out.values[0] <= 4.0
+    assert -1.0 <= out.values[1] <= 1.0
+    assert out.cost < out.start_cost < FAILED_COST
+
+
+def test_a_start_that_falls_is_returned_as_it_is() -> None:
+    out = refine_fit(_Problem(), [2.0, 0.0], lambda cs: [None for _ in cs])  # type: ignore[arg-type]
+    assert not out.improved
+    assert list(out.values) == [2.0, 0.0]
+    assert out.message == "fell"
+
+
+def test_refine_and_designed_settings_are_checked() -> None:
+    from zmpkit.errors import ParameterError
+    from zmpkit.pipelines.identify_sim_config import IdentifySimConfig
+
+    with pytest.raises(ParameterError, match=r"refine must be one of none, lm; got 'gn'"):
+        IdentifySimConfig(self_test=True, refine="gn")
+    with pytest.raises(ParameterError, match="--designed belongs to --self-test"):
+        IdentifySimConfig(data=("x",), designed=True)
+
+
+def test_a_designed_self_test_plan_adds_every_double_support_design() -> None:
+    from zmpkit.experiments.double_support import DESIGNS
+    from zmpkit.robots.registry import get_robot
+    from zmpkit.simfit.self_test import self_test_plan
+
+    for name in ("nao", "teo"):
+        robot = get_robot(name, needs="fit")
+        plain, designed = self_test_plan(robot, False), self_test_plan(robot, False, True)
+        assert plain.designs == ()
+        assert designed.designs == DESIGNS
+        assert (designed.fit, designed.held_out) == (plain.fit, plain.held_out)
+
+
+def test_identify_sim_refine_option_reaches_the_config(tmp_path, monkeypatch) -> None:
+    """The CLI passes --refine and --designed through, and refuses a bad value in one line."""
+    from click.testing import CliRunner
+
+    from zmpkit.cli import identify as cli_identify
+
+    seen = {}
+
+    def fake_run(config, out_dir, progress=None, replica_progress=None):
+        seen["config"] = config
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(cli_identify, "run_identify_sim", fake_run)
+    runner = CliRunner()
+    args = ["sim", "--self-test", "--designed", "--refine", "lm", "--out", str(tmp_path)]
+    runner.invoke(cli_identify.identify_group, args)
+    assert seen["config"].refine == "lm"
+    assert seen["config"].designed
+    bad = runner.invoke(cli_identify.identify_group, [*args[:4], "gn", *args[5:]])
+    assert bad.exit_code == 2
+    assert "'gn' is not one of 'none', 'lm'" in bad.output
+
+
+@pytest.mark.slow
+def test_levenberg_marquardt_recovers_the_quick_pair_from_the_nominal_values(tmp_path) -> None:
+    """From the catalogue's nominal values, without CMA-ES, on a self-test's two walks.
+
+    The truth (seed 1: P gain scale 0.797, gear stiffness 1347 N·m/rad) is 14 % and 11 % from
+    the nominal values; the walks are open loop with every sensor effect, fitted with the
+    sensors' expected readings.
+    """
+    from zmpkit.pipelines.identify_sim_config import IdentifySimConfig
+    from zmpkit.simfit.experiments import read_experiments, simulated_effects
+    from zmpkit.simfit.least_squares_refit import ResidualEvaluator
+    from zmpkit.simfit.problem import FitProblem
+    from zmpkit.simfit.self_test import perturbed_values, record_experiments, self_test_plan
+    from zmpkit.simfit.truth_doc import base_truth_path, load_truth_doc
+
+    config = IdentifySimConfig(self_test=True, quick=True, sensor_readings="expected")
+    params = config.fit_parameters()
+    truth = perturbed_values(params, config.seed)
+    base = load_truth_doc(base_truth_path(config.robot, None))
+    fit_dirs, _ = record_experiments(
+        config.robot,
+        self_test_plan(config.robot, True),
+        base,
+        params,
+        truth,
+        config.physics_effects,
+        config.seed,
+        tmp_path,
+    )
+    experiments = tuple(read_experiments(fit_dirs, config.robot))
+    problem = FitProblem(
+        config.robot,
+        simulated_effects(config.sim_effects, experiments),
+        params,
+        base,
+        experiments,
+        config.weights,
+        "expected",
+    )
+    residuals = ResidualEvaluator(problem, 2)
+    try:
+        out = refine_fit(problem, [p.nominal for p in params], residuals)
+    finally:
+        residuals.close()
+    errors = 100.0 * (out.values - truth) / truth
+    assert out.improved
+    assert np.all(np.abs(errors) < 3.0), errors
