@@ -167,6 +167,29 @@ def test_identify_sim_refine_option_reaches_the_config(tmp_path, monkeypatch) ->
     assert "'gn' is not one of 'none', 'lm'" in bad.output
 
 
+def test_refinement_json_names_each_start_and_the_one_kept(tmp_path) -> None:
+    import json
+
+    from zmpkit.cli.identify import _refinement_text
+    from zmpkit.simfit.least_squares_refit import LeastSquaresRefit, write_refinement
+
+    def refit(cost: float) -> LeastSquaresRefit:
+        return LeastSquaresRefit(np.array([1.0, 2.0]), cost, 0.1, 7, 21, np.zeros((3, 2)), "ok")
+
+    path = write_refinement(
+        {"cma_best": refit(0.006), "nominal": refit(0.003)}, 0.008, tmp_path / "r.json"
+    )
+    doc = json.loads(path.read_text())
+    assert doc["kept"] == "nominal"
+    assert doc["starts"]["cma_best"]["cost"] == 0.006
+    assert doc["starts"]["nominal"]["values"] == [1.0, 2.0]
+    line = _refinement_text(doc)
+    assert line.endswith("from nominal 0.003 (21 rollouts); kept nominal")
+    none_kept = write_refinement({"nominal": refit(0.01)}, 0.008, tmp_path / "n.json")
+    assert json.loads(none_kept.read_text())["kept"] is None
+    assert _refinement_text(json.loads(none_kept.read_text())).endswith("CMA-ES's best kept")
+
+
 @pytest.mark.slow
 def test_levenberg_marquardt_recovers_the_quick_pair_from_the_nominal_values(tmp_path) -> None:
     """From the catalogue's nominal values, without CMA-ES, on a self-test's two walks.
