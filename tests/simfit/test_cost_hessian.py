@@ -288,3 +288,17 @@ def test_a_spike_at_the_centre_and_a_rough_cost_raise_the_visible_rise() -> None
     assert judged.roughness > jitter / 2
     assert judged.rise == pytest.approx(2.0 * judged.roughness)
     assert judged.parameters[0].identifiable  # 10 % raise it by 0.02, far above the jitter
+
+
+def test_a_refined_point_without_a_cma_spread_is_judged_on_the_marginal_alone() -> None:
+    """A Levenberg–Marquardt end has no CMA-ES spread: NaN, not a stale spread, and not 0 %."""
+    truth = np.array([1200.0, 1800.0, 0.7])
+    evaluator = _QuadraticEvaluator(_separable_cost)
+    wide = identifiability(_problem(), evaluator, truth, 0.002, np.full(3, 0.5))
+    refined = identifiability(_problem(), evaluator, truth, 0.002, np.full(3, np.nan))
+    assert [p.identifiable for p in wide.parameters] == [False, False, False]  # spread 140 %+
+    assert [p.identifiable for p in refined.parameters] == [True, True, False]
+    assert "refined by Levenberg–Marquardt (no CMA-ES spread there): within 10 %" in (
+        refined.parameters[0].reason
+    )
+    assert math.isnan(refined.parameters[0].cma_relative_std)

@@ -261,7 +261,8 @@ def _refined(
     best = min(refits.values(), key=lambda r: r.cost)
     if best.cost >= cma_result.best_cost:
         return cma_result
-    return replace(cma_result, best_values=best.values, best_cost=best.cost)
+    no_spread = np.full(len(problem.parameters), np.nan)  # CMA-ES's spread is not about it
+    return replace(cma_result, best_values=best.values, best_cost=best.cost, unit_std=no_spread)
 
 
 def _population(

@@ -87,8 +87,12 @@ def _checks(result: IdentifySimResult) -> tuple[Check, ...]:
             f"`{i.name}` pinned down by the data",
             "met" if i.identifiable else "missed",
             f"cost rises visibly at ±{_pct(i.marginal_resolution)} with the other "
-            f"parameters free (±{_pct(i.resolution)} with them held), CMA-ES spread "
-            f"{_pct(i.cma_relative_std)}",
+            f"parameters free (±{_pct(i.resolution)} with them held), "
+            + (
+                f"CMA-ES spread {_pct(i.cma_relative_std)}"
+                if not math.isnan(i.cma_relative_std)
+                else "refined by Levenberg–Marquardt (no CMA-ES spread)"
+            ),
         )
         for i in result.identifiability
     ]

@@ -111,8 +111,11 @@ class ParameterIdentifiability:
         cost_plus: cost with the value × (1 + h) [-].
         resolution: relative change :math:`\delta^*` that raises the cost visibly, the
             others held (the profile) [-].
-        cma_relative_std: CMA-ES's final spread as a fraction of the value [-].
-        identifiable: marginal resolution and CMA-ES spread ≤ :data:`IDENTIFIABLE_WITHIN`.
+        cma_relative_std: CMA-ES's final spread as a fraction of the value [-]; NaN where
+            the fitted values are not CMA-ES's (a refinement's end,
+            :mod:`~zmpkit.simfit.least_squares_refit`), which has no spread.
+        identifiable: marginal resolution and CMA-ES spread (where there is one) ≤
+            :data:`IDENTIFIABLE_WITHIN`.
         marginal_resolution: the same with every other parameter free to compensate,
             :math:`\delta_m^*` [-] (inf: no visible rise within ±100 %).
     """
@@ -139,13 +142,18 @@ class ParameterIdentifiability:
                 else (f" ({100 * self.resolution:.2g} % with the others held)")
             )
             return f"no visible cost rise within ±100 % with the others re-fitted{held}"
+        spread = (
+            f"CMA-ES spread {100 * self.cma_relative_std:.2g} %"
+            if math.isfinite(self.cma_relative_std)
+            else "refined by Levenberg–Marquardt (no CMA-ES spread there)"
+        )
         numbers = (
             f"the cost rises visibly at ±{100 * marginal:.2g} % with the others re-fitted "
-            f"({100 * self.resolution:.2g} % held), CMA-ES spread "
-            f"{100 * self.cma_relative_std:.2g} %"
+            f"({100 * self.resolution:.2g} % held), {spread}"
         )
         if self.identifiable:
-            return f"{numbers}: both within {within}"
+            both = "both within" if math.isfinite(self.cma_relative_std) else "within"
+            return f"{numbers}: {both} {within}"
         if marginal > IDENTIFIABLE_WITHIN >= self.resolution:
             return f"{numbers}: the others compensate it beyond {within}"
         return f"{numbers}: beyond {within}"
@@ -230,6 +238,9 @@ def identifiability(
 ) -> Identifiability:
     """Profile every parameter and every pair around ``values``, and judge each parameter.
 
+    ``unit_std`` is CMA-ES's final spread at ``values``, NaN where they are not CMA-ES's
+    (then the marginal resolution judges alone).
+
     One batch of :math:`2n + n(n-1)` candidates and the roughness probes (module docstring).
     """
     n = len(values)
@@ -255,7 +266,10 @@ def identifiability(
                 costs[2 * i + 1],
                 float(conditional[i]),
                 float(spread[i]),
-                bool(marginal[i] <= IDENTIFIABLE_WITHIN and spread[i] <= IDENTIFIABLE_WITHIN),
+                bool(
+                    marginal[i] <= IDENTIFIABLE_WITHIN
+                    and (math.isnan(spread[i]) or spread[i] <= IDENTIFIABLE_WITHIN)
+                ),
                 float(marginal[i]),
             )
         )

@@ -92,6 +92,10 @@ def _pct_or_none(fraction: float) -> float | None:
     return None if not np.isfinite(fraction) else 100 * float(fraction)
 
 
+def _finite_or_none(value: float) -> float | None:
+    return None if not np.isfinite(value) else value
+
+
 def write_fitted_parameters(
     path: Path,
     robot: str,
@@ -128,7 +132,7 @@ def write_fitted_parameters(
             "identifiable_why": i.reason,
             "resolution_pct": None if not np.isfinite(i.resolution) else 100 * i.resolution,
             "marginal_resolution_pct": _pct_or_none(i.marginal_resolution),
-            "cma_relative_std": float(i.cma_relative_std),
+            "cma_relative_std": _finite_or_none(float(i.cma_relative_std)),
         }
         | ({} if precision is None else {"resolution_is_precision": precision})
         | _interval_entry(by_name.get(p.name))
