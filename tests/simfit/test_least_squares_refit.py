@@ -191,49 +191,27 @@ def test_refinement_json_names_each_start_and_the_one_kept(tmp_path) -> None:
 
 
 @pytest.mark.slow
-def test_levenberg_marquardt_recovers_the_quick_pair_from_the_nominal_values(tmp_path) -> None:
-    """From the catalogue's nominal values, without CMA-ES, on a self-test's two walks.
+def test_a_refined_quick_self_test_keeps_the_cheapest_and_still_recovers(tmp_path) -> None:
+    """``--refine lm`` on the quick self-test: the bar of the CMA-ES-only quick self-test.
 
-    The truth (seed 1: P gain scale 0.797, gear stiffness 1347 N·m/rad) is 14 % and 11 % from
-    the nominal values; the walks are open loop with every sensor effect, fitted with the
-    sensors' expected readings.
+    Measured without CMA-ES (Levenberg–Marquardt from the nominal values alone on the same
+    walks): P gain −2.3 %, gear stiffness +9.0 %, where CMA-ES gets both within 1 %; hence
+    the refinement also starts from CMA-ES's best, and the cheapest end is kept.
     """
-    from zmpkit.pipelines.identify_sim_config import IdentifySimConfig
-    from zmpkit.simfit.experiments import read_experiments, simulated_effects
-    from zmpkit.simfit.least_squares_refit import ResidualEvaluator
-    from zmpkit.simfit.problem import FitProblem
-    from zmpkit.simfit.self_test import perturbed_values, record_experiments, self_test_plan
-    from zmpkit.simfit.truth_doc import base_truth_path, load_truth_doc
+    import json
 
-    config = IdentifySimConfig(self_test=True, quick=True, sensor_readings="expected")
-    params = config.fit_parameters()
-    truth = perturbed_values(params, config.seed)
-    base = load_truth_doc(base_truth_path(config.robot, None))
-    fit_dirs, _ = record_experiments(
-        config.robot,
-        self_test_plan(config.robot, True),
-        base,
-        params,
-        truth,
-        config.physics_effects,
-        config.seed,
-        tmp_path,
+    from zmpkit.pipelines.identify_sim import IdentifySimConfig, run_identify_sim
+
+    config = IdentifySimConfig(
+        self_test=True, quick=True, refine="lm", interval_replicas=0, figures=False
     )
-    experiments = tuple(read_experiments(fit_dirs, config.robot))
-    problem = FitProblem(
-        config.robot,
-        simulated_effects(config.sim_effects, experiments),
-        params,
-        base,
-        experiments,
-        config.weights,
-        "expected",
-    )
-    residuals = ResidualEvaluator(problem, 2)
-    try:
-        out = refine_fit(problem, [p.nominal for p in params], residuals)
-    finally:
-        residuals.close()
-    errors = 100.0 * (out.values - truth) / truth
-    assert out.improved
-    assert np.all(np.abs(errors) < 3.0), errors
+    fit = run_identify_sim(config, tmp_path)
+    doc = json.loads((tmp_path / "refinement.json").read_text())
+    ends = {name: start["cost"] for name, start in doc["starts"].items()}
+    assert set(ends) == {"cma_best", "nominal"}
+    assert ends["cma_best"] <= doc["cma_cost"]  # a refinement never ends above its start
+    assert fit.cost == pytest.approx(min(doc["cma_cost"], *ends.values()))
+    assert (doc["kept"] is None) == (fit.cost == doc["cma_cost"])
+    for row in fit.recovery:
+        assert row.identifiable, row
+        assert abs(row.error_pct) < 10.0, row
