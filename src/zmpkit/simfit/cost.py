@@ -49,6 +49,8 @@ __all__ = [
     "experiment_cost",
     "experiment_cost_of_parts",
     "spectrum_in_band",
+    "tracking_scale_rad",
+    "zmp_spread_m",
 ]
 
 SPECTRUM_BAND_HZ = (0.5, 8.0)
@@ -118,15 +120,29 @@ def spectrum_in_band(signal: NDArray[np.float64], dt_s: float) -> tuple[NDArray,
     return spectrum.frequency_hz[band], spectrum.amplitude[band]
 
 
+def zmp_spread_m(time_s: NDArray[np.float64], zmp_m: NDArray[np.float64]) -> float:
+    r"""The ZMP term's scale, at least 1e-6 [m].
+
+    :math:`\operatorname{RMS}\lVert p - \operatorname{trend}(p)\rVert` over the rows given.
+    """
+    x, y = _detrended(time_s, zmp_m[:, 0]), _detrended(time_s, zmp_m[:, 1])
+    spread = np.hypot(_rms(x), _rms(y))
+    return max(float(spread), _MIN_SCALE)
+
+
+def tracking_scale_rad(recorded: RecordedSignals) -> float:
+    """The joint term's scale: the recorded tracking error's RMS, at least 1e-6 [rad]."""
+    return max(_rms(recorded.q_meas_rad - recorded.q_cmd_rad), _MIN_SCALE)
+
+
 def _zmp_error(rec: RecordedSignals, zmp_m: NDArray[np.float64], keep_mean: bool) -> float:
     both = np.all(np.isfinite(rec.zmp_m), axis=1) & np.all(np.isfinite(zmp_m), axis=1)
     if np.count_nonzero(both) < 3:
         return 0.0
     t, p = rec.time_s[both], rec.zmp_m[both]
-    scale = np.hypot(_rms(_detrended(t, p[:, 0])), _rms(_detrended(t, p[:, 1])))
     d = zmp_m[both] - p
     miss = np.linalg.norm(d if keep_mean else d - d.mean(axis=0), axis=1)
-    return _rms(miss) / max(scale, _MIN_SCALE)
+    return _rms(miss) / zmp_spread_m(t, p)
 
 
 def _spectrum_error(rec: RecordedSignals, trunk_tilt_rad: NDArray[np.float64]) -> float:
@@ -179,7 +195,7 @@ def experiment_cost_of_parts(
         return CostTerms(np.inf, np.inf, np.inf, completed, np.inf)
     count = recorded.q_meas_rad.size
     q_err = float(np.sqrt(joint_square_sum / count)) if count else 0.0
-    q_scale = max(_rms(recorded.q_meas_rad - recorded.q_cmd_rad), _MIN_SCALE)
+    q_scale = tracking_scale_rad(recorded)
     spectrum = _spectrum_error(recorded, trunk_tilt_rad)
     zmp = _zmp_error(recorded, zmp_m, keep_zmp_mean)
     return CostTerms(q_err / q_scale, zmp, spectrum, 1.0, q_err)

@@ -24,20 +24,12 @@ from collections.abc import Sequence
 import numpy as np
 from numpy.typing import NDArray
 
-from zmpkit.simfit.cost import CostWeights, spectrum_in_band
+from zmpkit.simfit.cost import CostWeights, spectrum_in_band, tracking_scale_rad, zmp_spread_m
 from zmpkit.simfit.recorded import RecordedSignals
 
 __all__ = ["experiment_residuals", "stacked_residuals"]
 
 _MIN_SCALE = 1e-6
-
-
-def _rms(x: NDArray[np.float64]) -> float:
-    return float(np.sqrt(np.mean(np.square(x)))) if x.size else 0.0
-
-
-def _detrended(t: NDArray[np.float64], x: NDArray[np.float64]) -> NDArray[np.float64]:
-    return x - np.polyval(np.polyfit(t, x, 1), t)
 
 
 def _zmp_residuals(
@@ -50,9 +42,7 @@ def _zmp_residuals(
     out = np.zeros_like(d)
     if np.count_nonzero(both) < 3:
         return out.ravel()
-    t, p = rec.time_s[defined][both], rec.zmp_m[defined][both]
-    spread = np.hypot(_rms(_detrended(t, p[:, 0])), _rms(_detrended(t, p[:, 1])))
-    scale = max(float(spread), _MIN_SCALE)
+    scale = zmp_spread_m(rec.time_s[defined][both], rec.zmp_m[defined][both])
     miss = d[both] if keep_mean else d[both] - d[both].mean(axis=0)
     out[both] = miss / (scale * np.sqrt(np.count_nonzero(both)))
     return out.ravel()
@@ -76,7 +66,7 @@ def experiment_residuals(
     if simulated.time_s.size < n:
         return None
     count = recorded.q_meas_rad.size
-    q_scale = max(_rms(recorded.q_meas_rad - recorded.q_cmd_rad), _MIN_SCALE)
+    q_scale = tracking_scale_rad(recorded)
     r_q = (simulated.q_meas_rad[:n] - recorded.q_meas_rad).ravel() / (q_scale * np.sqrt(count))
     r_p = _zmp_residuals(recorded, simulated.zmp_m[:n], keep_zmp_mean)
     _, a_rec = spectrum_in_band(recorded.trunk_tilt_rad, recorded.dt_s)
