@@ -170,24 +170,31 @@ def test_identify_sim_refine_option_reaches_the_config(tmp_path, monkeypatch) ->
 def test_refinement_json_names_each_start_and_the_one_kept(tmp_path) -> None:
     import json
 
-    from zmpkit.cli.identify import _refinement_text
-    from zmpkit.simfit.least_squares_refit import LeastSquaresRefit, write_refinement
+    from zmpkit.simfit.least_squares_refit import (
+        LeastSquaresRefit,
+        refinement_doc,
+        refinement_line,
+        write_refinement,
+    )
 
     def refit(cost: float) -> LeastSquaresRefit:
         return LeastSquaresRefit(np.array([1.0, 2.0]), cost, 0.1, 7, 21, np.zeros((3, 2)), "ok")
 
     path = write_refinement(
-        {"cma_best": refit(0.006), "nominal": refit(0.003)}, 0.008, tmp_path / "r.json"
+        refinement_doc({"cma_best": refit(0.006), "nominal": refit(0.003)}, 0.008),
+        tmp_path / "r.json",
     )
     doc = json.loads(path.read_text())
     assert doc["kept"] == "nominal"
     assert doc["starts"]["cma_best"]["cost"] == 0.006
     assert doc["starts"]["nominal"]["values"] == [1.0, 2.0]
-    line = _refinement_text(doc)
+    line = refinement_line(doc)
     assert line.endswith("from nominal 0.003 (21 rollouts); kept nominal")
-    none_kept = write_refinement({"nominal": refit(0.01)}, 0.008, tmp_path / "n.json")
+    none_kept = write_refinement(
+        refinement_doc({"nominal": refit(0.01)}, 0.008), tmp_path / "n.json"
+    )
     assert json.loads(none_kept.read_text())["kept"] is None
-    assert _refinement_text(json.loads(none_kept.read_text())).endswith("CMA-ES's best kept")
+    assert refinement_line(json.loads(none_kept.read_text())).endswith("CMA-ES's best kept")
 
 
 @pytest.mark.slow
@@ -207,6 +214,7 @@ def test_a_refined_quick_self_test_keeps_the_cheapest_and_still_recovers(tmp_pat
     )
     fit = run_identify_sim(config, tmp_path)
     doc = json.loads((tmp_path / "refinement.json").read_text())
+    assert fit.refinement == doc
     ends = {name: start["cost"] for name, start in doc["starts"].items()}
     assert set(ends) == {"cma_best", "nominal"}
     assert ends["cma_best"] <= doc["cma_cost"]  # a refinement never ends above its start

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 
 import click
@@ -17,7 +16,7 @@ from zmpkit.pipelines.identify_sim import IdentifySimConfig, IdentifySimResult, 
 from zmpkit.pipelines.identify_sim_files import write_identify_sim
 from zmpkit.robots.registry import DEFAULT_FIT_ROBOT
 from zmpkit.robots.robot import Robot
-from zmpkit.simfit.least_squares_refit import REFINEMENT_FILE, REFINEMENTS
+from zmpkit.simfit.least_squares_refit import REFINEMENTS, refinement_line
 from zmpkit.simfit.optimizer import MAX_POPSIZE, MAX_RESTARTS, FitInterruptedError
 from zmpkit.simfit.pooled_cost import WINDOW_POOLINGS
 from zmpkit.simfit.refit_intervals import REFIT_REPLICAS, ParameterInterval
@@ -290,25 +289,14 @@ def _echo_result(result: IdentifySimResult, out_dir: Path) -> None:
             click.echo(f"{name} = {value:.6g}, {_interval_text(interval)}")
     if result.intervals:
         click.echo(f"intervals: {result.intervals[0].method}")
-    refinement = Path(out_dir) / REFINEMENT_FILE
-    if result.config.refine != "none" and refinement.is_file():
-        click.echo(_refinement_text(json.loads(refinement.read_text(encoding="utf-8"))))
+    if result.refinement is not None:
+        click.echo(refinement_line(result.refinement))
     if result.adequacy is not None:
         click.echo(result.adequacy.verdict)
     if "recovery" in result.files:
         click.echo(f"recovery: {result.files['recovery']}")
     click.echo(f"fitted truth: {Path(out_dir) / 'fitted_truth.yaml'} (best cost {result.cost:.4g})")
     click.echo(f"report: {result.files['report']}")
-
-
-def _refinement_text(doc: dict) -> str:
-    """One line: CMA-ES's best cost, each Levenberg–Marquardt start's end, which was kept."""
-    ends = ", ".join(
-        f"from {name.replace('_', ' ')} {start['cost']:.4g} ({start['rollouts']} rollouts)"
-        for name, start in doc["starts"].items()
-    )
-    kept = doc["kept"].replace("_", " ") if doc["kept"] else "none: CMA-ES's best kept"
-    return f"refinement (Levenberg-Marquardt): CMA-ES {doc['cma_cost']:.4g}; {ends}; kept {kept}"
 
 
 def _interval_text(interval: ParameterInterval) -> str:

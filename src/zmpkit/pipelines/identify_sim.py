@@ -36,6 +36,7 @@ from zmpkit.simfit.least_squares_refit import (
     REFINEMENT_FILE,
     ResidualEvaluator,
     refine_fit,
+    refinement_doc,
     write_refinement,
 )
 from zmpkit.simfit.noise_intervals import noise_intervals
@@ -130,6 +131,7 @@ class IdentifySimResult:
     adequacy: Adequacy | None = None
     sim_effects: str = ""
     intervals: tuple[ParameterInterval, ...] = ()
+    refinement: dict | None = None
 
 
 def _experiments(
@@ -204,9 +206,12 @@ def run_identify_sim(
         config.sensor_readings,
         config.window_pooling,
     )
-    cma_result, judged = _fit(config, problem, out, resume, progress)
+    cma_result, judged, refinement = _fit(config, problem, out, resume, progress)
     intervals = _intervals(config, problem, cma_result.best_values, replica_progress)
-    return _fit_result(config, problem, cma_result, judged, held_exps, truth, started_s, intervals)
+    result = _fit_result(
+        config, problem, cma_result, judged, held_exps, truth, started_s, intervals
+    )
+    return replace(result, refinement=refinement)
 
 
 def _fit(
@@ -215,8 +220,12 @@ def _fit(
     out: Path,
     resume: Path | None,
     progress: ProgressCallback | None,
-) -> tuple[CmaResult, Identifiability]:
-    """CMA-ES on ``problem`` (checkpointed into ``out``), then each parameter's identifiability."""
+) -> tuple[CmaResult, Identifiability, dict | None]:
+    """CMA-ES on ``problem`` (checkpointed into ``out``), refined, then judged.
+
+    Returns the fit, each parameter's identifiability and the refinement's document
+    (``refinement.json``; None without a refinement).
+    """
     evaluator = make_evaluator(problem, config.backend, config.workers, config.address)
     try:
         plan = _population(config, problem, evaluator.width, resume)
@@ -229,18 +238,18 @@ def _fit(
             plan,
         )
         cma_result = run_cma(problem, evaluator, options, out, resume, progress)
-        cma_result = _refined(config, problem, cma_result, out)
+        cma_result, refinement = _refined(config, problem, cma_result, out)
         judged = identifiability(
             problem, evaluator, cma_result.best_values, cma_result.best_cost, cma_result.unit_std
         )
     finally:
         evaluator.close()
-    return cma_result, judged
+    return cma_result, judged, refinement
 
 
 def _refined(
     config: IdentifySimConfig, problem: FitProblem, cma_result: CmaResult, out: Path
-) -> CmaResult:
+) -> tuple[CmaResult, dict | None]:
     """The cheapest of CMA-ES's best and Levenberg–Marquardt's ends (``refine == "lm"``).
 
     Levenberg–Marquardt starts twice: from CMA-ES's best and from the catalogue's nominal
@@ -250,19 +259,21 @@ def _refined(
     each start did.
     """
     if config.refine == "none":
-        return cma_result
+        return cma_result, None
     starts = {"cma_best": cma_result.best_values, "nominal": nominal_values(problem.parameters)}
     residuals = ResidualEvaluator(problem, config.workers)
     try:
         refits = {name: refine_fit(problem, start, residuals) for name, start in starts.items()}
     finally:
         residuals.close()
-    write_refinement(refits, cma_result.best_cost, out / REFINEMENT_FILE)
-    best = min(refits.values(), key=lambda r: r.cost)
-    if best.cost >= cma_result.best_cost:
-        return cma_result
+    doc = refinement_doc(refits, cma_result.best_cost)
+    write_refinement(doc, out / REFINEMENT_FILE)
+    if doc["kept"] is None:
+        return cma_result, doc
+    best = refits[doc["kept"]]
     no_spread = np.full(len(problem.parameters), np.nan)  # CMA-ES's spread is not about it
-    return replace(cma_result, best_values=best.values, best_cost=best.cost, unit_std=no_spread)
+    kept = replace(cma_result, best_values=best.values, best_cost=best.cost, unit_std=no_spread)
+    return kept, doc
 
 
 def _population(

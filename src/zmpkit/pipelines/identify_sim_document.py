@@ -15,6 +15,7 @@ import math
 from zmpkit.analysis.provenance import capture_run
 from zmpkit.analysis.report_document import Check, Figure, ReportDocument, Section, Table, Text
 from zmpkit.pipelines.identify_sim import IdentifySimResult
+from zmpkit.simfit.least_squares_refit import refinement_line
 from zmpkit.simfit.log_experiment import shooting_summary
 from zmpkit.simfit.refit_intervals import ParameterInterval
 from zmpkit.simfit.validation import AMPLITUDE_TOLERANCE, FREQUENCY_TOLERANCE_HZ, ReproductionCheck
@@ -96,6 +97,10 @@ def _checks(result: IdentifySimResult) -> tuple[Check, ...]:
         )
         for i in result.identifiability
     ]
+    if result.refinement is not None:
+        checks.append(
+            Check("refined by Levenberg–Marquardt", "info", refinement_line(result.refinement))
+        )
     adequacy = result.adequacy
     if adequacy is not None:
         explains = adequacy.explains

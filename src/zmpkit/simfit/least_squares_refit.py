@@ -54,6 +54,8 @@ __all__ = [
     "LeastSquaresRefit",
     "ResidualEvaluator",
     "refine_fit",
+    "refinement_doc",
+    "refinement_line",
     "write_refinement",
 ]
 
@@ -249,16 +251,16 @@ def refine_fit(
     )
 
 
-def write_refinement(refits: dict[str, LeastSquaresRefit], cma_cost: float, path: Path) -> Path:
-    """Write ``refinement.json``: per start, its costs before and after and the work done.
+def refinement_doc(refits: dict[str, LeastSquaresRefit], cma_cost: float) -> dict:
+    """What the refinement did, as ``refinement.json`` holds it.
 
     Keys: ``method`` (``"levenberg-marquardt"``), ``cma_cost``, ``kept`` (the start whose end
-    was kept, or null when CMA-ES's best stayed the cheapest), and ``starts``: per start
+    was kept, or None when CMA-ES's best stayed the cheapest), and ``starts``: per start
     name, ``start_cost``, ``cost``, ``evaluations``, ``rollouts``, ``message`` and
     ``values`` [units, in the catalogue's order].
     """
     best = min(refits, key=lambda name: refits[name].cost) if refits else None
-    doc = {
+    return {
         "method": "levenberg-marquardt",
         "cma_cost": cma_cost,
         "kept": best if best is not None and refits[best].cost < cma_cost else None,
@@ -274,5 +276,19 @@ def write_refinement(refits: dict[str, LeastSquaresRefit], cma_cost: float, path
             for name, r in refits.items()
         },
     }
+
+
+def write_refinement(doc: dict, path: Path) -> Path:
+    """Write :func:`refinement_doc`'s ``doc`` as ``refinement.json`` at ``path``."""
     path.write_text(json.dumps(doc, indent=2) + "\n", encoding="utf-8")
     return path
+
+
+def refinement_line(doc: dict) -> str:
+    """One line: CMA-ES's best cost, each start's end and rollouts, which was kept."""
+    ends = ", ".join(
+        f"from {name.replace('_', ' ')} {start['cost']:.4g} ({start['rollouts']} rollouts)"
+        for name, start in doc["starts"].items()
+    )
+    kept = doc["kept"].replace("_", " ") if doc["kept"] else "none: CMA-ES's best kept"
+    return f"refinement (Levenberg-Marquardt): CMA-ES {doc['cma_cost']:.4g}; {ends}; kept {kept}"
