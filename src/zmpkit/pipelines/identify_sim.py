@@ -253,8 +253,8 @@ def _refined(
     """The cheapest of CMA-ES's best and Levenberg–Marquardt's ends (``refine == "lm"``).
 
     Levenberg–Marquardt starts twice: from CMA-ES's best and from the catalogue's nominal
-    values (on the NAO's full catalogue CMA-ES's 440 rollouts ended in a basin costlier than
-    the one a refinement from the nominal values reaches). Its rollouts run on this
+    values (on the built-in walker's whole catalogue CMA-ES's 440 rollouts ended in a basin
+    costlier than the one a refinement from the nominal values reaches). Its rollouts run on this
     machine's CPU (``config.workers``) whatever the backend; ``refinement.json`` says what
     each start did.
     """

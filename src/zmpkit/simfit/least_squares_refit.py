@@ -1,8 +1,8 @@
 r"""Gauss–Newton refinement of a fit: Levenberg–Marquardt on the cost's residual vector.
 
 CMA-ES finds the basin; on many parameters it spends hundreds of rollouts crawling along
-its valleys (the full NAO catalogue, 12 parameters, stopped at 7 times the truth's cost
-after 440). The cost is a sum of squares (:mod:`~zmpkit.simfit.cost_residuals`), so a
+its valleys (the built-in walker's whole catalogue, 12 parameters, stopped at 7 times the
+truth's cost after 440). The cost is a sum of squares (:mod:`~zmpkit.simfit.cost_residuals`), so a
 trust-region Gauss–Newton step uses the whole residual vector: with its Jacobian
 :math:`J = \partial r / \partial u` in the fit's normalised coordinates :math:`u \in [0, 1]^n`
 (:mod:`~zmpkit.simfit.parameters`), the step solves
@@ -19,8 +19,8 @@ it counts as :data:`~zmpkit.simfit.cost.FAILED_COST`, so the trust region shrink
 it, and in a Jacobian its column is zero (no information there).
 
 ``identify sim --refine lm`` starts it from CMA-ES's best and from the catalogue's nominal
-values and keeps the cheapest of the two ends and CMA-ES's best. Measured on
-the NAO's full catalogue (M, G, F, S, C; three 6 s open-loop walks of a self-test truth,
+values and keeps the cheapest of the two ends and CMA-ES's best. Measured on the built-in
+walker's whole catalogue (M, G, F, S, C; three 6 s open-loop walks of a self-test truth,
 expected sensor readings): from the nominal values, 21 residual evaluations (189 rollouts)
 reach cost 0.0028, where CMA-ES reached 0.0085 in 440 (the truth: 0.0012).
 """
@@ -65,13 +65,14 @@ REFINEMENTS = ("none", "lm")
 """What follows CMA-ES (``identify sim --refine``): nothing, or Levenberg–Marquardt."""
 FD_STEP = 0.03
 r"""Forward-difference step of the Jacobian, in normalised coordinates [-] (3 % of a linear
-parameter's range; :math:`e^{0.03 \ln(hi/lo)}` of a log-scaled one: 8.8 % of the NAO's gear
-stiffness). The cost is rough on small scales: a walk's ZMP term moves by a third of its
-value under a 0.5 % change of one parameter (contact timing moves in whole ticks), a
-static experiment's by a factor of four (where friction and backlash let the joints
-settle). A secant over 3 % sees the bowl under that roughness: on the NAO's full catalogue
-(seed 1's three walks, from the nominal values) it ends at cost 0.0028 where a step of 1 %
-ends at 0.0037."""
+parameter's range; :math:`e^{0.03 \ln(hi/lo)}` of a log-scaled one: 8.8 % of the built-in
+walker's gear stiffness). The cost is rough on small scales: a walk's ZMP term is 0.00002
+at a self-test's truth (its own simulator replays the contacts exactly) and 0.0006–0.0011
+under a 0.5 % change of the gear stiffness (contact timing moves in whole ticks), a static
+crouch's rises fourfold (friction and backlash let the joints settle anywhere in their dead
+bands). A secant over 3 % sees the bowl under that roughness: on the built-in walker's
+whole catalogue (seed 1's three walks, from the nominal values) it ends at cost 0.0028
+where a step of 1 % ends at 0.0037."""
 MAX_EVALUATIONS = 25
 """Residual evaluations of the refinement (each trial point; Jacobians are extra) [-]."""
 
