@@ -127,6 +127,8 @@ def test_refine_and_designed_settings_are_checked() -> None:
 
     with pytest.raises(ParameterError, match=r"refine must be one of none, lm; got 'gn'"):
         IdentifySimConfig(self_test=True, refine="gn")
+    with pytest.raises(ParameterError, match="it does not go with --window-pooling median"):
+        IdentifySimConfig(self_test=True, refine="lm", window_pooling="median")
     with pytest.raises(ParameterError, match="--designed belongs to --self-test"):
         IdentifySimConfig(data=("x",), designed=True)
 

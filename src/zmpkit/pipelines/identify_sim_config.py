@@ -130,6 +130,11 @@ class IdentifySimConfig:
             raise ParameterError(
                 f"refine must be one of {', '.join(REFINEMENTS)}; got {self.refine!r}"
             )
+        if self.refine != "none" and self.window_pooling != "mean":
+            raise ParameterError(
+                "--refine lm minimises the mean of the experiments' costs (a sum of squares); "
+                f"it does not go with --window-pooling {self.window_pooling}"
+            )
         if self.designed and not self.self_test:
             raise ParameterError(
                 "--designed belongs to --self-test (a recording of the designed experiments "
