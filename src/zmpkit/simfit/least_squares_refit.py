@@ -229,7 +229,7 @@ def refine_fit(
     def jac(u: NDArray[np.float64]) -> NDArray[np.float64]:
         r = fun(u)
         h = np.where(u + FD_STEP <= 1.0, FD_STEP, -FD_STEP)
-        moved = [np.clip(u + h[k] * np.eye(n)[k], 0.0, 1.0) for k in range(n)]
+        moved = [np.clip(u + h[k] * axis, 0.0, 1.0) for k, axis in enumerate(np.eye(n))]
         columns = residuals([from_unit(params, m.tolist()) for m in moved])
         rollouts[0] += n
         return np.column_stack(
