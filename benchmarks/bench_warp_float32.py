@@ -110,8 +110,8 @@ def measure(device: str, duration_s: float, threads: int) -> dict[str, Any]:
     rec, weights = experiment.signals, problem.weights
     rows = []
     for label, c, w in zip(case.labels, cpu, warp, strict=True):
-        tc = experiment_cost(rec, c, problem.keeps_zmp_mean)
-        tw = experiment_cost(rec, w, problem.keeps_zmp_mean)
+        tc = experiment_cost(rec, c, problem.models_loads)
+        tw = experiment_cost(rec, w, problem.models_loads)
         row: dict[str, Any] = {
             "candidate": label,
             "completed_cpu": tc.completed,

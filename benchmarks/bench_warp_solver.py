@@ -66,7 +66,7 @@ def measure(device: str, duration_s: float) -> dict[str, Any]:
             [experiment], truths, problem.sim_effects, device, SolverSettings(**options)
         )
         wall = time.perf_counter() - start
-        costs = [experiment_cost(experiment.signals, s, problem.keeps_zmp_mean) for s in signals]
+        costs = [experiment_cost(experiment.signals, s, problem.models_loads) for s in signals]
         runs[name] = (signals, costs, wall)
     base_signals, base_costs, base_wall = runs["default"]
     rows = []

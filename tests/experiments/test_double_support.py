@@ -93,6 +93,8 @@ def test_a_recording_is_what_the_fit_replays_at_the_same_seed(squat, tmp_path: P
     replay = simulate_experiment(experiment, truth, "M,G,S")
     np.testing.assert_allclose(replay.q_meas_rad, experiment.signals.q_meas_rad, atol=1e-9)
     np.testing.assert_allclose(replay.zmp_m, experiment.signals.zmp_m, atol=1e-7)
+    np.testing.assert_allclose(replay.force_z_n, experiment.signals.force_z_n, atol=1e-6)
+    assert np.all(replay.force_z_n > 5.0)  # both feet carry the robot
 
 
 def test_an_unknown_design_is_named_with_the_valid_ones() -> None:

@@ -28,7 +28,7 @@ from zmpkit.simfit.truth_doc import (
 
 NAO = get_robot("nao")
 TEO = get_robot("teo")
-_FIELDS = ("time_s", "q_cmd_rad", "q_meas_rad", "zmp_m", "trunk_tilt_rad")
+_FIELDS = ("time_s", "q_cmd_rad", "q_meas_rad", "zmp_m", "force_z_n", "trunk_tilt_rad")
 
 
 def _assert_same(batched: RecordedSignals, serial: RecordedSignals) -> None:

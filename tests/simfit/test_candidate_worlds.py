@@ -276,7 +276,7 @@ def test_warp_costs_of_the_fields_are_those_of_the_compiled_models(walk: WalkExp
     signals = simulate_batches_warp([walk], candidates, effects, "cpu")
     serial = simulate_batches_warp([walk], candidates.truths(), effects, "cpu")
     for got, want in zip(signals[0], serial[0], strict=True):
-        for name in ("time_s", "q_meas_rad", "zmp_m", "trunk_tilt_rad"):
+        for name in ("time_s", "q_meas_rad", "zmp_m", "force_z_n", "trunk_tilt_rad"):
             np.testing.assert_array_equal(getattr(got, name), getattr(want, name))
 
 

@@ -24,7 +24,10 @@ def _random_signals(rng: np.random.Generator, n: int, gaps: float) -> RecordedSi
     zmp = zmp + 0.002 * rng.standard_normal(zmp.shape)
     zmp[rng.random(n) < gaps] = np.nan
     tilt = 0.01 * np.sin(2 * np.pi * 2 * t) + 0.001 * rng.standard_normal(n)
-    return RecordedSignals(t, JOINTS, cmd, meas, zmp, tilt)
+    load = 25.0 + 20.0 * np.sin(2 * np.pi * t)
+    force = np.column_stack([load, 50.0 - load]) + rng.standard_normal((n, 2))
+    force[rng.random(n) < gaps / 3] = np.nan  # a sensor that dropped out
+    return RecordedSignals(t, JOINTS, cmd, meas, zmp, tilt, force)
 
 
 @settings(max_examples=40, deadline=None)
@@ -32,7 +35,7 @@ def _random_signals(rng: np.random.Generator, n: int, gaps: float) -> RecordedSi
     seed=st.integers(0, 2**31),
     gaps=st.floats(0.0, 0.3),
     keep=st.booleans(),
-    w=st.tuples(st.floats(0.0, 3.0), st.floats(0.0, 3.0), st.floats(0.0, 3.0)),
+    w=st.tuples(*(st.floats(0.0, 3.0) for _ in range(4))),
 )
 def test_the_squared_residual_norm_is_the_cost(seed: int, gaps: float, keep: bool, w) -> None:
     rng = np.random.default_rng(seed)

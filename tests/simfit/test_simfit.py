@@ -17,7 +17,7 @@ from zmpkit.pipelines.identify_sim import IdentifySimConfig
 from zmpkit.robots.registry import get_robot
 from zmpkit.simfit import parameters as catalogue
 from zmpkit.simfit.checkpoint import check_fingerprint, load_checkpoint
-from zmpkit.simfit.cost import FAILED_COST, CostWeights, experiment_cost
+from zmpkit.simfit.cost import FAILED_COST, FORCE_SMOOTHING_S, CostWeights, experiment_cost
 from zmpkit.simfit.experiments import read_experiments
 from zmpkit.simfit.outputs import write_fitted_truth
 from zmpkit.simfit.parameters import FitParameter, default_parameters
@@ -152,15 +152,46 @@ def test_a_constant_zmp_shift_costs_only_when_the_mean_is_kept() -> None:
     assert experiment_cost(rec, shifted).zmp == pytest.approx(0.0, abs=1e-12)
     # scale: RMS of the recorded ZMP about its trend, 0.03 / sqrt(2) m (the y sine) less the
     # little of 8 sine periods a straight line takes away (0.5 %)
-    kept = experiment_cost(rec, shifted, keep_zmp_mean=True).zmp
+    kept = experiment_cost(rec, shifted, models_loads=True).zmp
     assert kept == pytest.approx(0.005 / (0.03 / np.sqrt(2)), rel=0.01)
+
+
+def _with_forces(rec: RecordedSignals, force: np.ndarray) -> RecordedSignals:
+    return RecordedSignals(
+        rec.time_s, rec.joint_names, rec.q_cmd_rad, rec.q_meas_rad, rec.zmp_m,
+        rec.trunk_tilt_rad, force,
+    )  # fmt: skip
+
+
+def test_the_feet_forces_cost_against_the_weight_only_when_the_loads_are_modelled() -> None:
+    """A lifted foot reads its sensor's offset: a 2 N offset on one foot of a robot whose
+    sensors read 50 N in all costs e_f = 2/50, whatever the walk's load transfer."""
+    rec = _signals(400)
+    t = rec.time_s
+    right = 25.0 + 25.0 * np.sign(np.cos(2 * np.pi * t))  # whole load steps, foot to foot
+    recorded = _with_forces(rec, np.column_stack([right, 50.0 - right]))
+    offset = _with_forces(rec, np.column_stack([right + 2.0, 50.0 - right]))
+    assert experiment_cost(recorded, offset).force == 0.0  # not charged: loads not fitted
+    terms = experiment_cost(recorded, offset, models_loads=True)
+    assert terms.force == pytest.approx(2.0 / 50.0, rel=1e-9)
+    assert terms.total(CostWeights()) == pytest.approx(terms.force**2 + terms.spectrum**2)
+    assert terms.total(CostWeights(force=0.0)) == pytest.approx(terms.spectrum**2)
+    # a touchdown one row late moves a 50 N step by a row; through the moving mean of w
+    # rows it misses by 50/w N on w rows: RMS sqrt(w) times smaller than the raw miss
+    late = _with_forces(rec, np.vstack([recorded.force_z_n[:1], recorded.force_z_n[:-1]]))
+    raw_rms = np.sqrt(np.mean(np.sum(np.square(late.force_z_n - recorded.force_z_n), 1)))
+    width = round(FORCE_SMOOTHING_S / 0.01)
+    smoothed = experiment_cost(recorded, late, models_loads=True).force * 50.0
+    assert smoothed == pytest.approx(raw_rms / np.sqrt(width), rel=0.05)
+    # a source without forces (NaN) is not charged for them
+    assert experiment_cost(rec, offset, models_loads=True).force == 0.0
 
 
 def test_the_zmp_mean_is_kept_when_offsets_or_mass_are_fitted() -> None:
     doc: dict = {}
     for effects, kept in (("M,G", False), ("S", True), ("C", True), ("M,C", True)):
         problem = FitProblem(NAO, "M,G,S", default_parameters(NAO, effects), doc, ())
-        assert problem.keeps_zmp_mean is kept
+        assert problem.models_loads is kept
 
 
 def test_a_fallen_rollout_costs_more_the_earlier_it_falls() -> None:

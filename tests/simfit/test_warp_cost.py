@@ -84,11 +84,11 @@ def test_device_cost_is_the_host_cost_of_the_same_rollouts(tmp_path) -> None:
     candidates = [[p.nominal for p in params], list(truth), [0.36, 310.0]]
     truths = [problem.truth(c) for c in candidates]
     host = simulate_batches_warp(experiments, truths, "M,G,S", "cpu")
-    device = costs_batches_warp(experiments, truths, "M,G,S", "cpu", problem.keeps_zmp_mean)
+    device = costs_batches_warp(experiments, truths, "M,G,S", "cpu", problem.models_loads)
     falls = 0
     for experiment, signals, terms in zip(experiments, host, device, strict=True):
         for simulated, got in zip(signals, terms, strict=True):
-            want = experiment_cost(experiment.signals, simulated, problem.keeps_zmp_mean)
+            want = experiment_cost(experiment.signals, simulated, problem.models_loads)
             assert got.completed == want.completed
             if want.completed < 1.0:
                 falls += 1

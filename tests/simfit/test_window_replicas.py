@@ -88,6 +88,7 @@ def test_a_replica_window_is_measured_by_the_replays_own_sensors(
         np.testing.assert_array_equal(copy.signals.time_s, window.signals.time_s)
         np.testing.assert_array_equal(copy.signals.q_meas_rad, replay.q_meas_rad)
         np.testing.assert_allclose(copy.signals.zmp_m, replay.zmp_m, atol=1e-12)
+        np.testing.assert_allclose(copy.signals.force_z_n, replay.force_z_n, atol=1e-9)
         np.testing.assert_allclose(copy.signals.trunk_tilt_rad, replay.trunk_tilt_rad, atol=1e-12)
         np.testing.assert_array_equal(copy.q_cmd_rad, window.q_cmd_rad)
         readings = replayed_readings(lead, _truth(), EFFECTS, REPLICA_SEED + k)

@@ -197,7 +197,7 @@ def _mean_cost(
     """The fit's cost [-] of the fitted simulations against the recorded experiments (pooled)."""
     return problem.cost_of(
         [
-            experiment_cost(rec, sim, problem.keeps_zmp_mean)
+            experiment_cost(rec, sim, problem.models_loads)
             for rec, sim in zip(recorded, fitted, strict=True)
         ]
     )

@@ -85,14 +85,14 @@ class BatchEvaluator:
                 values,
                 problem.sim_effects,
                 self.warp_device,
-                problem.keeps_zmp_mean,
+                problem.models_loads,
             )
             return [[terms[c] for terms in per_experiment] for c in range(len(candidates))]
         truths = [problem.truth(np.asarray(c, dtype=float).tolist()) for c in candidates]
         simulated = simulate_batches(problem.experiments, truths, problem.sim_effects, self.threads)
         return [
             [
-                experiment_cost(experiment.signals, signals[c], problem.keeps_zmp_mean)
+                experiment_cost(experiment.signals, signals[c], problem.models_loads)
                 for experiment, signals in zip(problem.experiments, simulated, strict=True)
             ]
             for c in range(len(candidates))

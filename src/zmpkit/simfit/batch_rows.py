@@ -22,7 +22,7 @@ from zmpkit.simfit.cost_columns import HEIGHT_QPOS, CostColumns
 from zmpkit.simfit.experiments import Experiment, StepExperiment, WalkExperiment
 from zmpkit.simfit.open_loop import OpenLoopSchedule
 from zmpkit.simfit.recorded import RecordedSignals
-from zmpkit.simfit.rollout import empty_signals, step_signals, step_zmp_and_tilt
+from zmpkit.simfit.rollout import empty_signals, step_readings, step_signals, walk_forces
 
 __all__ = ["BatchRows"]
 
@@ -35,7 +35,7 @@ class BatchRows:
         sims: the candidates' posed simulations.
         schedule: the experiment's open-loop schedule.
         columns: the rows hold only these columns (no encoders: :meth:`signals` is then
-            unavailable; :meth:`zmp_and_tilt` and :attr:`posed_square` serve the cost), or
+            unavailable; :meth:`cost_readings` and :attr:`posed_square` serve the cost), or
             None for every column.
     """
 
@@ -170,7 +170,7 @@ class BatchRows:
     def signals(self, i: int) -> RecordedSignals:
         """The candidate's recorded signals (rows with every column)."""
         if self.columns is not None:
-            raise ValueError("rows of chosen columns hold no encoders; use zmp_and_tilt")
+            raise ValueError("rows of chosen columns hold no encoders; use cost_readings")
         signals = self.experiment.signals
         rows = self._joined(i)
         if rows is None:
@@ -183,39 +183,49 @@ class BatchRows:
             right, left = (rows["ft"][:, self.feet.index(f)] for f in ("right", "left"))
             data = np.concatenate([right, left, encoders, quats], axis=1)
             return step_signals(self.experiment, data, n)
-        time, zmp, tilt = self._walk_zmp_and_tilt(rows)
+        time, zmp, force, tilt = self._walk_readings(rows)
         keep = [sim.joint_names.index(j) for j in signals.joint_names]
         return RecordedSignals(
-            time, signals.joint_names, self.schedule.q_cmd_rad[:n], encoders[:, keep], zmp, tilt
+            time,
+            signals.joint_names,
+            self.schedule.q_cmd_rad[:n],
+            encoders[:, keep],
+            zmp,
+            tilt,
+            force,
         )
 
-    def zmp_and_tilt(self, i: int) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-        """The candidate's ZMP ``(rows, 2)`` [m] and trunk tilt ``(rows,)`` [rad].
+    def cost_readings(
+        self, i: int
+    ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
+        """The candidate's ZMP [m], feet's vertical forces [N] and trunk tilt [rad].
 
-        As in :meth:`signals`: no rows for a diverged walk, none for a step trial with
-        fewer than two.
+        Shapes ``(rows, 2)`` (x, y), ``(rows, 2)`` (right, left) and ``(rows,)``. As in
+        :meth:`signals`: no rows for a diverged walk, none for a step trial with fewer
+        than two.
         """
         rows = self._joined(i)
         n = 0 if rows is None else len(rows["time"])
         if rows is None or (not self.walk and n < 2):
-            return np.zeros((0, 2)), np.zeros(0)
+            return np.zeros((0, 2)), np.zeros((0, 2)), np.zeros(0)
         quats = rows["sensordata"][:, self.quat]
         if isinstance(self.experiment, StepExperiment):
             right, left = (rows["ft"][:, self.feet.index(f)] for f in ("right", "left"))
-            return step_zmp_and_tilt(self.experiment, right, left, quats)
-        _, zmp, tilt = self._walk_zmp_and_tilt(rows)
-        return zmp, tilt
+            return step_readings(self.experiment, right, left, quats)
+        _, zmp, force, tilt = self._walk_readings(rows)
+        return zmp, force, tilt
 
-    def _walk_zmp_and_tilt(
+    def _walk_readings(
         self, rows: dict[str, NDArray[np.float64]]
-    ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
-        """A walk's row times [s], ZMP in world [m] and trunk pitch [rad]."""
+    ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64], NDArray]:
+        """A walk's row times [s], ZMP [m], feet's vertical forces [N], trunk pitch [rad]."""
         force, moment = wrench_in_world(rows["site_xmat"], rows["ft"])
         zmp = zmp_in_world(
             force, moment, rows["site_xpos"], self.sims[0].robot.contact_force_threshold_n
         )
         quats = rows["sensordata"][:, self.quat]
-        return rows["time"], zmp, tilt_from_quaternions(quats, "sagittal")
+        tilt = tilt_from_quaternions(quats, "sagittal")
+        return rows["time"], zmp, walk_forces(self.feet, force), tilt
 
 
 def _ft_columns(sim: StartedSimulation, foot: FootSensor) -> NDArray[np.int64]:

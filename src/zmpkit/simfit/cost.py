@@ -1,8 +1,8 @@
 r"""The fit's cost: how far a simulated experiment is from the recorded one.
 
-Three terms per experiment, each normalised by a scale taken from the recording itself so
-they are dimensionless, comparable across robots and about 1 when the simulation misses by
-as much as the signal varies:
+Up to four terms per experiment, each normalised by a scale taken from the recording itself
+so they are dimensionless, comparable across robots and about 1 when the simulation misses
+by as much as the signal varies:
 
 - joint-angle error, against the recorded tracking error (the effects' footprint):
 
@@ -13,20 +13,31 @@ as much as the signal varies:
 - ZMP error, against the recorded ZMP's variation about its linear trend (the walk's
   progress), over the samples where both ZMPs are defined, with the mean difference
   :math:`\bar d` removed (an F-T offset the user zeroes differently shifts the whole ZMP)
-  unless the fit itself models what shifts it (``keep_zmp_mean``: F-T offsets or the
-  mass/CoM are fitted, and a CoM offset shows in nothing else as clearly):
+  unless the fit itself models the loads (``models_loads``: F-T offsets or the mass/CoM
+  are fitted, and a CoM offset shows in nothing else as clearly):
 
   .. math:: e_p = \frac{\operatorname{RMS}\lVert p_{sim} - p_{rec} - \bar d\rVert}
                         {\operatorname{RMS}\lVert p_{rec} - \operatorname{trend}(p_{rec})\rVert};
 
+- only when the fit models the loads, the feet's vertical forces (right and left, world z,
+  as the F-T sensors read them), each smoothed by a centred moving mean of
+  :data:`FORCE_SMOOTHING_S` (:math:`\mathcal{S}`), against the robot's weight as its
+  sensors read it, the recorded total's mean :math:`\bar W`:
+
+  .. math:: e_f = \frac{\operatorname{RMS}\lVert \mathcal{S}(f_{sim}) - \mathcal{S}(f_{rec})
+                        \rVert}{\bar W},\quad \bar W = \operatorname{mean}(f_{rec,r} + f_{rec,l}),
+
+  over the samples where both are finite. A lifted foot reads its sensor's offset, and the
+  total reads the weight, which the ZMP, a ratio of forces, hides; the smoothing keeps a
+  touchdown a tick earlier or later from charging its load step as tens of newtons;
 - trunk-oscillation spectrum distance: amplitude spectra of the IMU trunk tilt
   (:func:`~zmpkit.signals.spectra.amplitude_spectrum`) compared in
   :data:`SPECTRUM_BAND_HZ`:
 
   .. math:: e_s = \lVert A_{sim} - A_{rec} \rVert_2 / \lVert A_{rec} \rVert_2.
 
-An experiment's cost is :math:`w_q e_q^2 + w_p e_p^2 + w_s e_s^2`; the fit minimises their
-mean over experiments, the logs' windows entering by their median
+An experiment's cost is :math:`w_q e_q^2 + w_p e_p^2 + w_f e_f^2 + w_s e_s^2`; the fit
+minimises their mean over experiments, the logs' windows entering by their median
 (:mod:`~zmpkit.simfit.pooled_cost`). A rollout that falls or diverges before the recording
 ends costs :data:`FAILED_COST` times (2 − the fraction it completed), so shorter falls cost more.
 """
@@ -37,17 +48,22 @@ from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import NDArray
+from scipy.ndimage import uniform_filter1d
 
 from zmpkit.signals.spectra import amplitude_spectrum
 from zmpkit.simfit.recorded import RecordedSignals
 
 __all__ = [
     "FAILED_COST",
+    "FORCE_SMOOTHING_S",
     "SPECTRUM_BAND_HZ",
     "CostTerms",
     "CostWeights",
     "experiment_cost",
     "experiment_cost_of_parts",
+    "force_rows",
+    "load_scale_n",
+    "smoothed_forces",
     "spectrum_in_band",
     "tracking_scale_rad",
     "zmp_spread_m",
@@ -55,6 +71,11 @@ __all__ = [
 
 SPECTRUM_BAND_HZ = (0.5, 8.0)
 """Band of the trunk-oscillation spectrum the cost compares [Hz]."""
+FORCE_SMOOTHING_S = 0.2
+"""Width of the centred moving mean the feet's vertical forces are compared through [s]
+(first zero at 5 Hz, −3 dB at about 2.2 Hz, 0.94 at a 0.5 s step's 1 Hz load transfer).
+A touchdown one sample of ``dt`` later moves a load step ``ΔF`` by a sample; the mean
+charges it :math:`ΔF \sqrt{dt / 0.2}` in RMS over the step instead of ``ΔF`` on one row."""
 FAILED_COST = 1000.0
 """Cost of a rollout that falls or diverges at its start [-]."""
 _MIN_SCALE = 1e-6
@@ -62,17 +83,19 @@ _MIN_SCALE = 1e-6
 
 @dataclass(frozen=True)
 class CostWeights:
-    """Weights of the three cost terms [-].
+    """Weights of the cost terms [-].
 
     Attributes:
         joint: weight of :math:`e_q^2`.
         zmp: weight of :math:`e_p^2`.
         spectrum: weight of :math:`e_s^2`.
+        force: weight of :math:`e_f^2` (charged only when the fit models the loads).
     """
 
     joint: float = 1.0
     zmp: float = 1.0
     spectrum: float = 1.0
+    force: float = 1.0
 
 
 @dataclass(frozen=True)
@@ -85,6 +108,7 @@ class CostTerms:
         spectrum: :math:`e_s`.
         completed: fraction of the recording the rollout reproduced [-].
         joint_rms_rad: the unnormalised joint-angle RMS error [rad].
+        force: :math:`e_f` (0 when not charged or not recorded).
     """
 
     joint: float
@@ -92,6 +116,7 @@ class CostTerms:
     spectrum: float
     completed: float
     joint_rms_rad: float
+    force: float = 0.0
 
     def total(self, weights: CostWeights) -> float:
         """Weighted sum of squares, or the failure cost of an incomplete rollout [-]."""
@@ -100,6 +125,7 @@ class CostTerms:
         return (
             weights.joint * self.joint**2
             + weights.zmp * self.zmp**2
+            + weights.force * self.force**2
             + (weights.spectrum * self.spectrum**2)
         )
 
@@ -135,6 +161,37 @@ def tracking_scale_rad(recorded: RecordedSignals) -> float:
     return max(_rms(recorded.q_meas_rad - recorded.q_cmd_rad), _MIN_SCALE)
 
 
+def force_rows(rec: RecordedSignals, force_z_n: NDArray[np.float64]) -> NDArray[np.bool_]:
+    """The rows where both the recorded and the simulated forces of both feet are finite."""
+    sim = np.asarray(force_z_n, dtype=np.float64)
+    return np.all(np.isfinite(rec.force_z_n), axis=1) & np.all(np.isfinite(sim), axis=1)
+
+
+def smoothed_forces(force_z_n: NDArray[np.float64], dt_s: float) -> NDArray[np.float64]:
+    """``force_z_n`` ``(rows, feet)`` [N] through a moving mean of :data:`FORCE_SMOOTHING_S`.
+
+    Centred, its edges held (the first and last rows repeated).
+    """
+    width = max(1, round(FORCE_SMOOTHING_S / dt_s))
+    return np.asarray(uniform_filter1d(force_z_n, width, axis=0, mode="nearest"))
+
+
+def load_scale_n(force_z_n: NDArray[np.float64]) -> float:
+    r"""The force term's scale :math:`\bar W`: the mean summed vertical force, at least 1e-6 [N]."""
+    return max(float(np.mean(np.sum(force_z_n, axis=1))), _MIN_SCALE)
+
+
+def _force_error(rec: RecordedSignals, force_z_n: NDArray[np.float64]) -> float:
+    both = force_rows(rec, force_z_n)
+    if np.count_nonzero(both) < 3:
+        return 0.0
+    recorded = rec.force_z_n[both]
+    miss = smoothed_forces(np.asarray(force_z_n)[both], rec.dt_s) - smoothed_forces(
+        recorded, rec.dt_s
+    )
+    return _rms(np.linalg.norm(miss, axis=1)) / load_scale_n(recorded)
+
+
 def _zmp_error(rec: RecordedSignals, zmp_m: NDArray[np.float64], keep_mean: bool) -> float:
     both = np.all(np.isfinite(rec.zmp_m), axis=1) & np.all(np.isfinite(zmp_m), axis=1)
     if np.count_nonzero(both) < 3:
@@ -152,22 +209,33 @@ def _spectrum_error(rec: RecordedSignals, trunk_tilt_rad: NDArray[np.float64]) -
 
 
 def experiment_cost(
-    recorded: RecordedSignals, simulated: RecordedSignals, keep_zmp_mean: bool = False
+    recorded: RecordedSignals, simulated: RecordedSignals, models_loads: bool = False
 ) -> CostTerms:
     """The normalised errors of ``simulated`` against ``recorded`` (same time grid).
 
     Args:
         recorded: the recorded experiment's signals.
         simulated: the simulation's signals, on the recorded time grid.
-        keep_zmp_mean: charge the mean ZMP difference too (module docstring).
+        models_loads: the fit models the loads (F-T offsets or mass and CoM): charge the
+            mean ZMP difference and the feet's vertical forces too (module docstring).
     """
     n = recorded.time_s.size
     if simulated.time_s.size < n:
-        return CostTerms(np.inf, np.inf, np.inf, simulated.time_s.size / n, np.inf)
+        return _failed(simulated.time_s.size / n)
     square = float(np.sum(np.square(simulated.q_meas_rad - recorded.q_meas_rad)))
     return experiment_cost_of_parts(
-        recorded, n, square, simulated.zmp_m, simulated.trunk_tilt_rad, keep_zmp_mean
+        recorded,
+        n,
+        square,
+        simulated.zmp_m,
+        simulated.trunk_tilt_rad,
+        simulated.force_z_n,
+        models_loads,
     )
+
+
+def _failed(completed: float) -> CostTerms:
+    return CostTerms(np.inf, np.inf, np.inf, completed, np.inf, np.inf)
 
 
 def experiment_cost_of_parts(
@@ -176,7 +244,8 @@ def experiment_cost_of_parts(
     joint_square_sum: float,
     zmp_m: NDArray[np.float64],
     trunk_tilt_rad: NDArray[np.float64],
-    keep_zmp_mean: bool = False,
+    force_z_n: NDArray[np.float64],
+    models_loads: bool = False,
 ) -> CostTerms:
     r"""The normalised errors of a simulation given its joint term as a sum (a device's).
 
@@ -187,15 +256,18 @@ def experiment_cost_of_parts(
             [rad²] (unused unless every row was reproduced).
         zmp_m: the simulation's ZMP, world x and y, ``(rows, 2)`` [m]; NaN without contact.
         trunk_tilt_rad: the simulation's trunk tilt, ``(rows,)`` [rad].
-        keep_zmp_mean: charge the mean ZMP difference too (module docstring).
+        force_z_n: the simulation's vertical force of each foot, right then left,
+            ``(rows, 2)`` [N].
+        models_loads: charge the mean ZMP difference and the forces too (module docstring).
     """
     n = recorded.time_s.size
     completed = min(rows, n) / n
     if completed < 1.0:
-        return CostTerms(np.inf, np.inf, np.inf, completed, np.inf)
+        return _failed(completed)
     count = recorded.q_meas_rad.size
     q_err = float(np.sqrt(joint_square_sum / count)) if count else 0.0
     q_scale = tracking_scale_rad(recorded)
     spectrum = _spectrum_error(recorded, trunk_tilt_rad)
-    zmp = _zmp_error(recorded, zmp_m, keep_zmp_mean)
-    return CostTerms(q_err / q_scale, zmp, spectrum, 1.0, q_err)
+    zmp = _zmp_error(recorded, zmp_m, models_loads)
+    force = _force_error(recorded, np.asarray(force_z_n)[:n]) if models_loads else 0.0
+    return CostTerms(q_err / q_scale, zmp, spectrum, 1.0, q_err, force)

@@ -184,6 +184,7 @@ def _walk_signals(
         q_meas_rad=np.column_stack([col[f"{j}_meas_rad"] for j in joints]),
         zmp_m=np.column_stack([col["zmp_x_m"], col["zmp_y_m"]]),
         trunk_tilt_rad=col["trunk_pitch_rad"],
+        force_z_n=np.column_stack([col["right_fz_n"], col["left_fz_n"]]),
     )
 
 
@@ -273,21 +274,22 @@ def _step_experiments(folder: Path, robot: Robot) -> list[StepExperiment]:
         )
     out = []
     for trial in dataset.trials:
-        zmp = zmp_series(
+        loads = zmp_series(
             trial.time,
             trial.right_wrench,
             trial.left_wrench,
             dataset.mounts["right"],
             dataset.mounts["left"],
             contact_threshold_n=dataset.contact_threshold_n,
-        ).zmp
+        )
         signals = RecordedSignals(
             trial.time,
             trial.joint_names,
             trial.commanded,
             trial.encoders,
-            zmp,
+            loads.zmp,
             tilt_from_quaternions(trial.imu[:, 6:10], trial.plane),
+            np.stack([loads.fz_right, loads.fz_left], axis=1),
         )
         name = f"{folder.name}/{trial.plane}_{trial.target_m:g}"
         settle = float(settings.get("settle_s", trial.time[0]))

@@ -125,7 +125,7 @@ def _residual_task(values: list[float], index: int) -> NDArray[np.float64] | Non
         experiment.signals,
         simulate(problem, values, index),
         problem.weights,
-        problem.keeps_zmp_mean,
+        problem.models_loads,
     )
 
 
@@ -175,7 +175,7 @@ class ResidualEvaluator:
                 experiment = problem.experiments[i]
                 for c in range(len(candidates)):
                     parts[c][i] = experiment_residuals(
-                        experiment.signals, signals[c], problem.weights, problem.keeps_zmp_mean
+                        experiment.signals, signals[c], problem.weights, problem.models_loads
                     )
         for c, i, future in futures:
             parts[c][i] = future.result()

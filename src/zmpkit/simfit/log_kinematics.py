@@ -1,9 +1,9 @@
 r"""The robot's pose from its sensors alone: encoders, IMU orientation and the F-T contact.
 
 A log of a controller zmpkit does not have gives no base position, so both the recorded
-ZMP and the simulated one are computed by this one function of the sensors
-(:meth:`LogKinematics.zmp`), on the robot's model with every unmeasured joint (gear
-deflection, link flex) at zero, relative to the feet:
+ZMP and the simulated one (and the feet's vertical forces) are computed by this one
+function of the sensors (:meth:`LogKinematics.readings`), on the robot's model with every
+unmeasured joint (gear deflection, link flex) at zero, relative to the feet:
 
 1. the driven joints at the encoder angles, the base at the origin with the identity
    orientation: forward kinematics gives the IMU site's rotation :math:`R^0_{imu}` and
@@ -93,13 +93,13 @@ class LogKinematics:
         imu0 = self.data.site_xmat[self._imu_site].reshape(3, 3)
         return np.asarray(_rotation(quat_wxyz) @ imu0.T)
 
-    def zmp(
+    def readings(
         self,
         q_enc: NDArray[np.float64],
         quat_wxyz: NDArray[np.float64],
         wrenches: NDArray[np.float64],
-    ) -> NDArray[np.float64]:
-        """The ZMP relative to the feet's midpoint (module docstring) [m], shape (2,).
+    ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """The ZMP relative to the feet's midpoint (module docstring) and the feet's forces.
 
         Args:
             q_enc: encoder angles of the driven joints [rad], shape (J,).
@@ -107,7 +107,8 @@ class LogKinematics:
             wrenches: the right and left sensor-frame wrenches [N, N·m], shape (2, 6).
 
         Returns:
-            (x, y) [m]; NaN without a foot in contact.
+            The ZMP (x, y) [m], NaN without a foot in contact, and the right and left
+            feet's vertical forces in the floor frame [N], each shape (2,).
         """
         self._base_frame(q_enc)
         data = self.data
@@ -119,7 +120,8 @@ class LogKinematics:
         origin -= [*soles.mean(axis=0)[:2], soles[stance, 2]]
         xmat = np.einsum("ij,fjk->fik", rb, data.site_xmat[self._ft_site].reshape(2, 3, 3))
         force, moment = wrench_in_world(xmat.reshape(2, 9), wrenches)
-        return zmp_in_world(force[None], moment[None], origin[None], self.contact_threshold_n)[0]
+        zmp = zmp_in_world(force[None], moment[None], origin[None], self.contact_threshold_n)[0]
+        return zmp, force[:, 2]
 
     def place_base(
         self,

@@ -138,7 +138,7 @@ def _mean_cost(
     """The fit's cost [-] of ``simulated`` against the recorded experiments (pooled)."""
     return problem.cost_of(
         [
-            experiment_cost(r, s, problem.keeps_zmp_mean)
+            experiment_cost(r, s, problem.models_loads)
             for r, s in zip(recorded, simulated, strict=True)
         ]
     )

@@ -87,11 +87,12 @@ class FitProblem:
         return self.base_doc
 
     @property
-    def keeps_zmp_mean(self) -> bool:
-        """Whether the cost charges the mean ZMP difference.
+    def models_loads(self) -> bool:
+        """Whether the fit models the loads, so the cost charges the ZMP's mean and the forces.
 
+        The mean ZMP difference and the feet's vertical forces (:mod:`~zmpkit.simfit.cost`).
         True when F-T offsets (S) or the mass and CoM (C) are fitted, so the simulator
-        models what shifts the whole ZMP.
+        models what shifts the whole ZMP and what the forces read at rest.
         """
         return any(p.effect in ("S", "C") for p in self.parameters)
 
@@ -124,4 +125,4 @@ def simulate(problem: FitProblem, values: ParameterValues, index: int) -> Record
 def evaluate(problem: FitProblem, values: ParameterValues, index: int) -> CostTerms:
     """Cost terms of experiment ``index`` with the parameters at ``values`` [units]."""
     simulated = simulate(problem, values, index)
-    return experiment_cost(problem.experiments[index].signals, simulated, problem.keeps_zmp_mean)
+    return experiment_cost(problem.experiments[index].signals, simulated, problem.models_loads)

@@ -3,8 +3,9 @@
 - A walk: the re-planned commanded trajectory (:mod:`~zmpkit.simfit.walk_plan`)
   is played by :func:`~zmpkit.experiments.walk_trial.simulate_walk`, exactly as ``zmpkit walk``
   does — open loop, or, for a walk with feedback, with its controller in closed loop
-  (:mod:`~zmpkit.simfit.closed_loop`) — and the pitch joints, the F-T ZMP and the IMU pitch
-  of the recorded rows are kept (a fallen walk's recording is shorter than its plan).
+  (:mod:`~zmpkit.simfit.closed_loop`) — and the pitch joints, the F-T ZMP and vertical
+  forces and the IMU pitch of the recorded rows are kept (a fallen walk's recording is
+  shorter than its plan).
 - A step trial: the robot stands ``settle_s`` and then its servos get the recorded
   commanded setpoints, linearly interpolated to every servo tick (the drive streams them at
   the physics rate); the F-T sensors, encoders and IMU are sampled at the recorded times.
@@ -37,8 +38,9 @@ __all__ = [
     "empty_signals",
     "setpoint_table",
     "simulate_experiment",
+    "step_readings",
     "step_signals",
-    "step_zmp_and_tilt",
+    "walk_forces",
 ]
 
 
@@ -99,6 +101,19 @@ def _walk(
         record.q_meas_rad[:n, columns],
         record.zmp_in_world()[:n],
         record.trunk_pitch_rad[:n],
+        walk_forces(record.feet, record.force_in_world[:n]),
+    )
+
+
+def walk_forces(
+    feet: tuple[str, ...] | list[str], force_in_world: NDArray[np.float64]
+) -> NDArray[np.float64]:
+    """The right and left feet's vertical forces ``(rows, 2)`` [N], world z.
+
+    From each foot's force in the world, ``(rows, feet, 3)`` [N], in ``feet``' order.
+    """
+    return np.stack(
+        [force_in_world[:, list(feet).index(side), 2] for side in ("right", "left")], axis=1
     )
 
 
@@ -157,7 +172,7 @@ def step_signals(experiment: StepExperiment, data: NDArray[np.float64], n: int) 
     if n < 2:
         return empty_signals(signals)
     j = len(signals.joint_names)
-    zmp, tilt = step_zmp_and_tilt(experiment, data[:, :6], data[:, 6:12], data[:, 12 + j :])
+    zmp, force, tilt = step_readings(experiment, data[:, :6], data[:, 6:12], data[:, 12 + j :])
     return RecordedSignals(
         signals.time_s[:n],
         signals.joint_names,
@@ -165,16 +180,19 @@ def step_signals(experiment: StepExperiment, data: NDArray[np.float64], n: int) 
         data[:, 12 : 12 + j],
         zmp,
         tilt,
+        force,
     )
 
 
-def step_zmp_and_tilt(
+def step_readings(
     experiment: StepExperiment,
     ft_right: NDArray[np.float64],
     ft_left: NDArray[np.float64],
     quats: NDArray[np.float64],
-) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-    """A step trial's ZMP [m] and trunk tilt [rad] from its first rows (at least two).
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
+    """A step trial's ZMP [m], feet's vertical forces [N] and trunk tilt [rad].
+
+    From its first rows (at least two); the forces right then left, world z.
 
     Args:
         experiment: the step trial (its sample times, mounts and plane).
@@ -184,12 +202,13 @@ def step_zmp_and_tilt(
     """
     time = experiment.signals.time_s[: len(quats)]
     mounts = experiment.mounts
-    zmp = zmp_series(
+    series = zmp_series(
         time,
         ft_right,
         ft_left,
         mounts["right"],
         mounts["left"],
         contact_threshold_n=experiment.contact_threshold_n,
-    ).zmp
-    return zmp, tilt_from_quaternions(quats, experiment.plane)
+    )
+    force = np.stack([series.fz_right, series.fz_left], axis=1)
+    return series.zmp, force, tilt_from_quaternions(quats, experiment.plane)

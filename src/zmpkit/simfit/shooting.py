@@ -10,7 +10,7 @@ the servo's setpoint at the first command moving at the commands' speed. Then it
 get the recorded commands, linearly interpolated to every physics tick as ``zmpkit walk``
 streams its frames, open loop: the same for every candidate. At each scored row the
 simulated sensors are read — encoders, the IMU pitch and the ZMP that
-:meth:`~zmpkit.simfit.log_kinematics.LogKinematics.zmp` computes from the simulated
+:meth:`~zmpkit.simfit.log_kinematics.LogKinematics.readings` computes from the simulated
 encoders, IMU and F-T, as for the recording — so any bias of that sensor-only ZMP is the
 same on both sides.
 
@@ -146,12 +146,12 @@ def drive_integrals(sim: Simulation, error_steps_rad_s: NDArray[np.float64]) -> 
 
 
 def _row(sim: Simulation, kinematics: LogKinematics) -> NDArray[np.float64]:
-    """``[encoders, ZMP x, ZMP y, pitch]`` as the sensors read now."""
+    """``[encoders, ZMP x, ZMP y, right F_z, left F_z, pitch]`` as the sensors read now."""
     q = sim.encoders()
     quat = sim.imu()[2]
     wrenches = np.stack([sim.ft(f) for f in FEET])
-    zmp = kinematics.zmp(q, quat, wrenches)
-    return np.concatenate((q, zmp, [quaternion_pitch_roll(quat)[0]]))
+    zmp, force = kinematics.readings(q, quat, wrenches)
+    return np.concatenate((q, zmp, force, [quaternion_pitch_roll(quat)[0]]))
 
 
 def simulate_window(
@@ -196,8 +196,8 @@ def simulate_window(
 def _signals(window: ShootingWindow, rows: list[NDArray[np.float64]]) -> RecordedSignals:
     rec = window.signals
     n, j = len(rows), len(rec.joint_names)
-    table = np.array(rows).reshape(n, j + 3)
+    table = np.array(rows).reshape(n, j + 5)
     return RecordedSignals(
         rec.time_s[:n], rec.joint_names, rec.q_cmd_rad[:n], table[:, :j], table[:, j : j + 2],
-        table[:, j + 2],
+        table[:, j + 4], table[:, j + 2 : j + 4],
     )  # fmt: skip

@@ -262,16 +262,20 @@ def _recorded(
     log: WalkLog, rows: slice, kinematics: LogKinematics, tilt: NDArray
 ) -> RecordedSignals:
     wrenches = np.stack([log.right_wrench[rows], log.left_wrench[rows]], axis=1)
-    zmp = np.array(
-        [
-            kinematics.zmp(q, quat, w)
-            for q, quat, w in zip(
-                log.q_enc_rad[rows], log.imu_quat_wxyz[rows], wrenches, strict=True
-            )
-        ]
-    ).reshape(-1, 2)
+    readings = [
+        kinematics.readings(q, quat, w)
+        for q, quat, w in zip(log.q_enc_rad[rows], log.imu_quat_wxyz[rows], wrenches, strict=True)
+    ]
+    zmp = np.array([r[0] for r in readings]).reshape(-1, 2)
+    force = np.array([r[1] for r in readings]).reshape(-1, 2)
     return RecordedSignals(
-        log.time_s[rows], log.joint_names, log.q_cmd_rad[rows], log.q_enc_rad[rows], zmp, tilt
+        log.time_s[rows],
+        log.joint_names,
+        log.q_cmd_rad[rows],
+        log.q_enc_rad[rows],
+        zmp,
+        tilt,
+        force,
     )
 
 

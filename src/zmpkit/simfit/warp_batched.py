@@ -96,14 +96,14 @@ def costs_batches_warp(
     truths: Sequence[RobotTruth] | CandidateValues,
     effects: str,
     device: str,
-    keep_zmp_mean: bool = False,
+    models_loads: bool = False,
     solver: SolverSettings | None = None,
 ) -> list[list[CostTerms]]:
     """The cost terms of every candidate in every experiment, from one MuJoCo Warp batch.
 
     The batch of :func:`simulate_batches_warp`, recording only what the cost reads
     (:mod:`~zmpkit.simfit.cost_columns`): the joint term is summed per world on the
-    device, the ZMP and spectrum terms computed here from the few columns recorded. The
+    device, the ZMP, force and spectrum terms computed here from the few columns recorded. The
     terms are those of :func:`~zmpkit.simfit.cost.experiment_cost` on
     :func:`simulate_batches_warp`'s signals, to float64 rounding (tested).
 
@@ -112,7 +112,8 @@ def costs_batches_warp(
         truths: as :func:`simulate_batches_warp`.
         effects: as :func:`simulate_batches_warp`.
         device: as :func:`simulate_batches_warp`.
-        keep_zmp_mean: charge the mean ZMP difference too (:mod:`~zmpkit.simfit.cost`).
+        models_loads: charge the mean ZMP difference and the feet's forces too
+            (:mod:`~zmpkit.simfit.cost`).
         solver: as :func:`simulate_batches_warp`.
 
     Returns:
@@ -123,11 +124,11 @@ def costs_batches_warp(
         experiment = experiments[part.experiment]
         if part.rows.rerun[i]:
             simulated = simulate_experiment(experiment, _truth(truths, c), effects)
-            return experiment_cost(experiment.signals, simulated, keep_zmp_mean)
-        zmp, tilt = part.rows.zmp_and_tilt(i)
+            return experiment_cost(experiment.signals, simulated, models_loads)
+        zmp, force, tilt = part.rows.cost_readings(i)
         square = part.rows.posed_square[i] + part.square[i]
         return experiment_cost_of_parts(
-            experiment.signals, len(tilt), square, zmp, tilt, keep_zmp_mean
+            experiment.signals, len(tilt), square, zmp, tilt, force, models_loads
         )
 
     return _warp_batches(experiments, truths, effects, device, cost, True, solver)
