@@ -19,6 +19,7 @@ from zmpkit.simfit import parameters as catalogue
 from zmpkit.simfit.checkpoint import check_fingerprint, load_checkpoint
 from zmpkit.simfit.cost import FAILED_COST, FORCE_SMOOTHING_S, CostWeights, experiment_cost
 from zmpkit.simfit.experiments import read_experiments
+from zmpkit.simfit.optimizer import CmaOptions, fingerprint
 from zmpkit.simfit.outputs import write_fitted_truth
 from zmpkit.simfit.parameters import FitParameter, default_parameters
 from zmpkit.simfit.problem import FitProblem
@@ -192,6 +193,8 @@ def test_the_zmp_mean_is_kept_when_offsets_or_mass_are_fitted() -> None:
     for effects, kept in (("M,G", False), ("S", True), ("C", True), ("M,C", True)):
         problem = FitProblem(NAO, "M,G,S", default_parameters(NAO, effects), doc, ())
         assert problem.models_loads is kept
+        # a fit whose cost charges the forces does not resume one from before them
+        assert ("force_smoothing_s" in fingerprint(problem, CmaOptions(1))) is kept
 
 
 def test_a_fallen_rollout_costs_more_the_earlier_it_falls() -> None:
@@ -314,7 +317,7 @@ def test_identify_sim_refuses_to_resume_another_fit_in_one_line(
     """A checkpoint of the same data, robot and parameters but seed 1, resumed with seed 2."""
     from helpers.checkpoints import SphereEvaluator
     from helpers.fuzz import run_cli
-    from zmpkit.simfit.optimizer import CmaOptions, run_cma
+    from zmpkit.simfit.optimizer import run_cma
     from zmpkit.simfit.truth_doc import base_truth_path as truth_path
 
     config = IdentifySimConfig(data=(str(nao_walk_folder),), quick=True, generations=2)

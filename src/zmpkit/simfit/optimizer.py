@@ -41,6 +41,7 @@ from zmpkit.simfit.checkpoint import (
     save_checkpoint,
 )
 from zmpkit.simfit.cma_state import MAX_POPSIZE, new_strategy
+from zmpkit.simfit.cost import FORCE_SMOOTHING_S
 from zmpkit.simfit.parameters import from_unit, to_unit
 from zmpkit.simfit.population import PopulationPlan, cma_default_popsize
 from zmpkit.simfit.problem import FitProblem
@@ -203,6 +204,8 @@ def fingerprint(problem: FitProblem, options: CmaOptions) -> dict[str, Any]:
         out["sensor_readings"] = problem.sensor_readings
     if problem.window_pooling != "mean":
         out["window_pooling"] = problem.window_pooling
+    if problem.models_loads:  # its cost charges the feet's forces: not one from before them
+        out["force_smoothing_s"] = FORCE_SMOOTHING_S
     return out
 
 
