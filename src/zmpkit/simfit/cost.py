@@ -72,7 +72,7 @@ __all__ = [
 SPECTRUM_BAND_HZ = (0.5, 8.0)
 """Band of the trunk-oscillation spectrum the cost compares [Hz]."""
 FORCE_SMOOTHING_S = 0.2
-"""Width of the centred moving mean the feet's vertical forces are compared through [s]
+r"""Width of the centred moving mean the feet's vertical forces are compared through [s]
 (first zero at 5 Hz, −3 dB at about 2.2 Hz, 0.94 at a 0.5 s step's 1 Hz load transfer).
 A touchdown one sample of ``dt`` later moves a load step ``ΔF`` by a sample; the mean
 charges it :math:`ΔF \sqrt{dt / 0.2}` in RMS over the step instead of ``ΔF`` on one row."""
