@@ -358,3 +358,40 @@ def test_a_repeated_teo_self_test_recording_finds_its_datasets(tmp_path: Path) -
     again = record_experiments(TEO, plan, doc, params, np.array([45000.0]), "G", 1, tmp_path)
     assert again == first
     assert trial.stat().st_mtime_ns == stamp  # resumed: the finished trial was kept
+
+
+@pytest.mark.parametrize("controller", ["open", "zmpip"])
+def test_a_walk_of_steps_that_do_not_divide_the_probe_is_read_back(
+    controller: str, tmp_path: Path
+) -> None:
+    """A pattern walks round(duration / T) steps: with 0.4 s steps the standing phases'
+    overhead must be measured on whole steps, or a 1.2 s walk reads as 1.4 s and is refused
+    ("859 rows, but the re-planned walk has 899 frames" on a 6 s walk)."""
+    from zmpkit.experiments.walk import run_walk_trial
+    from zmpkit.experiments.walk_config import WalkConfig
+    from zmpkit.experiments.walk_dataset import write_walk_folder
+
+    config = WalkConfig(
+        robot=NAO, speed_mps=0.15, step_duration_s=0.4, duration_s=1.2, effects="S", seed=1,
+        figures=False, controller=controller,
+    )  # fmt: skip
+    trial = run_walk_trial(config)
+    assert not trial.summary.fell
+    folder = write_walk_folder(tmp_path / "walk", trial.summary, trial.pattern, trial.record)
+    (experiment,) = read_experiments([folder], NAO)
+    assert experiment.step_duration_s == pytest.approx(0.4)
+    assert experiment.duration_s == pytest.approx(1.2)
+    assert experiment.signals.time_s.size == trial.record.time_s.size
+
+
+@pytest.mark.parametrize("step_s", [0.3, 0.35, 0.4, 0.45, 0.5, 0.6, 0.7])
+def test_the_probe_is_whole_steps_and_the_overhead_does_not_depend_on_it(step_s: float) -> None:
+    from zmpkit.simfit.walk_plan import _pattern_end, probe_duration_s
+
+    probe = probe_duration_s(step_s)
+    steps = probe / step_s
+    assert steps == pytest.approx(round(steps))
+    assert round(steps) >= 2
+    overhead = _pattern_end(NAO, 0.15, step_s, probe) - probe
+    for n in (3, 7):
+        assert _pattern_end(NAO, 0.15, step_s, n * step_s) - n * step_s == pytest.approx(overhead)

@@ -48,10 +48,23 @@ __all__ = [
     "PlanMatch",
     "match_closed_loop_plan",
     "match_walk_plan",
+    "probe_duration_s",
     "walk_trajectory",
 ]
 
 _PROBE_DURATION_S = 1.0
+
+
+def probe_duration_s(step_duration_s: float) -> float:
+    """A walking time near :data:`_PROBE_DURATION_S` of whole steps (at least two) [s].
+
+    A pattern walks ``round(duration / T)`` steps, so the standing phases' overhead is the
+    pattern's end less the walking time only for a whole number of steps: with 0.4 s steps
+    a 1.0 s probe walks two (0.8 s), and an overhead taken against 1.0 s is 0.2 s short.
+    """
+    return max(2, round(_PROBE_DURATION_S / step_duration_s)) * step_duration_s
+
+
 COMMAND_TOLERANCE_RAD = 1e-4
 """Largest difference between the re-planned and the recorded commanded angle [rad]."""
 REFERENCE_TOLERANCE_M = 1e-5
@@ -197,9 +210,8 @@ def match_walk_plan(
     Raises:
         InputFileError: naming ``path`` if no plan reproduces the commanded angles.
     """
-    overhead = (
-        _pattern_end(robot, speed_mps, step_duration_s, _PROBE_DURATION_S) - _PROBE_DURATION_S
-    )
+    probe_s = probe_duration_s(step_duration_s)
+    overhead = _pattern_end(robot, speed_mps, step_duration_s, probe_s) - probe_s
     height = robot.require_walking().com_height_m
     names = signals.joint_names
     recorded = signals.q_cmd_rad
@@ -257,9 +269,9 @@ def match_closed_loop_plan(
     Raises:
         InputFileError: naming ``path`` if no plan reproduces the recorded references.
     """
-    probe = replace(settings, duration_s=_PROBE_DURATION_S)
+    probe = replace(settings, duration_s=probe_duration_s(settings.step_duration_s))
     overhead = float(generate_pattern(probe.walk_config().pattern_config()).time_s[-1])
-    overhead -= _PROBE_DURATION_S
+    overhead -= probe.duration_s
     n = len(references_m)
     if fell:
         durations = _fall_durations(overhead, float(time_s[-1]), settings.step_duration_s)
