@@ -17,7 +17,13 @@ from zmpkit.pipelines.identify_sim import IdentifySimConfig
 from zmpkit.robots.registry import get_robot
 from zmpkit.simfit import parameters as catalogue
 from zmpkit.simfit.checkpoint import check_fingerprint, load_checkpoint
-from zmpkit.simfit.cost import FAILED_COST, FORCE_SMOOTHING_S, CostWeights, experiment_cost
+from zmpkit.simfit.cost import (
+    FAILED_COST,
+    FORCE_SMOOTHING_S,
+    ZMP_SMOOTHING_S,
+    CostWeights,
+    experiment_cost,
+)
 from zmpkit.simfit.experiments import read_experiments
 from zmpkit.simfit.optimizer import CmaOptions, fingerprint
 from zmpkit.simfit.outputs import write_fitted_truth
@@ -151,10 +157,41 @@ def test_a_constant_zmp_shift_costs_only_when_the_mean_is_kept() -> None:
         rec.zmp_m + np.array([0.004, -0.003]), rec.trunk_tilt_rad,
     )  # fmt: skip
     assert experiment_cost(rec, shifted).zmp == pytest.approx(0.0, abs=1e-12)
-    # scale: RMS of the recorded ZMP about its trend, 0.03 / sqrt(2) m (the y sine) less the
-    # little of 8 sine periods a straight line takes away (0.5 %)
+    # scale: RMS of the smoothed recorded ZMP about its trend: the y sine, 0.03 / sqrt(2) m,
+    # times the moving mean's gain at 2 Hz (w rows: |sin(pi f w dt) / (w sin(pi f dt))|),
+    # less the little of 8 sine periods a straight line takes away (0.5 %)
+    width = round(ZMP_SMOOTHING_S / 0.01)
+    gain = abs(np.sin(np.pi * 2 * width * 0.01) / (width * np.sin(np.pi * 2 * 0.01)))
     kept = experiment_cost(rec, shifted, models_loads=True).zmp
-    assert kept == pytest.approx(0.005 / (0.03 / np.sqrt(2)), rel=0.01)
+    assert kept == pytest.approx(0.005 / (gain * 0.03 / np.sqrt(2)), rel=0.01)
+
+
+def test_a_zmp_jump_a_tick_late_costs_the_moving_mean_of_its_miss() -> None:
+    """A touchdown one row late moves the ZMP's jump to the new foot by a row: the raw miss,
+    the jump on one row, is charged through the moving mean of w rows as jump / w on w
+    rows, an RMS sqrt(w) times smaller (the scale being the smoothed recording's)."""
+    n, jump = 400, 0.05
+    rec = _signals(n)
+    t = rec.time_s
+    zmp = np.column_stack([0.1 * t, np.where(t < 2.0, -jump / 2, jump / 2)])
+    recorded = RecordedSignals(t, rec.joint_names, rec.q_cmd_rad, rec.q_meas_rad, zmp,
+                               rec.trunk_tilt_rad)  # fmt: skip
+    late_zmp = zmp.copy()
+    late_zmp[200, 1] = -jump / 2  # the jump a row later
+    late = RecordedSignals(t, rec.joint_names, rec.q_cmd_rad, rec.q_meas_rad, late_zmp,
+                           rec.trunk_tilt_rad)  # fmt: skip
+    width = round(ZMP_SMOOTHING_S / 0.01)
+    from scipy.ndimage import uniform_filter1d
+
+    smoothed = uniform_filter1d(zmp, width, axis=0, mode="nearest")
+    detrended = [smoothed[:, k] - np.polyval(np.polyfit(t, smoothed[:, k], 1), t) for k in (0, 1)]
+    scale = np.hypot(*(np.sqrt(np.mean(np.square(x))) for x in detrended))
+    expected = jump / np.sqrt(width * n) / scale  # w rows of jump / w, RMS over n rows
+    assert experiment_cost(recorded, late, models_loads=True).zmp == pytest.approx(expected)
+    raw = jump / np.sqrt(n) / scale  # what the unsmoothed term charged
+    assert experiment_cost(recorded, late, models_loads=True).zmp * np.sqrt(width) == (
+        pytest.approx(raw)
+    )
 
 
 def _with_forces(rec: RecordedSignals, force: np.ndarray) -> RecordedSignals:

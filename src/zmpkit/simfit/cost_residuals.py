@@ -6,7 +6,7 @@ Each term of :mod:`~zmpkit.simfit.cost` is an RMS, so an experiment's cost
 
 .. math::
     r_q = \frac{q_{sim} - q_{rec}}{\operatorname{RMS}(q_{rec} - q_{cmd}) \sqrt{N J}},\qquad
-    r_p = \frac{p_{sim} - p_{rec} - \bar d}{s_p \sqrt{N_p}},\qquad
+    r_p = \frac{\mathcal{S}_p(p_{sim}) - \mathcal{S}_p(p_{rec}) - \bar d}{s_p \sqrt{N_p}},\qquad
     r_f = \frac{\mathcal{S}(f_{sim}) - \mathcal{S}(f_{rec})}{\bar W \sqrt{N_f}},\qquad
     r_s = \frac{A_{sim} - A_{rec}}{\lVert A_{rec} \rVert_2},
 
@@ -32,6 +32,7 @@ from zmpkit.simfit.cost import (
     force_rows,
     load_scale_n,
     smoothed_forces,
+    smoothed_zmp,
     spectrum_in_band,
     tracking_scale_rad,
     zmp_spread_m,
@@ -48,13 +49,15 @@ def _zmp_residuals(
 ) -> NDArray[np.float64]:
     """:math:`r_p` over the recorded rows with a ZMP, ``(2 N_rec,)`` [-]."""
     defined = np.all(np.isfinite(rec.zmp_m), axis=1)
-    d = np.asarray(zmp_m, dtype=np.float64)[defined] - rec.zmp_m[defined]
-    both = np.all(np.isfinite(d), axis=1)
-    out = np.zeros_like(d)
+    simulated = np.asarray(zmp_m, dtype=np.float64)[defined]
+    both = np.all(np.isfinite(simulated), axis=1)
+    out = np.zeros_like(simulated)
     if np.count_nonzero(both) < 3:
         return out.ravel()
-    scale = zmp_spread_m(rec.time_s[defined][both], rec.zmp_m[defined][both])
-    miss = d[both] if keep_mean else d[both] - d[both].mean(axis=0)
+    p = smoothed_zmp(rec.zmp_m[defined][both], rec.dt_s)
+    d = smoothed_zmp(simulated[both], rec.dt_s) - p
+    scale = zmp_spread_m(rec.time_s[defined][both], p)
+    miss = d if keep_mean else d - d.mean(axis=0)
     out[both] = miss / (scale * np.sqrt(np.count_nonzero(both)))
     return out.ravel()
 

@@ -41,7 +41,7 @@ from zmpkit.simfit.checkpoint import (
     save_checkpoint,
 )
 from zmpkit.simfit.cma_state import MAX_POPSIZE, new_strategy
-from zmpkit.simfit.cost import FORCE_SMOOTHING_S
+from zmpkit.simfit.cost import FORCE_SMOOTHING_S, ZMP_SMOOTHING_S
 from zmpkit.simfit.parameters import from_unit, to_unit
 from zmpkit.simfit.population import PopulationPlan, cma_default_popsize
 from zmpkit.simfit.problem import FitProblem
@@ -199,6 +199,7 @@ def fingerprint(problem: FitProblem, options: CmaOptions) -> dict[str, Any]:
         "popsize": _popsize_key(options.first_popsize, len(problem.parameters)),
         "sigma0": options.sigma0,
         "seed": options.seed,
+        "zmp_smoothing_s": ZMP_SMOOTHING_S,  # its cost smooths the ZMP: not one from before
     }
     if problem.sensor_readings != "sampled":  # a checkpoint from before the option resumes
         out["sensor_readings"] = problem.sensor_readings
