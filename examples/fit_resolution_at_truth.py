@@ -3,7 +3,7 @@
 Usage::
 
     python examples/fit_resolution_at_truth.py OUT [--robot nao] [--effects M,G,F,S,C]
-                                               [--quick] [--workers N] [--seed S]
+                                               [--quick] [--designed] [--workers N] [--seed S]
                                                [--weights JOINT,ZMP,SPECTRUM]
 
 Records the self-test's experiments (:func:`~zmpkit.simfit.self_test.self_test_plan`) from
@@ -19,6 +19,13 @@ loose directions name the combinations the data cannot separate.
 A full-effect fit (M, G, F, S and C: 12 parameters on the NAO) needs a population of
 hundreds to converge, a GPU's job; this says beforehand which of its parameters the data
 can pin down, and how finely, on a CPU in minutes.
+
+``--designed`` adds the designed double-support experiments
+(:mod:`zmpkit.experiments.double_support`) to the walks or steps. Before the profile it
+prints each experiment's cost terms at the truth and their scatter under the roughness
+probes (1.4826 × the median absolute deviation, the measure
+:mod:`zmpkit.simfit.identifiability` takes of the whole cost), and writes them to
+``OUT/terms_at_truth.csv``.
 
 Writes ``OUT/resolution_at_truth.csv`` (parameter, truth, cost at -10 %, at the truth, at
 +10 %, conditional and marginal resolution [%], identifiable from the marginal),
@@ -38,9 +45,13 @@ import numpy as np
 
 from zmpkit.pipelines.identify_sim import IdentifySimConfig
 from zmpkit.simfit.batch_backend import BatchEvaluator
-from zmpkit.simfit.cost import CostWeights
-from zmpkit.simfit.experiments import read_experiments
-from zmpkit.simfit.identifiability import IDENTIFIABLE_WITHIN, identifiability
+from zmpkit.simfit.cost import CostTerms, CostWeights
+from zmpkit.simfit.experiments import Experiment, read_experiments
+from zmpkit.simfit.identifiability import (
+    IDENTIFIABLE_WITHIN,
+    identifiability,
+    roughness_candidates,
+)
 from zmpkit.simfit.outputs import write_sloppy_directions_csv
 from zmpkit.simfit.problem import FitProblem
 from zmpkit.simfit.self_test import (
@@ -59,6 +70,9 @@ def main() -> None:
     parser.add_argument("--robot", default="nao")
     parser.add_argument("--effects", default="M,G,F,S,C")
     parser.add_argument("--quick", action="store_true", help="the quick self-test's walks")
+    parser.add_argument(
+        "--designed", action="store_true", help="the designed double-support experiments too"
+    )
     parser.add_argument("--workers", type=int, default=2)
     parser.add_argument("--seed", type=int, default=1)
     parser.add_argument(
@@ -77,7 +91,8 @@ def main() -> None:
     params = config.fit_parameters()  # the whole catalogue of these effects (not --quick's)
     doc = load_truth_doc(base_truth_path(robot, None))
     truth = perturbed_values(params, args.seed)
-    plan = SelfTestPlan(self_test_plan(robot, args.quick).fit, ())
+    designs = self_test_plan(robot, args.quick, designed=args.designed).designs
+    plan = SelfTestPlan(self_test_plan(robot, args.quick).fit, (), designs=designs)
     start = time.perf_counter()
     fit_dirs, _ = record_experiments(
         robot, plan, doc, params, truth, config.physics_effects, args.seed, args.out
@@ -89,6 +104,7 @@ def main() -> None:
     evaluator = BatchEvaluator(problem, threads=args.workers)
     at_truth = evaluator.costs([truth])[0]
     cost0 = float(np.mean([t.total(problem.weights) for t in at_truth]))
+    _write_terms(args.out, experiments, problem, at_truth, evaluator, truth)
     judged = identifiability(problem, evaluator, truth, cost0, np.zeros(len(params)))
     rows = judged.parameters
     seconds = time.perf_counter() - start
@@ -128,6 +144,45 @@ def main() -> None:
         f"{len(experiments)} experiments, {len(params) * (len(params) + 1) + 1} candidates, "
         f"{seconds:.0f} s; {path}"
     )
+
+
+_TERMS = ("joint", "zmp", "force", "spectrum")
+
+
+def _write_terms(
+    out: Path,
+    experiments: tuple[Experiment, ...],
+    problem: FitProblem,
+    at_truth: list[CostTerms],
+    evaluator: BatchEvaluator,
+    truth: np.ndarray,
+) -> None:
+    """Each experiment's weighted squared terms at the truth and their scatter nearby."""
+    probes = evaluator.costs(roughness_candidates(np.asarray(truth, dtype=float)))
+    weights = [getattr(problem.weights, name) for name in _TERMS]
+
+    def squares(terms: CostTerms) -> list[float]:
+        return [w * getattr(terms, name) ** 2 for w, name in zip(weights, _TERMS, strict=True)]
+
+    rows = []
+    for k, experiment in enumerate(experiments):
+        near = np.array([squares(row[k]) for row in probes])
+        median = np.median(near, axis=0)
+        scatter = 1.4826 * np.median(np.abs(near - median), axis=0)
+        rows.append((experiment.name, squares(at_truth[k]), scatter))
+        print(
+            f"{experiment.name:28s} at the truth "
+            + " ".join(f"{n} {v:.2g}" for n, v in zip(_TERMS, rows[-1][1], strict=True))
+            + " | scatter "
+            + " ".join(f"{v:.2g}" for v in scatter)
+        )
+    with (out / "terms_at_truth.csv").open("w", newline="", encoding="utf-8") as f:
+        writer = csv.writer(f)
+        writer.writerow(
+            ("experiment", *(f"{n}_at_truth" for n in _TERMS), *(f"{n}_scatter" for n in _TERMS))
+        )
+        for name, at, spread in rows:
+            writer.writerow((name, *(f"{v:.6g}" for v in at), *(f"{v:.6g}" for v in spread)))
 
 
 def _pct(fraction: float) -> str:
