@@ -9,6 +9,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from scipy.ndimage import uniform_filter1d
 from hypothesis import given
 from hypothesis import strategies as st
 
@@ -181,8 +182,6 @@ def test_a_zmp_jump_a_tick_late_costs_the_moving_mean_of_its_miss() -> None:
     late = RecordedSignals(t, rec.joint_names, rec.q_cmd_rad, rec.q_meas_rad, late_zmp,
                            rec.trunk_tilt_rad)  # fmt: skip
     width = round(ZMP_SMOOTHING_S / 0.01)
-    from scipy.ndimage import uniform_filter1d
-
     smoothed = uniform_filter1d(zmp, width, axis=0, mode="nearest")
     detrended = [smoothed[:, k] - np.polyval(np.polyfit(t, smoothed[:, k], 1), t) for k in (0, 1)]
     scale = np.hypot(*(np.sqrt(np.mean(np.square(x))) for x in detrended))
