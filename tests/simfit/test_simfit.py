@@ -9,9 +9,9 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from scipy.ndimage import uniform_filter1d
 from hypothesis import given
 from hypothesis import strategies as st
+from scipy.ndimage import uniform_filter1d
 
 from zmpkit.errors import InputFileError, ParameterError
 from zmpkit.pipelines.identify_sim import IdentifySimConfig
