@@ -73,6 +73,7 @@ __all__ = [
     "smoothed_zmp",
     "spectrum_in_band",
     "tracking_scale_rad",
+    "zmp_miss",
     "zmp_spread_m",
 ]
 
@@ -222,14 +223,35 @@ def _force_error(rec: RecordedSignals, force_z_n: NDArray[np.float64]) -> float:
     return _rms(np.linalg.norm(miss, axis=1)) / load_scale_n(recorded)
 
 
+def zmp_miss(
+    rec: RecordedSignals,
+    rows: NDArray[np.bool_],
+    simulated_m: NDArray[np.float64],
+    keep_mean: bool,
+) -> tuple[NDArray[np.float64], float]:
+    r"""The ZMP term's miss per row and its scale (module docstring).
+
+    Args:
+        rec: the recorded experiment.
+        rows: the recorded rows compared (both ZMPs defined there).
+        simulated_m: the simulated ZMP on those rows, ``(k, 2)`` [m].
+        keep_mean: keep the mean difference :math:`\bar d` (the loads are modelled).
+
+    Returns:
+        :math:`\mathcal{S}_p(p_{sim}) - \mathcal{S}_p(p_{rec})`, less :math:`\bar d` unless
+        kept, ``(k, 2)`` [m]; and the smoothed recording's spread about its trend [m].
+    """
+    p = smoothed_zmp(rec.zmp_m[rows], rec.dt_s)
+    d = smoothed_zmp(simulated_m, rec.dt_s) - p
+    return (d if keep_mean else d - d.mean(axis=0)), zmp_spread_m(rec.time_s[rows], p)
+
+
 def _zmp_error(rec: RecordedSignals, zmp_m: NDArray[np.float64], keep_mean: bool) -> float:
     both = np.all(np.isfinite(rec.zmp_m), axis=1) & np.all(np.isfinite(zmp_m), axis=1)
     if np.count_nonzero(both) < 3:
         return 0.0
-    t, p = rec.time_s[both], smoothed_zmp(rec.zmp_m[both], rec.dt_s)
-    d = smoothed_zmp(np.asarray(zmp_m)[both], rec.dt_s) - p
-    miss = np.linalg.norm(d if keep_mean else d - d.mean(axis=0), axis=1)
-    return _rms(miss) / zmp_spread_m(t, p)
+    miss, scale = zmp_miss(rec, both, np.asarray(zmp_m)[both], keep_mean)
+    return _rms(np.linalg.norm(miss, axis=1)) / scale
 
 
 def _spectrum_error(rec: RecordedSignals, trunk_tilt_rad: NDArray[np.float64]) -> float:

@@ -32,10 +32,9 @@ from zmpkit.simfit.cost import (
     force_rows,
     load_scale_n,
     smoothed_forces,
-    smoothed_zmp,
     spectrum_in_band,
     tracking_scale_rad,
-    zmp_spread_m,
+    zmp_miss,
 )
 from zmpkit.simfit.recorded import RecordedSignals
 
@@ -54,10 +53,9 @@ def _zmp_residuals(
     out = np.zeros_like(simulated)
     if np.count_nonzero(both) < 3:
         return out.ravel()
-    p = smoothed_zmp(rec.zmp_m[defined][both], rec.dt_s)
-    d = smoothed_zmp(simulated[both], rec.dt_s) - p
-    scale = zmp_spread_m(rec.time_s[defined][both], p)
-    miss = d if keep_mean else d - d.mean(axis=0)
+    compared = defined.copy()
+    compared[defined] = both
+    miss, scale = zmp_miss(rec, compared, simulated[both], keep_mean)
     out[both] = miss / (scale * np.sqrt(np.count_nonzero(both)))
     return out.ravel()
 
